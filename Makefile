@@ -1,0 +1,47 @@
+# pyrosgen: `make demo` (main job), `make test` (whole suite).
+# Both set up what is missing first (Debian packages, the virtual environment,
+# the Coq library) and are idempotent.
+
+SHELL := /bin/bash
+VENV  := .venv
+PY    := $(VENV)/bin/python
+PYTEST_ARGS ?=
+
+.PHONY: all deps apt venv proofs demo test clean distclean
+
+all: test
+
+## deps: Debian packages (only the missing ones) and the virtual environment
+deps: apt venv
+
+apt:
+	@scripts/deps.sh
+
+# The venv is made from Debian's interpreter with --system-site-packages so that
+# Debian's rospy and message modules are importable from it.
+venv: $(VENV)/.installed
+
+$(VENV)/.installed: pyproject.toml | apt
+	@test -x $(PY) || /usr/bin/python3 -m venv --system-site-packages $(VENV)
+	@echo "deps: installing pyrosgen and its test extras into $(VENV)"
+	@$(PY) -m pip install -q --disable-pip-version-check -e '.[test]'
+	@touch $@
+
+## proofs: the Coq library, coqchk, and the no-admit check
+proofs: apt
+	@$(MAKE) --no-print-directory -C coq
+
+## demo: the main job on the LandShark example
+demo: deps proofs
+	@scripts/demo.sh
+
+## test: everything
+test: deps proofs
+	@$(PY) -m pytest $(PYTEST_ARGS)
+
+clean:
+	@$(MAKE) --no-print-directory -C coq clean
+	rm -rf build .pytest_cache
+
+distclean: clean
+	rm -rf $(VENV)

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Install, only when missing, the Debian packages pyrosgen needs.
+# Idempotent: when everything is present it prints one line and installs nothing.
+set -euo pipefail
+
+PKGS=(
+  # proofs
+  coq libcoq-flocq ocaml-nox
+  # C toolchain
+  g++ gcc make pkg-config
+  # ROS 1 runtime, master and message packages
+  libroscpp-dev python3-rosmaster python3-rospy python3-roslib python3-rosgraph catkin
+  libstd-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libsensor-msgs-dev
+  python3-std-msgs python3-geometry-msgs python3-nav-msgs python3-sensor-msgs
+  # second verifier of the printed C
+  frama-c-base why3 z3
+  # pictures, python venv
+  graphviz python3-venv
+)
+
+missing=()
+for p in "${PKGS[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "deps: all ${#PKGS[@]} Debian packages present"
+  exit 0
+fi
+
+echo "deps: installing missing Debian packages: ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null; then SUDO="sudo -n"; else
+    echo "deps: error: not root and no sudo; install these packages: ${missing[*]}" >&2
+    exit 1
+  fi
+fi
+export DEBIAN_FRONTEND=noninteractive
+# The package lists may be empty on a fresh machine; update once.
+$SUDO apt-get update -q >/dev/null
+$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
