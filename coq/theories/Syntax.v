@@ -150,8 +150,12 @@ Inductive external_function : Type :=
       (**r [void ros_advertise_T(void)] *)
   | EF_ros_publish (topic : string) (msgty : ident)
       (**r [void ros_publish_T(struct M * msg)] *)
-  | EF_controller_initialize         (**r [void Controller_initialize(void)] *)
-  | EF_controller_step.              (**r [void Controller_step(void)] *)
+  | EF_controller_initialize (inputs outputs : ident)
+      (**r [void Controller_initialize(void)]; [inputs]/[outputs] name the
+           globals [Controller_U]/[Controller_Y] *)
+  | EF_controller_step (inputs outputs : ident).
+      (**r [void Controller_step(void)]: reads the global [inputs], writes
+           only the global [outputs] and the controller's own state *)
 
 Inductive fundef : Type :=
   | Internal (f : function)
