@@ -12,6 +12,8 @@ PKGS=(
   libroscpp-dev python3-rosmaster python3-rospy python3-roslib python3-rosgraph catkin
   libstd-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libsensor-msgs-dev
   python3-std-msgs python3-geometry-msgs python3-nav-msgs python3-sensor-msgs
+  # C++ classes for custom .msg types (msg_paths)
+  python3-gencpp python3-genmsg ros-std-msgs ros-geometry-msgs ros-nav-msgs ros-sensor-msgs
   # second verifier of the printed C
   frama-c-base why3 z3
   # pictures, python venv

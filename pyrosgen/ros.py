@@ -1,0 +1,187 @@
+"""The ROS side of a generated node: the C API over roscpp (header and C++
+implementation, with converters between roscpp messages and the C structs),
+C++ classes for custom message types (through Debian's ``gencpp``), and the
+catkin package files.
+
+Everything here is rendered from jinja2 templates in ``pyrosgen/templates``;
+the C structs themselves are *not* rendered here: they are printed by Coq
+from the very composite definitions of the AST that the DDC theorem is about
+(``<node>_types.h``), and the wrapper includes them.
+"""
+
+from __future__ import annotations
+
+import re
+import subprocess
+from dataclasses import dataclass
+from pathlib import Path
+
+import jinja2
+
+from .errors import PyrosgenError
+from .model import NodeModel, Topic
+from .msgtypes import MsgType
+
+_TEMPLATES = Path(__file__).parent / "templates"
+
+#: What may appear inside a C/C++ string literal in generated code: a
+#: validated ROS graph name.  Checked again here (defence in depth).
+_ROS_NAME = re.compile(r"^/?[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*$")
+_C_IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+
+GENCPP = Path("/usr/lib/gencpp/gen_cpp.py")
+GENCPP_TEMPLATES = Path("/usr/share/gencpp")
+#: Where Debian's ros-*-msgs packages install the standard .msg files.
+STANDARD_MSG_DIRS = Path("/usr/share")
+
+
+class ToolError(PyrosgenError):
+    """An external tool (gencpp, a compiler, ...) failed: exit code 2."""
+
+
+def _ros_name(value: str) -> str:
+    if not isinstance(value, str) or not _ROS_NAME.match(value):
+        raise ValueError(f"refusing to print {value!r} as a ROS name")
+    return value
+
+
+def _env() -> jinja2.Environment:
+    env = jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(_TEMPLATES)),
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        keep_trailing_newline=True,
+        autoescape=False,
+    )
+    env.filters["ros_name"] = _ros_name
+    return env
+
+
+def _check_ident(name: str) -> str:
+    if not _C_IDENT.match(name):
+        raise ValueError(f"refusing to print {name!r} as a C identifier")
+    return name
+
+
+@dataclass(frozen=True)
+class WrapperFiles:
+    """The names of the files making up the C API over ROS of one node."""
+
+    types_header: str   #: Coq-printed message structs
+    api_header: str     #: the C API prototypes
+    api_source: str     #: the C++ implementation over roscpp
+
+
+def wrapper_files(model: NodeModel) -> WrapperFiles:
+    n = _check_ident(model.name)
+    return WrapperFiles(f"{n}_types.h", f"{n}_ros.h", f"{n}_ros.cpp")
+
+
+def _messages_by_name(model: NodeModel) -> dict[str, MsgType]:
+    return {m.name: m for m in model.messages}
+
+
+def _context(model: NodeModel) -> dict:
+    files = wrapper_files(model)
+    msgs = _messages_by_name(model)
+    subs = [t for t in model.topics if t.direction == "subscribe"]
+    pubs = [t for t in model.topics if t.direction == "publish"]
+    for t in model.topics:
+        for name in (t.c_name, t.subscribe_fn, t.advertise_fn, t.publish_fn):
+            _check_ident(name)
+    for m in model.messages:
+        _check_ident(m.c_name)
+        for f in m.fields:
+            _check_ident(f.name)
+    cpp_headers = sorted({f"{m.name}.h" for m in model.messages if not m.is_pseudo})
+    return {
+        "source": model.source.name,
+        "node": model,
+        "header_name": files.api_header,
+        "types_header": files.types_header,
+        "guard": f"PYROSGEN_{model.name.upper()}_ROS_H",
+        "cpp_headers": cpp_headers,
+        "messages": list(model.messages),
+        "subs": subs,
+        "pubs": pubs,
+        "msg_c": {t.name: msgs[t.msg_type].c_name for t in model.topics},
+        "msg_cpp": {t.name: msgs[t.msg_type].cpp_name for t in model.topics},
+        "period_s": repr(model.period_ms / 1000.0),
+    }
+
+
+def render_wrapper(model: NodeModel) -> dict[str, str]:
+    """The C API header and its roscpp implementation, by file name."""
+    env = _env()
+    ctx = _context(model)
+    files = wrapper_files(model)
+    return {
+        files.api_header: env.get_template("ros_api.h.j2").render(ctx),
+        files.api_source: env.get_template("ros_api.cpp.j2").render(ctx),
+    }
+
+
+def custom_message_files(model: NodeModel) -> dict[str, Path]:
+    """The ``.msg`` files of the node's message types that come from the
+    model's ``msg_paths`` (they have no installed roscpp headers), by type."""
+    out: dict[str, Path] = {}
+    for m in model.messages:
+        if m.is_pseudo:
+            continue
+        for folder in model.msg_paths:
+            f = Path(folder) / m.package / "msg" / f"{m.short_name}.msg"
+            if f.is_file():
+                out[m.name] = f
+                break
+    return out
+
+
+def generate_custom_cpp(model: NodeModel, include_dir: Path) -> list[Path]:
+    """Run Debian's gencpp on every custom message type the node uses, writing
+    ``include_dir/<pkg>/<Type>.h``.  Returns the headers written."""
+    custom = custom_message_files(model)
+    if not custom:
+        return []
+    if not GENCPP.is_file():
+        raise ToolError(f"gencpp not found at {GENCPP}: install python3-gencpp (make deps)")
+    # Include paths: every custom package folder and the standard packages.
+    includes: list[str] = []
+    seen: set[str] = set()
+    for folder in model.msg_paths:
+        for pkg_msg in sorted(Path(folder).glob("*/msg")):
+            key = f"{pkg_msg.parent.name}:{pkg_msg}"
+            if key not in seen:
+                seen.add(key)
+                includes += ["-I", key]
+    for std in sorted(STANDARD_MSG_DIRS.glob("*_msgs/msg")):
+        includes += ["-I", f"{std.parent.name}:{std}"]
+    written: list[Path] = []
+    for name, path in sorted(custom.items()):
+        pkg = name.split("/")[0]
+        out = include_dir / pkg
+        out.mkdir(parents=True, exist_ok=True)
+        # gencpp is Debian's, built for Debian's interpreter.
+        cmd = ["/usr/bin/python3", str(GENCPP), "-p", pkg, "-o", str(out), "-e", str(GENCPP_TEMPLATES), *includes, str(path)]
+        r = subprocess.run(cmd, capture_output=True, text=True, check=False)
+        if r.returncode != 0:
+            raise ToolError(f"gencpp failed on {path}:\n{r.stderr.strip() or r.stdout.strip()}")
+        written.append(out / f"{path.stem}.h")
+    return written
+
+
+def ros_pkg_config_modules(model: NodeModel) -> list[str]:
+    """pkg-config modules to compile and link the wrapper: roscpp and the
+    standard message packages the node uses."""
+    custom = custom_message_files(model)
+    pkgs = sorted({m.package for m in model.messages
+                   if not m.is_pseudo and m.name not in custom})
+    return ["roscpp", *pkgs]
+
+
+def subscribed(model: NodeModel) -> list[Topic]:
+    return [t for t in model.topics if t.direction == "subscribe"]
+
+
+def published(model: NodeModel) -> list[Topic]:
+    return [t for t in model.topics if t.direction == "publish"]
