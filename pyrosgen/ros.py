@@ -185,3 +185,38 @@ def subscribed(model: NodeModel) -> list[Topic]:
 
 def published(model: NodeModel) -> list[Topic]:
     return [t for t in model.topics if t.direction == "publish"]
+
+
+def catkin_package_name(model: NodeModel) -> str:
+    """A REP 144 package name for the node: lowercase letters, digits and
+    underscores, starting with a letter."""
+    name = re.sub(r"[^a-z0-9_]", "_", model.name.lower())
+    if not name[:1].isalpha():
+        name = "node_" + name
+    return name
+
+
+def render_catkin(model: NodeModel, c_sources: list[str], cpp_sources: list[str],
+                  include_dirs: list[str]) -> dict[str, str]:
+    """``package.xml`` and ``CMakeLists.txt`` of a catkin package building the
+    node from the given sources (paths relative to the package folder)."""
+    for p in [*c_sources, *cpp_sources, *include_dirs]:
+        if not re.match(r"^[A-Za-z0-9_./-]+$", p) or ".." in p.split("/"):
+            raise ValueError(f"refusing to print {p!r} as a package-relative path")
+    custom = custom_message_files(model)
+    msg_pkgs = sorted({m.package for m in model.messages
+                       if not m.is_pseudo and m.name not in custom})
+    ctx = {
+        "source": model.source.name,
+        "package": catkin_package_name(model),
+        "node": model,
+        "msg_pkgs": msg_pkgs,
+        "c_sources": c_sources,
+        "cpp_sources": cpp_sources,
+        "include_dirs": include_dirs,
+    }
+    env = _env()
+    return {
+        "package.xml": env.get_template("package.xml.j2").render(ctx),
+        "CMakeLists.txt": env.get_template("CMakeLists.txt.j2").render(ctx),
+    }
