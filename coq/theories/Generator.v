@@ -1,0 +1,775 @@
+(** * The glue-code generator *)
+
+(** [generate m] turns a node model into a program of the Clight subset of
+    [Syntax] (DESIGN.md, section 5; the paper's Figures 7, 8, 11), or fails
+    with a message naming the culprit.  It first checks that the model is
+    well formed ([wf_check], equivalent to the boolean [wf]), then builds
+    the program with total functions ([build_program]).  Its properties are
+    proved in [Generatorproof].
+
+    The generated program, for a node whose subscribed topics have C names
+    [s1 ... sk] and published topics [p1 ... pl]:
+<<
+    struct M { ... };                      one per message definition
+    struct ExtU_Controller_T { ... };      the controller's inputs
+    struct ExtY_Controller_T { ... };      the controller's outputs
+    extern void ros_init(void); int ros_ok(void); void ros_spinOnce(void);
+    void ros_rate_sleep(void);
+    void ros_subscribe_si(void ( *cb)(struct M * ));      per subscribed topic
+    void ros_advertise_pj(void); void ros_publish_pj(struct M * );  per published topic
+    void Controller_initialize(void); void Controller_step(void);
+    struct ExtU_Controller_T Controller_U; struct ExtY_Controller_T Controller_Y;
+    struct M si_msg;                       per subscribed topic
+    void si_callback(struct M *msg) { ...copy every leaf of *msg into si_msg... }
+    void input_glue(void) { ...one copy per input relation... }
+    void output_glue_pj(struct M *command) { ...zero *command, one copy per output relation... }
+    void loop(void) { struct M pj_cmd; ...
+      for (;;) { _ok = ros_ok(); if (_ok) ; else break; ros_spinOnce(); input_glue();
+                 Controller_step(); output_glue_pj(&pj_cmd); ros_publish_pj(&pj_cmd); ...
+                 ros_rate_sleep(); } }
+    int main(void) { ros_init(); Controller_initialize(); ros_subscribe_si(&si_callback); ...
+                     ros_advertise_pj(); ... loop(); return 0; }
+>>
+    Every copy goes through a temporary named after its C type, as in the
+    paper's Figure 14: [_t_double = src; dst = _t_double;].  Function
+    parameters ([msg], [command]) are temporaries ([Etempvar]). *)
+
+From Coq Require Import String Ascii List ZArith Bool.
+From Flocq Require Import IEEE754.Binary.
+From ROSGen Require Import Errors Syntax NodeModel.
+Import ListNotations.
+
+Local Open Scope string_scope.
+Local Open Scope list_scope.
+Local Open Scope error_monad_scope.
+
+(** ** Generated names *)
+
+(** Derived from a topic's C name [c]. *)
+Definition msg_var (c : ident) : ident := (c ++ "_msg")%string.
+Definition callback_name (c : ident) : ident := (c ++ "_callback")%string.
+Definition subscribe_name (c : ident) : ident := ("ros_subscribe_" ++ c)%string.
+Definition advertise_name (c : ident) : ident := ("ros_advertise_" ++ c)%string.
+Definition publish_name (c : ident) : ident := ("ros_publish_" ++ c)%string.
+Definition output_glue_name (c : ident) : ident := ("output_glue_" ++ c)%string.
+Definition cmd_var (c : ident) : ident := (c ++ "_cmd")%string.
+
+(** Derived from the controller's name. *)
+Definition init_name (m : node_model) : ident := (nm_ctrl m ++ "_initialize")%string.
+Definition step_name (m : node_model) : ident := (nm_ctrl m ++ "_step")%string.
+
+(** Fixed names. *)
+Definition ros_init_name : ident := "ros_init".
+Definition ros_ok_name : ident := "ros_ok".
+Definition ros_spinOnce_name : ident := "ros_spinOnce".
+Definition ros_rate_sleep_name : ident := "ros_rate_sleep".
+Definition input_glue_name : ident := "input_glue".
+Definition loop_name : ident := "loop".
+Definition main_name : ident := "main".
+
+(** Parameters and temporaries. *)
+Definition msg_param : ident := "msg".
+Definition command_param : ident := "command".
+Definition ok_temp : ident := "_ok".
+
+(** One temporary per C scalar type ([bool] and [uint8] share one). *)
+Definition temp_name (q : prim) : ident :=
+  match q with
+  | Pbool | Puint8 => "_t_uchar"
+  | Pint8 => "_t_schar"
+  | Pint16 => "_t_short"
+  | Puint16 => "_t_ushort"
+  | Pint32 => "_t_int"
+  | Puint32 => "_t_uint"
+  | Pint64 => "_t_llong"
+  | Puint64 => "_t_ullong"
+  | Pfloat32 => "_t_float"
+  | Pfloat64 => "_t_double"
+  end.
+
+(** All temporaries, each with its C type. *)
+Definition all_temps : list (ident * type) :=
+  [("_t_uchar", Tint I8 Unsigned); ("_t_schar", Tint I8 Signed);
+   ("_t_short", Tint I16 Signed); ("_t_ushort", Tint I16 Unsigned);
+   ("_t_int", Tint I32 Signed); ("_t_uint", Tint I32 Unsigned);
+   ("_t_llong", Tlong Signed); ("_t_ullong", Tlong Unsigned);
+   ("_t_float", Tfloat F32); ("_t_double", Tfloat F64)].
+
+(** The temporaries needed to copy values of the primitives [qs], in the
+    order of [all_temps]. *)
+Definition temps_of (qs : list prim) : list (ident * type) :=
+  filter (fun xt => existsb (fun q => ident_eqb (temp_name q) (fst xt)) qs) all_temps.
+
+(** ** Composite types *)
+
+(** The struct of the controller's inputs or outputs. *)
+Definition controller_composite (id : ident) (fs : list (ident * prim)) : composite_definition :=
+  Composite id (map (fun xq => (fst xq, ctype_of_prim (snd xq))) fs).
+
+(** All structs: the messages in dependency order, then the controller's. *)
+Definition composites (m : node_model) : list composite_definition :=
+  map composite_of_msgdef (nm_msgs m)
+  ++ [controller_composite (nm_in_struct m) (nm_inputs m);
+      controller_composite (nm_out_struct m) (nm_outputs m)].
+
+(** ** Path expressions *)
+
+(** The type of member [f] of [struct id]. *)
+Definition field_type (ce : list composite_definition) (id f : ident) : option type :=
+  match find_composite id ce with
+  | Some co => find_assoc f (co_members co)
+  | None => None
+  end.
+
+(** The C type reached by following a path from type [t]. *)
+Fixpoint type_of_path (ce : list composite_definition) (t : type) (p : path) : option type :=
+  match p with
+  | [] => Some t
+  | PField f :: p' =>
+      match t with
+      | Tstruct id =>
+          match field_type ce id f with
+          | Some t' => type_of_path ce t' p'
+          | None => None
+          end
+      | _ => None
+      end
+  | PIndex i :: p' =>
+      match t with
+      | Tarray t' n => if (0 <=? i)%Z && (i <? n)%Z then type_of_path ce t' p' else None
+      | _ => None
+      end
+  end.
+
+(** The type of one step from type [t] ([Tvoid] if it does not resolve,
+    which never happens for well-formed models). *)
+Definition step_type (ce : list composite_definition) (t : type) (s : pstep) : type :=
+  match s, t with
+  | PField f, Tstruct id =>
+      match field_type ce id f with Some t' => t' | None => Tvoid end
+  | PIndex _, Tarray t' _ => t'
+  | _, _ => Tvoid
+  end.
+
+(** [e.f] or [e[i]]. *)
+Definition step_expr (ce : list composite_definition) (e : expr) (s : pstep) : expr :=
+  match s with
+  | PField f => Efield e f (step_type ce (typeof e) s)
+  | PIndex i => Eindex e (Econst_int i tint) (step_type ce (typeof e) s)
+  end.
+
+(** The expression [e.p] for a path [p]: [( *msg).twist.linear.x]. *)
+Fixpoint path_expr (ce : list composite_definition) (e : expr) (p : path) : expr :=
+  match p with
+  | [] => e
+  | s :: p' => path_expr ce (step_expr ce e s) p'
+  end.
+
+(** ** Statement templates *)
+
+(** The copy template of the paper's Figure 14: [tmp = src; dst = tmp;]. *)
+Definition copy (q : prim) (dst src : expr) : statement :=
+  Ssequence (Sset (temp_name q) src)
+            (Sassign dst (Etempvar (temp_name q) (ctype_of_prim q))).
+
+(** [s1; s2; ...; sn; skip]. *)
+Definition seq_of (l : list statement) : statement := fold_right Ssequence Sskip l.
+
+(** [f();] for a function [f] of type [void(void)]. *)
+Definition call0 (f : ident) : statement :=
+  Scall None (Evar f (Tfunction [] Tvoid)) [].
+
+(** The zero of a primitive's C type ([+0.0] for floats). *)
+Definition zero_of (q : prim) : expr :=
+  match q with
+  | Pint64 | Puint64 => Econst_long 0 (ctype_of_prim q)
+  | Pfloat32 => Econst_single (B754_zero 24 128 false) (ctype_of_prim q)
+  | Pfloat64 => Econst_float (B754_zero 53 1024 false) (ctype_of_prim q)
+  | _ => Econst_int 0 (ctype_of_prim q)
+  end.
+
+(** Copy leaf [l] of [src] into the same leaf of [dst]. *)
+Definition leaf_copy (ce : list composite_definition) (dst src : expr) (l : path * prim) : statement :=
+  copy (snd l) (path_expr ce dst (fst l)) (path_expr ce src (fst l)).
+
+(** Zero leaf [l] of [dst]. *)
+Definition leaf_zero (ce : list composite_definition) (dst : expr) (l : path * prim) : statement :=
+  Sassign (path_expr ce dst (fst l)) (zero_of (snd l)).
+
+(** [*x] for a parameter [x] of type [struct M *]. *)
+Definition deref_param (x M : ident) : expr := Ederef (Etempvar x (tptr (Tstruct M))) (Tstruct M).
+
+(** The type of a callback on messages [M], and of [&c_cmd]. *)
+Definition callback_type (M : ident) : type := Tfunction [tptr (Tstruct M)] Tvoid.
+
+Section GENERATION.
+
+Variable m : node_model.
+
+Let ce := composites m.
+
+(** ** Lookups with defaults (never used for well-formed models) *)
+
+(** The message type of the topic with C name [c]. *)
+Definition topic_msg (c : ident) : ident :=
+  match find_topic (nm_topics m) c with Some tp => tp_msg tp | None => "" end.
+
+(** The primitive of a controller input / output field. *)
+Definition input_prim (x : ident) : prim :=
+  match find_assoc x (nm_inputs m) with Some q => q | None => Pbool end.
+Definition output_prim (x : ident) : prim :=
+  match find_assoc x (nm_outputs m) with Some q => q | None => Pbool end.
+
+(** The variables [Controller_U], [Controller_Y] and [c_msg]. *)
+Definition in_var_expr : expr := Evar (nm_in_var m) (Tstruct (nm_in_struct m)).
+Definition out_var_expr : expr := Evar (nm_out_var m) (Tstruct (nm_out_struct m)).
+Definition msg_var_expr (c : ident) : expr := Evar (msg_var c) (Tstruct (topic_msg c)).
+
+(** ** Callbacks (Figure 11) *)
+
+(** [void c_callback(struct M *msg)]: copy every leaf of [*msg] into [c_msg]. *)
+Definition callback_function (tp : topic) : function :=
+  let M := tp_msg tp in
+  let lv := leaves (nm_msgs m) M in
+  mkfunction Tvoid [(msg_param, tptr (Tstruct M))] [] (temps_of (map snd lv))
+    (seq_of (map (leaf_copy ce (Evar (msg_var (tp_cname tp)) (Tstruct M))
+                               (deref_param msg_param M)) lv)).
+
+(** ** Input glue (Figures 8, 14) *)
+
+(** Source and destination of the copy for an input relation: the leaf
+    [ir_path] of [c_msg] and the field [ir_input] of [Controller_U]. *)
+Definition input_src (ir : inrel) : expr := path_expr ce (msg_var_expr (ir_topic ir)) (ir_path ir).
+Definition input_dst (ir : inrel) : expr := path_expr ce in_var_expr [PField (ir_input ir)].
+
+Definition input_copy (ir : inrel) : statement :=
+  copy (input_prim (ir_input ir)) (input_dst ir) (input_src ir).
+
+(** [void input_glue(void)]: one copy per input relation, in order. *)
+Definition input_glue_function : function :=
+  mkfunction Tvoid [] [] (temps_of (map (fun ir => input_prim (ir_input ir)) (nm_inrels m)))
+    (seq_of (map input_copy (nm_inrels m))).
+
+(** ** Output glue (Figure 8) *)
+
+(** The output relations of the topic with C name [c], in order. *)
+Definition topic_outrels (c : ident) : list outrel :=
+  filter (fun o => ident_eqb (or_topic o) c) (nm_outrels m).
+
+(** Source and destination of the copy for an output relation: the field
+    [or_output] of [Controller_Y] and the leaf [or_path] of [*command]. *)
+Definition output_src (o : outrel) : expr := path_expr ce out_var_expr [PField (or_output o)].
+Definition output_dst (M : ident) (o : outrel) : expr :=
+  path_expr ce (deref_param command_param M) (or_path o).
+
+Definition output_copy (M : ident) (o : outrel) : statement :=
+  copy (output_prim (or_output o)) (output_dst M o) (output_src o).
+
+(** [void output_glue_c(struct M *command)]: zero every leaf of
+    [*command], then one copy per output relation of the topic. *)
+Definition output_glue_function (tp : topic) : function :=
+  let M := tp_msg tp in
+  let os := topic_outrels (tp_cname tp) in
+  mkfunction Tvoid [(command_param, tptr (Tstruct M))] []
+    (temps_of (map (fun o => output_prim (or_output o)) os))
+    (Ssequence (seq_of (map (leaf_zero ce (deref_param command_param M)) (leaves (nm_msgs m) M)))
+               (seq_of (map (output_copy M) os))).
+
+(** ** The loop and main (Figures 2, 7) *)
+
+(** [&c_cmd]. *)
+Definition cmd_addr (tp : topic) : expr :=
+  Eaddrof (Evar (cmd_var (tp_cname tp)) (Tstruct (tp_msg tp))) (tptr (Tstruct (tp_msg tp))).
+
+(** [output_glue_c(&c_cmd); ros_publish_c(&c_cmd);] *)
+Definition publish_stmts (tp : topic) : list statement :=
+  [Scall None (Evar (output_glue_name (tp_cname tp)) (callback_type (tp_msg tp))) [cmd_addr tp];
+   Scall None (Evar (publish_name (tp_cname tp)) (callback_type (tp_msg tp))) [cmd_addr tp]].
+
+(** The statements of one cycle of the loop, the first two being the
+    loop's exit test. *)
+Definition loop_stmts : list statement :=
+  [Scall (Some ok_temp) (Evar ros_ok_name (Tfunction [] tint)) [];
+   Sifthenelse (Etempvar ok_temp tint) Sskip Sbreak;
+   call0 ros_spinOnce_name;
+   call0 input_glue_name;
+   call0 (step_name m)]
+  ++ flat_map publish_stmts (published m)
+  ++ [call0 ros_rate_sleep_name].
+
+(** [void loop(void)], with one local message [c_cmd] per published topic. *)
+Definition loop_function : function :=
+  mkfunction Tvoid []
+    (map (fun tp => (cmd_var (tp_cname tp), Tstruct (tp_msg tp))) (published m))
+    [(ok_temp, tint)]
+    (Sloop (seq_of loop_stmts)).
+
+(** [ros_subscribe_c(&c_callback);] *)
+Definition subscribe_stmt (tp : topic) : statement :=
+  Scall None (Evar (subscribe_name (tp_cname tp)) (Tfunction [tptr (callback_type (tp_msg tp))] Tvoid))
+    [Eaddrof (Evar (callback_name (tp_cname tp)) (callback_type (tp_msg tp)))
+             (tptr (callback_type (tp_msg tp)))].
+
+(** [ros_advertise_c();] *)
+Definition advertise_stmt (tp : topic) : statement := call0 (advertise_name (tp_cname tp)).
+
+Definition main_stmts : list statement :=
+  [call0 ros_init_name; call0 (init_name m)]
+  ++ map subscribe_stmt (subscribed m)
+  ++ map advertise_stmt (published m)
+  ++ [call0 loop_name; Sreturn (Some (Econst_int 0 tint))].
+
+(** [int main(void)]. *)
+Definition main_function : function :=
+  mkfunction tint [] [] [] (seq_of main_stmts).
+
+(** ** Global definitions *)
+
+(** The ROS API functions that do not depend on the model. *)
+Definition ros_externals : list (ident * globdef) :=
+  [(ros_init_name, Gfun (External EF_ros_init [] Tvoid));
+   (ros_ok_name, Gfun (External EF_ros_ok [] tint));
+   (ros_spinOnce_name, Gfun (External EF_ros_spinOnce [] Tvoid));
+   (ros_rate_sleep_name, Gfun (External EF_ros_rate_sleep [] Tvoid))].
+
+(** The ROS API functions of a topic. *)
+Definition topic_externals (tp : topic) : list (ident * globdef) :=
+  match tp_dir tp with
+  | Subscribe =>
+      [(subscribe_name (tp_cname tp),
+        Gfun (External (EF_ros_subscribe (tp_name tp) (tp_msg tp) (tp_queue tp))
+                       [tptr (callback_type (tp_msg tp))] Tvoid))]
+  | Publish =>
+      [(advertise_name (tp_cname tp),
+        Gfun (External (EF_ros_advertise (tp_name tp) (tp_msg tp) (tp_queue tp)) [] Tvoid));
+       (publish_name (tp_cname tp),
+        Gfun (External (EF_ros_publish (tp_name tp) (tp_msg tp)) [tptr (Tstruct (tp_msg tp))] Tvoid))]
+  end.
+
+(** The controller's functions and its two global structs (defined by the
+    controller's own C file). *)
+Definition controller_defs : list (ident * globdef) :=
+  [(init_name m, Gfun (External (EF_controller_initialize (nm_in_var m) (nm_out_var m)) [] Tvoid));
+   (step_name m, Gfun (External (EF_controller_step (nm_in_var m) (nm_out_var m)) [] Tvoid));
+   (nm_in_var m, Gvar (Tstruct (nm_in_struct m)));
+   (nm_out_var m, Gvar (Tstruct (nm_out_struct m)))].
+
+Definition msg_global (tp : topic) : ident * globdef :=
+  (msg_var (tp_cname tp), Gvar (Tstruct (tp_msg tp))).
+
+Definition callback_def (tp : topic) : ident * globdef :=
+  (callback_name (tp_cname tp), Gfun (Internal (callback_function tp))).
+
+Definition output_glue_def (tp : topic) : ident * globdef :=
+  (output_glue_name (tp_cname tp), Gfun (Internal (output_glue_function tp))).
+
+(** All global definitions, declarations before uses. *)
+Definition build_defs : list (ident * globdef) :=
+  ros_externals
+  ++ flat_map topic_externals (nm_topics m)
+  ++ controller_defs
+  ++ map msg_global (subscribed m)
+  ++ map callback_def (subscribed m)
+  ++ [(input_glue_name, Gfun (Internal input_glue_function))]
+  ++ map output_glue_def (published m)
+  ++ [(loop_name, Gfun (Internal loop_function));
+      (main_name, Gfun (Internal main_function))].
+
+Definition build_program : program := mkprogram ce build_defs main_name.
+
+(** ** Names, for the well-formedness rules *)
+
+(** The global names, in the order of [build_defs]
+    ([Generatorproof.build_defs_names]). *)
+Definition topic_extern_names (tp : topic) : list ident :=
+  match tp_dir tp with
+  | Subscribe => [subscribe_name (tp_cname tp)]
+  | Publish => [advertise_name (tp_cname tp); publish_name (tp_cname tp)]
+  end.
+
+Definition global_names : list ident :=
+  [ros_init_name; ros_ok_name; ros_spinOnce_name; ros_rate_sleep_name]
+  ++ flat_map topic_extern_names (nm_topics m)
+  ++ [init_name m; step_name m; nm_in_var m; nm_out_var m]
+  ++ map (fun tp => msg_var (tp_cname tp)) (subscribed m)
+  ++ map (fun tp => callback_name (tp_cname tp)) (subscribed m)
+  ++ [input_glue_name]
+  ++ map (fun tp => output_glue_name (tp_cname tp)) (published m)
+  ++ [loop_name; main_name].
+
+(** The names of parameters, temporaries and local variables.  They are
+    required distinct from the global names so that no local hides a
+    global. *)
+Definition local_names : list ident :=
+  [msg_param; command_param; ok_temp]
+  ++ map fst all_temps
+  ++ map (fun tp => cmd_var (tp_cname tp)) (published m).
+
+(** Struct names. *)
+Definition struct_names : list ident :=
+  map md_name (nm_msgs m) ++ [nm_in_struct m; nm_out_struct m].
+
+(** Every name that reaches the C text. *)
+Definition c_names : list ident :=
+  global_names ++ local_names ++ struct_names
+  ++ flat_map (fun md => map fst (md_fields md)) (nm_msgs m)
+  ++ map fst (nm_inputs m) ++ map fst (nm_outputs m).
+
+End GENERATION.
+
+(** ** Lexical rules *)
+
+Definition char_between (lo hi : N) (c : ascii) : bool :=
+  (lo <=? N_of_ascii c)%N && (N_of_ascii c <=? hi)%N.
+
+Definition is_upper (c : ascii) : bool := char_between 65 90 c.
+Definition is_lower (c : ascii) : bool := char_between 97 122 c.
+Definition is_digit (c : ascii) : bool := char_between 48 57 c.
+Definition is_letter (c : ascii) : bool := is_upper c || is_lower c.
+Definition is_underscore (c : ascii) : bool := Ascii.eqb c "_"%char.
+
+(** Every character satisfies [f]. *)
+Fixpoint all_chars (f : ascii -> bool) (s : string) : bool :=
+  match s with
+  | EmptyString => true
+  | String c s' => f c && all_chars f s'
+  end.
+
+(** Keywords of C11 and C++11 (the C API over ROS is compiled as C++ too),
+    and the alternative operator spellings of C++. *)
+Definition c_keywords : list string :=
+  ["auto"; "break"; "case"; "char"; "const"; "continue"; "default"; "do";
+   "double"; "else"; "enum"; "extern"; "float"; "for"; "goto"; "if";
+   "inline"; "int"; "long"; "register"; "restrict"; "return"; "short";
+   "signed"; "sizeof"; "static"; "struct"; "switch"; "typedef"; "union";
+   "unsigned"; "void"; "volatile"; "while";
+   "alignas"; "alignof"; "asm"; "bool"; "catch"; "char16_t"; "char32_t";
+   "class"; "constexpr"; "const_cast"; "decltype"; "delete"; "dynamic_cast";
+   "explicit"; "export"; "false"; "friend"; "mutable"; "namespace"; "new";
+   "noexcept"; "nullptr"; "operator"; "private"; "protected"; "public";
+   "reinterpret_cast"; "static_assert"; "static_cast"; "template"; "this";
+   "thread_local"; "throw"; "true"; "try"; "typeid"; "typename"; "using";
+   "virtual"; "wchar_t";
+   "and"; "and_eq"; "bitand"; "bitor"; "compl"; "not"; "not_eq"; "or";
+   "or_eq"; "xor"; "xor_eq"].
+
+(** Keywords of Coq's term language (the node name names Coq definitions). *)
+Definition coq_keywords : list string :=
+  ["as"; "at"; "cofix"; "else"; "end"; "exists"; "exists2"; "fix"; "for";
+   "forall"; "fun"; "if"; "IF"; "in"; "let"; "match"; "mod"; "return";
+   "SProp"; "Prop"; "Set"; "Type"; "then"; "using"; "where"; "with"].
+
+(** Reserved by the C standard: [__x] and [_X]. *)
+Definition reserved_prefix (s : string) : bool :=
+  match s with
+  | String c1 (String c2 _) => is_underscore c1 && (is_underscore c2 || is_upper c2)
+  | _ => false
+  end.
+
+(** A C identifier: [[A-Za-z_][A-Za-z0-9_]*], at most 63 characters (the
+    significant length guaranteed by C99), not a keyword, not reserved. *)
+Definition valid_ident (s : string) : bool :=
+  match s with
+  | EmptyString => false
+  | String c s' =>
+      (is_letter c || is_underscore c)
+      && all_chars (fun c => is_letter c || is_digit c || is_underscore c) s'
+  end
+  && (String.length s <=? 63)%nat
+  && negb (existsb (String.eqb s) c_keywords)
+  && negb (reserved_prefix s).
+
+(** A ROS graph name: a letter, [/] or [~], then letters, digits, [_], [/]. *)
+Definition valid_ros_name (s : string) : bool :=
+  match s with
+  | EmptyString => false
+  | String c s' =>
+      (is_letter c || Ascii.eqb c "/"%char || Ascii.eqb c "~"%char)
+      && all_chars (fun c => is_letter c || is_digit c || is_underscore c || Ascii.eqb c "/"%char) s'
+  end.
+
+(** ** Auxiliary checks *)
+
+Definition null {A : Type} (l : list A) : bool :=
+  match l with [] => true | _ :: _ => false end.
+
+(** The first element of [l] that occurs again later in [l]. *)
+Fixpoint first_dup {A : Type} (eqb : A -> A -> bool) (l : list A) : option A :=
+  match l with
+  | [] => None
+  | x :: l' => if existsb (eqb x) l' then Some x else first_dup eqb l'
+  end.
+
+Definition nodupb {A : Type} (eqb : A -> A -> bool) (l : list A) : bool :=
+  match first_dup eqb l with None => true | Some _ => false end.
+
+(** Fail naming the first repeated element. *)
+Definition check_nodup {A : Type} (eqb : A -> A -> bool) (show : A -> errmsg) (l : list A) : res unit :=
+  match first_dup eqb l with None => OK tt | Some x => Error (show x) end.
+
+(** Check every element, failing at the first bad one. *)
+Fixpoint check_all {A : Type} (f : A -> res unit) (l : list A) : res unit :=
+  match l with
+  | [] => OK tt
+  | x :: l' => do _ <- f x; check_all f l'
+  end.
+
+Definition pstep_eqb (a b : pstep) : bool :=
+  match a, b with
+  | PField f, PField g => ident_eqb f g
+  | PIndex i, PIndex j => Z.eqb i j
+  | _, _ => false
+  end.
+
+Fixpoint path_eqb (a b : path) : bool :=
+  match a, b with
+  | [], [] => true
+  | s :: a', t :: b' => pstep_eqb s t && path_eqb a' b'
+  | _, _ => false
+  end.
+
+(** Decimal notation of an integer, for messages. *)
+Fixpoint digits (fuel : nat) (n : Z) (acc : string) : string :=
+  match fuel with
+  | O => acc
+  | S fuel' =>
+      let acc' := String (ascii_of_nat (48 + Z.to_nat (n mod 10))) acc in
+      if (n <? 10)%Z then acc' else digits fuel' (n / 10)%Z acc'
+  end.
+
+Definition string_of_Z (n : Z) : string :=
+  if (n <? 0)%Z
+  then ("-" ++ digits (S (Z.to_nat (Z.log2 (- n)))) (- n) "")%string
+  else digits (S (Z.to_nat (Z.log2 n))) n "".
+
+(** A path as written in the node model: [twist.linear.x], [covariance[35]]. *)
+Fixpoint string_of_path (p : path) : string :=
+  match p with
+  | [] => ""
+  | PField f :: p' => ("." ++ f ++ string_of_path p')%string
+  | PIndex i :: p' => ("[" ++ string_of_Z i ++ "]" ++ string_of_path p')%string
+  end.
+
+(** ** Well-formedness rules (DESIGN.md, section 4) *)
+
+(** Array sizes are positive and fit the [int] index constants. *)
+Definition max_array : Z := 2147483647.
+
+(** Rule: a field type refers only to messages in [seen] (the messages
+    defined before), and its arrays have sizes in range. *)
+Fixpoint ftype_ok (seen : list ident) (t : ftype) : bool :=
+  match t with
+  | FTprim _ => true
+  | FTmsg id => existsb (ident_eqb id) seen
+  | FTarray t' n => (0 <? n)%Z && (n <=? max_array)%Z && ftype_ok seen t'
+  end.
+
+(** Rule: a message has fields, distinct field names and good field types. *)
+Definition msgdef_ok (seen : list ident) (md : msgdef) : bool :=
+  negb (null (md_fields md))
+  && nodupb ident_eqb (map fst (md_fields md))
+  && forallb (fun ft => ftype_ok seen (snd ft)) (md_fields md).
+
+(** Rule: every message only refers to the messages before it. *)
+Fixpoint msgs_ok (seen : list ident) (msgs : list msgdef) : bool :=
+  match msgs with
+  | [] => true
+  | md :: msgs' => msgdef_ok seen md && msgs_ok (md_name md :: seen) msgs'
+  end.
+
+(** Rule: a topic has a ROS name, a queue, and a defined message type. *)
+Definition topic_ok (msgs : list msgdef) (tp : topic) : bool :=
+  valid_ros_name (tp_name tp)
+  && (1 <=? tp_queue tp)%nat
+  && match find_msg msgs (tp_msg tp) with Some _ => true | None => false end.
+
+(** Rule (the paper's [type_checking_input_glue], on model types): an input
+    relation reads a leaf of a subscribed topic's message whose primitive
+    type is the controller input's. *)
+Definition inrel_ok (m : node_model) (ir : inrel) : bool :=
+  match find_topic (nm_topics m) (ir_topic ir) with
+  | None => false
+  | Some tp =>
+      is_subscribed tp
+      && match find_assoc (ir_input ir) (nm_inputs m) with
+         | None => false
+         | Some q =>
+             match resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir) with
+             | None => false
+             | Some q' => prim_eqb q' q
+             end
+         end
+  end.
+
+(** Rule: an output relation writes a leaf of a published topic's message
+    whose primitive type is the controller output's. *)
+Definition outrel_ok (m : node_model) (o : outrel) : bool :=
+  match find_assoc (or_output o) (nm_outputs m) with
+  | None => false
+  | Some q =>
+      match find_topic (nm_topics m) (or_topic o) with
+      | None => false
+      | Some tp =>
+          is_published tp
+          && match resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (or_path o) with
+             | None => false
+             | Some q' => prim_eqb q' q
+             end
+      end
+  end.
+
+(** The number of input relations that feed controller input [x]. *)
+Definition feeds (m : node_model) (x : ident) : nat :=
+  length (filter (fun ir => ident_eqb (ir_input ir) x) (nm_inrels m)).
+
+Definition out_target_eqb (a b : ident * path) : bool :=
+  ident_eqb (fst a) (fst b) && path_eqb (snd a) (snd b).
+
+(** The well-formedness of a node model, as a boolean. *)
+Definition wf (m : node_model) : bool :=
+  (0 <? nm_period_ms m)%Z
+  && valid_ident (nm_name m) && negb (existsb (String.eqb (nm_name m)) coq_keywords)
+  && valid_ident (nm_ctrl m)
+  && forallb valid_ident (c_names m)
+  && nodupb ident_eqb (global_names m ++ local_names m)
+  && nodupb ident_eqb (struct_names m)
+  && msgs_ok [] (nm_msgs m)
+  && negb (null (nm_inputs m)) && nodupb ident_eqb (map fst (nm_inputs m))
+  && negb (null (nm_outputs m)) && nodupb ident_eqb (map fst (nm_outputs m))
+  && nodupb ident_eqb (map tp_cname (nm_topics m))
+  && nodupb String.eqb (map tp_name (nm_topics m))
+  && forallb (topic_ok (nm_msgs m)) (nm_topics m)
+  && forallb (inrel_ok m) (nm_inrels m)
+  && forallb (fun xq => Nat.eqb (feeds m (fst xq)) 1) (nm_inputs m)
+  && forallb (outrel_ok m) (nm_outrels m)
+  && nodupb out_target_eqb (map (fun o => (or_topic o, or_path o)) (nm_outrels m)).
+
+(** ** The same rules, failing with a message that names the culprit *)
+
+Definition gen_error (s : string) (x : string) : errmsg := [MSG ("Generator: " ++ s)%string; CTX x].
+
+Definition check_ident (what : string) (x : ident) : res unit :=
+  assertion (valid_ident x) (gen_error (what ++ " is not a valid C identifier: ")%string x).
+
+Fixpoint ftype_check (md : ident) (seen : list ident) (t : ftype) : res unit :=
+  match t with
+  | FTprim _ => OK tt
+  | FTmsg id =>
+      assertion (existsb (ident_eqb id) seen)
+        [MSG "Generator: message "; CTX md; MSG " refers to message "; CTX id;
+         MSG ", which is not defined before it"]
+  | FTarray t' n =>
+      do _ <- assertion ((0 <? n)%Z && (n <=? max_array)%Z)
+                [MSG "Generator: array size out of range in message "; CTX md;
+                 MSG ": "; MSG (string_of_Z n)];
+      ftype_check md seen t'
+  end.
+
+Definition msgdef_check (seen : list ident) (md : msgdef) : res unit :=
+  do _ <- assertion (negb (null (md_fields md)))
+            (gen_error "message has no carried field: " (md_name md));
+  do _ <- check_nodup ident_eqb
+            (fun f => [MSG "Generator: field "; CTX f; MSG " defined twice in message "; CTX (md_name md)])
+            (map fst (md_fields md));
+  check_all (fun ft => ftype_check (md_name md) seen (snd ft)) (md_fields md).
+
+Fixpoint msgs_check (seen : list ident) (msgs : list msgdef) : res unit :=
+  match msgs with
+  | [] => OK tt
+  | md :: msgs' => do _ <- msgdef_check seen md; msgs_check (md_name md :: seen) msgs'
+  end.
+
+Definition topic_check (msgs : list msgdef) (tp : topic) : res unit :=
+  do _ <- assertion (valid_ros_name (tp_name tp)) (gen_error "not a valid ROS graph name: " (tp_name tp));
+  do _ <- assertion (1 <=? tp_queue tp)%nat (gen_error "queue size must be at least 1 for topic " (tp_name tp));
+  match find_msg msgs (tp_msg tp) with
+  | Some _ => OK tt
+  | None => Error [MSG "Generator: unknown message type "; CTX (tp_msg tp);
+                   MSG " of topic "; CTX (tp_name tp)]
+  end.
+
+Definition inrel_check (m : node_model) (ir : inrel) : res unit :=
+  match find_topic (nm_topics m) (ir_topic ir) with
+  | None => Error (gen_error "input relation for unknown topic " (ir_topic ir))
+  | Some tp =>
+      do _ <- assertion (is_subscribed tp)
+                [MSG "Generator: input relation reads topic "; CTX (ir_topic ir);
+                 MSG ", which is not subscribed"];
+      match find_assoc (ir_input ir) (nm_inputs m) with
+      | None => Error (gen_error "input relation for unknown controller input " (ir_input ir))
+      | Some q =>
+          match resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir) with
+          | None =>
+              Error [MSG "Generator: input relation: "; CTX (string_of_path (ir_path ir));
+                     MSG " is not a carried scalar field of message "; CTX (tp_msg tp)]
+          | Some q' =>
+              assertion (prim_eqb q' q)
+                [MSG "Generator: type mismatch in input relation: ";
+                 CTX (ir_topic ir ++ string_of_path (ir_path ir))%string;
+                 MSG (" is " ++ prim_name q' ++ " but controller input ")%string;
+                 CTX (ir_input ir); MSG (" is " ++ prim_name q)%string]
+          end
+      end
+  end.
+
+Definition outrel_check (m : node_model) (o : outrel) : res unit :=
+  match find_assoc (or_output o) (nm_outputs m) with
+  | None => Error (gen_error "output relation from unknown controller output " (or_output o))
+  | Some q =>
+      match find_topic (nm_topics m) (or_topic o) with
+      | None => Error (gen_error "output relation for unknown topic " (or_topic o))
+      | Some tp =>
+          do _ <- assertion (is_published tp)
+                    [MSG "Generator: output relation writes topic "; CTX (or_topic o);
+                     MSG ", which is not published"];
+          match resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (or_path o) with
+          | None =>
+              Error [MSG "Generator: output relation: "; CTX (string_of_path (or_path o));
+                     MSG " is not a carried scalar field of message "; CTX (tp_msg tp)]
+          | Some q' =>
+              assertion (prim_eqb q' q)
+                [MSG "Generator: type mismatch in output relation: controller output ";
+                 CTX (or_output o); MSG (" is " ++ prim_name q ++ " but ")%string;
+                 CTX (or_topic o ++ string_of_path (or_path o))%string;
+                 MSG (" is " ++ prim_name q')%string]
+          end
+      end
+  end.
+
+Definition feeds_check (m : node_model) (x : ident) : res unit :=
+  match feeds m x with
+  | 1%nat => OK tt
+  | O => Error (gen_error "controller input not fed by any input relation: " x)
+  | _ => Error (gen_error "controller input fed by several input relations: " x)
+  end.
+
+(** [wf_check m = OK tt] iff [wf m = true] ([Generatorproof.wf_check_wf]). *)
+Definition wf_check (m : node_model) : res unit :=
+  do _ <- assertion (0 <? nm_period_ms m)%Z [MSG "Generator: period_ms must be positive"];
+  do _ <- check_ident "node name" (nm_name m);
+  do _ <- assertion (negb (existsb (String.eqb (nm_name m)) coq_keywords))
+            (gen_error "the node name is a Coq keyword: " (nm_name m));
+  do _ <- check_ident "controller name" (nm_ctrl m);
+  do _ <- check_nodup ident_eqb (gen_error "two topics with the C name ") (map tp_cname (nm_topics m));
+  do _ <- check_nodup String.eqb (gen_error "topic declared twice: ") (map tp_name (nm_topics m));
+  do _ <- check_all (check_ident "name") (c_names m);
+  do _ <- check_nodup ident_eqb (gen_error "name defined twice: ") (global_names m ++ local_names m);
+  do _ <- check_nodup ident_eqb (gen_error "struct defined twice: ") (struct_names m);
+  do _ <- msgs_check [] (nm_msgs m);
+  do _ <- assertion (negb (null (nm_inputs m))) (gen_error "controller has no input: " (nm_ctrl m));
+  do _ <- check_nodup ident_eqb (gen_error "controller input declared twice: ") (map fst (nm_inputs m));
+  do _ <- assertion (negb (null (nm_outputs m))) (gen_error "controller has no output: " (nm_ctrl m));
+  do _ <- check_nodup ident_eqb (gen_error "controller output declared twice: ") (map fst (nm_outputs m));
+  do _ <- check_all (topic_check (nm_msgs m)) (nm_topics m);
+  do _ <- check_all (inrel_check m) (nm_inrels m);
+  do _ <- check_all (fun xq => feeds_check m (fst xq)) (nm_inputs m);
+  do _ <- check_all (outrel_check m) (nm_outrels m);
+  check_nodup out_target_eqb
+    (fun tp => gen_error "published field fed twice: " (fst tp ++ string_of_path (snd tp))%string)
+    (map (fun o => (or_topic o, or_path o)) (nm_outrels m)).
+
+(** ** The generator *)
+
+Definition generate (m : node_model) : res program :=
+  do _ <- wf_check m;
+  OK (build_program m).

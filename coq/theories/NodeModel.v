@@ -1,0 +1,273 @@
+(** * The node model *)
+
+(** A ROS node as described by the user (DESIGN.md, section 4), after the
+    Python front end has resolved message types: the node's period, its
+    topics, the C interface of the controller it runs, the definitions of the
+    messages it carries, and the relations saying which message field feeds
+    which controller field and back.  The front end emits exactly these terms
+    into the per-node Coq file; [Generator.generate] turns them into a
+    program of [Syntax]. *)
+
+From Coq Require Import String List ZArith Bool.
+From ROSGen Require Import Syntax.
+Import ListNotations.
+
+Local Open Scope string_scope.
+
+(** ** ROS primitive types *)
+
+(** The ROS primitive types that the glue carries.  [Pbool] and [Puint8]
+    have the same C type but are different model types: a relation joins two
+    fields of the same model type, so [bool] to [uint8] is refused. *)
+Inductive prim : Type :=
+  | Pbool | Pint8 | Puint8 | Pint16 | Puint16 | Pint32 | Puint32
+  | Pint64 | Puint64 | Pfloat32 | Pfloat64.
+
+Definition prim_eq (a b : prim) : {a = b} + {a <> b}.
+Proof. decide equality. Defined.
+
+Definition prim_eqb (a b : prim) : bool := if prim_eq a b then true else false.
+
+Lemma prim_eqb_true: forall a b, prim_eqb a b = true <-> a = b.
+Proof. intros a b; unfold prim_eqb; destruct (prim_eq a b); split; congruence. Qed.
+
+(** The C type of a primitive (Simulink's name in brackets):
+    [bool] is [unsigned char] ([boolean_T]), [float64] is [double]
+    ([real_T]), and so on. *)
+Definition ctype_of_prim (q : prim) : type :=
+  match q with
+  | Pbool => Tint I8 Unsigned
+  | Pint8 => Tint I8 Signed
+  | Puint8 => Tint I8 Unsigned
+  | Pint16 => Tint I16 Signed
+  | Puint16 => Tint I16 Unsigned
+  | Pint32 => Tint I32 Signed
+  | Puint32 => Tint I32 Unsigned
+  | Pint64 => Tlong Signed
+  | Puint64 => Tlong Unsigned
+  | Pfloat32 => Tfloat F32
+  | Pfloat64 => Tfloat F64
+  end.
+
+(** The ROS name of a primitive, for error messages. *)
+Definition prim_name (q : prim) : string :=
+  match q with
+  | Pbool => "bool" | Pint8 => "int8" | Puint8 => "uint8"
+  | Pint16 => "int16" | Puint16 => "uint16" | Pint32 => "int32"
+  | Puint32 => "uint32" | Pint64 => "int64" | Puint64 => "uint64"
+  | Pfloat32 => "float32" | Pfloat64 => "float64"
+  end.
+
+(** ** Message definitions *)
+
+(** The type of a carried message field: a primitive, a nested message
+    (named by its [md_name]), or a fixed-size array.  Strings and
+    variable-length arrays are not carried: the front end drops them. *)
+Inductive ftype : Type :=
+  | FTprim (q : prim)                (**r a primitive *)
+  | FTmsg (m : ident)                (**r a nested message *)
+  | FTarray (t : ftype) (n : Z).     (**r [t[n]] *)
+
+(** A message definition, the single source of truth for the C [struct]
+    of a message.  [md_name] is the C struct name, e.g.
+    ["geometry_msgs_TwistStamped"]; fields are in declaration order.
+    ROS [time] and [duration] are ordinary message definitions named
+    ["ros_time"] and ["ros_duration"]. *)
+Record msgdef : Type := mkmsgdef {
+  md_name : ident;
+  md_fields : list (ident * ftype)
+}.
+
+(** The C type of a field type. *)
+Fixpoint ctype_of_ftype (t : ftype) : type :=
+  match t with
+  | FTprim q => ctype_of_prim q
+  | FTmsg m => Tstruct m
+  | FTarray t' n => Tarray (ctype_of_ftype t') n
+  end.
+
+(** The C struct of a message definition. *)
+Definition composite_of_msgdef (md : msgdef) : composite_definition :=
+  Composite (md_name md) (map (fun ft => (fst ft, ctype_of_ftype (snd ft))) (md_fields md)).
+
+(** ** Topics *)
+
+Inductive direction : Type := Subscribe | Publish.
+
+Definition direction_eqb (a b : direction) : bool :=
+  match a, b with
+  | Subscribe, Subscribe | Publish, Publish => true
+  | _, _ => false
+  end.
+
+(** A topic: [tp_name] is the ROS graph name (used only by the environment
+    model and the C++ wrapper), [tp_cname] the C-safe base name from which
+    the generated C names are derived (e.g. ["landshark_left_wheel_velocity"]),
+    [tp_msg] the [md_name] of its message type. *)
+Record topic : Type := mktopic {
+  tp_name : string;
+  tp_cname : ident;
+  tp_dir : direction;
+  tp_msg : ident;
+  tp_queue : nat
+}.
+
+(** ** Paths and relations *)
+
+(** A path into a message: field selections and constant array indices,
+    e.g. [twist.linear.x] or [pose.covariance[35]]. *)
+Inductive pstep : Type :=
+  | PField (f : ident)     (**r [.f] *)
+  | PIndex (i : Z).        (**r [[i]] *)
+
+Definition path := list pstep.
+
+(** An input relation (an SI row of the paper's Table 1): the leaf
+    [ir_path] of the last message received on topic [ir_topic] (a
+    [tp_cname]) feeds the controller input field [ir_input]. *)
+Record inrel : Type := mkinrel {
+  ir_topic : ident;
+  ir_path : path;
+  ir_input : ident
+}.
+
+(** An output relation (a PO row): the controller output field [or_output]
+    feeds the leaf [or_path] of the message published on [or_topic]. *)
+Record outrel : Type := mkoutrel {
+  or_output : ident;
+  or_topic : ident;
+  or_path : path
+}.
+
+(** ** Node models *)
+
+(** The controller is a Simulink-style C unit: [nm_ctrl_initialize] and
+    [nm_ctrl_step] are derived from [nm_ctrl] ([Controller_initialize],
+    [Controller_step]); its inputs are the global [nm_in_var] ([Controller_U])
+    of type [struct nm_in_struct] ([ExtU_Controller_T]) with fields
+    [nm_inputs] in C order, and likewise for the outputs.  [nm_msgs] lists the
+    message definitions in dependency order (a message only refers to
+    messages defined before it). *)
+Record node_model : Type := mknode_model {
+  nm_name : ident;
+  nm_period_ms : Z;
+  nm_ctrl : ident;
+  nm_in_var : ident;
+  nm_in_struct : ident;
+  nm_inputs : list (ident * prim);
+  nm_out_var : ident;
+  nm_out_struct : ident;
+  nm_outputs : list (ident * prim);
+  nm_msgs : list msgdef;
+  nm_topics : list topic;
+  nm_inrels : list inrel;
+  nm_outrels : list outrel
+}.
+
+(** ** Lookups *)
+
+Definition ident_eqb (a b : ident) : bool := String.eqb a b.
+
+Lemma ident_eqb_true: forall a b, ident_eqb a b = true <-> a = b.
+Proof. intros; apply String.eqb_eq. Qed.
+
+Lemma ident_eqb_refl: forall a, ident_eqb a a = true.
+Proof. intros; apply ident_eqb_true; reflexivity. Qed.
+
+Lemma ident_eqb_false: forall a b, ident_eqb a b = false <-> a <> b.
+Proof.
+  intros a b; rewrite <- ident_eqb_true; destruct (ident_eqb a b); intuition congruence.
+Qed.
+
+(** The definition of message [id]. *)
+Definition find_msg (msgs : list msgdef) (id : ident) : option msgdef :=
+  find (fun md => ident_eqb (md_name md) id) msgs.
+
+(** The topic whose C name is [c]. *)
+Definition find_topic (tps : list topic) (c : ident) : option topic :=
+  find (fun tp => ident_eqb (tp_cname tp) c) tps.
+
+(** The subscribed and the published topics, in model order. *)
+Definition is_subscribed (tp : topic) : bool := direction_eqb (tp_dir tp) Subscribe.
+Definition is_published (tp : topic) : bool := direction_eqb (tp_dir tp) Publish.
+
+Definition subscribed (m : node_model) : list topic := filter is_subscribed (nm_topics m).
+Definition published (m : node_model) : list topic := filter is_published (nm_topics m).
+
+(** ** Resolving paths *)
+
+(** [resolve msgs t p] is the field type reached by following [p] from a
+    value of field type [t], if every field exists and every index is in
+    range. *)
+Fixpoint resolve (msgs : list msgdef) (t : ftype) (p : path) : option ftype :=
+  match p with
+  | [] => Some t
+  | PField f :: p' =>
+      match t with
+      | FTmsg id =>
+          match find_msg msgs id with
+          | Some md =>
+              match find_assoc f (md_fields md) with
+              | Some t' => resolve msgs t' p'
+              | None => None
+              end
+          | None => None
+          end
+      | _ => None
+      end
+  | PIndex i :: p' =>
+      match t with
+      | FTarray t' n => if (0 <=? i)%Z && (i <? n)%Z then resolve msgs t' p' else None
+      | _ => None
+      end
+  end.
+
+(** The primitive at the end of a path that resolves to a scalar leaf. *)
+Definition resolve_prim (msgs : list msgdef) (t : ftype) (p : path) : option prim :=
+  match resolve msgs t p with
+  | Some (FTprim q) => Some q
+  | _ => None
+  end.
+
+(** ** Scalar leaves *)
+
+(** The scalar leaves of a message are the paths to its primitive fields,
+    through nested messages and every element of every array, in
+    definition order, each with its primitive type.  They are computed by
+    structural recursion on the list of message definitions in reverse
+    dependency order ([scope]): a message refers only to messages after it
+    in [scope]. *)
+
+(** [0; 1; ...; n-1]. *)
+Definition zrange (n : Z) : list Z := map Z.of_nat (seq 0 (Z.to_nat n)).
+
+(** Put a step in front of every path. *)
+Definition prefix_leaves (s : pstep) (l : list (path * prim)) : list (path * prim) :=
+  map (fun pq => (s :: fst pq, snd pq)) l.
+
+(** Leaves of a field type, given the leaves [ml] of each message. *)
+Fixpoint ftype_leaves (ml : ident -> list (path * prim)) (t : ftype) : list (path * prim) :=
+  match t with
+  | FTprim q => [([], q)]
+  | FTmsg id => ml id
+  | FTarray t' n => flat_map (fun i => prefix_leaves (PIndex i) (ftype_leaves ml t')) (zrange n)
+  end.
+
+(** Leaves of a list of fields. *)
+Definition fields_leaves (ml : ident -> list (path * prim))
+                         (fs : list (ident * ftype)) : list (path * prim) :=
+  flat_map (fun ft => prefix_leaves (PField (fst ft)) (ftype_leaves ml (snd ft))) fs.
+
+(** Leaves of message [id] in [scope] (latest definition first). *)
+Fixpoint scope_leaves (scope : list msgdef) (id : ident) : list (path * prim) :=
+  match scope with
+  | [] => []
+  | md :: rest =>
+      if ident_eqb (md_name md) id
+      then fields_leaves (scope_leaves rest) (md_fields md)
+      else scope_leaves rest id
+  end.
+
+(** Leaves of message [id] of the model's message list. *)
+Definition leaves (msgs : list msgdef) (id : ident) : list (path * prim) :=
+  scope_leaves (rev msgs) id.

@@ -1,0 +1,674 @@
+(** * Printing the Clight subset as C text, and as an S-expression *)
+
+(** Two printers over the abstract syntax of [Syntax]:
+    - [print_program externs p] is the C11 translation unit of [p], in the
+      style of the paper's Figures 8 and 11;
+    - [print_sexp externs p] is a dump of the abstract syntax tree of [p]
+      as S-expressions, against which the C text is checked (parse the C
+      with pycparser, compare the two trees).
+
+    The printer is trusted: it is not proved.  It is kept as small and
+    regular as possible, and each of its outputs is checked by tests
+    (gcc with [-std=c11 -pedantic -Werror], runs of the compiled code,
+    comparison with the dump).  Both texts are built as lists of lines and
+    joined once at the end, so that extraction to OCaml prints even very
+    large programs in linear time (see [coq/extraction/]).
+
+    ** The C text
+
+    In order: a header comment; the struct definitions of [prog_types],
+    each after the structs it contains by value; the helper functions for
+    non-finite float constants (only if one occurs); the global variables
+    (those named in [externs] are declared [extern]: they are defined
+    elsewhere, e.g. [Controller_U] / [Controller_Y] in the controller's own
+    C file); the prototypes of the external functions; the prototypes of
+    the internal functions; the definitions of the internal functions.
+    Within each group, definitions keep their order in [prog_defs].
+
+    Function bodies: one line per local declaration ([fn_vars], then
+    [fn_temps]), then one line per simple statement, four spaces of
+    indentation per block.  Sequences are flattened and [Sskip] prints
+    nothing.  Two statement forms are printed with sugar:
+    - [Sloop (Ssequence (Sifthenelse c Sskip Sbreak) s)] (= [Swhile c s])
+      prints as [while (c) { s }]; any other [Sloop s] as [for (;;) { s }];
+    - [Sifthenelse c s1 Sskip] prints without its [else] branch.
+
+    Expressions carry their C precedence and are parenthesised only where C
+    requires it: [Efield (Ederef (Etempvar msg _) _) f _] prints as
+    [( *msg).f] (without the space), as in Figure 11.
+
+    Constants denote exactly the value that the semantics gives them:
+    - [Econst_int n (Tint sz sg)] is [n] wrapped to [sz]/[sg] (two's
+      complement), printed in decimal; [U] suffix for [unsigned int];
+      [INT_MIN] is printed [(-2147483647 - 1)].  8- and 16-bit constants
+      are printed as [int] constants of the wrapped value (C has no
+      literals of those types; the value converts exactly);
+    - [Econst_long n (Tlong sg)]: the same on 64 bits, suffixes [LL] and
+      [ULL], [LLONG_MIN] printed [(-9223372036854775807LL - 1)];
+    - [Econst_float] / [Econst_single] with a finite value: C99 hexadecimal
+      floating constants, normalised with a leading [1] as [printf("%a")]
+      does ([0x1.8p+1], [0x1p-1074], [-0x0p+0]; [f] suffix for [float]),
+      which are exact;
+    - non-finite values (infinities, NaNs with their payload) print as
+      [rosgen_f64_of_bits(0x7ff0000000000000ULL)] /
+      [rosgen_f32_of_bits(0x7fc00000U)], calls to two small [static]
+      functions that reinterpret the bit pattern through a union (well
+      defined in C11); they are emitted only when used;
+    - a constant whose type annotation is not the type of its kind (e.g.
+      [Econst_int 0 (tptr t)]) prints as a cast of the constant to that
+      type, the constant itself being read as [int], [long long],
+      [double] or [float] respectively.
+
+    Identifiers are printed as they are: the front end and the generator
+    only produce C identifiers that are not C keywords. *)
+
+From Coq Require Import String Ascii List ZArith Bool.
+From Coq Require Strings.Byte.
+From Flocq Require Import IEEE754.Binary IEEE754.Bits.
+From ROSGen Require Import Syntax FloatBits.
+Import ListNotations.
+
+Local Open Scope string_scope.
+Local Open Scope Z_scope.
+
+(** ** Text utilities *)
+
+Definition newline : string := String (ascii_of_byte Byte.x0a) EmptyString.
+Definition dquote_char : ascii := ascii_of_byte Byte.x22.
+Definition backslash_char : ascii := ascii_of_byte Byte.x5c.
+
+(** Join lines, each followed by a newline. *)
+Definition concat_lines (l : list string) : string :=
+  String.concat "" (map (fun s => s ++ newline) l).
+
+(** [sep]-separated concatenation. *)
+Definition join (sep : string) (l : list string) : string := String.concat sep l.
+
+(** One digit, in base up to 16. *)
+Definition digit (d : Z) : string :=
+  match d with
+  | 0 => "0" | 1 => "1" | 2 => "2" | 3 => "3" | 4 => "4" | 5 => "5" | 6 => "6"
+  | 7 => "7" | 8 => "8" | 9 => "9" | 10 => "a" | 11 => "b" | 12 => "c"
+  | 13 => "d" | 14 => "e" | 15 => "f" | _ => "?"
+  end.
+
+(** The digits of [n >= 0] in base [b], at least [w] of them (zero
+    padding), in front of [acc].  [fuel] bounds the number of digits. *)
+Fixpoint digits_rec (fuel : nat) (b : Z) (w : Z) (n : Z) (acc : string) : string :=
+  match fuel with
+  | O => acc
+  | S fuel' =>
+      let acc' := digit (n mod b) ++ acc in
+      let q := n / b in
+      if (q =? 0) && (w <=? 1) then acc' else digits_rec fuel' b (w - 1) q acc'
+  end.
+
+Definition digits_fuel (w n : Z) : nat :=
+  (Z.to_nat w + match n with Zpos p => Pos.size_nat p | _ => 1 end)%nat.
+
+(** [n >= 0] in decimal. *)
+Definition string_of_nonneg (n : Z) : string := digits_rec (digits_fuel 1 n) 10 1 n "".
+
+(** [n] in decimal, with a [-] sign if negative. *)
+Definition string_of_Z (n : Z) : string :=
+  if n <? 0 then "-" ++ string_of_nonneg (- n) else string_of_nonneg n.
+
+(** [n >= 0] in hexadecimal on at least [w] digits, without prefix. *)
+Definition hex_digits (w n : Z) : string := digits_rec (digits_fuel w n) 16 w n "".
+
+(** An exponent with its sign: [+3], [-1074], [+0]. *)
+Definition string_of_exponent (e : Z) : string :=
+  if e <? 0 then "-" ++ string_of_nonneg (- e) else "+" ++ string_of_nonneg e.
+
+(** ** Constants *)
+
+(** Expressions are printed together with their precedence level:
+    [3] postfix or primary, [2] unary, [1] cast, [0] any expression. *)
+Definition doc : Type := (string * nat)%type.
+
+(** Wrap in parentheses if the level is below the one required. *)
+Definition at_level (need : nat) (d : doc) : string :=
+  if Nat.ltb (snd d) need then "(" ++ fst d ++ ")" else fst d.
+
+(** Two's complement wrap-around of [n] to [bits] bits. *)
+Definition wrap_unsigned (bits : Z) (n : Z) : Z := n mod 2 ^ bits.
+Definition wrap_signed (bits : Z) (n : Z) : Z :=
+  let u := n mod 2 ^ bits in if u <? 2 ^ (bits - 1) then u else u - 2 ^ bits.
+
+Definition intsize_bits (sz : intsize) : Z :=
+  match sz with I8 => 8 | I16 => 16 | I32 => 32 end.
+
+(** A signed integer constant with suffix [sfx] ([""] or ["LL"]) whose
+    value [v] is in the range of a [bits]-bit signed type. *)
+Definition signed_const (bits : Z) (sfx : string) (v : Z) : doc :=
+  if v =? - 2 ^ (bits - 1) then
+    ("(-" ++ string_of_nonneg (2 ^ (bits - 1) - 1) ++ sfx ++ " - 1)", 3%nat)
+  else if v <? 0 then ("-" ++ string_of_nonneg (- v) ++ sfx, 2%nat)
+  else (string_of_nonneg v ++ sfx, 3%nat).
+
+(** [m * 2^e], [m > 0], as a normalised hexadecimal floating constant
+    [0x1.<fraction>p<exponent>] (trailing zero digits dropped). *)
+Definition hex_of_finite (m : positive) (e : Z) : string :=
+  let d := Zpos (Pos.size m) in        (* bits of [m] *)
+  let nb := d - 1 in                  (* bits after the leading 1 *)
+  let pad := (4 - nb mod 4) mod 4 in
+  let frac := (Zpos m - 2 ^ nb) * 2 ^ pad in
+  let k := (nb + pad) / 4 in          (* hex digits of the fraction *)
+  let fix strip (fuel : nat) (f k : Z) : Z * Z :=
+    match fuel with
+    | O => (f, k)
+    | S fuel' => if (0 <? k) && (f mod 16 =? 0) then strip fuel' (f / 16) (k - 1) else (f, k)
+    end in
+  let (f, k) := strip (Z.to_nat k) frac k in
+  "0x1" ++ (if k =? 0 then "" else "." ++ hex_digits k f)
+        ++ "p" ++ string_of_exponent (e + nb).
+
+(** A finite float [(-1)^s * m * 2^e], with the suffix [sfx]. *)
+Definition finite_const (s : bool) (m : positive) (e : Z) (sfx : string) : doc :=
+  if s then ("-" ++ hex_of_finite m e ++ sfx, 2%nat) else (hex_of_finite m e ++ sfx, 3%nat).
+
+Definition zero_const (s : bool) (sfx : string) : doc :=
+  if s then ("-0x0p+0" ++ sfx, 2%nat) else ("0x0p+0" ++ sfx, 3%nat).
+
+(** The names of the helpers for non-finite constants. *)
+Definition f64_helper : string := "rosgen_f64_of_bits".
+Definition f32_helper : string := "rosgen_f32_of_bits".
+
+Definition float64_const (f : float64) : doc :=
+  match f with
+  | B754_zero _ _ s => zero_const s ""
+  | B754_finite _ _ s m e _ => finite_const s m e ""
+  | _ => (f64_helper ++ "(0x" ++ hex_digits 16 (bits_of_b64 f) ++ "ULL)", 3%nat)
+  end.
+
+Definition float32_const (f : float32) : doc :=
+  match f with
+  | B754_zero _ _ s => zero_const s "f"
+  | B754_finite _ _ s m e _ => finite_const s m e "f"
+  | _ => (f32_helper ++ "(0x" ++ hex_digits 8 (bits_of_b32 f) ++ "U)", 3%nat)
+  end.
+
+Definition is_finite64 (f : float64) : bool :=
+  match f with B754_zero _ _ _ | B754_finite _ _ _ _ _ _ => true | _ => false end.
+Definition is_finite32 (f : float32) : bool :=
+  match f with B754_zero _ _ _ | B754_finite _ _ _ _ _ _ => true | _ => false end.
+
+(** ** Types and declarators *)
+
+Definition int_type_name (sz : intsize) (sg : signedness) : string :=
+  match sz, sg with
+  | I8, Signed => "signed char"
+  | I8, Unsigned => "unsigned char"
+  | I16, Signed => "short"
+  | I16, Unsigned => "unsigned short"
+  | I32, Signed => "int"
+  | I32, Unsigned => "unsigned int"
+  end.
+
+(** [x] preceded by a space, unless empty. *)
+Definition space_before (x : string) : string :=
+  match x with EmptyString => "" | _ => " " ++ x end.
+
+(** [decl ty d isptr] declares [d] with type [ty]: [d] is the declarator
+    built so far ([""] for an abstract declarator, as in casts and
+    prototypes of external functions), and [isptr] tells whether it begins
+    with a [*], in which case array and function suffixes need
+    parentheses: [int ( *p)[3]], [void ( *cb)(struct T * )]. *)
+Fixpoint decl (ty : type) (d : string) (isptr : bool) {struct ty} : string :=
+  let wrap := if isptr then "(" ++ d ++ ")" else d in
+  match ty with
+  | Tvoid => "void" ++ space_before d
+  | Tint sz sg => int_type_name sz sg ++ space_before d
+  | Tlong Signed => "long long" ++ space_before d
+  | Tlong Unsigned => "unsigned long long" ++ space_before d
+  | Tfloat F32 => "float" ++ space_before d
+  | Tfloat F64 => "double" ++ space_before d
+  | Tpointer t => decl t ("*" ++ d) true
+  | Tarray t n => decl t (wrap ++ "[" ++ string_of_Z n ++ "]") false
+  | Tfunction args res =>
+      let fix params (l : list type) : string :=
+        match l with
+        | [] => ""
+        | [t] => decl t "" false
+        | t :: l' => decl t "" false ++ ", " ++ params l'
+        end in
+      let ps := match args with [] => "void" | _ => params args end in
+      decl res (wrap ++ "(" ++ ps ++ ")") false
+  | Tstruct id => "struct " ++ id ++ space_before d
+  end.
+
+(** The type name of [ty], as in a cast: [struct T *]. *)
+Definition type_name (ty : type) : string := decl ty "" false.
+
+(** ** Expressions *)
+
+(** A constant [c] of the kind's own type is printed as is; of another
+    type, as a cast. *)
+Definition cast_if (ok : bool) (ty : type) (c : doc) : doc :=
+  if ok then c else ("(" ++ type_name ty ++ ")" ++ at_level 1 c, 1%nat).
+
+Definition int_const (n : Z) (ty : type) : doc :=
+  match ty with
+  | Tint I32 Unsigned => (string_of_nonneg (wrap_unsigned 32 n) ++ "U", 3%nat)
+  | Tint sz Unsigned => signed_const 32 "" (wrap_unsigned (intsize_bits sz) n)
+  | Tint sz Signed => signed_const 32 "" (wrap_signed (intsize_bits sz) n)
+  | _ => cast_if false ty (signed_const 32 "" (wrap_signed 32 n))
+  end.
+
+Definition long_const (n : Z) (ty : type) : doc :=
+  match ty with
+  | Tlong Unsigned => (string_of_nonneg (wrap_unsigned 64 n) ++ "ULL", 3%nat)
+  | Tlong Signed => signed_const 64 "LL" (wrap_signed 64 n)
+  | _ => cast_if false ty (signed_const 64 "LL" (wrap_signed 64 n))
+  end.
+
+Definition is_tfloat (fs : floatsize) (ty : type) : bool :=
+  match ty, fs with Tfloat F64, F64 | Tfloat F32, F32 => true | _, _ => false end.
+
+(** [e] with its precedence level. *)
+Fixpoint expr_doc (e : expr) : doc :=
+  match e with
+  | Econst_int n ty => int_const n ty
+  | Econst_long n ty => long_const n ty
+  | Econst_float f ty => cast_if (is_tfloat F64 ty) ty (float64_const f)
+  | Econst_single f ty => cast_if (is_tfloat F32 ty) ty (float32_const f)
+  | Evar x _ => (x, 3%nat)
+  | Etempvar x _ => (x, 3%nat)
+  | Ederef e1 _ => ("*" ++ at_level 1 (expr_doc e1), 2%nat)
+  | Eaddrof e1 _ =>
+      let s := at_level 1 (expr_doc e1) in
+      (* [& &x] must not become the token [&&] *)
+      ("&" ++ (if String.prefix "&" s then "(" ++ s ++ ")" else s), 2%nat)
+  | Efield e1 f _ => (at_level 3 (expr_doc e1) ++ "." ++ f, 3%nat)
+  | Eindex e1 e2 _ => (at_level 3 (expr_doc e1) ++ "[" ++ fst (expr_doc e2) ++ "]", 3%nat)
+  | Ecast e1 ty => ("(" ++ type_name ty ++ ")" ++ at_level 1 (expr_doc e1), 1%nat)
+  end.
+
+(** [e] as a full expression. *)
+Definition print_expr (e : expr) : string := fst (expr_doc e).
+
+(** [f(a1, ..., an)]. *)
+Definition print_call (f : expr) (args : list expr) : string :=
+  at_level 3 (expr_doc f) ++ "(" ++ join ", " (map print_expr args) ++ ")".
+
+(** ** Statements *)
+
+Definition indent_step : string := "    ".
+
+(** The lines of [s] at indentation [ind], in front of the lines [k]. *)
+Fixpoint stmt_lines (ind : string) (s : statement) (k : list string) {struct s}
+  : list string :=
+  match s with
+  | Sskip => k
+  | Sassign lhs rhs => (ind ++ print_expr lhs ++ " = " ++ print_expr rhs ++ ";") :: k
+  | Sset x e => (ind ++ x ++ " = " ++ print_expr e ++ ";") :: k
+  | Scall None f args => (ind ++ print_call f args ++ ";") :: k
+  | Scall (Some x) f args => (ind ++ x ++ " = " ++ print_call f args ++ ";") :: k
+  | Ssequence s1 s2 => stmt_lines ind s1 (stmt_lines ind s2 k)
+  | Sifthenelse c s1 Sskip =>
+      (ind ++ "if (" ++ print_expr c ++ ") {")
+        :: stmt_lines (ind ++ indent_step) s1 ((ind ++ "}") :: k)
+  | Sifthenelse c s1 s2 =>
+      (ind ++ "if (" ++ print_expr c ++ ") {")
+        :: stmt_lines (ind ++ indent_step) s1
+             ((ind ++ "} else {")
+                :: stmt_lines (ind ++ indent_step) s2 ((ind ++ "}") :: k))
+  | Sloop (Ssequence (Sifthenelse c Sskip Sbreak) body) =>
+      (ind ++ "while (" ++ print_expr c ++ ") {")
+        :: stmt_lines (ind ++ indent_step) body ((ind ++ "}") :: k)
+  | Sloop body =>
+      (ind ++ "for (;;) {") :: stmt_lines (ind ++ indent_step) body ((ind ++ "}") :: k)
+  | Sbreak => (ind ++ "break;") :: k
+  | Sreturn None => (ind ++ "return;") :: k
+  | Sreturn (Some e) => (ind ++ "return " ++ print_expr e ++ ";") :: k
+  end.
+
+(** ** Functions and programs *)
+
+(** The declarator of a function with named parameters:
+    [void cb(struct T *msg)]. *)
+Definition function_header (id : ident) (f : function) : string :=
+  let ps := match fn_params f with
+            | [] => "void"
+            | l => join ", " (map (fun xt => decl (snd xt) (fst xt) false) l)
+            end in
+  decl (fn_return f) (id ++ "(" ++ ps ++ ")") false.
+
+(** Local declarations, one per line. *)
+Definition decl_lines (ind : string) (l : list (ident * type)) (k : list string) : list string :=
+  fold_right (fun xt k => (ind ++ decl (snd xt) (fst xt) false ++ ";") :: k) k l.
+
+Definition function_lines (id : ident) (f : function) (k : list string) : list string :=
+  function_header id f
+    :: "{"
+    :: decl_lines indent_step (fn_vars f)
+         (decl_lines indent_step (fn_temps f)
+            (stmt_lines indent_step (fn_body f) ("}" :: "" :: k))).
+
+Definition struct_lines (co : composite_definition) (k : list string) : list string :=
+  ("struct " ++ co_name co ++ " {")
+    :: decl_lines indent_step (co_members co) ("};" :: "" :: k).
+
+(** *** Struct order *)
+
+(** The structs that a member of type [ty] contains by value. *)
+Fixpoint struct_deps (ty : type) : list ident :=
+  match ty with
+  | Tstruct id => [id]
+  | Tarray t _ => struct_deps t
+  | _ => []
+  end.
+
+Definition mem_ident (x : ident) (l : list ident) : bool := existsb (String.eqb x) l.
+
+(** Depth-first: the structs that [id] contains come before [id].  The
+    state is the output (reversed) and the names already visited. *)
+Fixpoint visit_struct (fuel : nat) (all : list composite_definition) (id : ident)
+  (st : list composite_definition * list ident) : list composite_definition * list ident :=
+  match fuel with
+  | O => st
+  | S fuel' =>
+      if mem_ident id (snd st) then st else
+      match find_composite id all with
+      | None => st
+      | Some co =>
+          let st1 := (fst st, id :: snd st) in
+          let deps := flat_map (fun m => struct_deps (snd m)) (co_members co) in
+          let st2 := fold_left (fun st' d => visit_struct fuel' all d st') deps st1 in
+          (co :: fst st2, snd st2)
+      end
+  end.
+
+(** [prog_types] in dependency order (otherwise in their given order). *)
+Definition sort_structs (l : list composite_definition) : list composite_definition :=
+  rev (fst (fold_left (fun st co => visit_struct (S (length l)) l (co_name co) st)
+                      l ([], []))).
+
+(** *** Non-finite constants *)
+
+(** Whether [e] contains a non-finite [double] / [float] constant. *)
+Fixpoint expr_nonfinite (e : expr) : bool * bool :=
+  match e with
+  | Econst_float f _ => (negb (is_finite64 f), false)
+  | Econst_single f _ => (false, negb (is_finite32 f))
+  | Econst_int _ _ | Econst_long _ _ | Evar _ _ | Etempvar _ _ => (false, false)
+  | Ederef e1 _ | Eaddrof e1 _ | Efield e1 _ _ | Ecast e1 _ => expr_nonfinite e1
+  | Eindex e1 e2 _ =>
+      let (a1, b1) := expr_nonfinite e1 in
+      let (a2, b2) := expr_nonfinite e2 in (a1 || a2, b1 || b2)
+  end.
+
+Definition or2 (x y : bool * bool) : bool * bool := (fst x || fst y, snd x || snd y).
+
+Fixpoint stmt_nonfinite (s : statement) : bool * bool :=
+  match s with
+  | Sskip | Sbreak | Sreturn None => (false, false)
+  | Sassign e1 e2 => or2 (expr_nonfinite e1) (expr_nonfinite e2)
+  | Sset _ e | Sreturn (Some e) => expr_nonfinite e
+  | Scall _ f args => fold_left (fun acc a => or2 acc (expr_nonfinite a)) args (expr_nonfinite f)
+  | Ssequence s1 s2 | Sifthenelse _ s1 s2 => or2 (stmt_nonfinite s1) (stmt_nonfinite s2)
+  | Sloop s1 => stmt_nonfinite s1
+  end.
+
+(** The condition of [Sifthenelse] is scanned too. *)
+Fixpoint stmt_nonfinite_full (s : statement) : bool * bool :=
+  match s with
+  | Sifthenelse c s1 s2 =>
+      or2 (expr_nonfinite c) (or2 (stmt_nonfinite_full s1) (stmt_nonfinite_full s2))
+  | Ssequence s1 s2 => or2 (stmt_nonfinite_full s1) (stmt_nonfinite_full s2)
+  | Sloop s1 => stmt_nonfinite_full s1
+  | _ => stmt_nonfinite s
+  end.
+
+Definition prog_nonfinite (p : program) : bool * bool :=
+  fold_left (fun acc d =>
+               match snd d with
+               | Gfun (Internal f) => or2 acc (stmt_nonfinite_full (fn_body f))
+               | _ => acc
+               end) (prog_defs p) (false, false).
+
+Definition helper_lines (need : bool * bool) : list string :=
+  (if fst need then
+     [ "static double " ++ f64_helper ++ "(unsigned long long b)";
+       "{";
+       "    union { unsigned long long u; double d; } x;";
+       "    x.u = b;";
+       "    return x.d;";
+       "}";
+       "" ]
+   else [])
+  ++ (if snd need then
+     [ "static float " ++ f32_helper ++ "(unsigned int b)";
+       "{";
+       "    union { unsigned int u; float f; } x;";
+       "    x.u = b;";
+       "    return x.f;";
+       "}";
+       "" ]
+   else []).
+
+(** *** The translation unit *)
+
+Definition header_lines : list string :=
+  [ "/* Generated by pyrosgen from a Clight AST (ROSGen.Printer.print_program).";
+    "   Do not edit: the proofs are about the AST this text was printed from. */";
+    "" ].
+
+Definition global_lines (externs : list ident) (defs : list (ident * globdef))
+  : list string :=
+  fold_right (fun d k =>
+                match snd d with
+                | Gvar ty =>
+                    ((if mem_ident (fst d) externs then "extern " else "")
+                       ++ decl ty (fst d) false ++ ";") :: k
+                | _ => k
+                end) [] defs.
+
+Definition external_proto_lines (defs : list (ident * globdef)) : list string :=
+  fold_right (fun d k =>
+                match snd d with
+                | Gfun (External _ params res) =>
+                    (decl (Tfunction params res) (fst d) false ++ ";") :: k
+                | _ => k
+                end) [] defs.
+
+Definition internal_proto_lines (defs : list (ident * globdef)) : list string :=
+  fold_right (fun d k =>
+                match snd d with
+                | Gfun (Internal f) => (function_header (fst d) f ++ ";") :: k
+                | _ => k
+                end) [] defs.
+
+Definition function_def_lines (defs : list (ident * globdef)) : list string :=
+  fold_right (fun d k =>
+                match snd d with
+                | Gfun (Internal f) => function_lines (fst d) f k
+                | _ => k
+                end) [] defs.
+
+(** A group of lines followed by an empty line, or nothing if empty. *)
+Definition section (l : list string) : list string :=
+  match l with [] => [] | _ => l ++ [""] end.
+
+(** The lines of the C text of [p]. *)
+Definition print_program_lines (externs : list ident) (p : program) : list string :=
+  header_lines
+  ++ fold_right struct_lines [] (sort_structs (prog_types p))
+  ++ helper_lines (prog_nonfinite p)
+  ++ section (global_lines externs (prog_defs p))
+  ++ section (external_proto_lines (prog_defs p))
+  ++ section (internal_proto_lines (prog_defs p))
+  ++ function_def_lines (prog_defs p).
+
+(** The C text of [p]; the globals named in [externs] are declared
+    [extern] instead of being defined. *)
+Definition print_program (externs : list ident) (p : program) : string :=
+  concat_lines (print_program_lines externs p).
+
+(** ** The S-expression dump *)
+
+(** Grammar of the dump (one top-level item per line, statements of
+    sequences one per line; whitespace is not significant):
+<<
+program ::= (program (externs IDENT...) (main IDENT) item...)
+item    ::= (struct IDENT (IDENT type)...)
+          | (gvar IDENT type)
+          | (external IDENT ef (type...) type)        params, result
+          | (function IDENT type (params (IDENT type)...) (vars (IDENT type)...)
+                                  (temps (IDENT type)...) (body stmt))
+type    ::= void | (int SIZE SIGN) | (long SIGN) | (float FSIZE) | (ptr type)
+          | (array type INT) | (fun (type...) type) | (struct IDENT)
+SIZE    ::= I8 | I16 | I32       SIGN ::= signed | unsigned     FSIZE ::= F32 | F64
+expr    ::= (const_int INT type) | (const_long INT type)
+          | (const_float HEX64 type) | (const_single HEX32 type)
+          | (var IDENT type) | (tempvar IDENT type) | (deref expr type)
+          | (addrof expr type) | (field expr IDENT type) | (index expr expr type)
+          | (cast expr type)
+stmt    ::= (skip) | (assign expr expr) | (set IDENT expr)
+          | (call () expr (expr...)) | (call (IDENT) expr (expr...))
+          | (seq stmt...) | (if expr stmt stmt) | (loop stmt) | (break)
+          | (return) | (return expr)
+ef      ::= (ros_init) | (ros_ok) | (ros_spinOnce) | (ros_rate_sleep)
+          | (ros_subscribe STRING IDENT INT) | (ros_advertise STRING IDENT INT)
+          | (ros_publish STRING IDENT)
+          | (controller_initialize IDENT IDENT) | (controller_step IDENT IDENT)
+>>
+    where [X...] means zero or more [X].
+    [INT] is a decimal integer (possibly negative), exactly the [Z] of the
+    AST (not wrapped: the C text shows it wrapped to its type).  [HEX64] /
+    [HEX32] is the IEEE bit pattern of the float, [0x] and 16 / 8 hex
+    digits.  [STRING] is in double quotes, in which a double quote and a
+    backslash are preceded by a backslash.
+    Items are in the order of [prog_types] then [prog_defs].  [(seq ...)]
+    is the flattening of a tree of [Ssequence]s (sequencing is
+    associative), keeping [(skip)]s. *)
+
+Definition sexp_list (l : list string) : string := "(" ++ join " " l ++ ")".
+
+Definition sexp_signedness (sg : signedness) : string :=
+  match sg with Signed => "signed" | Unsigned => "unsigned" end.
+
+Fixpoint sexp_type (ty : type) : string :=
+  match ty with
+  | Tvoid => "void"
+  | Tint sz sg =>
+      sexp_list ["int"; match sz with I8 => "I8" | I16 => "I16" | I32 => "I32" end;
+                 sexp_signedness sg]
+  | Tlong sg => sexp_list ["long"; sexp_signedness sg]
+  | Tfloat fs => sexp_list ["float"; match fs with F32 => "F32" | F64 => "F64" end]
+  | Tpointer t => sexp_list ["ptr"; sexp_type t]
+  | Tarray t n => sexp_list ["array"; sexp_type t; string_of_Z n]
+  | Tfunction args res =>
+      let fix targs (l : list type) : list string :=
+        match l with [] => [] | t :: l' => sexp_type t :: targs l' end in
+      sexp_list ["fun"; sexp_list (targs args); sexp_type res]
+  | Tstruct id => sexp_list ["struct"; id]
+  end.
+
+Fixpoint sexp_expr (e : expr) : string :=
+  match e with
+  | Econst_int n ty => sexp_list ["const_int"; string_of_Z n; sexp_type ty]
+  | Econst_long n ty => sexp_list ["const_long"; string_of_Z n; sexp_type ty]
+  | Econst_float f ty =>
+      sexp_list ["const_float"; "0x" ++ hex_digits 16 (bits_of_b64 f); sexp_type ty]
+  | Econst_single f ty =>
+      sexp_list ["const_single"; "0x" ++ hex_digits 8 (bits_of_b32 f); sexp_type ty]
+  | Evar x ty => sexp_list ["var"; x; sexp_type ty]
+  | Etempvar x ty => sexp_list ["tempvar"; x; sexp_type ty]
+  | Ederef e1 ty => sexp_list ["deref"; sexp_expr e1; sexp_type ty]
+  | Eaddrof e1 ty => sexp_list ["addrof"; sexp_expr e1; sexp_type ty]
+  | Efield e1 f ty => sexp_list ["field"; sexp_expr e1; f; sexp_type ty]
+  | Eindex e1 e2 ty => sexp_list ["index"; sexp_expr e1; sexp_expr e2; sexp_type ty]
+  | Ecast e1 ty => sexp_list ["cast"; sexp_expr e1; sexp_type ty]
+  end.
+
+(** A quoted string: a backslash before each double quote and backslash. *)
+Fixpoint escape (s : string) : string :=
+  match s with
+  | EmptyString => ""
+  | String c s' =>
+      (if Ascii.eqb c dquote_char then "\"""
+       else if Ascii.eqb c backslash_char then "\\"
+       else String c "") ++ escape s'
+  end.
+
+Definition sexp_string (s : string) : string := """" ++ escape s ++ """".
+
+Definition sexp_nat (n : nat) : string := string_of_nonneg (Z.of_nat n).
+
+Definition sexp_ef (ef : external_function) : string :=
+  match ef with
+  | EF_ros_init => "(ros_init)"
+  | EF_ros_ok => "(ros_ok)"
+  | EF_ros_spinOnce => "(ros_spinOnce)"
+  | EF_ros_rate_sleep => "(ros_rate_sleep)"
+  | EF_ros_subscribe t m q => sexp_list ["ros_subscribe"; sexp_string t; m; sexp_nat q]
+  | EF_ros_advertise t m q => sexp_list ["ros_advertise"; sexp_string t; m; sexp_nat q]
+  | EF_ros_publish t m => sexp_list ["ros_publish"; sexp_string t; m]
+  | EF_controller_initialize u y => sexp_list ["controller_initialize"; u; y]
+  | EF_controller_step u y => sexp_list ["controller_step"; u; y]
+  end.
+
+(** Statements, one simple statement per line.  A compound statement opens
+    on its line, its sub-statements follow one level deeper, and its
+    closing parenthesis ends the line of its last sub-statement ([close]
+    is what that line must end with).  [inseq] holds for the elements of
+    a sequence that is already open: their own [Ssequence]s are not opened
+    again, which flattens trees of sequences. *)
+Fixpoint sexp_stmt_lines (inseq : bool) (ind close : string) (s : statement)
+  (k : list string) {struct s} : list string :=
+  let ind' := ind ++ "  " in
+  match s with
+  | Sskip => (ind ++ "(skip)" ++ close) :: k
+  | Sassign e1 e2 => (ind ++ sexp_list ["assign"; sexp_expr e1; sexp_expr e2] ++ close) :: k
+  | Sset x e => (ind ++ sexp_list ["set"; x; sexp_expr e] ++ close) :: k
+  | Scall r f args =>
+      (ind ++ sexp_list ["call"; match r with None => "()" | Some x => "(" ++ x ++ ")" end;
+                         sexp_expr f; sexp_list (map sexp_expr args)] ++ close) :: k
+  | Ssequence s1 s2 =>
+      if inseq then
+        sexp_stmt_lines true ind "" s1 (sexp_stmt_lines true ind close s2 k)
+      else
+        (ind ++ "(seq")
+          :: sexp_stmt_lines true ind' "" s1 (sexp_stmt_lines true ind' (")" ++ close) s2 k)
+  | Sifthenelse c s1 s2 =>
+      (ind ++ "(if " ++ sexp_expr c)
+        :: sexp_stmt_lines false ind' "" s1 (sexp_stmt_lines false ind' (")" ++ close) s2 k)
+  | Sloop s1 => (ind ++ "(loop") :: sexp_stmt_lines false ind' (")" ++ close) s1 k
+  | Sbreak => (ind ++ "(break)" ++ close) :: k
+  | Sreturn None => (ind ++ "(return)" ++ close) :: k
+  | Sreturn (Some e) => (ind ++ sexp_list ["return"; sexp_expr e] ++ close) :: k
+  end.
+
+Definition sexp_binding (xt : ident * type) : string := sexp_list [fst xt; sexp_type (snd xt)].
+
+Definition sexp_def_lines (d : ident * globdef) (k : list string) : list string :=
+  let (id, g) := d in
+  match g with
+  | Gvar ty => sexp_list ["gvar"; id; sexp_type ty] :: k
+  | Gfun (External ef params res) =>
+      sexp_list ["external"; id; sexp_ef ef; sexp_list (map sexp_type params); sexp_type res]
+        :: k
+  | Gfun (Internal f) =>
+      ("(function " ++ id ++ " " ++ sexp_type (fn_return f))
+        :: ("  " ++ sexp_list ("params" :: map sexp_binding (fn_params f)))
+        :: ("  " ++ sexp_list ("vars" :: map sexp_binding (fn_vars f)))
+        :: ("  " ++ sexp_list ("temps" :: map sexp_binding (fn_temps f)))
+        :: "  (body"
+        :: sexp_stmt_lines false "    " "))" (fn_body f) k
+  end.
+
+Definition sexp_struct (co : composite_definition) : string :=
+  sexp_list ("struct" :: co_name co :: map sexp_binding (co_members co)).
+
+(** The lines of the dump of [p]. *)
+Definition print_sexp_lines (externs : list ident) (p : program) : list string :=
+  "(program"
+    :: sexp_list ("externs" :: externs)
+    :: sexp_list ["main"; prog_main p]
+    :: map sexp_struct (prog_types p)
+    ++ fold_right sexp_def_lines [")"] (prog_defs p).
+
+(** The S-expression dump of [p] (grammar above). *)
+Definition print_sexp (externs : list ident) (p : program) : string :=
+  concat_lines (print_sexp_lines externs p).

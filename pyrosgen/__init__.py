@@ -1,0 +1,46 @@
+"""pyrosgen: generator of proven glue code for ROS 1 nodes.
+
+The front end (this package's model layer) reads a node model file, checks it
+against the rules of DESIGN.md section 4 and returns a typed, immutable
+:class:`NodeModel`::
+
+    from pyrosgen import load_model
+    model = load_model("examples/landshark/landshark_controller.yaml")
+"""
+
+from .errors import Diagnostic, InvalidNodeModel, PyrosgenError
+from .model import (
+    Controller,
+    ControllerField,
+    InputRelation,
+    IOStruct,
+    NodeModel,
+    OutputRelation,
+    Pos,
+    Topic,
+    load_model,
+)
+from .msgtypes import C_TYPES, PRIMITIVES, FieldPath, MsgField, MsgType, leaf_paths
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "C_TYPES",
+    "PRIMITIVES",
+    "Controller",
+    "ControllerField",
+    "Diagnostic",
+    "FieldPath",
+    "IOStruct",
+    "InputRelation",
+    "InvalidNodeModel",
+    "MsgField",
+    "MsgType",
+    "NodeModel",
+    "OutputRelation",
+    "Pos",
+    "PyrosgenError",
+    "Topic",
+    "leaf_paths",
+    "load_model",
+]

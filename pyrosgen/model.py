@@ -1,0 +1,276 @@
+"""The validated node model: small immutable classes the emitters consume.
+
+A :class:`NodeModel` is only ever built by :func:`load_model` (see
+:mod:`pyrosgen.validate`), after every rule of DESIGN.md section 4 has been
+checked, so emitters may rely on it: names are safe C/Coq identifiers, every
+controller input is fed by exactly one relation, relation types match, field
+paths name carried scalar leaves, and all derived C names are distinct.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import NamedTuple
+
+from .msgtypes import C_TYPES, SIMULINK_TYPES, FieldPath, MsgType, leaf_paths, msg_c_name
+
+__all__ = [
+    "Pos",
+    "ControllerField",
+    "IOStruct",
+    "Controller",
+    "Topic",
+    "InputRelation",
+    "OutputRelation",
+    "NodeModel",
+    "load_model",
+]
+
+SUBSCRIBE = "subscribe"
+PUBLISH = "publish"
+
+
+class Pos(NamedTuple):
+    """A 1-based ``(line, col)`` position in the model file (``(0, 0)`` when
+    the object was not read from a file)."""
+
+    line: int
+    col: int
+
+
+_NOPOS = Pos(0, 0)
+
+
+class ControllerField(NamedTuple):
+    """A field of ``Controller_U`` or ``Controller_Y``: ``(name, prim)``."""
+
+    name: str
+    prim: str
+
+    @property
+    def c_type(self) -> str:
+        """The C type of the field."""
+        return C_TYPES[self.prim]
+
+    @property
+    def simulink_type(self) -> str:
+        """The Simulink (``rtwtypes.h``) type name of the field."""
+        return SIMULINK_TYPES[self.prim]
+
+
+@dataclass(frozen=True)
+class IOStruct:
+    """The controller's input or output structure.
+
+    ``var_name`` is the global (``Controller_U``), ``struct_name`` its type
+    (``ExtU_Controller_T``), ``fields`` in declaration order (= C order).
+    """
+
+    var_name: str
+    struct_name: str
+    fields: tuple[ControllerField, ...]
+
+    def field(self, name: str) -> ControllerField | None:
+        """The field called ``name``, or ``None``."""
+        for f in self.fields:
+            if f.name == name:
+                return f
+        return None
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The field names in declaration order."""
+        return tuple(f.name for f in self.fields)
+
+
+@dataclass(frozen=True)
+class Controller:
+    """The Simulink-style controller: ``<name>_initialize()``, ``<name>_step()``
+    reading ``inputs`` and writing ``outputs``."""
+
+    name: str
+    inputs: IOStruct
+    outputs: IOStruct
+
+    @property
+    def step_fn(self) -> str:
+        """``<name>_step``."""
+        return f"{self.name}_step"
+
+    @property
+    def initialize_fn(self) -> str:
+        """``<name>_initialize``."""
+        return f"{self.name}_initialize"
+
+
+@dataclass(frozen=True)
+class Topic:
+    """A topic the node subscribes to or publishes.
+
+    ``name`` is the ROS graph name (``/landshark/gps_velocity``), ``c_name``
+    its C name (``landshark_gps_velocity``), ``direction`` is ``'subscribe'``
+    or ``'publish'``, ``msg_type`` the ROS type (``geometry_msgs/TwistStamped``).
+    """
+
+    name: str
+    c_name: str
+    direction: str
+    msg_type: str
+    queue_size: int
+    pos: Pos = field(default=_NOPOS, compare=False, repr=False)
+
+    @property
+    def is_subscribed(self) -> bool:
+        """Whether the node subscribes to this topic."""
+        return self.direction == SUBSCRIBE
+
+    @property
+    def is_published(self) -> bool:
+        """Whether the node publishes this topic."""
+        return self.direction == PUBLISH
+
+    @property
+    def msg_struct(self) -> str:
+        """The C struct name of the message type (``geometry_msgs_TwistStamped``)."""
+        return msg_c_name(self.msg_type)
+
+    @property
+    def msg_var(self) -> str:
+        """Global holding the last message received: ``<c>_msg``."""
+        return f"{self.c_name}_msg"
+
+    @property
+    def callback(self) -> str:
+        """Subscription callback: ``<c>_callback``."""
+        return f"{self.c_name}_callback"
+
+    @property
+    def output_glue(self) -> str:
+        """Output glue of a published topic: ``output_glue_<c>``."""
+        return f"output_glue_{self.c_name}"
+
+    @property
+    def subscribe_fn(self) -> str:
+        """ROS API call subscribing to the topic: ``ros_subscribe_<c>``."""
+        return f"ros_subscribe_{self.c_name}"
+
+    @property
+    def advertise_fn(self) -> str:
+        """ROS API call advertising the topic: ``ros_advertise_<c>``."""
+        return f"ros_advertise_{self.c_name}"
+
+    @property
+    def publish_fn(self) -> str:
+        """ROS API call publishing on the topic: ``ros_publish_<c>``."""
+        return f"ros_publish_{self.c_name}"
+
+    @property
+    def cmd_var(self) -> str:
+        """Message built by the output glue before publishing: ``<c>_cmd``."""
+        return f"{self.c_name}_cmd"
+
+    def derived_names(self) -> tuple[str, ...]:
+        """Every C name derived from this topic (whatever its direction)."""
+        return (
+            self.msg_var,
+            self.callback,
+            self.output_glue,
+            self.subscribe_fn,
+            self.advertise_fn,
+            self.publish_fn,
+            self.cmd_var,
+        )
+
+
+@dataclass(frozen=True)
+class InputRelation:
+    """An SI row: field ``path`` of the last message on ``topic`` (a
+    subscribed :class:`Topic`) feeds controller input ``input_field``."""
+
+    topic: Topic
+    path: FieldPath
+    input_field: str
+    pos: Pos = field(default=_NOPOS, compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class OutputRelation:
+    """A PO row: controller output ``output_field`` feeds field ``path`` of
+    each message published on ``topic`` (a published :class:`Topic`)."""
+
+    output_field: str
+    topic: Topic
+    path: FieldPath
+    pos: Pos = field(default=_NOPOS, compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class NodeModel:
+    """A validated ROS node model (DESIGN.md section 4).
+
+    ``messages`` lists every carried message type the node uses, transitively,
+    each after the types it contains (``time``/``duration`` included when
+    used).  ``source`` is the model file, ``msg_paths`` the resolved custom
+    message folders.
+    """
+
+    name: str
+    period_ms: int
+    controller: Controller
+    topics: tuple[Topic, ...]
+    input_relations: tuple[InputRelation, ...]
+    output_relations: tuple[OutputRelation, ...]
+    messages: tuple[MsgType, ...]
+    source: Path
+    msg_paths: tuple[Path, ...] = ()
+
+    @property
+    def subscribed(self) -> tuple[Topic, ...]:
+        """Subscribed topics, in declaration order."""
+        return tuple(t for t in self.topics if t.is_subscribed)
+
+    @property
+    def published(self) -> tuple[Topic, ...]:
+        """Published topics, in declaration order."""
+        return tuple(t for t in self.topics if t.is_published)
+
+    def topic(self, name: str) -> Topic:
+        """The topic with graph name ``name`` (``KeyError`` if none)."""
+        for t in self.topics:
+            if t.name == name:
+                return t
+        raise KeyError(name)
+
+    def message(self, name: str) -> MsgType:
+        """The carried message type ``name`` (``KeyError`` if not used)."""
+        for m in self.messages:
+            if m.name == name:
+                return m
+        raise KeyError(name)
+
+    def leaf_paths(self, msg_name: str) -> tuple[FieldPath, ...]:
+        """Every carried scalar leaf of message type ``msg_name``."""
+        return leaf_paths(msg_name, {m.name: m for m in self.messages})
+
+    def input_relation(self, input_field: str) -> InputRelation:
+        """The relation feeding controller input ``input_field``."""
+        for r in self.input_relations:
+            if r.input_field == input_field:
+                return r
+        raise KeyError(input_field)
+
+    def output_relations_of(self, topic: Topic | str) -> tuple[OutputRelation, ...]:
+        """The output relations writing into ``topic`` (a Topic or its name)."""
+        name = topic if isinstance(topic, str) else topic.name
+        return tuple(r for r in self.output_relations if r.topic.name == name)
+
+
+def load_model(path: str | Path) -> NodeModel:
+    """Read, parse and validate the node model at ``path``.
+
+    Raises :class:`pyrosgen.errors.InvalidNodeModel` listing every problem.
+    """
+    from .validate import load_model as _load
+
+    return _load(path)

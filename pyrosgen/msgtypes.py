@@ -1,0 +1,853 @@
+"""ROS 1 message types, as far as the glue code carries them.
+
+Definitions come from ``rosbags`` (its ROS 1 Noetic store) and from custom
+``<pkg>/msg/<Type>.msg`` files in the model's ``msg_paths``.  This module
+turns them into the *carried* view that the generators use:
+
+- primitive fields (``bool``, ``int8`` .. ``uint64``, ``float32``,
+  ``float64``; the ROS 1 aliases ``char`` and ``byte`` become ``uint8`` and
+  ``int8``) and fixed-size arrays of them are carried;
+- nested messages and fixed-size arrays of messages are carried when the
+  nested message carries at least one field;
+- ``time`` and ``duration`` are the pseudo message types :data:`TIME` and
+  :data:`DURATION` (``sec``/``nsec``, 32-bit);
+- strings, variable-length (and bounded) arrays, and fields of other base
+  types are dropped.
+
+It also resolves field paths such as ``pose.covariance[35]`` against the
+original definitions, so that naming a dropped field is reported with the
+reason it is not carried.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .errors import Diagnostic, InvalidNodeModel, show
+from .names import did_you_mean, identifier_problem
+
+__all__ = [
+    "PRIMITIVES",
+    "ROS1_ALIASES",
+    "C_TYPES",
+    "SIMULINK_TYPES",
+    "PRIM_SIZES",
+    "MAX_LEAVES",
+    "MAX_MSG_FILES",
+    "MAX_MSG_DEPTH",
+    "MsgField",
+    "MsgType",
+    "FieldPath",
+    "TIME",
+    "DURATION",
+    "msg_c_name",
+    "leaf_paths",
+    "leaf_count",
+    "MsgRegistry",
+    "PathError",
+]
+
+# --------------------------------------------------------------------------
+# Primitive types
+
+#: The ROS primitive types the glue carries, in the order of DESIGN.md 4.
+PRIMITIVES: tuple[str, ...] = (
+    "bool",
+    "int8",
+    "uint8",
+    "int16",
+    "uint16",
+    "int32",
+    "uint32",
+    "int64",
+    "uint64",
+    "float32",
+    "float64",
+)
+
+#: ROS 1's deprecated aliases (``char`` is unsigned, ``byte`` signed).
+ROS1_ALIASES: dict[str, str] = {"char": "uint8", "byte": "int8"}
+
+#: The C type of each primitive.
+C_TYPES: dict[str, str] = {
+    "bool": "unsigned char",
+    "int8": "signed char",
+    "uint8": "unsigned char",
+    "int16": "short",
+    "uint16": "unsigned short",
+    "int32": "int",
+    "uint32": "unsigned int",
+    "int64": "long long",
+    "uint64": "unsigned long long",
+    "float32": "float",
+    "float64": "double",
+}
+
+#: The Simulink (``rtwtypes.h``) name of each primitive's C type.
+SIMULINK_TYPES: dict[str, str] = {
+    "bool": "boolean_T",
+    "int8": "int8_T",
+    "uint8": "uint8_T",
+    "int16": "int16_T",
+    "uint16": "uint16_T",
+    "int32": "int32_T",
+    "uint32": "uint32_T",
+    "int64": "int64_T",
+    "uint64": "uint64_T",
+    "float32": "real32_T",
+    "float64": "real_T",
+}
+
+#: Size in bytes of each primitive's C type (LP64 and ILP32 alike).
+PRIM_SIZES: dict[str, int] = {
+    "bool": 1,
+    "int8": 1,
+    "uint8": 1,
+    "int16": 2,
+    "uint16": 2,
+    "int32": 4,
+    "uint32": 4,
+    "int64": 8,
+    "uint64": 8,
+    "float32": 4,
+    "float64": 8,
+}
+
+#: Largest number of carried scalar leaves in one topic's message type (each
+#: leaf is one copy statement in a callback, and one proof obligation).
+MAX_LEAVES = 10000
+
+#: Largest number of ``.msg`` files read from the ``msg_paths`` of one model.
+MAX_MSG_FILES = 2000
+
+#: Deepest nesting of message types (the standard ones nest at most 6 deep).
+MAX_MSG_DEPTH = 32
+
+# --------------------------------------------------------------------------
+# The carried view
+
+
+@dataclass(frozen=True)
+class MsgField:
+    """A carried field of a message type.
+
+    ``kind`` is ``'prim'`` (then ``prim`` is the ROS primitive name, aliases
+    already resolved) or ``'msg'`` (then ``msg`` is the full type name, e.g.
+    ``'std_msgs/Header'``, or ``'time'``/``'duration'``).  ``array_len`` is the
+    length of a fixed-size array, ``None`` for a scalar field.
+    """
+
+    name: str
+    kind: str
+    prim: str | None = None
+    msg: str | None = None
+    array_len: int | None = None
+
+    @property
+    def is_array(self) -> bool:
+        """Whether the field is a fixed-size array."""
+        return self.array_len is not None
+
+    @property
+    def c_type(self) -> str:
+        """The C type of one element: a primitive's C type or ``struct <c_name>``."""
+        if self.kind == "prim":
+            return C_TYPES[self.prim]
+        return f"struct {msg_c_name(self.msg)}"
+
+
+@dataclass(frozen=True)
+class MsgType:
+    """A message type as carried by the glue: ``fields`` are the carried
+    fields in definition order (never empty)."""
+
+    name: str
+    c_name: str
+    fields: tuple[MsgField, ...]
+
+    @property
+    def is_pseudo(self) -> bool:
+        """Whether this is the ``time`` or ``duration`` pseudo type."""
+        return "/" not in self.name
+
+    @property
+    def package(self) -> str | None:
+        """The ROS package (``None`` for ``time``/``duration``)."""
+        return self.name.split("/")[0] if "/" in self.name else None
+
+    @property
+    def short_name(self) -> str:
+        """The type name without its package."""
+        return self.name.split("/")[-1]
+
+    @property
+    def cpp_name(self) -> str:
+        """The roscpp C++ type: ``geometry_msgs::TwistStamped``, ``ros::Time``."""
+        if self.name == "time":
+            return "ros::Time"
+        if self.name == "duration":
+            return "ros::Duration"
+        return self.name.replace("/", "::")
+
+    def field(self, name: str) -> MsgField | None:
+        """The carried field ``name``, or ``None``."""
+        for f in self.fields:
+            if f.name == name:
+                return f
+        return None
+
+
+#: ROS 1 ``time``: ``{sec: uint32, nsec: uint32}``.
+TIME = MsgType(
+    "time",
+    "ros_time",
+    (MsgField("sec", "prim", prim="uint32"), MsgField("nsec", "prim", prim="uint32")),
+)
+
+#: ROS 1 ``duration``: ``{sec: int32, nsec: int32}``.
+DURATION = MsgType(
+    "duration",
+    "ros_duration",
+    (MsgField("sec", "prim", prim="int32"), MsgField("nsec", "prim", prim="int32")),
+)
+
+_PSEUDO = {"time": TIME, "duration": DURATION}
+
+
+def msg_c_name(name: str) -> str:
+    """The C struct name of a message type: ``pkg/Type`` gives ``pkg_Type``,
+    ``time`` gives ``ros_time`` and ``duration`` gives ``ros_duration``."""
+    if name in _PSEUDO:
+        return _PSEUDO[name].c_name
+    return name.replace("/", "_")
+
+
+@dataclass(frozen=True)
+class FieldPath:
+    """A path from a message to one scalar leaf: field names and constant
+    array indices, e.g. ``('pose', 'covariance', 35)``; ``prim`` is the
+    leaf's primitive type."""
+
+    steps: tuple[str | int, ...]
+    prim: str
+
+    def __str__(self) -> str:
+        out = ""
+        for s in self.steps:
+            if isinstance(s, int):
+                out += f"[{s}]"
+            else:
+                out += ("." if out else "") + s
+        return out
+
+    @property
+    def c_type(self) -> str:
+        """The C type of the leaf."""
+        return C_TYPES[self.prim]
+
+    def c_access(self, base: str, arrow: bool = False) -> str:
+        """C text selecting the leaf from ``base`` (``base->`` when ``arrow``)."""
+        out = base
+        first = True
+        for s in self.steps:
+            if isinstance(s, int):
+                out += f"[{s}]"
+            else:
+                out += ("->" if (first and arrow) else ".") + s
+            first = False
+        return out
+
+
+def leaf_paths(msg: str | MsgType, messages: Mapping[str, MsgType]) -> tuple[FieldPath, ...]:
+    """Every carried scalar leaf of ``msg``, in definition order, arrays
+    expanded element by element: what a callback copies.
+
+    ``messages`` maps type names to carried types (``time``/``duration`` need
+    not be in it).
+    """
+    root = msg if isinstance(msg, MsgType) else _get(messages, msg)
+    out: list[FieldPath] = []
+
+    def go(t: MsgType, prefix: tuple[str | int, ...]) -> None:
+        for f in t.fields:
+            indices: Iterable[tuple[str | int, ...]]
+            if f.array_len is None:
+                indices = [(f.name,)]
+            else:
+                indices = [(f.name, i) for i in range(f.array_len)]
+            for steps in indices:
+                if f.kind == "prim":
+                    out.append(FieldPath(prefix + steps, f.prim))
+                else:
+                    go(_get(messages, f.msg), prefix + steps)
+
+    go(root, ())
+    return tuple(out)
+
+
+def leaf_count(msg: str | MsgType, messages: Mapping[str, MsgType]) -> int:
+    """The number of carried scalar leaves of ``msg`` (without listing them)."""
+    memo: dict[str, int] = {}
+
+    def count(t: MsgType) -> int:
+        if t.name in memo:
+            return memo[t.name]
+        n = 0
+        for f in t.fields:
+            k = 1 if f.kind == "prim" else count(_get(messages, f.msg))
+            n += k * (f.array_len if f.array_len is not None else 1)
+        memo[t.name] = n
+        return n
+
+    return count(msg if isinstance(msg, MsgType) else _get(messages, msg))
+
+
+def _get(messages: Mapping[str, MsgType], name: str) -> MsgType:
+    if name in _PSEUDO and name not in messages:
+        return _PSEUDO[name]
+    return messages[name]
+
+
+# --------------------------------------------------------------------------
+# Original definitions (before dropping)
+
+
+@dataclass(frozen=True)
+class _RawField:
+    """A field as defined: ``base_kind`` is ``prim``, ``string``, ``msg`` or
+    ``unsupported``; ``card`` is ``scalar``, ``array`` or ``sequence``."""
+
+    name: str
+    base_kind: str
+    base: str
+    card: str
+    size: int
+    line: int | None = None
+    col: int | None = None
+
+    def type_text(self) -> str:
+        """The type as a ``.msg`` file writes it (ROS 1 style)."""
+        t = self.base
+        if self.card == "array":
+            return f"{t}[{self.size}]"
+        if self.card == "sequence":
+            return f"{t}[<={self.size}]" if self.size else f"{t}[]"
+        return t
+
+
+@dataclass(frozen=True)
+class _RawMsg:
+    """A message definition as written; ``file`` is set for custom types."""
+
+    name: str
+    fields: tuple[_RawField, ...]
+    file: str | None = None
+
+    def field(self, name: str) -> _RawField | None:
+        for f in self.fields:
+            if f.name == name:
+                return f
+        return None
+
+
+_RAW_PSEUDO = {
+    "time": _RawMsg(
+        "time",
+        (_RawField("sec", "prim", "uint32", "scalar", 0), _RawField("nsec", "prim", "uint32", "scalar", 0)),
+    ),
+    "duration": _RawMsg(
+        "duration",
+        (_RawField("sec", "prim", "int32", "scalar", 0), _RawField("nsec", "prim", "int32", "scalar", 0)),
+    ),
+}
+
+#: rosbags gives ROS 2-style names; these are ROS 1's ``time``/``duration``.
+_ROSBAGS_PSEUDO = {
+    "builtin_interfaces/msg/Time": "time",
+    "builtin_interfaces/msg/Duration": "duration",
+}
+
+# rosbags fills empty messages with this ROS 2 placeholder; ROS 1 has none.
+_PLACEHOLDER = "structure_needs_at_least_one_member"
+
+
+def _ros1_name(name: str) -> str:
+    """``pkg/msg/Type`` to ``pkg/Type`` (and the time/duration pseudo names)."""
+    if name in _ROSBAGS_PSEUDO:
+        return _ROSBAGS_PSEUDO[name]
+    parts = name.split("/")
+    if len(parts) == 3 and parts[1] in ("msg", "action"):
+        return f"{parts[0]}/{parts[2]}"
+    return name
+
+
+def _convert_field(fname: str, desc, line=None, col=None) -> _RawField:
+    from rosbags.interfaces import Nodetype
+
+    nodetype, payload = desc
+    card, size = "scalar", 0
+    if nodetype in (Nodetype.ARRAY, Nodetype.SEQUENCE):
+        card = "array" if nodetype == Nodetype.ARRAY else "sequence"
+        (nodetype, payload), size = payload
+    if nodetype == Nodetype.BASE:
+        base, _bound = payload
+        if base == "string":
+            return _RawField(fname, "string", "string", card, size, line, col)
+        base = ROS1_ALIASES.get(base, base)
+        if base in PRIMITIVES:
+            return _RawField(fname, "prim", base, card, size, line, col)
+        return _RawField(fname, "unsupported", base, card, size, line, col)
+    return _RawField(fname, "msg", _ros1_name(payload), card, size, line, col)
+
+
+def _convert_fielddefs(fielddefs) -> dict[str, _RawMsg]:
+    out = {}
+    for name, (_consts, fields) in fielddefs.items():
+        r1 = _ros1_name(name)
+        if r1 in _RAW_PSEUDO or "/" not in r1:
+            continue
+        if len(fields) == 1 and fields[0][0] == _PLACEHOLDER:
+            fields = []
+        out[r1] = _RawMsg(r1, tuple(_convert_field(n, d) for n, d in fields))
+    return out
+
+
+_STANDARD: dict[str, _RawMsg] | None = None
+
+
+def _standard_defs() -> dict[str, _RawMsg]:
+    """The ROS 1 Noetic definitions shipped with rosbags (read once)."""
+    global _STANDARD
+    if _STANDARD is None:
+        from rosbags.typesys import Stores, get_typestore
+
+        _STANDARD = _convert_fielddefs(get_typestore(Stores.ROS1_NOETIC).fielddefs)
+    return _STANDARD
+
+
+# --------------------------------------------------------------------------
+# Custom .msg files
+
+_PKG_RE = re.compile(r"[a-z][a-z0-9_]*")
+_TYPE_RE = re.compile(r"[A-Za-z][A-Za-z0-9]*")
+_FIELD_LINE_RE = re.compile(r"\s*([A-Za-z0-9_/\[\]<=]+)\s+([A-Za-z][A-Za-z0-9_]*)\s*(?:#.*)?")
+_TYPE_NAME_RE = re.compile(r"([a-z][a-z0-9_]*)/([A-Za-z][A-Za-z0-9]*)")
+
+
+class PathError(Exception):
+    """A field path that does not name a carried leaf (message in ``args[0]``)."""
+
+
+@dataclass
+class MsgRegistry:
+    """The message definitions one model can use: the standard ROS 1 Noetic
+    set plus the custom types found in its ``msg_paths``.
+
+    Problems in custom ``.msg`` files are appended to ``diagnostics``.
+    """
+
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    custom: dict[str, _RawMsg] = field(default_factory=dict)
+    _carried: dict[str, MsgType | None] = field(default_factory=dict)
+    _broken: set[str] = field(default_factory=set)
+    _typestore: object = None
+    failed: set[str] = field(default_factory=set)
+
+    # -- loading -----------------------------------------------------------
+
+    def add_msg_dir(self, folder: Path) -> int:
+        """Read every ``<pkg>/msg/<Type>.msg`` under ``folder``; return how many."""
+        files = sorted(folder.glob("*/msg/*.msg"))
+        if len(files) + len(self.custom) > MAX_MSG_FILES:
+            raise InvalidNodeModel(
+                [Diagnostic(str(folder), None, None, f"more than {MAX_MSG_FILES} .msg files")]
+            )
+        for f in files:
+            self._add_msg_file(f)
+        return len(files)
+
+    def _diag(self, file, line, col, message) -> None:
+        self.diagnostics.append(Diagnostic(_display(file), line, col, message))
+
+    def _add_msg_file(self, path: Path) -> None:
+        from .yamlsrc import read_text
+
+        pkg, typ = path.parent.parent.name, path.stem
+        if not _PKG_RE.fullmatch(pkg) or "__" in pkg:
+            self._diag(path, None, None, f"package name {show(pkg)} is not a ROS package name (lower-case letters, digits and '_', starting with a letter)")
+            return
+        if not _TYPE_RE.fullmatch(typ):
+            self._diag(path, None, None, f"message name {show(typ)} is not a ROS message name (letters and digits, starting with a letter)")
+            return
+        name = f"{pkg}/{typ}"
+        try:
+            text = read_text(path, what="message definition")
+        except InvalidNodeModel as exc:
+            for d in exc.diagnostics:
+                self._diag(path, d.line, d.col, d.message)
+            self.failed.add(name)
+            return
+        defs = self._parse_msg(path, text, f"{pkg}/msg/{typ}")
+        if defs is None or not self._check_ros1_lines(path, text):
+            self.failed.add(name)
+            return
+        if name in self.custom:
+            prev = self.custom[name]
+            self._diag(path, None, None, f"message type {name} is defined twice (also in {prev.file})")
+            return
+        _consts, fields = defs[f"{pkg}/msg/{typ}"]
+        lines = _field_lines(text)
+        raw = []
+        seen: dict[str, int] = {}
+        for fname, desc in fields:
+            occurrence = seen.get(fname, 0)
+            seen[fname] = occurrence + 1
+            places = lines.get(fname, [])
+            line, col = places[occurrence] if occurrence < len(places) else (None, None)
+            if occurrence:
+                self._diag(path, line, col, f"field {show(fname)} is defined twice in {name}")
+                continue
+            raw.append(_convert_field(fname, desc, line, col))
+        if any(n > 1 for n in seen.values()):
+            self.failed.add(name)
+            return
+        try:
+            self._store().register(defs)
+        except Exception as exc:  # noqa: BLE001 - rosbags raises several kinds
+            reason = " ".join(str(exc).split())
+            if "already present with different definition" in reason:
+                reason = f"{name} is already defined differently (a standard ROS type or another msg_paths folder)"
+            self._diag(path, 1, 1, f"cannot register message type {name}: {reason}")
+            self.failed.add(name)
+            return
+        self.custom[name] = _RawMsg(name, tuple(raw), _display(path))
+
+    def _check_ros1_lines(self, path: Path, text: str) -> bool:
+        """Refuse what rosbags accepts but ROS 1 does not (field defaults)."""
+        for i, line in enumerate(text.split("\n"), start=1):
+            code = line.split("#", 1)[0].strip()
+            if not code or "=" in code.replace("<=", ""):
+                continue
+            if not _FIELD_LINE_RE.fullmatch(line.rstrip("\r")):
+                self._diag(
+                    path,
+                    i,
+                    1,
+                    f"cannot parse message definition line {show(line.strip())} "
+                    "(a ROS 1 field is TYPE NAME, a constant TYPE NAME=VALUE)",
+                )
+                return False
+        return True
+
+    def _store(self):
+        if self._typestore is None:
+            from rosbags.typesys import Stores, get_typestore
+
+            self._typestore = get_typestore(Stores.ROS1_NOETIC)
+        return self._typestore
+
+    def _parse_msg(self, path: Path, text: str, rname: str):
+        from rosbags.typesys import get_types_from_msg
+
+        try:
+            defs = get_types_from_msg(text, rname)
+        except Exception:  # noqa: BLE001 - TypesysError and parser failures
+            line = _first_bad_line(text, rname)
+            bad = text.split("\n")[line - 1].strip() if line else ""
+            self._diag(
+                path,
+                line,
+                1,
+                f"cannot parse message definition line {show(bad)} "
+                "(a ROS 1 field is TYPE NAME, a constant TYPE NAME=VALUE)",
+            )
+            return None
+        if list(defs) != [rname]:
+            self._diag(path, 1, 1, "a .msg file must define exactly one message (no '====' separators)")
+            return None
+        return defs
+
+    # -- lookups ------------------------------------------------------------
+
+    def raw(self, name: str) -> _RawMsg | None:
+        """The definition of ``name`` (``pkg/Type``, ``time`` or ``duration``)."""
+        if name in _RAW_PSEUDO:
+            return _RAW_PSEUDO[name]
+        if name in self.custom:
+            return self.custom[name]
+        return _standard_defs().get(name)
+
+    def known_names(self) -> list[str]:
+        """All ``pkg/Type`` names available."""
+        return sorted(set(_standard_defs()) | set(self.custom))
+
+    def check_type_name(self, name: str) -> str | None:
+        """Why ``name`` does not name a known message type, or ``None``."""
+        if not isinstance(name, str) or not _TYPE_NAME_RE.fullmatch(name):
+            hint = ""
+            if isinstance(name, str):
+                parts = name.split("/")
+                if len(parts) == 3 and parts[1] == "msg":
+                    hint = f" (did you mean {show(parts[0] + '/' + parts[2])}?)"
+                elif len(parts) == 1 and parts[0]:
+                    cands = [n for n in self.known_names() if n.split("/")[1] == parts[0]]
+                    if cands:
+                        hint = f" (did you mean {show(cands[0])}?)"
+            return f"message type {show(name)} is not of the form package/Type{hint}"
+        if self.raw(name) is None:
+            return f"unknown message type {show(name)}{did_you_mean(name, self.known_names())}"
+        return None
+
+    # -- carried view -------------------------------------------------------
+
+    def carried(self, name: str, _stack: tuple[str, ...] = ()) -> MsgType | None:
+        """The carried view of ``name``; ``None`` when it carries nothing or is
+        broken (see :meth:`is_broken`; the problem is in ``diagnostics``)."""
+        if name in _PSEUDO:
+            return _PSEUDO[name]
+        if name in self._carried:
+            return self._carried[name]
+        raw = self.raw(name)
+        if raw is None:  # reported by the caller, which knows where
+            self._broken.add(name)
+            return None
+        fields = []
+        broken = False
+        for f in raw.fields:
+            if f.base_kind == "msg":
+                if f.base in _stack or f.base == name:
+                    cycle = " -> ".join((*_stack, name, f.base))
+                    self._report(raw, f, f"message type {name} contains itself ({cycle})")
+                    broken = True
+                    continue
+                if f.base in self.failed:
+                    broken = True  # its own .msg file is reported
+                    continue
+                if self.raw(f.base) is None:
+                    self._report(raw, f, f"field {show(f.name)} of {name} has unknown message type {show(f.base)}{did_you_mean(f.base, self.known_names())}")
+                    broken = True
+                    continue
+                if len(_stack) + 1 >= MAX_MSG_DEPTH:
+                    self._report(raw, f, f"message types nested more than {MAX_MSG_DEPTH} levels deep (field {show(f.name)} of {name})")
+                    broken = True
+                    continue
+                sub = self.carried(f.base, (*_stack, name))
+                if f.base in self._broken:
+                    broken = True
+                    continue
+                if sub is None or f.card == "sequence" or (f.card == "array" and f.size == 0):
+                    continue
+                mf = MsgField(f.name, "msg", msg=f.base, array_len=f.size if f.card == "array" else None)
+            elif f.base_kind == "prim":
+                if f.card == "sequence" or (f.card == "array" and f.size == 0):
+                    continue
+                mf = MsgField(f.name, "prim", prim=f.base, array_len=f.size if f.card == "array" else None)
+            else:
+                continue
+            if raw.file is not None:
+                problem = identifier_problem(f.name)
+                if problem:
+                    self._report(raw, f, f"field name {show(f.name)} of {name} cannot be used in generated code: {problem}")
+                    broken = True
+                    continue
+            fields.append(mf)
+        if broken:
+            self._broken.add(name)
+            self._carried[name] = None
+            return None
+        result = MsgType(name, msg_c_name(name), tuple(fields)) if fields else None
+        self._carried[name] = result
+        return result
+
+    def is_broken(self, name: str) -> bool:
+        """Whether ``name`` (or a type it contains) has a reported problem."""
+        return name in self._broken
+
+    def _report(self, raw: _RawMsg, f: _RawField, message: str) -> None:
+        if raw.file is not None:
+            d = Diagnostic(raw.file, f.line, f.col, message)
+            if d not in self.diagnostics:
+                self.diagnostics.append(d)
+
+    def messages(self) -> dict[str, MsgType]:
+        """All carried types computed so far, by name."""
+        return {k: v for k, v in self._carried.items() if v is not None}
+
+    def used_types(self, roots: Iterable[str]) -> tuple[MsgType, ...]:
+        """The carried types reachable from ``roots``, each after the types
+        it contains (dependency order)."""
+        order: list[MsgType] = []
+        done: set[str] = set()
+
+        def visit(name: str) -> None:
+            if name in done:
+                return
+            done.add(name)
+            t = self.carried(name)
+            if t is None:
+                return
+            for f in t.fields:
+                if f.kind == "msg":
+                    visit(f.msg)
+            order.append(t)
+
+        for r in roots:
+            visit(r)
+        return tuple(order)
+
+    # -- field paths ----------------------------------------------------------
+
+    def walk_path(self, type_name: str, text: object) -> FieldPath:
+        """Resolve field path ``text`` in message type ``type_name`` to a
+        carried scalar leaf; raises :class:`PathError` saying why not."""
+        steps = parse_path(text)
+        cur = self.raw(type_name)
+        assert cur is not None
+        out: list[str | int] = []
+        shown = ""
+        for i, (fname, index) in enumerate(steps):
+            last = i == len(steps) - 1
+            f = cur.field(fname)
+            if f is None:
+                names = [x.name for x in cur.fields]
+                where = f"{shown!s}" if shown else ""
+                owner = f"{cur.name} (at {show(where)})" if where else cur.name
+                raise PathError(
+                    f"field path {show(text)}: message type {owner} has no field "
+                    f"{show(fname)}{did_you_mean(fname, names)}"
+                )
+            shown = f"{shown}.{fname}" if shown else fname
+            out.append(fname)
+            ftype = f.type_text()
+            if f.card == "sequence":
+                raise PathError(
+                    f"field path {show(text)}: {show(shown)} is a variable-length array "
+                    f"({ftype}); variable-length arrays are not carried by the glue"
+                )
+            if f.card == "array":
+                if index is None:
+                    hint = f"{shown}[0]" + ("" if last else "." + ".".join(s for s, _ in steps[i + 1 :]))
+                    raise PathError(
+                        f"field path {show(text)}: {show(shown)} is an array ({ftype}); "
+                        f"name one element with a constant index, e.g. {show(hint)}"
+                    )
+                if index >= f.size:
+                    valid = f"valid indices are 0..{f.size - 1}" if f.size else "it has no elements"
+                    raise PathError(
+                        f"field path {show(text)}: index {index} is out of range for "
+                        f"{show(shown)} ({ftype}; {valid})"
+                    )
+                shown += f"[{index}]"
+                out.append(index)
+            elif index is not None:
+                raise PathError(
+                    f"field path {show(text)}: {show(shown)} is not an array "
+                    f"(it is {_article(f.base)} {f.base}), it cannot be indexed"
+                )
+            if f.base_kind == "string":
+                raise PathError(
+                    f"field path {show(text)}: {show(shown)} is a string; "
+                    "strings are not carried by the glue"
+                )
+            if f.base_kind == "unsupported":
+                raise PathError(
+                    f"field path {show(text)}: {show(shown)} has type {f.base}, "
+                    "which the glue does not carry"
+                )
+            if f.base_kind == "prim":
+                if not last:
+                    raise PathError(
+                        f"field path {show(text)}: {show(shown)} is {_article(f.base)} "
+                        f"{f.base}, it has no field {show(steps[i + 1][0])}"
+                    )
+                return FieldPath(tuple(out), f.base)
+            # a nested message
+            sub = self.carried(f.base)
+            if last:
+                example = ""
+                if sub is not None:
+                    leaf = leaf_paths(sub, self.messages())[0]
+                    example = f"; name one of its leaf fields, e.g. {show(shown + '.' + str(leaf))}"
+                raise PathError(
+                    f"field path {show(text)}: {show(shown)} is a whole sub-message "
+                    f"({f.base}), not a leaf field{example}"
+                )
+            if sub is None:
+                raise PathError(
+                    f"field path {show(text)}: {show(shown)} ({f.base}) carries no field "
+                    "(strings and variable-length arrays are not carried by the glue)"
+                )
+            nxt = self.raw(f.base)
+            assert nxt is not None
+            cur = nxt
+        raise PathError(f"field path {show(text)} is empty")  # pragma: no cover
+
+
+def _display(path) -> str:
+    """A path for messages: relative to the working directory when it lies
+    below it, absolute otherwise."""
+    import os
+
+    text = str(path)
+    try:
+        rel = os.path.relpath(text)
+    except ValueError:  # pragma: no cover - other drive on Windows
+        return text
+    return text if rel.startswith("..") else rel
+
+
+def _article(word: str) -> str:
+    return "an" if word[:1] in "aeiou" else "a"
+
+
+_STEP_RE = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)(?:\[([0-9]{1,9})\])?")
+
+
+def parse_path(text: object) -> list[tuple[str, int | None]]:
+    """Split ``a.b[3].c`` into ``[('a', None), ('b', 3), ('c', None)]``;
+    raises :class:`PathError` when ``text`` is not of that form."""
+    if not isinstance(text, str) or not text:
+        raise PathError(f"field path {show(text)} is empty")
+    out = []
+    for part in text.split("."):
+        m = _STEP_RE.fullmatch(part)
+        if not m:
+            hint = ""
+            if re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*\[.*\]", part):
+                hint = "; array indices are non-negative integer constants, e.g. covariance[35]"
+            raise PathError(
+                f"field path {show(text)} is malformed: expected field names, each "
+                f"optionally followed by [INDEX], separated by '.'{hint}"
+            )
+        out.append((m.group(1), int(m.group(2)) if m.group(2) is not None else None))
+    return out
+
+
+def _field_lines(text: str) -> dict[str, list[tuple[int, int]]]:
+    """Line and column of each definition of each field in a ``.msg`` text."""
+    out: dict[str, list[tuple[int, int]]] = {}
+    for i, line in enumerate(text.split("\n"), start=1):
+        code = line.split("#", 1)[0]
+        if "=" in code and "<=" not in code:
+            continue  # a constant
+        m = _FIELD_LINE_RE.fullmatch(line.rstrip("\r"))
+        if m:
+            out.setdefault(m.group(2), []).append((i, m.start(1) + 1))
+    return out
+
+
+def _first_bad_line(text: str, rname: str) -> int:
+    """The first line of a ``.msg`` text that does not parse on its own."""
+    from rosbags.typesys import get_types_from_msg
+
+    for i, line in enumerate(text.split("\n"), start=1):
+        if not line.strip() or line.strip().startswith("#"):
+            continue
+        try:
+            get_types_from_msg(line, rname)
+        except Exception:  # noqa: BLE001
+            return i
+    return 1

@@ -1,0 +1,687 @@
+"""Validation of a node model file against every rule of DESIGN.md section 4.
+
+:func:`load_model` reads the YAML (:mod:`pyrosgen.yamlsrc`), checks the
+structure, resolves message types and field paths (:mod:`pyrosgen.msgtypes`),
+checks relations and the C names the generators will derive, and builds a
+:class:`pyrosgen.model.NodeModel`.  Every problem is collected; if there is
+any, :class:`pyrosgen.errors.InvalidNodeModel` is raised with all of them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .errors import Diagnostic, InvalidNodeModel, show
+from .model import (
+    PUBLISH,
+    SUBSCRIBE,
+    Controller,
+    ControllerField,
+    InputRelation,
+    IOStruct,
+    NodeModel,
+    OutputRelation,
+    Pos,
+    Topic,
+)
+from .msgtypes import (
+    MAX_LEAVES,
+    PRIMITIVES,
+    ROS1_ALIASES,
+    FieldPath,
+    MsgRegistry,
+    PathError,
+    leaf_count,
+)
+from .names import (
+    MAX_NAME_LEN,
+    did_you_mean,
+    identifier_problem,
+    topic_c_name,
+    topic_name_problem,
+)
+from .yamlsrc import YBad, YMap, YNode, YScalar, YSeq, load_yaml
+
+__all__ = ["load_model", "MAX_PERIOD_MS", "MAX_QUEUE_SIZE", "FIXED_C_NAMES"]
+
+#: Longest accepted period (one hour).
+MAX_PERIOD_MS = 3_600_000
+
+#: Largest accepted subscriber/publisher queue.
+MAX_QUEUE_SIZE = 10_000
+
+#: Names the generated C defines or calls whatever the model says.
+FIXED_C_NAMES = (
+    "input_glue",
+    "loop",
+    "main",
+    "ros_init",
+    "ros_ok",
+    "ros_spinOnce",
+    "ros_rate_sleep",
+)
+
+_TOP_REQUIRED = ("node", "controller", "topics", "relations")
+_TOP_OPTIONAL = ("msg_paths",)
+
+
+@dataclass
+class _TopicDecl:
+    """A topic declaration as far as it could be checked."""
+
+    name: str
+    node: YMap
+    name_node: YNode
+    direction: str | None = None
+    msg_type: str | None = None
+    type_node: YNode | None = None
+    queue_size: int | None = None
+    usable: bool = False  # name, direction and type all valid
+    type_ok: bool = False  # message type resolved and carries fields
+
+
+@dataclass
+class _Rel:
+    """A relation row as far as it could be checked."""
+
+    node: YMap
+    topic: _TopicDecl | None = None
+    path: FieldPath | None = None
+    ctrl_field: str | None = None
+    ctrl_node: YNode | None = None
+    path_node: YNode | None = None
+    ok: bool = True
+
+
+@dataclass
+class _Checker:
+    file: str
+    base_dir: Path
+    diags: list[Diagnostic] = field(default_factory=list)
+    inputs_listed: bool = False  # relations.inputs is a list (so coverage is checked)
+    topics_listed: bool = False  # topics is a list (so unknown topics are errors)
+
+    # -- reporting ----------------------------------------------------------
+
+    def err(self, where: YNode | tuple[int, int] | None, message: str) -> None:
+        if where is None:
+            self.diags.append(Diagnostic(self.file, None, None, message))
+        elif isinstance(where, tuple):
+            self.diags.append(Diagnostic(self.file, where[0], where[1], message))
+        else:
+            self.diags.append(Diagnostic(self.file, where.line, where.col, message))
+
+    # -- structure helpers ----------------------------------------------------
+
+    def mapping(self, node: YNode | None, what: str) -> YMap | None:
+        if node is None or isinstance(node, YBad):
+            return None
+        if not isinstance(node, YMap):
+            self.err(node, f"{what} must be a mapping, got {node.describe()}")
+            return None
+        return node
+
+    def keys(self, m: YMap, what: str, required, optional=()) -> None:
+        allowed = tuple(required) + tuple(optional)
+        for k in m.keys():
+            if k not in allowed:
+                kn = m.key_node(k)
+                self.err(
+                    kn,
+                    f"{what}: unknown key {show(k)}{did_you_mean(k, allowed)}; "
+                    f"expected {_list(allowed)}",
+                )
+        for k in required:
+            if m.get(k) is None:
+                self.err(m.owner_pos, f"{what}: missing key {show(k)}")
+
+    def string(self, node: YNode | None, what: str) -> str | None:
+        if node is None or isinstance(node, YBad):
+            return None
+        if isinstance(node, YScalar) and node.kind == "str":
+            if node.value == "":
+                self.err(node, f"{what} must not be empty")
+                return None
+            return node.value
+        hint = ""
+        if isinstance(node, YScalar) and node.kind in ("bool", "null", "int", "float"):
+            hint = " (quote it if you mean the text)"
+        self.err(node, f"{what} must be a string, got {node.describe()}{hint}")
+        return None
+
+    def integer(self, node: YNode | None, what: str, lo: int, hi: int, unit: str = "") -> int | None:
+        if node is None or isinstance(node, YBad):
+            return None
+        expected = f"an integer from {lo} to {hi}{unit}"
+        if not (isinstance(node, YScalar) and node.kind == "int"):
+            self.err(node, f"{what} must be {expected}, got {node.describe()}")
+            return None
+        v = node.value
+        if not lo <= v <= hi:
+            self.err(node, f"{what} must be {expected}, got {show(node.text)}")
+            return None
+        return v
+
+    def ident(self, node: YNode | None, what: str, *, global_scope: bool) -> str | None:
+        name = self.string(node, what)
+        if name is None:
+            return None
+        problem = identifier_problem(name, global_scope=global_scope)
+        if problem:
+            self.err(node, f"{what} {show(name)} cannot be used: {problem}")
+            return None
+        return name
+
+    # -- sections ---------------------------------------------------------------
+
+    def node_section(self, m: YMap | None) -> tuple[str | None, int | None]:
+        if m is None:
+            return None, None
+        self.keys(m, "node", ("name", "period_ms"))
+        name = self.ident(m.get("name"), "node.name", global_scope=True)
+        period = self.integer(m.get("period_ms"), "node.period_ms", 1, MAX_PERIOD_MS, " (milliseconds)")
+        return name, period
+
+    def io_struct(self, m: YMap | None, what: str) -> tuple[str | None, list[tuple[YScalar, ControllerField]] | None]:
+        if m is None:
+            return None, None
+        self.keys(m, what, ("name", "fields"))
+        var = self.ident(m.get("name"), f"{what}.name", global_scope=True)
+        fnode = self.mapping(m.get("fields"), f"{what}.fields")
+        if fnode is None:
+            return var, None
+        fields: list[tuple[YScalar, ControllerField]] = []
+        ok = True
+        if not fnode.items:
+            self.err(fnode, f"{what}.fields must declare at least one field")
+            ok = False
+        for knode, vnode in fnode.items:
+            fname = knode.text
+            problem = identifier_problem(fname)
+            if problem:
+                self.err(knode, f"{what}.fields: field name {show(fname)} cannot be used: {problem}")
+                ok = False
+                continue
+            prim = self.prim_type(vnode, f"{what}.fields.{fname}")
+            if prim is None:
+                ok = False
+                continue
+            fields.append((knode, ControllerField(fname, prim)))
+        return var, fields if ok else None
+
+    def prim_type(self, node: YNode, what: str) -> str | None:
+        t = self.string(node, f"type of {what}")
+        if t is None:
+            return None
+        if t in PRIMITIVES:
+            return t
+        expected = f"expected one of {', '.join(PRIMITIVES)}"
+        if t in ROS1_ALIASES:
+            self.err(node, f"{what}: type {show(t)} is a deprecated ROS alias; write {ROS1_ALIASES[t]}")
+        elif t in ("string", "time", "duration") or "/" in t or "[" in t:
+            self.err(node, f"{what}: type {show(t)} is not allowed: controller fields have primitive types ({expected})")
+        else:
+            self.err(node, f"{what}: unknown type {show(t)}{did_you_mean(t, PRIMITIVES)}; {expected}")
+        return None
+
+    def controller_section(self, m: YMap | None):
+        if m is None:
+            return None, None, (None, None), (None, None)
+        self.keys(m, "controller", ("name", "inputs", "outputs"))
+        name = self.ident(m.get("name"), "controller.name", global_scope=True)
+        uvar, ufields = self.io_struct(self.mapping(m.get("inputs"), "controller.inputs"), "controller.inputs")
+        yvar, yfields = self.io_struct(self.mapping(m.get("outputs"), "controller.outputs"), "controller.outputs")
+        return m, name, (uvar, ufields), (yvar, yfields)
+
+    def msg_paths(self, node: YNode | None, registry: MsgRegistry) -> list[Path]:
+        if node is None or isinstance(node, YBad):
+            return []
+        if isinstance(node, YScalar) and node.kind == "null":
+            return []
+        if not isinstance(node, YSeq):
+            self.err(node, f"msg_paths must be a list of folders, got {node.describe()}")
+            return []
+        out: list[Path] = []
+        for i, item in enumerate(node.items):
+            what = f"msg_paths[{i}]"
+            text = self.string(item, what)
+            if text is None:
+                continue
+            if "\x00" in text:  # pragma: no cover - refused when reading the file
+                self.err(item, f"{what}: invalid path")
+                continue
+            p = Path(text)
+            folder = p if p.is_absolute() else self.base_dir / p
+            try:
+                resolved = folder.resolve()
+                is_dir = folder.is_dir()
+            except (OSError, RuntimeError, ValueError):
+                resolved, is_dir = folder, False
+            if not is_dir:
+                self.err(
+                    item,
+                    f"{what}: no such folder {show(text)} (relative paths are relative to the model file)",
+                )
+                continue
+            if resolved in out:
+                self.err(item, f"{what}: folder {show(text)} is listed twice")
+                continue
+            out.append(resolved)
+            try:
+                n = registry.add_msg_dir(resolved)
+            except InvalidNodeModel as exc:
+                self.err(item, f"{what}: {exc.diagnostics[0].message}")
+                continue
+            if n == 0:
+                self.err(
+                    item,
+                    f"{what}: folder {show(text)} contains no <package>/msg/<Type>.msg files",
+                )
+        return out
+
+    def topics_section(self, node: YNode | None, registry: MsgRegistry) -> list[_TopicDecl]:
+        if node is None or isinstance(node, YBad):
+            return []
+        if not isinstance(node, YSeq):
+            self.err(node, f"topics must be a list of topic declarations, got {node.describe()}")
+            return []
+        self.topics_listed = True
+        if not node.items:
+            self.err(node, "topics must declare at least one topic")
+        decls: list[_TopicDecl] = []
+        by_name: dict[str, _TopicDecl] = {}
+        for i, item in enumerate(node.items):
+            what = f"topics[{i}]"
+            m = self.mapping(item, what)
+            if m is None:
+                continue
+            self.keys(m, what, ("name", "direction", "type", "queue_size"))
+            name_node = m.get("name")
+            name = self.string(name_node, f"{what}.name")
+            usable = name is not None
+            if name is not None:
+                problem = topic_name_problem(name)
+                if problem:
+                    self.err(name_node, f"{what}.name: topic name {show(name)} is not a valid ROS topic name: {problem}")
+                    usable = False
+                if name in by_name:
+                    first = by_name[name]
+                    self.err(name_node, f"{what}.name: topic {show(name)} is declared twice (first at line {first.name_node.line})")
+                    continue
+            d = _TopicDecl(name if name is not None else f"<topics[{i}]>", m, name_node or m)
+            if name is not None:
+                by_name[name] = d
+            decls.append(d)
+            dnode = m.get("direction")
+            direction = self.string(dnode, f"{what}.direction")
+            if direction is not None and direction not in (SUBSCRIBE, PUBLISH):
+                self.err(
+                    dnode,
+                    f"{what}.direction must be 'subscribe' or 'publish', got {show(direction)}"
+                    f"{did_you_mean(direction, (SUBSCRIBE, PUBLISH))}",
+                )
+                direction = None
+            d.direction = direction
+            d.queue_size = self.integer(m.get("queue_size"), f"{what}.queue_size", 1, MAX_QUEUE_SIZE)
+            tnode = m.get("type")
+            d.type_node = tnode
+            t = self.string(tnode, f"{what}.type")
+            type_ok = False
+            if t is not None:
+                problem = registry.check_type_name(t)
+                if t in registry.failed:
+                    pass  # its .msg file could not be read: reported there
+                elif problem:
+                    self.err(tnode, f"{what}.type: {problem}")
+                else:
+                    d.msg_type = t
+                    carried = registry.carried(t)
+                    if registry.is_broken(t):
+                        pass  # reported in the .msg file
+                    elif carried is None:
+                        self.err(
+                            tnode,
+                            f"{what}.type: message type {t} carries no field "
+                            "(strings and variable-length arrays are not carried by the glue)",
+                        )
+                    else:
+                        n = leaf_count(carried, registry.messages())
+                        if n > MAX_LEAVES:
+                            self.err(
+                                tnode,
+                                f"{what}.type: message type {t} has {n} scalar leaves; "
+                                f"the glue carries at most {MAX_LEAVES} per message",
+                            )
+                        else:
+                            type_ok = True
+            d.type_ok = type_ok
+            d.usable = usable and type_ok and direction is not None and d.queue_size is not None
+        return decls
+
+    def relations_section(
+        self,
+        node: YNode | None,
+        topics: dict[str, _TopicDecl],
+        inputs: dict[str, ControllerField] | None,
+        outputs: dict[str, ControllerField] | None,
+        registry: MsgRegistry,
+    ) -> tuple[list[_Rel], list[_Rel]]:
+        m = self.mapping(node, "relations")
+        if m is None:
+            return [], []
+        self.keys(m, "relations", ("inputs",), ("outputs",))
+        rows = m.get("inputs")
+        self.inputs_listed = isinstance(rows, YSeq) or (isinstance(rows, YScalar) and rows.kind == "null")
+        ins = self.rows(m.get("inputs"), "relations.inputs", "input", topics, inputs, outputs, registry)
+        outs = self.rows(m.get("outputs"), "relations.outputs", "output", topics, outputs, inputs, registry)
+        return ins, outs
+
+    def rows(self, node, what, kind, topics, ctrl, other, registry) -> list[_Rel]:
+        if node is None or isinstance(node, YBad):
+            return []
+        if isinstance(node, YScalar) and node.kind == "null":
+            return []
+        if not isinstance(node, YSeq):
+            self.err(node, f"{what} must be a list of relations, got {node.describe()}")
+            return []
+        want_dir = SUBSCRIBE if kind == "input" else PUBLISH
+        out = []
+        for i, item in enumerate(node.items):
+            w = f"{what}[{i}]"
+            m = self.mapping(item, w)
+            if m is None:
+                continue
+            keys = ("topic", "field", "input") if kind == "input" else ("output", "topic", "field")
+            self.keys(m, w, keys)
+            rel = _Rel(m)
+            out.append(rel)
+            # topic
+            tnode = m.get("topic")
+            tname = self.string(tnode, f"{w}.topic")
+            if tname is None:
+                rel.ok = False
+            elif tname not in topics:
+                if self.topics_listed:
+                    self.err(
+                        tnode,
+                        f"{w}.topic: unknown topic {show(tname)}{did_you_mean(tname, list(topics))}; declare it under topics",
+                    )
+                rel.ok = False
+            else:
+                decl = topics[tname]
+                if decl.direction is not None and decl.direction != want_dir:
+                    if kind == "input":
+                        msg = f"{w}.topic: topic {show(tname)} is published by the node; an input relation reads a subscribed topic"
+                    else:
+                        msg = f"{w}.topic: topic {show(tname)} is subscribed by the node; an output relation writes a published topic"
+                    self.err(tnode, msg)
+                    rel.ok = False
+                elif not decl.usable:
+                    rel.ok = False
+                else:
+                    rel.topic = decl
+            # controller field
+            cnode = m.get(kind)
+            cname = self.string(cnode, f"{w}.{kind}")
+            rel.ctrl_node = cnode
+            if cname is None:
+                rel.ok = False
+            elif ctrl is not None:
+                if cname in ctrl:
+                    rel.ctrl_field = cname
+                else:
+                    hint = ""
+                    if other is not None and cname in other:
+                        otherkind = "output" if kind == "input" else "input"
+                        hint = f" ({show(cname)} is a controller {otherkind})"
+                    else:
+                        hint = did_you_mean(cname, list(ctrl))
+                    self.err(
+                        cnode,
+                        f"{w}.{kind}: {show(cname)} is not a controller {kind}{hint}; "
+                        f"controller {kind}s are {_list(ctrl)}",
+                    )
+                    rel.ok = False
+            else:
+                rel.ok = False
+            # field path
+            pnode = m.get("field")
+            rel.path_node = pnode
+            ptext = None
+            if pnode is not None and not isinstance(pnode, YBad):
+                ptext = self.string(pnode, f"{w}.field")
+            if ptext is None:
+                rel.ok = False
+            elif rel.topic is not None:
+                try:
+                    rel.path = registry.walk_path(rel.topic.msg_type, ptext)
+                except PathError as exc:
+                    self.err(pnode, f"{w}.field: {exc.args[0]} (topic {show(rel.topic.name)}, {rel.topic.msg_type})")
+                    rel.ok = False
+            # types
+            if rel.path is not None and rel.ctrl_field is not None:
+                cprim = ctrl[rel.ctrl_field].prim
+                if cprim != rel.path.prim:
+                    if kind == "input":
+                        msg = (
+                            f"{w}: type mismatch: field {show(str(rel.path))} of topic "
+                            f"{show(rel.topic.name)} is {rel.path.prim} but controller input "
+                            f"{show(rel.ctrl_field)} is {cprim} (relations never convert)"
+                        )
+                    else:
+                        msg = (
+                            f"{w}: type mismatch: controller output {show(rel.ctrl_field)} is "
+                            f"{cprim} but field {show(str(rel.path))} of topic "
+                            f"{show(rel.topic.name)} is {rel.path.prim} (relations never convert)"
+                        )
+                    self.err(m, msg)
+                    rel.ok = False
+        return out
+
+
+def _list(names) -> str:
+    names = list(names)
+    if len(names) > 12:
+        names = names[:12] + ["..."]
+    return ", ".join(names) if names else "(none)"
+
+
+def load_model(path: str | Path) -> NodeModel:
+    """Read, parse and validate the node model file at ``path``.
+
+    Raises :class:`InvalidNodeModel` with every problem found.
+    """
+    path = Path(path)
+    doc = load_yaml(path)
+    return build_model(doc.root, doc.file, path, list(doc.diagnostics))
+
+
+def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> NodeModel:
+    """Validate a parsed model tree and build the :class:`NodeModel`."""
+    ck = _Checker(file, path.parent, diags)
+    ck.keys(root, "the node model", _TOP_REQUIRED, _TOP_OPTIONAL)
+
+    registry = MsgRegistry()
+    msg_paths = ck.msg_paths(root.get("msg_paths"), registry)
+
+    node_name, period = ck.node_section(ck.mapping(root.get("node"), "node"))
+    cm, ctrl_name, (uvar, ufields), (yvar, yfields) = ck.controller_section(
+        ck.mapping(root.get("controller"), "controller")
+    )
+    decls = ck.topics_section(root.get("topics"), registry)
+    ck.diags.extend(registry.diagnostics)
+    registry.diagnostics.clear()
+    topics = {d.name: d for d in decls}
+    inputs = {f.name: f for _, f in ufields} if ufields is not None else None
+    outputs = {f.name: f for _, f in yfields} if yfields is not None else None
+    in_rels, out_rels = ck.relations_section(root.get("relations"), topics, inputs, outputs, registry)
+    ck.diags.extend(registry.diagnostics)
+
+    # Every controller input is fed by exactly one relation.
+    fed: dict[str, _Rel] = {}
+    for r in in_rels:
+        if r.ctrl_field is None:
+            continue
+        if r.ctrl_field in fed:
+            first = fed[r.ctrl_field]
+            ck.err(
+                r.ctrl_node,
+                f"controller input {show(r.ctrl_field)} is fed twice (first by the relation at line {first.node.line})",
+            )
+            r.ok = False
+        else:
+            fed[r.ctrl_field] = r
+    if ufields is not None and ck.inputs_listed:
+        for knode, f in ufields:
+            if f.name not in fed:
+                ck.err(knode, f"controller input {show(f.name)} is not fed by any input relation")
+
+    # A published field is fed at most once.
+    written: dict[tuple[str, str], _Rel] = {}
+    for r in out_rels:
+        if r.topic is None or r.path is None:
+            continue
+        key = (r.topic.name, str(r.path))
+        if key in written:
+            first = written[key]
+            ck.err(
+                r.path_node,
+                f"field {show(str(r.path))} of topic {show(r.topic.name)} is fed twice "
+                f"(first by the relation at line {first.node.line})",
+            )
+            r.ok = False
+        else:
+            written[key] = r
+
+    # Derived C names: valid, short enough, pairwise distinct.
+    check_c_names(ck, decls, ctrl_name, cm, uvar, yvar, registry)
+
+    if ck.diags:
+        raise InvalidNodeModel(_sorted(ck.diags, file))
+
+    # Everything checked: build the immutable model.
+    assert node_name is not None and period is not None and ctrl_name is not None
+    assert uvar is not None and yvar is not None and ufields is not None and yfields is not None
+    topic_objs: dict[str, Topic] = {}
+    for d in decls:
+        assert d.usable and d.msg_type is not None and d.queue_size is not None and d.direction
+        topic_objs[d.name] = Topic(
+            name=d.name,
+            c_name=topic_c_name(d.name),
+            direction=d.direction,
+            msg_type=d.msg_type,
+            queue_size=d.queue_size,
+            pos=Pos(d.node.line, d.node.col),
+        )
+    controller = Controller(
+        name=ctrl_name,
+        inputs=IOStruct(uvar, f"ExtU_{ctrl_name}_T", tuple(f for _, f in ufields)),
+        outputs=IOStruct(yvar, f"ExtY_{ctrl_name}_T", tuple(f for _, f in yfields)),
+    )
+    irs = tuple(
+        InputRelation(topic_objs[r.topic.name], r.path, r.ctrl_field, Pos(r.node.line, r.node.col))
+        for r in in_rels
+    )
+    ors = tuple(
+        OutputRelation(r.ctrl_field, topic_objs[r.topic.name], r.path, Pos(r.node.line, r.node.col))
+        for r in out_rels
+    )
+    messages = registry.used_types(t.msg_type for t in topic_objs.values())
+    return NodeModel(
+        name=node_name,
+        period_ms=period,
+        controller=controller,
+        topics=tuple(topic_objs.values()),
+        input_relations=irs,
+        output_relations=ors,
+        messages=messages,
+        source=path,
+        msg_paths=tuple(msg_paths),
+    )
+
+
+def check_c_names(ck: _Checker, decls, ctrl_name, cm, uvar, yvar, registry: MsgRegistry) -> None:
+    """Check that every C name the generators derive is a usable identifier
+    of at most :data:`MAX_NAME_LEN` characters and that no two coincide."""
+    seen: dict[str, str] = {}
+
+    def claim(name: str, origin: str, where) -> None:
+        problem = identifier_problem(name, global_scope=True)
+        if problem:
+            ck.err(where, f"the C name {show(name)} derived from {origin} cannot be used: {problem}")
+            return
+        if name in seen:
+            ck.err(where, f"the C name {show(name)} derived from {origin} collides with the one derived from {seen[name]}")
+            return
+        seen[name] = origin
+
+    for n in FIXED_C_NAMES:
+        seen[n] = "the generated glue"
+    if ctrl_name is not None:
+        where = cm.get("name") if cm is not None else None
+        for n in (f"{ctrl_name}_step", f"{ctrl_name}_initialize", f"ExtU_{ctrl_name}_T", f"ExtY_{ctrl_name}_T"):
+            claim(n, f"controller {show(ctrl_name)}", where)
+    if cm is not None:
+        for var, key in ((uvar, "inputs"), (yvar, "outputs")):
+            sub = cm.get(key)
+            if var is not None and isinstance(sub, YMap):
+                claim(var, f"controller.{key}.name", sub.get("name"))
+
+    c_names: dict[str, _TopicDecl] = {}
+    for d in decls:
+        if d.name.startswith("<") or topic_name_problem(d.name):
+            continue
+        c = topic_c_name(d.name)
+        if c in c_names:
+            ck.err(
+                d.name_node,
+                f"topics {show(c_names[c].name)} (line {c_names[c].name_node.line}) and "
+                f"{show(d.name)} have the same C name {show(c)}",
+            )
+            continue
+        c_names[c] = d
+        problem = identifier_problem(c, global_scope=True)
+        if problem and not problem.startswith("it is longer"):
+            ck.err(d.name_node, f"topic {show(d.name)}: its C name {show(c)} cannot be used: {problem}")
+            continue
+        longest = max(
+            (f"ros_subscribe_{c}", f"ros_advertise_{c}", f"output_glue_{c}", f"{c}_callback"),
+            key=len,
+        )
+        if len(longest) > MAX_NAME_LEN:
+            ck.err(
+                d.name_node,
+                f"topic {show(d.name)}: the derived C name {show(longest)} is longer than "
+                f"{MAX_NAME_LEN} characters; use a shorter topic name",
+            )
+            continue
+        t = Topic(d.name, c, d.direction or SUBSCRIBE, "", 1)
+        for n in t.derived_names():
+            claim(n, f"topic {show(d.name)}", d.name_node)
+
+    used = registry.used_types(d.msg_type for d in decls if d.type_ok and d.msg_type)
+    type_nodes = {}
+    for d in decls:
+        if d.type_ok and d.msg_type and d.msg_type not in type_nodes:
+            type_nodes[d.msg_type] = d.type_node
+    for mt in used:
+        # Report at the first topic whose type uses it.
+        where = None
+        for tname, tnode in type_nodes.items():
+            if mt.name == tname or mt.name in _contained(registry, tname):
+                where = tnode
+                break
+        claim(mt.c_name, f"message type {mt.name}", where)
+
+
+def _contained(registry: MsgRegistry, name: str) -> set[str]:
+    return {m.name for m in registry.used_types([name])}
+
+
+def _sorted(diags: list[Diagnostic], file: str) -> list[Diagnostic]:
+    unique = list(dict.fromkeys(diags))
+    return sorted(
+        unique,
+        key=lambda d: (d.file != file, d.file, d.line or 0, d.col or 0),
+    )
