@@ -15,10 +15,11 @@
 # `make -C coq`) plus the given -R/-Q load paths.  Then
 # Printer.print_program / Printer.print_sexp applied to the_externs and
 # the_program are extracted to OCaml (ExtrOcamlNativeString: Coq strings
-# become OCaml strings), compiled with ocamlopt together with driver.ml,
-# and run: this writes PREFIX.c and PREFIX.sexp (PREFIX defaults to FILE
-# without .v, or to the module's short name).  The texts are thus computed
-# from the very Coq term `the_program` by the extracted printer.
+# become OCaml strings), compiled with ocamlopt together with a small
+# driver (driver.ml, written below), and run: this writes PREFIX.c and
+# PREFIX.sexp (PREFIX defaults to FILE without .v, or to the module's short
+# name).  The texts are thus computed from the very Coq term
+# `the_program` by the extracted printer.
 #
 # Speed: define the_program as the *unevaluated* application of the
 # generator (e.g. `match generate model with OK p => p | Error _ => ... end`)
@@ -122,7 +123,29 @@ fi
 coqc -q -R "$theories" ROSGen $loadpath -R . RosgenJob Extract.v >extract.log 2>&1 || {
   cat extract.log >&2; echo "print_program.sh: extraction failed" >&2; exit 1; }
 phase "extraction"
-cp "$here/driver.ml" driver.ml
+# The driver: writes the two texts ([Job] is the extracted module).
+cat > driver.ml <<'OCAML'
+(* Driver of the fast printing path (see print_program.sh).
+
+   [Job] is the OCaml extraction of ROSGen.Printer applied to one program:
+   [Job.job_c ()] is [print_program the_externs the_program] and
+   [Job.job_sexp ()] is [print_sexp the_externs the_program], as native
+   OCaml strings (ExtrOcamlNativeString).  This driver only writes them. *)
+
+let write path text =
+  let oc = open_out_bin path in
+  output_string oc text;
+  close_out oc
+
+let () =
+  match Sys.argv with
+  | [| _; out_c; out_sexp |] ->
+      write out_c (Job.job_c ());
+      write out_sexp (Job.job_sexp ())
+  | _ ->
+      prerr_endline "usage: print_job OUT.c OUT.sexp";
+      exit 2
+OCAML
 ocamlfind ocamlopt -w -a job.mli job.ml driver.ml -o print_job >ocamlopt.log 2>&1 || {
   cat ocamlopt.log >&2; echo "print_program.sh: ocamlopt failed" >&2; exit 1; }
 phase "ocamlopt"

@@ -34,6 +34,7 @@ Proof.
   induction p as [p IH|p IH|]; simpl; try rewrite IH; reflexivity.
 Qed.
 
+(** A positive below [2^n] has at most [n] digits. *)
 Lemma digits2_pos_le:
   forall p n, 0 <= n -> Zpos p < 2 ^ n -> Zpos (SpecFloat.digits2_pos p) <= n.
 Proof.
@@ -47,6 +48,7 @@ Proof.
   apply Z.pow_lt_mono_r_iff in H2; lia.
 Qed.
 
+(** A positive at least [2^n] has more than [n] digits. *)
 Lemma digits2_pos_gt:
   forall p n, 0 <= n -> 2 ^ n <= Zpos p -> n < Zpos (SpecFloat.digits2_pos p).
 Proof.
@@ -109,6 +111,7 @@ Definition float_of_bits (x : Z) : float :=
     | _ => B754_zero prec emax s                    (**r impossible *)
     end.
 
+(** On valid arguments, [mk_finite] is the constructor. *)
 Lemma mk_finite_eq:
   forall s m e (H : SpecFloat.bounded prec emax m e = true),
   mk_finite s m e = B754_finite prec emax s m e H.
@@ -121,6 +124,7 @@ Proof.
   - congruence.
 Qed.
 
+(** On a valid payload, [mk_nan] is the constructor. *)
 Lemma mk_nan_eq:
   forall s pl (H : nan_pl prec pl = true),
   mk_nan s pl = B754_nan prec emax s pl H.
@@ -137,6 +141,7 @@ Hypothesis Hmw : 0 < mw.
 Hypothesis Hew : 1 < ew.
 Hypothesis Hmax : prec < emax.
 
+(** [2^ew] is twice [emax]. *)
 Lemma emax_double: 2 ^ ew = 2 * emax.
 Proof.
   replace ew with ((ew - 1) + 1) at 1 by ring.
@@ -168,12 +173,14 @@ Proof.
   - apply Zle_bool_true. unfold SpecFloat.emin. lia.
 Qed.
 
+(** Every fraction field is a valid NaN payload. *)
 Lemma nan_pl_small: forall p, Zpos p < 2 ^ mw -> nan_pl prec p = true.
 Proof.
   intros p Hp. unfold nan_pl. apply Zlt_bool_true.
   generalize (digits2_pos_le p mw ltac:(lia) Hp). lia.
 Qed.
 
+(** The fields of a bit pattern are in range. *)
 Lemma split_bits_range:
   forall x s m e, split_bits mw ew x = (s, m, e) ->
   0 <= m < 2 ^ mw /\ 0 <= e < 2 ^ ew.
@@ -261,6 +268,7 @@ Definition float64_of_bits (z : Z) : float64 := float_of_bits 52 11 z.
 (** [float] from its 32-bit pattern. *)
 Definition float32_of_bits (z : Z) : float32 := float_of_bits 23 8 z.
 
+(** Main results, for [double] and [float]. *)
 Theorem bits_of_float64_of_bits:
   forall z, 0 <= z < 2 ^ 64 -> bits_of_b64 (float64_of_bits z) = z.
 Proof.

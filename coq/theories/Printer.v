@@ -65,7 +65,7 @@
 From Coq Require Import String Ascii List ZArith Bool.
 From Coq Require Strings.Byte.
 From Flocq Require Import IEEE754.Binary IEEE754.Bits.
-From ROSGen Require Import Syntax FloatBits.
+From ROSGen Require Import Syntax.
 Import ListNotations.
 
 Local Open Scope string_scope.
@@ -73,7 +73,9 @@ Local Open Scope Z_scope.
 
 (** ** Text utilities *)
 
+(** A line feed. *)
 Definition newline : string := String (ascii_of_byte Byte.x0a) EmptyString.
+(** The characters that [escape] escapes. *)
 Definition dquote_char : ascii := ascii_of_byte Byte.x22.
 Definition backslash_char : ascii := ascii_of_byte Byte.x5c.
 
@@ -103,6 +105,7 @@ Fixpoint digits_rec (fuel : nat) (b : Z) (w : Z) (n : Z) (acc : string) : string
       if (q =? 0) && (w <=? 1) then acc' else digits_rec fuel' b (w - 1) q acc'
   end.
 
+(** Enough fuel for [digits_rec]: [w] plus the number of bits of [n]. *)
 Definition digits_fuel (w n : Z) : nat :=
   (Z.to_nat w + match n with Zpos p => Pos.size_nat p | _ => 1 end)%nat.
 
@@ -130,11 +133,13 @@ Definition doc : Type := (string * nat)%type.
 Definition at_level (need : nat) (d : doc) : string :=
   if Nat.ltb (snd d) need then "(" ++ fst d ++ ")" else fst d.
 
-(** Two's complement wrap-around of [n] to [bits] bits. *)
+(** Wrap-around of [n] to an unsigned [bits]-bit value. *)
 Definition wrap_unsigned (bits : Z) (n : Z) : Z := n mod 2 ^ bits.
+(** Two's complement wrap-around of [n] to a signed [bits]-bit value. *)
 Definition wrap_signed (bits : Z) (n : Z) : Z :=
   let u := n mod 2 ^ bits in if u <? 2 ^ (bits - 1) then u else u - 2 ^ bits.
 
+(** The width of an integer type. *)
 Definition intsize_bits (sz : intsize) : Z :=
   match sz with I8 => 8 | I16 => 16 | I32 => 32 end.
 
@@ -167,6 +172,7 @@ Definition hex_of_finite (m : positive) (e : Z) : string :=
 Definition finite_const (s : bool) (m : positive) (e : Z) (sfx : string) : doc :=
   if s then ("-" ++ hex_of_finite m e ++ sfx, 2%nat) else (hex_of_finite m e ++ sfx, 3%nat).
 
+(** A zero of sign [s], with the suffix [sfx]. *)
 Definition zero_const (s : bool) (sfx : string) : doc :=
   if s then ("-0x0p+0" ++ sfx, 2%nat) else ("0x0p+0" ++ sfx, 3%nat).
 
@@ -174,6 +180,7 @@ Definition zero_const (s : bool) (sfx : string) : doc :=
 Definition f64_helper : string := "rosgen_f64_of_bits".
 Definition f32_helper : string := "rosgen_f32_of_bits".
 
+(** A [double] constant: hexadecimal if finite, through the helper otherwise. *)
 Definition float64_const (f : float64) : doc :=
   match f with
   | B754_zero _ _ s => zero_const s ""
@@ -181,6 +188,7 @@ Definition float64_const (f : float64) : doc :=
   | _ => (f64_helper ++ "(0x" ++ hex_digits 16 (bits_of_b64 f) ++ "ULL)", 3%nat)
   end.
 
+(** A [float] constant: hexadecimal if finite, through the helper otherwise. *)
 Definition float32_const (f : float32) : doc :=
   match f with
   | B754_zero _ _ s => zero_const s "f"
@@ -188,6 +196,7 @@ Definition float32_const (f : float32) : doc :=
   | _ => (f32_helper ++ "(0x" ++ hex_digits 8 (bits_of_b32 f) ++ "U)", 3%nat)
   end.
 
+(** Zeros and finite numbers, as opposed to infinities and NaNs. *)
 Definition is_finite64 (f : float64) : bool :=
   match f with B754_zero _ _ _ | B754_finite _ _ _ _ _ _ => true | _ => false end.
 Definition is_finite32 (f : float32) : bool :=
@@ -247,6 +256,7 @@ Definition type_name (ty : type) : string := decl ty "" false.
 Definition cast_if (ok : bool) (ty : type) (c : doc) : doc :=
   if ok then c else ("(" ++ type_name ty ++ ")" ++ at_level 1 c, 1%nat).
 
+(** An [Econst_int]: wrapped to its type, [U] suffix for [unsigned int]. *)
 Definition int_const (n : Z) (ty : type) : doc :=
   match ty with
   | Tint I32 Unsigned => (string_of_nonneg (wrap_unsigned 32 n) ++ "U", 3%nat)
@@ -255,6 +265,7 @@ Definition int_const (n : Z) (ty : type) : doc :=
   | _ => cast_if false ty (signed_const 32 "" (wrap_signed 32 n))
   end.
 
+(** An [Econst_long]: wrapped to 64 bits, [LL] or [ULL] suffix. *)
 Definition long_const (n : Z) (ty : type) : doc :=
   match ty with
   | Tlong Unsigned => (string_of_nonneg (wrap_unsigned 64 n) ++ "ULL", 3%nat)
@@ -262,6 +273,7 @@ Definition long_const (n : Z) (ty : type) : doc :=
   | _ => cast_if false ty (signed_const 64 "LL" (wrap_signed 64 n))
   end.
 
+(** Whether [ty] is the floating type of size [fs]. *)
 Definition is_tfloat (fs : floatsize) (ty : type) : bool :=
   match ty, fs with Tfloat F64, F64 | Tfloat F32, F32 => true | _, _ => false end.
 
@@ -338,6 +350,7 @@ Definition function_header (id : ident) (f : function) : string :=
 Definition decl_lines (ind : string) (l : list (ident * type)) (k : list string) : list string :=
   fold_right (fun xt k => (ind ++ decl (snd xt) (fst xt) false ++ ";") :: k) k l.
 
+(** A function definition, in the style of Figure 11. *)
 Definition function_lines (id : ident) (f : function) (k : list string) : list string :=
   function_header id f
     :: "{"
@@ -345,6 +358,7 @@ Definition function_lines (id : ident) (f : function) (k : list string) : list s
          (decl_lines indent_step (fn_temps f)
             (stmt_lines indent_step (fn_body f) ("}" :: "" :: k))).
 
+(** A struct definition, one member per line. *)
 Definition struct_lines (co : composite_definition) (k : list string) : list string :=
   ("struct " ++ co_name co ++ " {")
     :: decl_lines indent_step (co_members co) ("};" :: "" :: k).
@@ -359,6 +373,7 @@ Fixpoint struct_deps (ty : type) : list ident :=
   | _ => []
   end.
 
+(** Membership of an identifier in a list. *)
 Definition mem_ident (x : ident) (l : list ident) : bool := existsb (String.eqb x) l.
 
 (** Depth-first: the structs that [id] contains come before [id].  The
@@ -398,35 +413,30 @@ Fixpoint expr_nonfinite (e : expr) : bool * bool :=
       let (a2, b2) := expr_nonfinite e2 in (a1 || a2, b1 || b2)
   end.
 
+(** Pointwise disjunction. *)
 Definition or2 (x y : bool * bool) : bool * bool := (fst x || fst y, snd x || snd y).
 
+(** The same for the expressions of a statement. *)
 Fixpoint stmt_nonfinite (s : statement) : bool * bool :=
   match s with
   | Sskip | Sbreak | Sreturn None => (false, false)
   | Sassign e1 e2 => or2 (expr_nonfinite e1) (expr_nonfinite e2)
   | Sset _ e | Sreturn (Some e) => expr_nonfinite e
   | Scall _ f args => fold_left (fun acc a => or2 acc (expr_nonfinite a)) args (expr_nonfinite f)
-  | Ssequence s1 s2 | Sifthenelse _ s1 s2 => or2 (stmt_nonfinite s1) (stmt_nonfinite s2)
+  | Ssequence s1 s2 => or2 (stmt_nonfinite s1) (stmt_nonfinite s2)
+  | Sifthenelse c s1 s2 => or2 (expr_nonfinite c) (or2 (stmt_nonfinite s1) (stmt_nonfinite s2))
   | Sloop s1 => stmt_nonfinite s1
   end.
 
-(** The condition of [Sifthenelse] is scanned too. *)
-Fixpoint stmt_nonfinite_full (s : statement) : bool * bool :=
-  match s with
-  | Sifthenelse c s1 s2 =>
-      or2 (expr_nonfinite c) (or2 (stmt_nonfinite_full s1) (stmt_nonfinite_full s2))
-  | Ssequence s1 s2 => or2 (stmt_nonfinite_full s1) (stmt_nonfinite_full s2)
-  | Sloop s1 => stmt_nonfinite_full s1
-  | _ => stmt_nonfinite s
-  end.
-
+(** Whether a function of [p] contains a non-finite [double] / [float] constant. *)
 Definition prog_nonfinite (p : program) : bool * bool :=
   fold_left (fun acc d =>
                match snd d with
-               | Gfun (Internal f) => or2 acc (stmt_nonfinite_full (fn_body f))
+               | Gfun (Internal f) => or2 acc (stmt_nonfinite (fn_body f))
                | _ => acc
                end) (prog_defs p) (false, false).
 
+(** The helpers that reinterpret a bit pattern, if [need]ed. *)
 Definition helper_lines (need : bool * bool) : list string :=
   (if fst need then
      [ "static double " ++ f64_helper ++ "(unsigned long long b)";
@@ -454,6 +464,7 @@ Definition header_lines : list string :=
     "   Do not edit: the proofs are about the AST this text was printed from. */";
     "" ].
 
+(** Global variables: definitions, or [extern] declarations for [externs]. *)
 Definition global_lines (externs : list ident) (defs : list (ident * globdef))
   : list string :=
   fold_right (fun d k =>
@@ -464,6 +475,7 @@ Definition global_lines (externs : list ident) (defs : list (ident * globdef))
                 | _ => k
                 end) [] defs.
 
+(** Prototypes of the external functions (parameters unnamed). *)
 Definition external_proto_lines (defs : list (ident * globdef)) : list string :=
   fold_right (fun d k =>
                 match snd d with
@@ -472,6 +484,7 @@ Definition external_proto_lines (defs : list (ident * globdef)) : list string :=
                 | _ => k
                 end) [] defs.
 
+(** Prototypes of the internal functions (parameters named). *)
 Definition internal_proto_lines (defs : list (ident * globdef)) : list string :=
   fold_right (fun d k =>
                 match snd d with
@@ -479,6 +492,7 @@ Definition internal_proto_lines (defs : list (ident * globdef)) : list string :=
                 | _ => k
                 end) [] defs.
 
+(** Definitions of the internal functions. *)
 Definition function_def_lines (defs : list (ident * globdef)) : list string :=
   fold_right (fun d k =>
                 match snd d with
@@ -545,9 +559,11 @@ ef      ::= (ros_init) | (ros_ok) | (ros_spinOnce) | (ros_rate_sleep)
 
 Definition sexp_list (l : list string) : string := "(" ++ join " " l ++ ")".
 
+(** Atoms of the dump for the parts of types. *)
 Definition sexp_signedness (sg : signedness) : string :=
   match sg with Signed => "signed" | Unsigned => "unsigned" end.
 
+(** A type in the dump. *)
 Fixpoint sexp_type (ty : type) : string :=
   match ty with
   | Tvoid => "void"
@@ -565,6 +581,7 @@ Fixpoint sexp_type (ty : type) : string :=
   | Tstruct id => sexp_list ["struct"; id]
   end.
 
+(** An expression in the dump, with its type. *)
 Fixpoint sexp_expr (e : expr) : string :=
   match e with
   | Econst_int n ty => sexp_list ["const_int"; string_of_Z n; sexp_type ty]
@@ -592,10 +609,13 @@ Fixpoint escape (s : string) : string :=
        else String c "") ++ escape s'
   end.
 
+(** A [STRING] of the dump. *)
 Definition sexp_string (s : string) : string := """" ++ escape s ++ """".
 
+(** A natural number in decimal. *)
 Definition sexp_nat (n : nat) : string := string_of_nonneg (Z.of_nat n).
 
+(** The meaning tag of an external function. *)
 Definition sexp_ef (ef : external_function) : string :=
   match ef with
   | EF_ros_init => "(ros_init)"
@@ -640,8 +660,10 @@ Fixpoint sexp_stmt_lines (inseq : bool) (ind close : string) (s : statement)
   | Sreturn (Some e) => (ind ++ sexp_list ["return"; sexp_expr e] ++ close) :: k
   end.
 
+(** A name with its type: [(x T)]. *)
 Definition sexp_binding (xt : ident * type) : string := sexp_list [fst xt; sexp_type (snd xt)].
 
+(** A global definition in the dump. *)
 Definition sexp_def_lines (d : ident * globdef) (k : list string) : list string :=
   let (id, g) := d in
   match g with
@@ -658,6 +680,7 @@ Definition sexp_def_lines (d : ident * globdef) (k : list string) : list string 
         :: sexp_stmt_lines false "    " "))" (fn_body f) k
   end.
 
+(** A struct definition in the dump. *)
 Definition sexp_struct (co : composite_definition) : string :=
   sexp_list ("struct" :: co_name co :: map sexp_binding (co_members co)).
 
