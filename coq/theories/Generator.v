@@ -36,7 +36,7 @@
 
 From Coq Require Import String Ascii List ZArith Bool.
 From Flocq Require Import IEEE754.Binary.
-From ROSGen Require Import Errors Syntax NodeModel.
+From ROSGen Require Import Errors Syntax Tries NodeModel.
 Import ListNotations.
 
 Local Open Scope string_scope.
@@ -202,6 +202,32 @@ Definition deref_param (x M : ident) : expr := Ederef (Etempvar x (tptr (Tstruct
 (** The type of a callback on messages [M], and of [&c_cmd]. *)
 Definition callback_type (M : ident) : type := Tfunction [tptr (Tstruct M)] Tvoid.
 
+(** ** Lookup tables *)
+
+(** Tables of the model's topics (by C name), controller fields, and output
+    relations (by topic), built once per program so that generating and
+    checking take time linear in the size of the model.
+    [Generatorproof.tables_topics] etc. give their meaning in terms of
+    [find_topic], [find_assoc] and [filter]. *)
+Record tables : Type := mktables {
+  tb_topics : trie topic;
+  tb_inputs : trie prim;
+  tb_outputs : trie prim;
+  tb_outrels : trie (list outrel)
+}.
+
+(** The output relations grouped by topic, each group in model order. *)
+Definition group_outrels (l : list outrel) : trie (list outrel) :=
+  fold_right (fun o t => tset (enc_string (or_topic o))
+                              (o :: tget_default [] (enc_string (or_topic o)) t) t)
+             Tleaf l.
+
+Definition make_tables (m : node_model) : tables :=
+  mktables (tmap_of_list enc_string (map (fun tp => (tp_cname tp, tp)) (nm_topics m)))
+           (tmap_of_list enc_string (nm_inputs m))
+           (tmap_of_list enc_string (nm_outputs m))
+           (group_outrels (nm_outrels m)).
+
 Section GENERATION.
 
 Variable m : node_model.
@@ -210,20 +236,27 @@ Let ce := composites m.
 
 (** ** Lookups with defaults (never used for well-formed models) *)
 
-(** The message type of the topic with C name [c]. *)
+Variable tb : tables.
+
+(** The topic with C name [c], its message type. *)
+Definition lookup_topic (c : ident) : option topic := tget (enc_string c) (tb_topics tb).
+
 Definition topic_msg (c : ident) : ident :=
-  match find_topic (nm_topics m) c with Some tp => tp_msg tp | None => "" end.
+  match lookup_topic c with Some tp => tp_msg tp | None => "" end.
 
 (** The primitive of a controller input / output field. *)
 Definition input_prim (x : ident) : prim :=
-  match find_assoc x (nm_inputs m) with Some q => q | None => Pbool end.
+  match tget (enc_string x) (tb_inputs tb) with Some q => q | None => Pbool end.
 Definition output_prim (x : ident) : prim :=
-  match find_assoc x (nm_outputs m) with Some q => q | None => Pbool end.
+  match tget (enc_string x) (tb_outputs tb) with Some q => q | None => Pbool end.
 
-(** The variables [Controller_U], [Controller_Y] and [c_msg]. *)
+(** The output relations of the topic with C name [c], in order. *)
+Definition topic_outrels (c : ident) : list outrel :=
+  tget_default [] (enc_string c) (tb_outrels tb).
+
+(** The variables [Controller_U], [Controller_Y]. *)
 Definition in_var_expr : expr := Evar (nm_in_var m) (Tstruct (nm_in_struct m)).
 Definition out_var_expr : expr := Evar (nm_out_var m) (Tstruct (nm_out_struct m)).
-Definition msg_var_expr (c : ident) : expr := Evar (msg_var c) (Tstruct (topic_msg c)).
 
 (** ** Callbacks (Figure 11) *)
 
@@ -239,8 +272,10 @@ Definition callback_function (tp : topic) : function :=
 
 (** Source and destination of the copy for an input relation: the leaf
     [ir_path] of [c_msg] and the field [ir_input] of [Controller_U]. *)
-Definition input_src (ir : inrel) : expr := path_expr ce (msg_var_expr (ir_topic ir)) (ir_path ir).
-Definition input_dst (ir : inrel) : expr := path_expr ce in_var_expr [PField (ir_input ir)].
+Definition input_src (ir : inrel) : expr :=
+  path_expr ce (Evar (msg_var (ir_topic ir)) (Tstruct (topic_msg (ir_topic ir)))) (ir_path ir).
+Definition input_dst (ir : inrel) : expr :=
+  Efield in_var_expr (ir_input ir) (ctype_of_prim (input_prim (ir_input ir))).
 
 Definition input_copy (ir : inrel) : statement :=
   copy (input_prim (ir_input ir)) (input_dst ir) (input_src ir).
@@ -252,13 +287,10 @@ Definition input_glue_function : function :=
 
 (** ** Output glue (Figure 8) *)
 
-(** The output relations of the topic with C name [c], in order. *)
-Definition topic_outrels (c : ident) : list outrel :=
-  filter (fun o => ident_eqb (or_topic o) c) (nm_outrels m).
-
 (** Source and destination of the copy for an output relation: the field
     [or_output] of [Controller_Y] and the leaf [or_path] of [*command]. *)
-Definition output_src (o : outrel) : expr := path_expr ce out_var_expr [PField (or_output o)].
+Definition output_src (o : outrel) : expr :=
+  Efield out_var_expr (or_output o) (ctype_of_prim (output_prim (or_output o))).
 Definition output_dst (M : ident) (o : outrel) : expr :=
   path_expr ce (deref_param command_param M) (or_path o).
 
@@ -375,8 +407,6 @@ Definition build_defs : list (ident * globdef) :=
   ++ [(loop_name, Gfun (Internal loop_function));
       (main_name, Gfun (Internal main_function))].
 
-Definition build_program : program := mkprogram ce build_defs main_name.
-
 (** ** Names, for the well-formedness rules *)
 
 (** The global names, in the order of [build_defs]
@@ -416,6 +446,10 @@ Definition c_names : list ident :=
   ++ map fst (nm_inputs m) ++ map fst (nm_outputs m).
 
 End GENERATION.
+
+(** The program, with the lookup tables built once. *)
+Definition build_program (m : node_model) : program :=
+  mkprogram (composites m) (build_defs m (make_tables m)) main_name.
 
 (** ** Lexical rules *)
 
@@ -493,7 +527,28 @@ Definition valid_ros_name (s : string) : bool :=
 Definition null {A : Type} (l : list A) : bool :=
   match l with [] => true | _ :: _ => false end.
 
-(** The first element of [l] that occurs again later in [l]. *)
+(** Keys for names, paths and published fields. *)
+Definition enc_pstep (s : pstep) : list bool :=
+  match s with
+  | PField f => true :: enc_string f
+  | PIndex i => false :: enc_Z i
+  end.
+
+Definition enc_path : path -> list bool := enc_list enc_pstep.
+
+Definition enc_target : ident * path -> list bool := enc_pair enc_string enc_path.
+
+(** No element occurs twice (in linear time, with a trie): for the long
+    lists of a model (names, topics, relations). *)
+Definition nodup_keys {A : Type} (enc : A -> list bool) (l : list A) : bool :=
+  match find_dup enc l with None => true | Some _ => false end.
+
+(** Fail naming the first repeated element. *)
+Definition check_nodup_keys {A : Type} (enc : A -> list bool) (show : A -> errmsg) (l : list A) : res unit :=
+  match find_dup enc l with None => OK tt | Some x => Error (show x) end.
+
+(** The same by comparing every pair, for short lists (the fields of a
+    message): the first element of [l] that occurs again later in [l]. *)
 Fixpoint first_dup {A : Type} (eqb : A -> A -> bool) (l : list A) : option A :=
   match l with
   | [] => None
@@ -503,7 +558,6 @@ Fixpoint first_dup {A : Type} (eqb : A -> A -> bool) (l : list A) : option A :=
 Definition nodupb {A : Type} (eqb : A -> A -> bool) (l : list A) : bool :=
   match first_dup eqb l with None => true | Some _ => false end.
 
-(** Fail naming the first repeated element. *)
 Definition check_nodup {A : Type} (eqb : A -> A -> bool) (show : A -> errmsg) (l : list A) : res unit :=
   match first_dup eqb l with None => OK tt | Some x => Error (show x) end.
 
@@ -512,20 +566,6 @@ Fixpoint check_all {A : Type} (f : A -> res unit) (l : list A) : res unit :=
   match l with
   | [] => OK tt
   | x :: l' => do _ <- f x; check_all f l'
-  end.
-
-Definition pstep_eqb (a b : pstep) : bool :=
-  match a, b with
-  | PField f, PField g => ident_eqb f g
-  | PIndex i, PIndex j => Z.eqb i j
-  | _, _ => false
-  end.
-
-Fixpoint path_eqb (a b : path) : bool :=
-  match a, b with
-  | [], [] => true
-  | s :: a', t :: b' => pstep_eqb s t && path_eqb a' b'
-  | _, _ => false
   end.
 
 (** Decimal notation of an integer, for messages. *)
@@ -586,12 +626,12 @@ Definition topic_ok (msgs : list msgdef) (tp : topic) : bool :=
 (** Rule (the paper's [type_checking_input_glue], on model types): an input
     relation reads a leaf of a subscribed topic's message whose primitive
     type is the controller input's. *)
-Definition inrel_ok (m : node_model) (ir : inrel) : bool :=
-  match find_topic (nm_topics m) (ir_topic ir) with
+Definition inrel_ok (m : node_model) (tb : tables) (ir : inrel) : bool :=
+  match lookup_topic tb (ir_topic ir) with
   | None => false
   | Some tp =>
       is_subscribed tp
-      && match find_assoc (ir_input ir) (nm_inputs m) with
+      && match tget (enc_string (ir_input ir)) (tb_inputs tb) with
          | None => false
          | Some q =>
              match resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir) with
@@ -603,11 +643,11 @@ Definition inrel_ok (m : node_model) (ir : inrel) : bool :=
 
 (** Rule: an output relation writes a leaf of a published topic's message
     whose primitive type is the controller output's. *)
-Definition outrel_ok (m : node_model) (o : outrel) : bool :=
-  match find_assoc (or_output o) (nm_outputs m) with
+Definition outrel_ok (m : node_model) (tb : tables) (o : outrel) : bool :=
+  match tget (enc_string (or_output o)) (tb_outputs tb) with
   | None => false
   | Some q =>
-      match find_topic (nm_topics m) (or_topic o) with
+      match lookup_topic tb (or_topic o) with
       | None => false
       | Some tp =>
           is_published tp
@@ -618,31 +658,31 @@ Definition outrel_ok (m : node_model) (o : outrel) : bool :=
       end
   end.
 
-(** The number of input relations that feed controller input [x]. *)
-Definition feeds (m : node_model) (x : ident) : nat :=
-  length (filter (fun ir => ident_eqb (ir_input ir) x) (nm_inrels m)).
-
-Definition out_target_eqb (a b : ident * path) : bool :=
-  ident_eqb (fst a) (fst b) && path_eqb (snd a) (snd b).
+(** The controller inputs fed by some input relation. *)
+Definition fed_inputs (m : node_model) : trie unit :=
+  tset_of_list enc_string (map ir_input (nm_inrels m)).
 
 (** The well-formedness of a node model, as a boolean. *)
 Definition wf (m : node_model) : bool :=
+  let tb := make_tables m in
+  let fed := fed_inputs m in
   (0 <? nm_period_ms m)%Z
   && valid_ident (nm_name m) && negb (existsb (String.eqb (nm_name m)) coq_keywords)
   && valid_ident (nm_ctrl m)
+  && nodup_keys enc_string (map tp_cname (nm_topics m))
+  && nodup_keys enc_string (map tp_name (nm_topics m))
   && forallb valid_ident (c_names m)
-  && nodupb ident_eqb (global_names m ++ local_names m)
-  && nodupb ident_eqb (struct_names m)
+  && nodup_keys enc_string (global_names m ++ local_names m)
+  && nodup_keys enc_string (struct_names m)
   && msgs_ok [] (nm_msgs m)
-  && negb (null (nm_inputs m)) && nodupb ident_eqb (map fst (nm_inputs m))
-  && negb (null (nm_outputs m)) && nodupb ident_eqb (map fst (nm_outputs m))
-  && nodupb ident_eqb (map tp_cname (nm_topics m))
-  && nodupb String.eqb (map tp_name (nm_topics m))
+  && negb (null (nm_inputs m)) && nodup_keys enc_string (map fst (nm_inputs m))
+  && negb (null (nm_outputs m)) && nodup_keys enc_string (map fst (nm_outputs m))
   && forallb (topic_ok (nm_msgs m)) (nm_topics m)
-  && forallb (inrel_ok m) (nm_inrels m)
-  && forallb (fun xq => Nat.eqb (feeds m (fst xq)) 1) (nm_inputs m)
-  && forallb (outrel_ok m) (nm_outrels m)
-  && nodupb out_target_eqb (map (fun o => (or_topic o, or_path o)) (nm_outrels m)).
+  && forallb (inrel_ok m tb) (nm_inrels m)
+  && nodup_keys enc_string (map ir_input (nm_inrels m))
+  && forallb (fun xq => tmem enc_string (fst xq) fed) (nm_inputs m)
+  && forallb (outrel_ok m tb) (nm_outrels m)
+  && nodup_keys enc_target (map (fun o => (or_topic o, or_path o)) (nm_outrels m)).
 
 (** ** The same rules, failing with a message that names the culprit *)
 
@@ -688,14 +728,14 @@ Definition topic_check (msgs : list msgdef) (tp : topic) : res unit :=
                    MSG " of topic "; CTX (tp_name tp)]
   end.
 
-Definition inrel_check (m : node_model) (ir : inrel) : res unit :=
-  match find_topic (nm_topics m) (ir_topic ir) with
+Definition inrel_check (m : node_model) (tb : tables) (ir : inrel) : res unit :=
+  match lookup_topic tb (ir_topic ir) with
   | None => Error (gen_error "input relation for unknown topic " (ir_topic ir))
   | Some tp =>
       do _ <- assertion (is_subscribed tp)
                 [MSG "Generator: input relation reads topic "; CTX (ir_topic ir);
                  MSG ", which is not subscribed"];
-      match find_assoc (ir_input ir) (nm_inputs m) with
+      match tget (enc_string (ir_input ir)) (tb_inputs tb) with
       | None => Error (gen_error "input relation for unknown controller input " (ir_input ir))
       | Some q =>
           match resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir) with
@@ -712,11 +752,11 @@ Definition inrel_check (m : node_model) (ir : inrel) : res unit :=
       end
   end.
 
-Definition outrel_check (m : node_model) (o : outrel) : res unit :=
-  match find_assoc (or_output o) (nm_outputs m) with
+Definition outrel_check (m : node_model) (tb : tables) (o : outrel) : res unit :=
+  match tget (enc_string (or_output o)) (tb_outputs tb) with
   | None => Error (gen_error "output relation from unknown controller output " (or_output o))
   | Some q =>
-      match find_topic (nm_topics m) (or_topic o) with
+      match lookup_topic tb (or_topic o) with
       | None => Error (gen_error "output relation for unknown topic " (or_topic o))
       | Some tp =>
           do _ <- assertion (is_published tp)
@@ -736,35 +776,34 @@ Definition outrel_check (m : node_model) (o : outrel) : res unit :=
       end
   end.
 
-Definition feeds_check (m : node_model) (x : ident) : res unit :=
-  match feeds m x with
-  | 1%nat => OK tt
-  | O => Error (gen_error "controller input not fed by any input relation: " x)
-  | _ => Error (gen_error "controller input fed by several input relations: " x)
-  end.
-
 (** [wf_check m = OK tt] iff [wf m = true] ([Generatorproof.wf_check_wf]). *)
 Definition wf_check (m : node_model) : res unit :=
+  let tb := make_tables m in
+  let fed := fed_inputs m in
   do _ <- assertion (0 <? nm_period_ms m)%Z [MSG "Generator: period_ms must be positive"];
   do _ <- check_ident "node name" (nm_name m);
   do _ <- assertion (negb (existsb (String.eqb (nm_name m)) coq_keywords))
             (gen_error "the node name is a Coq keyword: " (nm_name m));
   do _ <- check_ident "controller name" (nm_ctrl m);
-  do _ <- check_nodup ident_eqb (gen_error "two topics with the C name ") (map tp_cname (nm_topics m));
-  do _ <- check_nodup String.eqb (gen_error "topic declared twice: ") (map tp_name (nm_topics m));
+  do _ <- check_nodup_keys enc_string (gen_error "two topics with the C name ") (map tp_cname (nm_topics m));
+  do _ <- check_nodup_keys enc_string (gen_error "topic declared twice: ") (map tp_name (nm_topics m));
   do _ <- check_all (check_ident "name") (c_names m);
-  do _ <- check_nodup ident_eqb (gen_error "name defined twice: ") (global_names m ++ local_names m);
-  do _ <- check_nodup ident_eqb (gen_error "struct defined twice: ") (struct_names m);
+  do _ <- check_nodup_keys enc_string (gen_error "name defined twice: ") (global_names m ++ local_names m);
+  do _ <- check_nodup_keys enc_string (gen_error "struct defined twice: ") (struct_names m);
   do _ <- msgs_check [] (nm_msgs m);
   do _ <- assertion (negb (null (nm_inputs m))) (gen_error "controller has no input: " (nm_ctrl m));
-  do _ <- check_nodup ident_eqb (gen_error "controller input declared twice: ") (map fst (nm_inputs m));
+  do _ <- check_nodup_keys enc_string (gen_error "controller input declared twice: ") (map fst (nm_inputs m));
   do _ <- assertion (negb (null (nm_outputs m))) (gen_error "controller has no output: " (nm_ctrl m));
-  do _ <- check_nodup ident_eqb (gen_error "controller output declared twice: ") (map fst (nm_outputs m));
+  do _ <- check_nodup_keys enc_string (gen_error "controller output declared twice: ") (map fst (nm_outputs m));
   do _ <- check_all (topic_check (nm_msgs m)) (nm_topics m);
-  do _ <- check_all (inrel_check m) (nm_inrels m);
-  do _ <- check_all (fun xq => feeds_check m (fst xq)) (nm_inputs m);
-  do _ <- check_all (outrel_check m) (nm_outrels m);
-  check_nodup out_target_eqb
+  do _ <- check_all (inrel_check m tb) (nm_inrels m);
+  do _ <- check_nodup_keys enc_string (gen_error "controller input fed by several input relations: ")
+            (map ir_input (nm_inrels m));
+  do _ <- check_all (fun xq => assertion (tmem enc_string (fst xq) fed)
+                                 (gen_error "controller input not fed by any input relation: " (fst xq)))
+            (nm_inputs m);
+  do _ <- check_all (outrel_check m tb) (nm_outrels m);
+  check_nodup_keys enc_target
     (fun tp => gen_error "published field fed twice: " (fst tp ++ string_of_path (snd tp))%string)
     (map (fun o => (or_topic o, or_path o)) (nm_outrels m)).
 

@@ -21,7 +21,7 @@
       [generate_inputs_address_not_taken]). *)
 
 From Coq Require Import String Ascii List ZArith Bool Lia.
-From ROSGen Require Import Errors Syntax NodeModel Generator.
+From ROSGen Require Import Errors Syntax Tries NodeModel Generator.
 Import ListNotations.
 
 Local Open Scope string_scope.
@@ -45,6 +45,22 @@ Proof.
   intros A f g H; induction l as [|x l IH]; simpl.
   - tauto.
   - rewrite bind_unit_ok, andb_true_iff, H, IH; tauto.
+Qed.
+
+Lemma nodup_keys_NoDup:
+  forall (A : Type) (enc : A -> list bool),
+  (forall a b, enc a = enc b -> a = b) ->
+  forall l, nodup_keys enc l = true <-> NoDup l.
+Proof.
+  intros A enc Inj l; unfold nodup_keys; rewrite <- (find_dup_None A enc Inj l).
+  destruct (find_dup enc l); split; congruence.
+Qed.
+
+Lemma check_nodup_keys_ok:
+  forall (A : Type) (enc : A -> list bool) show l,
+  check_nodup_keys enc show l = OK tt <-> nodup_keys enc l = true.
+Proof.
+  intros; unfold check_nodup_keys, nodup_keys; destruct (find_dup enc l); split; congruence.
 Qed.
 
 Lemma first_dup_None:
@@ -160,25 +176,20 @@ Proof.
   - apply ident_eqb_true in F; subst; rewrite ident_eqb_refl in E; discriminate.
 Qed.
 
-Lemma pstep_eqb_true: forall a b, pstep_eqb a b = true <-> a = b.
+Lemma enc_pstep_prefix_free: prefix_free enc_pstep.
 Proof.
-  intros [f|i] [g|j]; simpl; try (split; congruence).
-  - rewrite ident_eqb_true; split; congruence.
-  - rewrite Z.eqb_eq; split; congruence.
+  intros [f|i] [g|j] r1 r2; simpl; intros E; inversion E as [E'].
+  - destruct (enc_string_prefix_free f g r1 r2 E') as [-> ->]; auto.
+  - destruct (enc_Z_prefix_free i j r1 r2 E') as [-> ->]; auto.
 Qed.
 
-Lemma path_eqb_true: forall a b, path_eqb a b = true <-> a = b.
-Proof.
-  induction a as [|s a IH]; intros [|t b]; simpl; try (split; congruence).
-  rewrite andb_true_iff, pstep_eqb_true, IH; split; [intros [-> ->]; auto|].
-  intros E; inversion E; auto.
-Qed.
+Lemma enc_string_inj: forall a b, enc_string a = enc_string b -> a = b.
+Proof. apply prefix_free_inj, enc_string_prefix_free. Qed.
 
-Lemma out_target_eqb_true: forall a b, out_target_eqb a b = true <-> a = b.
+Lemma enc_target_inj: forall a b, enc_target a = enc_target b -> a = b.
 Proof.
-  intros [x p] [y q]; unfold out_target_eqb; simpl.
-  rewrite andb_true_iff, ident_eqb_true, path_eqb_true; split; [intros [-> ->]; auto|].
-  intros E; inversion E; auto.
+  apply prefix_free_inj, enc_pair_prefix_free;
+    [apply enc_string_prefix_free|apply enc_list_prefix_free, enc_pstep_prefix_free].
 Qed.
 
 (** ** T4: [wf_check] is [wf], and [generate] accepts exactly the well-formed models *)
@@ -218,31 +229,25 @@ Proof.
 Qed.
 
 Lemma inrel_check_ok:
-  forall m ir, inrel_check m ir = OK tt <-> inrel_ok m ir = true.
+  forall m tb ir, inrel_check m tb ir = OK tt <-> inrel_ok m tb ir = true.
 Proof.
   intros; unfold inrel_check, inrel_ok.
-  destruct (find_topic (nm_topics m) (ir_topic ir)) as [tp|]; [|split; discriminate].
+  destruct (lookup_topic tb (ir_topic ir)) as [tp|]; [|split; discriminate].
   rewrite bind_unit_ok, assertion_ok, andb_true_iff.
-  destruct (find_assoc (ir_input ir) (nm_inputs m)) as [q|]; [|intuition discriminate].
+  destruct (tget (enc_string (ir_input ir)) (tb_inputs tb)) as [q|]; [|intuition discriminate].
   destruct (resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir)) as [q'|];
     [rewrite assertion_ok|]; intuition discriminate.
 Qed.
 
 Lemma outrel_check_ok:
-  forall m o, outrel_check m o = OK tt <-> outrel_ok m o = true.
+  forall m tb o, outrel_check m tb o = OK tt <-> outrel_ok m tb o = true.
 Proof.
   intros; unfold outrel_check, outrel_ok.
-  destruct (find_assoc (or_output o) (nm_outputs m)) as [q|]; [|split; discriminate].
-  destruct (find_topic (nm_topics m) (or_topic o)) as [tp|]; [|split; discriminate].
+  destruct (tget (enc_string (or_output o)) (tb_outputs tb)) as [q|]; [|split; discriminate].
+  destruct (lookup_topic tb (or_topic o)) as [tp|]; [|split; discriminate].
   rewrite bind_unit_ok, assertion_ok, andb_true_iff.
   destruct (resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (or_path o)) as [q'|];
     [rewrite assertion_ok|]; intuition discriminate.
-Qed.
-
-Lemma feeds_check_ok:
-  forall m x, feeds_check m x = OK tt <-> Nat.eqb (feeds m x) 1 = true.
-Proof.
-  intros; unfold feeds_check. destruct (feeds m x) as [|[|n]]; simpl; split; congruence.
 Qed.
 
 Lemma bind_unit_iff:
@@ -256,15 +261,15 @@ Lemma check_all_iff:
 Proof. intros; apply check_all_ok; auto. Qed.
 
 Ltac wf_rule :=
-  first [ apply assertion_ok | apply check_nodup_ok | apply msgs_check_ok
+  first [ apply assertion_ok | apply check_nodup_ok | apply check_nodup_keys_ok | apply msgs_check_ok
         | apply check_all_iff; intros;
           first [ apply assertion_ok | apply topic_check_ok | apply inrel_check_ok
-                | apply feeds_check_ok | apply outrel_check_ok ] ].
+                | apply outrel_check_ok ] ].
 
 (** The checker that names the culprit agrees with the boolean rules. *)
 Theorem wf_check_wf: forall m, wf_check m = OK tt <-> wf m = true.
 Proof.
-  intros m; unfold wf, wf_check, check_ident.
+  intros m; unfold wf, wf_check, check_ident; cbv zeta.
   eapply iff_trans; [repeat (apply bind_unit_iff; [wf_rule|]); wf_rule|].
   rewrite !andb_true_iff. tauto.
 Qed.
@@ -310,9 +315,10 @@ Record wf_facts (m : node_model) : Prop := {
   wf_cnames_nodup: NoDup (map tp_cname (nm_topics m));
   wf_rosnames_nodup: NoDup (map tp_name (nm_topics m));
   wf_topics: forall tp, In tp (nm_topics m) -> topic_ok (nm_msgs m) tp = true;
-  wf_inrels: forall ir, In ir (nm_inrels m) -> inrel_ok m ir = true;
-  wf_feeds: forall x q, In (x, q) (nm_inputs m) -> feeds m x = 1%nat;
-  wf_outrels: forall o, In o (nm_outrels m) -> outrel_ok m o = true;
+  wf_inrels: forall ir, In ir (nm_inrels m) -> inrel_ok m (make_tables m) ir = true;
+  wf_inrel_inputs_nodup: NoDup (map ir_input (nm_inrels m));
+  wf_inputs_fed: forall x q, In (x, q) (nm_inputs m) -> In x (map ir_input (nm_inrels m));
+  wf_outrels: forall o, In o (nm_outrels m) -> outrel_ok m (make_tables m) o = true;
   wf_out_targets: NoDup (map (fun o => (or_topic o, or_path o)) (nm_outrels m))
 }.
 
@@ -321,17 +327,78 @@ Proof. intros A [|x l]; simpl; congruence. Qed.
 
 Lemma wf_facts_intro: forall m, wf m = true -> wf_facts m.
 Proof.
-  intros m H; unfold wf in H. rewrite !andb_true_iff in H.
+  intros m H; unfold wf in H; cbv zeta in H. rewrite !andb_true_iff in H.
   repeat match type of H with _ /\ _ => let H1 := fresh "H" in destruct H as [H H1] end.
-  rewrite ?(nodupb_NoDup _ _ ident_eqb_true) in *.
-  rewrite ?(nodupb_NoDup _ _ String.eqb_eq) in *.
-  rewrite ?(nodupb_NoDup _ _ out_target_eqb_true) in *.
+  rewrite ?(nodup_keys_NoDup _ _ enc_string_inj) in *.
+  rewrite ?(nodup_keys_NoDup _ _ enc_target_inj) in *.
   rewrite ?forallb_forall in *.
   constructor; auto using null_false.
   - apply Z.ltb_lt; auto.
-  - intros x q Hin. apply Nat.eqb_eq.
-    match goal with Hf : forall xq, In xq (nm_inputs m) -> _ |- _ => apply (Hf (x, q) Hin) end.
+  - intros x q Hin.
+    match goal with Hf : forall xq, In xq (nm_inputs m) -> tmem _ _ _ = true |- _ =>
+      generalize (Hf (x, q) Hin) end.
+    unfold fed_inputs; rewrite (tmem_of_list _ _ enc_string_inj); auto.
 Qed.
+
+(** ** The lookup tables *)
+
+Lemma tmap_of_list_find_assoc:
+  forall (A : Type) (l : list (ident * A)) x,
+  tget (enc_string x) (tmap_of_list enc_string l) = find_assoc x l.
+Proof.
+  induction l as [|[y v] l IH]; intros x; simpl; auto.
+  destruct (string_dec x y) as [<-|n]; [apply tget_tset_same|].
+  rewrite tget_tset_other; auto. intros E; apply n, enc_string_inj; auto.
+Qed.
+
+Lemma tables_topics:
+  forall m c, lookup_topic (make_tables m) c = find_topic (nm_topics m) c.
+Proof.
+  intros m c; unfold lookup_topic, make_tables, find_topic; simpl.
+  induction (nm_topics m) as [|tp l IH]; simpl; auto.
+  destruct (ident_eqb (tp_cname tp) c) eqn:E.
+  - apply ident_eqb_true in E; subst; apply tget_tset_same.
+  - rewrite tget_tset_other; auto. intros E'; apply enc_string_inj in E'.
+    apply ident_eqb_false in E; auto.
+Qed.
+
+Lemma tables_inputs:
+  forall m x, tget (enc_string x) (tb_inputs (make_tables m)) = find_assoc x (nm_inputs m).
+Proof. intros; apply tmap_of_list_find_assoc. Qed.
+
+Lemma tables_outputs:
+  forall m x, tget (enc_string x) (tb_outputs (make_tables m)) = find_assoc x (nm_outputs m).
+Proof. intros; apply tmap_of_list_find_assoc. Qed.
+
+Lemma tables_outrels:
+  forall m c, topic_outrels (make_tables m) c = filter (fun o => ident_eqb (or_topic o) c) (nm_outrels m).
+Proof.
+  intros m c; unfold topic_outrels, make_tables; simpl.
+  induction (nm_outrels m) as [|o l IH]; simpl; auto.
+  unfold tget_default at 1.
+  destruct (ident_eqb (or_topic o) c) eqn:E.
+  - apply ident_eqb_true in E; subst. rewrite tget_tset_same. f_equal; auto.
+  - rewrite tget_tset_other; auto. intros E'; apply enc_string_inj in E'.
+    apply ident_eqb_false in E; auto.
+Qed.
+
+Lemma In_topic_outrels:
+  forall m c o, In o (topic_outrels (make_tables m) c) <-> In o (nm_outrels m) /\ or_topic o = c.
+Proof.
+  intros; rewrite tables_outrels, filter_In, ident_eqb_true; tauto.
+Qed.
+
+Lemma input_prim_tables:
+  forall m x q, find_assoc x (nm_inputs m) = Some q -> input_prim (make_tables m) x = q.
+Proof. intros m x q H; unfold input_prim; rewrite tables_inputs, H; auto. Qed.
+
+Lemma output_prim_tables:
+  forall m x q, find_assoc x (nm_outputs m) = Some q -> output_prim (make_tables m) x = q.
+Proof. intros m x q H; unfold output_prim; rewrite tables_outputs, H; auto. Qed.
+
+Lemma topic_msg_tables:
+  forall m c tp, find_topic (nm_topics m) c = Some tp -> topic_msg (make_tables m) c = tp_msg tp.
+Proof. intros m c tp H; unfold topic_msg; rewrite tables_topics, H; auto. Qed.
 
 (** Topics by C name. *)
 Lemma find_topic_In:
@@ -368,6 +435,7 @@ Lemma wf_inrel:
   /\ resolve (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir) = Some (FTprim q).
 Proof.
   intros m ir W Hin. generalize (wf_inrels m W ir Hin); unfold inrel_ok.
+  rewrite tables_topics, tables_inputs.
   destruct (find_topic (nm_topics m) (ir_topic ir)) as [tp|]; [|discriminate].
   destruct (find_assoc (ir_input ir) (nm_inputs m)) as [q|]; [|rewrite andb_false_r; discriminate].
   destruct (resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir)) as [q'|] eqn:R;
@@ -384,6 +452,7 @@ Lemma wf_outrel:
   /\ resolve (nm_msgs m) (FTmsg (tp_msg tp)) (or_path o) = Some (FTprim q).
 Proof.
   intros m o W Hin. generalize (wf_outrels m W o Hin); unfold outrel_ok.
+  rewrite tables_topics, tables_outputs.
   destruct (find_assoc (or_output o) (nm_outputs m)) as [q|]; [|discriminate].
   destruct (find_topic (nm_topics m) (or_topic o)) as [tp|]; [|discriminate].
   destruct (resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (or_path o)) as [q'|] eqn:R;
@@ -392,14 +461,39 @@ Proof.
   exists tp, q'; repeat split; auto. apply resolve_prim_inv; auto.
 Qed.
 
+(** The number of input relations that feed controller input [x]. *)
+Definition feeds (m : node_model) (x : ident) : nat :=
+  length (filter (fun ir => ident_eqb (ir_input ir) x) (nm_inrels m)).
+
+Lemma filter_nodup_single:
+  forall (l : list inrel) x,
+  NoDup (map ir_input l) -> In x (map ir_input l) ->
+  exists ir, filter (fun ir => ident_eqb (ir_input ir) x) l = [ir].
+Proof.
+  induction l as [|ir l IH]; simpl; intros x ND H; [contradiction|].
+  inversion ND as [|? ? Hn ND']; subst.
+  destruct (ident_eqb (ir_input ir) x) eqn:E.
+  - apply ident_eqb_true in E; subst. exists ir. f_equal.
+    destruct (filter (fun ir' => ident_eqb (ir_input ir') (ir_input ir)) l) as [|ir' l'] eqn:F; auto.
+    assert (In ir' (filter (fun ir' => ident_eqb (ir_input ir') (ir_input ir)) l)) by (rewrite F; simpl; auto).
+    apply filter_In in H0; destruct H0 as [H0 E']. apply ident_eqb_true in E'.
+    elim Hn; rewrite <- E'; apply in_map; auto.
+  - destruct H as [H|H]; [apply ident_eqb_false in E; contradiction|]. apply IH; auto.
+Qed.
+
 (** Every controller input is fed by exactly one input relation. *)
 Lemma wf_input_fed_once:
   forall m x q, wf_facts m -> In (x, q) (nm_inputs m) ->
   exists ir, filter (fun ir => ident_eqb (ir_input ir) x) (nm_inrels m) = [ir].
 Proof.
-  intros m x q W H. generalize (wf_feeds m W x q H); unfold feeds.
-  destruct (filter (fun ir => ident_eqb (ir_input ir) x) (nm_inrels m)) as [|ir [|]];
-    simpl; try discriminate. eauto.
+  intros m x q W H. apply filter_nodup_single.
+  - apply wf_inrel_inputs_nodup; auto.
+  - apply (wf_inputs_fed m W x q H).
+Qed.
+
+Lemma wf_feeds: forall m, wf_facts m -> forall x q, In (x, q) (nm_inputs m) -> feeds m x = 1%nat.
+Proof.
+  intros m W x q H. unfold feeds. destruct (wf_input_fed_once m x q W H) as (ir & ->); auto.
 Qed.
 
 (** ** Messages: scopes, resolution and leaves *)
@@ -855,46 +949,42 @@ Proof.
   simpl; apply find_assoc_controller; auto.
 Qed.
 
-Lemma topic_msg_find:
-  forall c tp, find_topic (nm_topics m) c = Some tp -> topic_msg m c = tp_msg tp.
-Proof. intros c tp H; unfold topic_msg; rewrite H; auto. Qed.
-
 (** The source and destination of the copy of an input relation are
     well-typed places of the input's C type. *)
 Lemma input_copy_typed:
   forall ir, In ir (nm_inrels m) ->
-     typeof (input_src m ir) = ctype_of_prim (input_prim m (ir_input ir))
-  /\ wt_place (composites m) (input_src m ir)
-  /\ typeof (input_dst m ir) = ctype_of_prim (input_prim m (ir_input ir))
-  /\ wt_place (composites m) (input_dst m ir).
+     typeof (input_src m (make_tables m) ir) = ctype_of_prim (input_prim (make_tables m) (ir_input ir))
+  /\ wt_place (composites m) (input_src m (make_tables m) ir)
+  /\ typeof (input_dst m (make_tables m) ir) = ctype_of_prim (input_prim (make_tables m) (ir_input ir))
+  /\ wt_place (composites m) (input_dst m (make_tables m) ir).
 Proof.
   intros ir Hin. destruct (wf_inrel m ir W Hin) as (tp & q & F & S & I & R).
-  unfold input_prim; rewrite I.
-  destruct (leaf_path_expr_typed (tp_msg tp) (ir_path ir) q (msg_var_expr m (ir_topic ir)) R)
-    as [T1 W1]; [unfold msg_var_expr; simpl; erewrite topic_msg_find; eauto|constructor|].
-  unfold input_src, input_dst; split; [exact T1|]; split; [exact W1|].
-  unfold in_var_expr; simpl. rewrite (field_type_inputs _ _ I).
-  split; auto. eapply wt_Efield; [constructor|reflexivity|apply field_type_inputs; auto].
+  destruct (leaf_path_expr_typed (tp_msg tp) (ir_path ir) q
+              (Evar (msg_var (ir_topic ir)) (Tstruct (tp_msg tp))) R) as [T1 W1];
+    [reflexivity|constructor|].
+  unfold input_src, input_dst. rewrite (topic_msg_tables m _ _ F), (input_prim_tables m _ _ I).
+  split; [exact T1|]; split; [exact W1|]. split; [reflexivity|].
+  eapply wt_Efield; [constructor|reflexivity|apply field_type_inputs; auto].
 Qed.
 
 (** Same for output relations, writing into the message of a published
     topic [tp]. *)
 Lemma output_copy_typed:
-  forall tp o, In tp (nm_topics m) -> In o (topic_outrels m (tp_cname tp)) ->
-     typeof (output_src m o) = ctype_of_prim (output_prim m (or_output o))
-  /\ wt_place (composites m) (output_src m o)
-  /\ typeof (output_dst m (tp_msg tp) o) = ctype_of_prim (output_prim m (or_output o))
+  forall tp o, In tp (nm_topics m) -> In o (topic_outrels (make_tables m) (tp_cname tp)) ->
+     typeof (output_src m (make_tables m) o) = ctype_of_prim (output_prim (make_tables m) (or_output o))
+  /\ wt_place (composites m) (output_src m (make_tables m) o)
+  /\ typeof (output_dst m (tp_msg tp) o) = ctype_of_prim (output_prim (make_tables m) (or_output o))
   /\ wt_place (composites m) (output_dst m (tp_msg tp) o).
 Proof.
-  intros tp o Htp Ho. unfold topic_outrels in Ho; apply filter_In in Ho.
-  destruct Ho as [Hin E]. apply ident_eqb_true in E.
+  intros tp o Htp Ho. apply In_topic_outrels in Ho. destruct Ho as [Hin E].
   destruct (wf_outrel m o W Hin) as (tp' & q & F & S & O & R).
   rewrite E, (In_find_topic _ _ (wf_cnames_nodup m W) Htp) in F. inversion F; subst tp'.
-  unfold output_prim; rewrite O.
+  rewrite (output_prim_tables m _ _ O).
   destruct (leaf_path_expr_typed (tp_msg tp) (or_path o) q (deref_param command_param (tp_msg tp)) R)
     as [T1 W1]; [auto|constructor|].
-  unfold output_src, output_dst, out_var_expr; simpl. rewrite (field_type_outputs _ _ O).
-  split; auto. split; [eapply wt_Efield; [constructor|reflexivity|apply field_type_outputs; auto]|].
+  unfold output_src, output_dst, out_var_expr. rewrite (output_prim_tables m _ _ O).
+  split; [reflexivity|].
+  split; [eapply wt_Efield; [constructor|reflexivity|apply field_type_outputs; auto]|].
   split; auto.
 Qed.
 
@@ -911,7 +1001,7 @@ Lemma topic_externals_names: forall tp, map fst (topic_externals tp) = topic_ext
 Proof. intros tp; unfold topic_externals, topic_extern_names; destruct (tp_dir tp); auto. Qed.
 
 (** The global names of [build_defs] are [global_names]. *)
-Lemma build_defs_names: forall m, map fst (build_defs m) = global_names m.
+Lemma build_defs_names: forall m, map fst (build_defs m (make_tables m)) = global_names m.
 Proof.
   intros m; unfold build_defs, global_names.
   rewrite !map_app, map_fst_flat_map, !map_map.
@@ -928,7 +1018,7 @@ Qed.
 Lemma generate_types: forall m p, generate m = OK p -> prog_types p = composites m.
 Proof. intros m p H; apply generate_inv in H; destruct H as [_ ->]; auto. Qed.
 
-Lemma generate_defs: forall m p, generate m = OK p -> prog_defs p = build_defs m.
+Lemma generate_defs: forall m p, generate m = OK p -> prog_defs p = build_defs m (make_tables m).
 Proof. intros m p H; apply generate_inv in H; destruct H as [_ ->]; auto. Qed.
 
 (** All global names of the generated program are distinct. *)
@@ -950,7 +1040,7 @@ Proof.
 Qed.
 
 Lemma generate_find_def:
-  forall m p id d, generate m = OK p -> In (id, d) (build_defs m) -> find_def p id = Some d.
+  forall m p id d, generate m = OK p -> In (id, d) (build_defs m (make_tables m)) -> find_def p id = Some d.
 Proof.
   intros m p id d H Hin. unfold find_def. apply In_find_assoc.
   - apply (generate_names_distinct m p H).
@@ -958,7 +1048,7 @@ Proof.
 Qed.
 
 Lemma find_def_build:
-  forall m p id d, generate m = OK p -> find_def p id = Some d -> In (id, d) (build_defs m).
+  forall m p id d, generate m = OK p -> find_def p id = Some d -> In (id, d) (build_defs m (make_tables m)).
 Proof.
   intros m p id d H F. unfold find_def in F. apply find_assoc_In in F.
   rewrite (generate_defs m p H) in F; auto.
@@ -966,7 +1056,7 @@ Qed.
 
 Lemma in_build_defs_externals:
   forall m id d, In (id, d) (ros_externals ++ flat_map topic_externals (nm_topics m) ++ controller_defs m) ->
-  In (id, d) (build_defs m).
+  In (id, d) (build_defs m (make_tables m)).
 Proof.
   intros m id d H; unfold build_defs. rewrite !in_app_iff in *; tauto.
 Qed.
@@ -1084,9 +1174,9 @@ Qed.
 (** The lists of source and destination expressions of the copies of
     [input_glue], one per input relation. *)
 Definition gen_list_global_expr_input_glue (m : node_model) (lir : list inrel) : list expr :=
-  map (input_src m) lir.
+  map (input_src m (make_tables m)) lir.
 Definition gen_list_controller_expr_input_glue (m : node_model) (lir : list inrel) : list expr :=
-  map (input_dst m) lir.
+  map (input_dst m (make_tables m)) lir.
 
 (** The sequence of copies [d1 = s1; d2 = s2; ...] through the temporaries
     of the primitives [qs]. *)
@@ -1122,8 +1212,8 @@ Qed.
     in order: [Controller_U.In_i = c_i_msg.path_i] through a temporary. *)
 Lemma input_glue_body:
   forall m,
-  fn_body (input_glue_function m)
-  = seq_of (copies (map (fun ir => input_prim m (ir_input ir)) (nm_inrels m))
+  fn_body (input_glue_function m (make_tables m))
+  = seq_of (copies (map (fun ir => input_prim (make_tables m) (ir_input ir)) (nm_inrels m))
                    (gen_list_controller_expr_input_glue m (nm_inrels m))
                    (gen_list_global_expr_input_glue m (nm_inrels m))).
 Proof.
@@ -1133,7 +1223,7 @@ Qed.
 
 (** The same for one published topic with C name [c] and message [M]. *)
 Definition gen_list_controller_expr_output_glue (m : node_model) (lor : list outrel) : list expr :=
-  map (output_src m) lor.
+  map (output_src m (make_tables m)) lor.
 Definition gen_list_message_expr_output_glue (m : node_model) (M : ident) (lor : list outrel) : list expr :=
   map (output_dst m M) lor.
 
@@ -1150,15 +1240,14 @@ Inductive relation_consistency_output (m : node_model) (c : ident) :
 
 Lemma relation_consistency_output_glue:
   forall m c M lor ls ld,
-  lor = topic_outrels m c ->
+  lor = topic_outrels (make_tables m) c ->
   ls = gen_list_controller_expr_output_glue m lor ->
   ld = gen_list_message_expr_output_glue m M lor ->
   relation_consistency_output m c lor ls ld.
 Proof.
   intros m c M lor ls ld Hl -> ->.
   assert (Hc: forall o, In o lor -> or_topic o = c).
-  { intros o Ho; subst lor. unfold topic_outrels in Ho; apply filter_In in Ho.
-    apply ident_eqb_true; tauto. }
+  { intros o Ho; subst lor. apply In_topic_outrels in Ho; tauto. }
   clear Hl. induction lor as [|o lor IH]; simpl; constructor; auto with datatypes;
     apply expr_place_path_expr with (q := []); auto.
 Qed.
@@ -1168,11 +1257,11 @@ Qed.
 Lemma output_glue_body:
   forall m tp,
   let M := tp_msg tp in
-  let lor := topic_outrels m (tp_cname tp) in
-  fn_body (output_glue_function m tp)
+  let lor := topic_outrels (make_tables m) (tp_cname tp) in
+  fn_body (output_glue_function m (make_tables m) tp)
   = Ssequence
       (seq_of (map (leaf_zero (composites m) (deref_param command_param M)) (leaves (nm_msgs m) M)))
-      (seq_of (copies (map (fun o => output_prim m (or_output o)) lor)
+      (seq_of (copies (map (fun o => output_prim (make_tables m) (or_output o)) lor)
                       (gen_list_message_expr_output_glue m M lor)
                       (gen_list_controller_expr_output_glue m lor))).
 Proof.
@@ -1190,41 +1279,40 @@ Lemma input_exprs:
   /\ In tp (subscribed m)
   /\ find_assoc (ir_input ir) (nm_inputs m) = Some q
   /\ resolve (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir) = Some (FTprim q)
-  /\ input_prim m (ir_input ir) = q
-  /\ input_src m ir = path_expr (composites m) (Evar (msg_var (ir_topic ir)) (Tstruct (tp_msg tp))) (ir_path ir)
-  /\ input_dst m ir = Efield (Evar (nm_in_var m) (Tstruct (nm_in_struct m))) (ir_input ir) (ctype_of_prim q).
+  /\ input_prim (make_tables m) (ir_input ir) = q
+  /\ input_src m (make_tables m) ir = path_expr (composites m) (Evar (msg_var (ir_topic ir)) (Tstruct (tp_msg tp))) (ir_path ir)
+  /\ input_dst m (make_tables m) ir = Efield (Evar (nm_in_var m) (Tstruct (nm_in_struct m))) (ir_input ir) (ctype_of_prim q).
 Proof.
   intros m ir W Hin. destruct (wf_inrel m ir W Hin) as (tp & q & F & S & I & R).
   exists tp, q. destruct (find_topic_In _ _ _ F) as [Htp Ec].
   repeat split; auto.
   - apply in_subscribed; split; auto. unfold is_subscribed in S.
     destruct (tp_dir tp); auto; discriminate.
-  - unfold input_prim; rewrite I; auto.
-  - unfold input_src, msg_var_expr. rewrite (topic_msg_find m _ _ F); auto.
-  - unfold input_dst, in_var_expr; simpl. rewrite (field_type_inputs m W _ _ I); auto.
+  - apply input_prim_tables; auto.
+  - unfold input_src. rewrite (topic_msg_tables m _ _ F); auto.
+  - unfold input_dst, in_var_expr. rewrite (input_prim_tables m _ _ I); auto.
 Qed.
 
 (** The copy of an output relation of a published topic, concretely. *)
 Lemma output_exprs:
-  forall m tp o, wf_facts m -> In tp (nm_topics m) -> In o (topic_outrels m (tp_cname tp)) ->
+  forall m tp o, wf_facts m -> In tp (nm_topics m) -> In o (topic_outrels (make_tables m) (tp_cname tp)) ->
   exists q,
      In o (nm_outrels m)
   /\ or_topic o = tp_cname tp
   /\ tp_dir tp = Publish
   /\ find_assoc (or_output o) (nm_outputs m) = Some q
   /\ resolve (nm_msgs m) (FTmsg (tp_msg tp)) (or_path o) = Some (FTprim q)
-  /\ output_prim m (or_output o) = q
-  /\ output_src m o = Efield (Evar (nm_out_var m) (Tstruct (nm_out_struct m))) (or_output o) (ctype_of_prim q)
+  /\ output_prim (make_tables m) (or_output o) = q
+  /\ output_src m (make_tables m) o = Efield (Evar (nm_out_var m) (Tstruct (nm_out_struct m))) (or_output o) (ctype_of_prim q)
   /\ output_dst m (tp_msg tp) o = path_expr (composites m) (deref_param command_param (tp_msg tp)) (or_path o).
 Proof.
-  intros m tp o W Htp Ho. unfold topic_outrels in Ho; apply filter_In in Ho.
-  destruct Ho as [Hin E]. apply ident_eqb_true in E.
+  intros m tp o W Htp Ho. apply In_topic_outrels in Ho. destruct Ho as [Hin E].
   destruct (wf_outrel m o W Hin) as (tp' & q & F & S & O & R).
   rewrite E, (In_find_topic _ _ (wf_cnames_nodup m W) Htp) in F. inversion F; subst tp'.
   exists q; repeat split; auto.
   - unfold is_published in S; destruct (tp_dir tp); auto; discriminate.
-  - unfold output_prim; rewrite O; auto.
-  - unfold output_src, out_var_expr; simpl. rewrite (field_type_outputs m W _ _ O); auto.
+  - apply output_prim_tables; auto.
+  - unfold output_src, out_var_expr. rewrite (output_prim_tables m _ _ O); auto.
 Qed.
 
 (** [input_glue]: the copies of the input relations, in order. *)
@@ -1233,15 +1321,15 @@ Theorem generate_input_glue:
   exists f,
      find_def p input_glue_name = Some (Gfun (Internal f))
   /\ fn_return f = Tvoid /\ fn_params f = [] /\ fn_vars f = []
-  /\ fn_body f = seq_of (copies (map (fun ir => input_prim m (ir_input ir)) (nm_inrels m))
+  /\ fn_body f = seq_of (copies (map (fun ir => input_prim (make_tables m) (ir_input ir)) (nm_inrels m))
                                 (gen_list_controller_expr_input_glue m (nm_inrels m))
                                 (gen_list_global_expr_input_glue m (nm_inrels m)))
   /\ NoDup (map fst (fn_temps f))
   /\ (forall ir, In ir (nm_inrels m) ->
-        find_assoc (temp_name (input_prim m (ir_input ir))) (fn_temps f)
-        = Some (ctype_of_prim (input_prim m (ir_input ir)))).
+        find_assoc (temp_name (input_prim (make_tables m) (ir_input ir))) (fn_temps f)
+        = Some (ctype_of_prim (input_prim (make_tables m) (ir_input ir)))).
 Proof.
-  intros m p H. exists (input_glue_function m); repeat split.
+  intros m p H. exists (input_glue_function m (make_tables m)); repeat split.
   - apply (generate_find_def m p _ _ H). unfold build_defs; rewrite !in_app_iff.
     do 5 right; left; simpl; auto.
   - apply input_glue_body.
@@ -1255,7 +1343,7 @@ Theorem generate_output_glue:
   forall m p tp, generate m = OK p -> In tp (published m) ->
   let c := tp_cname tp in
   let M := tp_msg tp in
-  let lor := topic_outrels m c in
+  let lor := topic_outrels (make_tables m) c in
   exists f,
      find_def p (output_glue_name c) = Some (Gfun (Internal f))
   /\ fn_return f = Tvoid
@@ -1264,18 +1352,18 @@ Theorem generate_output_glue:
   /\ fn_body f
      = Ssequence
          (seq_of (map (leaf_zero (prog_types p) (deref_param command_param M)) (leaves (nm_msgs m) M)))
-         (seq_of (copies (map (fun o => output_prim m (or_output o)) lor)
+         (seq_of (copies (map (fun o => output_prim (make_tables m) (or_output o)) lor)
                          (gen_list_message_expr_output_glue m M lor)
                          (gen_list_controller_expr_output_glue m lor)))
   /\ NoDup (map fst (fn_temps f))
   /\ (forall o, In o lor ->
-        find_assoc (temp_name (output_prim m (or_output o))) (fn_temps f)
-        = Some (ctype_of_prim (output_prim m (or_output o)))).
+        find_assoc (temp_name (output_prim (make_tables m) (or_output o))) (fn_temps f)
+        = Some (ctype_of_prim (output_prim (make_tables m) (or_output o)))).
 Proof.
-  intros m p tp H Hin c M lor. exists (output_glue_function m tp); repeat split.
+  intros m p tp H Hin c M lor. exists (output_glue_function m (make_tables m) tp); repeat split.
   - apply (generate_find_def m p _ _ H). unfold build_defs; rewrite !in_app_iff.
-    do 6 right; left. change (output_glue_name c, Gfun (Internal (output_glue_function m tp)))
-      with (output_glue_def m tp). apply in_map; auto.
+    do 6 right; left. change (output_glue_name c, Gfun (Internal (output_glue_function m (make_tables m) tp)))
+      with (output_glue_def m (make_tables m) tp). apply in_map; auto.
   - rewrite (generate_types m p H). apply output_glue_body.
   - apply temps_of_nodup.
   - intros o Ho. apply temps_of_find. apply in_map_iff; eauto.
@@ -1365,7 +1453,7 @@ Proof.
   unfold gen_list_global_expr_input_glue, gen_list_controller_expr_input_glue.
   generalize (input_copy_typed m Hwf). induction (nm_inrels m) as [|ir l IH]; simpl; intros T; auto.
   rewrite andb_true_iff, type_eqb_true; split.
-  - destruct (T ir) as (T1 & _ & T2 & _); auto. congruence.
+  - destruct (T ir) as (T1 & _ & T2 & _); simpl; auto; congruence.
   - apply IH; intros; apply T; auto.
 Qed.
 
@@ -1375,16 +1463,16 @@ Definition type_checking_output_glue := type_checking_input_glue.
 Lemma type_checking_output_glue_generated:
   forall m tp, wf m = true -> In tp (nm_topics m) ->
   type_checking_output_glue
-    (map typeof (gen_list_controller_expr_output_glue m (topic_outrels m (tp_cname tp))))
-    (map typeof (gen_list_message_expr_output_glue m (tp_msg tp) (topic_outrels m (tp_cname tp))))
+    (map typeof (gen_list_controller_expr_output_glue m (topic_outrels (make_tables m) (tp_cname tp))))
+    (map typeof (gen_list_message_expr_output_glue m (tp_msg tp) (topic_outrels (make_tables m) (tp_cname tp))))
   = true.
 Proof.
   intros m tp Hwf Htp. apply wf_facts_intro in Hwf.
   unfold gen_list_controller_expr_output_glue, gen_list_message_expr_output_glue.
-  generalize (output_copy_typed m Hwf tp). generalize (topic_outrels m (tp_cname tp)).
+  generalize (output_copy_typed m Hwf tp). generalize (topic_outrels (make_tables m) (tp_cname tp)).
   induction l as [|o l IH]; simpl; intros T; auto.
   rewrite andb_true_iff, type_eqb_true; split.
-  - destruct (T o) as (T1 & _ & T2 & _); auto. congruence.
+  - destruct (T o) as (T1 & _ & T2 & _); simpl; auto; congruence.
   - apply IH; intros; apply T; auto.
 Qed.
 
@@ -1794,8 +1882,7 @@ Proof.
   - exfalso. simpl in F; destruct F as [E|[]]; inversion E; subst; clear E.
     rewrite input_glue_body, stmt_takes_addr_seq, copies_take_no_addr in T; [discriminate| |].
     + intros d Hd. unfold gen_list_controller_expr_input_glue in Hd.
-      apply in_map_iff in Hd; destruct Hd as (ir & <- & _). unfold input_dst.
-      rewrite expr_takes_addr_path; auto.
+      apply in_map_iff in Hd; destruct Hd as (ir & <- & _). unfold input_dst; auto.
     + intros s Hs. unfold gen_list_global_expr_input_glue in Hs.
       apply in_map_iff in Hs; destruct Hs as (ir & <- & _). unfold input_src.
       rewrite expr_takes_addr_path; auto.
@@ -1811,8 +1898,7 @@ Proof.
         apply in_map_iff in Hd; destruct Hd as (o & <- & _). unfold output_dst.
         rewrite expr_takes_addr_path; auto.
       * intros s Hs. unfold gen_list_controller_expr_output_glue in Hs.
-        apply in_map_iff in Hs; destruct Hs as (o & <- & _). unfold output_src.
-        rewrite expr_takes_addr_path; auto.
+        apply in_map_iff in Hs; destruct Hs as (o & <- & _). unfold output_src; auto.
   - simpl in F; destruct F as [E|[E|[]]]; inversion E; subst; clear E.
     + left. simpl in T. rewrite stmt_takes_addr_seq, existsb_app in T. simpl in T.
       rewrite orb_false_r in T.
@@ -1938,46 +2024,19 @@ Theorem leaves_nodup:
   forall m id, wf_facts m -> NoDup (map fst (leaves (nm_msgs m) id)).
 Proof. intros m id W; apply scope_leaves_nodup, wf_scope_ok; auto. Qed.
 
-Lemma count_one_nodup:
-  forall (l l1 : list inrel),
-  (forall ir, In ir l ->
-     length (filter (fun ir' => ident_eqb (ir_input ir') (ir_input ir)) (l1 ++ l)) = 1%nat) ->
-  NoDup (map ir_input l).
-Proof.
-  induction l as [|ir l IH]; simpl; intros l1 F; [constructor|]. constructor.
-  - intros Hin. apply in_map_iff in Hin; destruct Hin as (ir' & E & Hir').
-    generalize (F ir (or_introl eq_refl)). rewrite filter_app, app_length; simpl.
-    rewrite ident_eqb_refl; simpl.
-    set (P := fun ir'' => ident_eqb (ir_input ir'') (ir_input ir)).
-    assert (In ir' (filter P l)) by (apply filter_In; split; auto; unfold P; rewrite E; apply ident_eqb_refl).
-    destruct (filter P l); [contradiction|]. simpl; lia.
-  - apply (IH (l1 ++ [ir])). intros ir0 H0. rewrite <- app_assoc. simpl. apply F; auto.
-Qed.
-
-(** Every input relation feeds a different controller input, and every
-    controller input is fed. *)
-Lemma wf_inrels_inputs_nodup: forall m, wf_facts m -> NoDup (map ir_input (nm_inrels m)).
-Proof.
-  intros m W. apply (count_one_nodup _ []). intros ir Hir; simpl.
-  destruct (input_exprs m ir W Hir) as (tp & q & _ & _ & _ & I & _).
-  apply (wf_feeds m W _ q). apply find_assoc_In; auto.
-Qed.
-
-Lemma wf_inputs_fed:
+Lemma wf_inputs_fed_rel:
   forall m x q, wf_facts m -> In (x, q) (nm_inputs m) ->
   exists ir, In ir (nm_inrels m) /\ ir_input ir = x.
 Proof.
-  intros m x q W H. destruct (wf_input_fed_once m x q W H) as (ir & E).
-  exists ir. assert (In ir (filter (fun ir => ident_eqb (ir_input ir) x) (nm_inrels m)))
-    by (rewrite E; simpl; auto).
-  apply filter_In in H0. destruct H0 as [H0 H1]. apply ident_eqb_true in H1; auto.
+  intros m x q W H. generalize (wf_inputs_fed m W x q H); intros Hx.
+  apply in_map_iff in Hx; destruct Hx as (ir & E & Hir); eauto.
 Qed.
 
 (** A published field is fed by at most one output relation. *)
 Lemma wf_topic_outrels_paths_nodup:
-  forall m c, wf_facts m -> NoDup (map or_path (topic_outrels m c)).
+  forall m c, wf_facts m -> NoDup (map or_path (topic_outrels (make_tables m) c)).
 Proof.
-  intros m c W. generalize (wf_out_targets m W). unfold topic_outrels.
+  intros m c W. generalize (wf_out_targets m W). rewrite tables_outrels.
   induction (nm_outrels m) as [|o l IH]; simpl; intros N; [constructor|].
   inversion N as [|? ? Hn N']; subst.
   destruct (ident_eqb (or_topic o) c) eqn:E; simpl; auto. constructor; auto.

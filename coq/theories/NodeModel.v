@@ -141,13 +141,13 @@ Record outrel : Type := mkoutrel {
 
 (** ** Node models *)
 
-(** The controller is a Simulink-style C unit: [nm_ctrl_initialize] and
-    [nm_ctrl_step] are derived from [nm_ctrl] ([Controller_initialize],
-    [Controller_step]); its inputs are the global [nm_in_var] ([Controller_U])
-    of type [struct nm_in_struct] ([ExtU_Controller_T]) with fields
-    [nm_inputs] in C order, and likewise for the outputs.  [nm_msgs] lists the
-    message definitions in dependency order (a message only refers to
-    messages defined before it). *)
+(** [nm_name] is the node's name, [nm_period_ms] its period.  The
+    controller is a Simulink-style C unit named [nm_ctrl] ([Controller]),
+    with functions [Controller_initialize] and [Controller_step]; its inputs
+    are the global [nm_in_var] ([Controller_U]) of type [struct nm_in_struct]
+    ([ExtU_Controller_T]) with fields [nm_inputs] in C order, and likewise
+    for the outputs.  [nm_msgs] lists the message definitions in dependency
+    order (a message only refers to messages defined before it). *)
 Record node_model : Type := mknode_model {
   nm_name : ident;
   nm_period_ms : Z;
