@@ -35,6 +35,11 @@ proofs: apt
 demo: deps proofs
 	@scripts/demo.sh
 
+## docs: HTML documentation of the Coq library (coqdoc) and its front page, in build/docs/
+.PHONY: docs
+docs: venv
+	@$(MAKE) --no-print-directory -C coq docs PYTHON=$(abspath $(PY)) DOCDIR=$(abspath build/docs)
+
 ## test: everything
 test: deps proofs
 	@$(PY) -m pytest $(PYTEST_ARGS)

@@ -1,0 +1,286 @@
+"""``pyrosgen diagram``: a picture of a node's data flow.
+
+The picture follows the paper's Figures 4 and 9: each subscribed topic feeds
+its callback, which copies the message into a global message variable; the
+input glue copies the related fields into ``Controller_U`` (one edge per
+input relation, labelled with the message field path and its type);
+``<Controller>_step`` turns ``Controller_U`` into ``Controller_Y``; each
+``output_glue_<c>`` copies ``Controller_Y`` fields into the message it
+publishes (one edge per output relation, labelled with the destination
+field path and its type).  Clusters separate the ROS side, the generated
+glue (the part the Coq proofs are about) and the controller.
+
+The DOT text comes from ``templates/diagram.dot.j2``; Graphviz's ``dot``
+turns it into SVG, PNG or PDF.  Every text from the model reaches the DOT
+text through :func:`dot_html`, whatever the front end already checked, and
+graph, node, port and edge identifiers are generated here (``sub0``,
+``f1``, ...), never taken from the model.  The DOT text depends only on the
+model (and the model file's base name), so the same model gives
+byte-identical DOT.
+"""
+
+from __future__ import annotations
+
+import html
+import os
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import jinja2
+
+from .errors import PyrosgenError, escape
+from .model import NodeModel
+
+__all__ = [
+    "FORMATS",
+    "DiagramError",
+    "dot_html",
+    "diagram_context",
+    "render_dot",
+    "output_format",
+    "find_dot",
+    "run_dot",
+    "write_atomic",
+    "write_diagram",
+]
+
+_TEMPLATES = Path(__file__).parent / "templates"
+TEMPLATE = "diagram.dot.j2"
+
+#: Output formats, and the file suffixes that select them.
+FORMATS: tuple[str, ...] = ("svg", "png", "pdf", "dot")
+_SUFFIXES = {".svg": "svg", ".png": "png", ".pdf": "pdf", ".dot": "dot", ".gv": "dot"}
+
+#: Seconds ``dot`` may take (a node with thousands of relations takes a few).
+DOT_TIMEOUT = 600
+
+
+class DiagramError(PyrosgenError):
+    """Graphviz is missing or failed (exit code 2)."""
+
+
+def dot_html(value: object) -> str:
+    """``value`` as text inside a Graphviz HTML-like label (also safe inside
+    a double-quoted DOT string).
+
+    Non-printable and non-ASCII characters become visible escapes
+    (:func:`pyrosgen.errors.escape`), backslashes are doubled (Graphviz
+    expands ``\\N``, ``\\G``, ... even in HTML-like labels, and after
+    decoding character references, so ``&#92;`` would not do), and
+    ``& < > " '`` become character references.
+    """
+    text = escape(str(value), keep_quotes=True).replace("\\", "\\\\")
+    return html.escape(text, quote=True)
+
+
+def _env() -> jinja2.Environment:
+    # finalize escapes every {{ expression }}: nothing from the model can be
+    # printed raw, and the identifiers generated below pass through unchanged.
+    return jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(_TEMPLATES)),
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        keep_trailing_newline=True,
+        autoescape=False,
+        finalize=dot_html,
+    )
+
+
+def _leaf_count(model: NodeModel, msg_type: str) -> int | None:
+    """How many scalar fields a callback copies, ``None`` if unknown."""
+    try:
+        return len(model.leaf_paths(msg_type))
+    except (KeyError, ValueError):
+        return None
+
+
+def _rate(period_ms: int) -> str:
+    hz = 1000 / period_ms if period_ms > 0 else 0
+    return f"{hz:g}"
+
+
+def diagram_context(model: NodeModel) -> dict[str, Any]:
+    """The template context for ``model`` (see the template's header)."""
+    ctrl = model.controller
+
+    def io(node_id: str, s) -> dict[str, Any]:
+        return {
+            "id": node_id,
+            "var": s.var_name,
+            "struct": s.struct_name,
+            "fields": [{"port": f"f{i}", "name": f.name, "prim": f.prim} for i, f in enumerate(s.fields)],
+        }
+
+    u = io("ctrl_u", ctrl.inputs)
+    y = io("ctrl_y", ctrl.outputs)
+    u_port = {f.name: f"f{i}" for i, f in enumerate(ctrl.inputs.fields)}
+    y_port = {f.name: f"f{i}" for i, f in enumerate(ctrl.outputs.fields)}
+
+    subs = []
+    var_of: dict[str, str] = {}
+    for i, t in enumerate(model.subscribed):
+        subs.append(
+            {
+                "id": f"sub{i}",
+                "cb_id": f"cb{i}",
+                "var_id": f"msg{i}",
+                "name": t.name,
+                "type": t.msg_type,
+                "queue": t.queue_size,
+                "callback": t.callback,
+                "var": t.msg_var,
+                "struct": t.msg_struct,
+                "nfields": _leaf_count(model, t.msg_type),
+            }
+        )
+        var_of.setdefault(t.name, f"msg{i}")
+
+    pubs = []
+    glue_of: dict[str, str] = {}
+    for i, t in enumerate(model.published):
+        pubs.append(
+            {
+                "id": f"pub{i}",
+                "og_id": f"og{i}",
+                "name": t.name,
+                "type": t.msg_type,
+                "queue": t.queue_size,
+                "glue": t.output_glue,
+                "cmd": t.cmd_var,
+                "publish": t.publish_fn,
+            }
+        )
+        glue_of.setdefault(t.name, f"og{i}")
+
+    in_rels = []
+    for i, r in enumerate(model.input_relations):
+        if r.topic.name not in var_of or r.input_field not in u_port:
+            raise ValueError(f"input relation {i} names an unknown topic or input field")
+        in_rels.append(
+            {
+                "id": f"in_rel{i}",
+                "tail": var_of[r.topic.name],
+                "head": u["id"],
+                "port": u_port[r.input_field],
+                "path": str(r.path),
+                "prim": r.path.prim,
+            }
+        )
+    out_rels = []
+    for i, r in enumerate(model.output_relations):
+        if r.topic.name not in glue_of or r.output_field not in y_port:
+            raise ValueError(f"output relation {i} names an unknown topic or output field")
+        out_rels.append(
+            {
+                "id": f"out_rel{i}",
+                "tail": y["id"],
+                "port": y_port[r.output_field],
+                "head": glue_of[r.topic.name],
+                "path": str(r.path),
+                "prim": r.path.prim,
+            }
+        )
+
+    return {
+        "source": Path(model.source).name,
+        "node": {"name": model.name, "period_ms": model.period_ms, "rate_hz": _rate(model.period_ms)},
+        "subs": subs,
+        "ctrl": {"step_id": "step", "step": ctrl.step_fn, "u": u, "y": y},
+        "pubs": pubs,
+        "in_rels": in_rels,
+        "out_rels": out_rels,
+    }
+
+
+def render_dot(model: NodeModel) -> str:
+    """The DOT text of the diagram of ``model``."""
+    return _env().get_template(TEMPLATE).render(**diagram_context(model))
+
+
+def output_format(output: str | os.PathLike[str], override: str | None = None) -> str:
+    """The output format: ``override`` if given, else from the suffix of
+    ``output``.  Raises ``ValueError`` when neither says."""
+    if override is not None:
+        if override not in FORMATS:
+            raise ValueError(f"unknown format {override!r}; use one of {', '.join(FORMATS)}")
+        return override
+    suffix = Path(output).suffix.lower()
+    if suffix not in _SUFFIXES:
+        raise ValueError(
+            f"cannot tell the output format from the name {escape(str(output))!r}: "
+            f"use a .svg, .png, .pdf or .dot suffix, or --format {{{','.join(FORMATS)}}}"
+        )
+    return _SUFFIXES[suffix]
+
+
+def find_dot() -> str:
+    """The path of Graphviz's ``dot`` (``$PYROSGEN_DOT`` or on ``PATH``)."""
+    exe = os.environ.get("PYROSGEN_DOT") or shutil.which("dot")
+    if not exe or not (os.path.isfile(exe) and os.access(exe, os.X_OK)):
+        raise DiagramError(
+            "Graphviz's 'dot' program was not found on PATH; install the Debian package "
+            "graphviz (`make deps` does) or choose the .dot output format"
+        )
+    return exe
+
+
+def run_dot(dot_text: str, fmt: str, exe: str | None = None) -> bytes:
+    """Run ``dot -T<fmt>`` on ``dot_text``; return its output."""
+    exe = exe or find_dot()
+    try:
+        proc = subprocess.run(
+            [exe, f"-T{fmt}"],
+            input=dot_text.encode("utf-8"),
+            capture_output=True,
+            check=False,
+            timeout=DOT_TIMEOUT,
+        )
+    except subprocess.TimeoutExpired as exc:
+        raise DiagramError(f"'dot -T{fmt}' did not finish in {DOT_TIMEOUT} s") from exc
+    except OSError as exc:
+        raise DiagramError(f"cannot run {exe}: {exc.strerror or exc}") from exc
+    if proc.returncode != 0 or not proc.stdout:
+        detail = proc.stderr.decode("utf-8", "replace").strip() or f"exit code {proc.returncode}"
+        raise DiagramError(f"'dot -T{fmt}' failed: {detail}")
+    return proc.stdout
+
+
+def write_atomic(path: Path, data: bytes) -> bool:
+    """Write ``data`` to ``path`` through a temporary file in the same
+    folder and a rename, so that ``path`` is never seen half written.
+    Leaves ``path`` untouched when it already holds ``data``; returns
+    whether it wrote."""
+    path = Path(path)
+    try:
+        if path.is_file() and path.read_bytes() == data:
+            return False
+    except OSError:
+        pass
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+    return True
+
+
+def write_diagram(model: NodeModel, output: str | os.PathLike[str], fmt: str) -> bool:
+    """Draw ``model`` into ``output`` in format ``fmt`` (one of
+    :data:`FORMATS`); nothing is written if anything fails."""
+    dot_text = render_dot(model)
+    data = dot_text.encode("utf-8") if fmt == "dot" else run_dot(dot_text, fmt)
+    return write_atomic(Path(output), data)
