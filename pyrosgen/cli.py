@@ -54,6 +54,87 @@ def cmd_check(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_diagram(args: argparse.Namespace) -> int:
+    """``pyrosgen diagram MODEL.yaml -o FILE``: draw the node's data flow."""
+    from pathlib import Path
+
+    from . import diagram
+    from .model import load_model
+
+    try:
+        fmt = diagram.output_format(args.output, args.format)
+    except ValueError as exc:
+        _print_err(f"pyrosgen diagram: error: {exc}")
+        return EXIT_USER
+    if Path(args.output).is_dir():
+        _print_err(f"pyrosgen diagram: error: {args.output} is a directory; give a file name")
+        return EXIT_USER
+    model = load_model(args.model)
+    try:
+        diagram.write_diagram(model, args.output, fmt)
+    except OSError as exc:
+        _print_err(f"pyrosgen diagram: error: cannot write {args.output}: {exc.strerror or exc}")
+        return EXIT_USER
+    print(f"{args.output}: {fmt} diagram of node {model.name}")
+    return EXIT_OK
+
+
+def _progress(args: argparse.Namespace) -> Callable[[str], None] | None:
+    if args.quiet:
+        return None
+
+    def say(line: str) -> None:
+        _print_err(f"pyrosgen: {line}")
+
+    return say
+
+
+def cmd_generate(args: argparse.Namespace) -> int:
+    """``pyrosgen generate MODEL.yaml -o DIR``: emit the Coq file, check the
+    proof, write the C (see :mod:`pyrosgen.generate`)."""
+    from .coqdriver import CoqError, ModelRefused
+    from .generate import OutputDirError, generate
+
+    import signal
+
+    def _terminated(signum, frame):  # clean up the work directory on SIGTERM too
+        raise KeyboardInterrupt
+
+    try:
+        previous = signal.signal(signal.SIGTERM, _terminated)
+    except ValueError:  # not in the main thread
+        previous = None
+    try:
+        res = generate(args.model, args.output, progress=_progress(args), keep_work=args.keep_work)
+    except OutputDirError as exc:
+        _print_err(f"pyrosgen: error: {exc}")
+        return EXIT_USER
+    except ModelRefused as exc:
+        # The model is invalid (a user error), but the front end missed it.
+        _print_err(
+            f"{args.model}: error: Coq's generate refused the model: {exc.message} "
+            f"(the front end accepted it: please report this); nothing written to {args.output}"
+        )
+        return EXIT_USER
+    except CoqError as exc:
+        _print_err(f"pyrosgen: error: {exc.summary}; nothing written to {args.output}")
+        for line in exc.lines:
+            _print_err(line)
+        return EXIT_TOOL
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+    print(f"pyrosgen: generated node {res.model.name} into {res.out_dir}")
+    for path, rewritten in res.files:
+        print(f"  {'written' if rewritten else 'unchanged':<10}{path}")
+    print(f"  theorem   {res.theorem}: {res.theorem_kind}")
+    print(f"            checked by coqc and coqchk; Print Assumptions: {res.assumptions}")
+    t = res.times
+    phases = ", ".join(f"{k} {t[k]:.2f} s" for k in ("front end", "coqc", "checking", "printing") if k in t)
+    print(f"  time      {phases}; total {t.get('total', 0.0):.2f} s")
+    return EXIT_OK
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with one subparser per command."""
     parser = _Parser(
@@ -66,6 +147,34 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("check", help="validate a node model", description="Validate a node model file.")
     p.add_argument("model", metavar="MODEL.yaml", help="the node model file")
     p.set_defaults(func=cmd_check)
+
+    p = sub.add_parser(
+        "diagram",
+        help="draw a node's data flow with Graphviz",
+        description="Draw the data flow of a node (topics, callbacks, glue, controller) with Graphviz.",
+    )
+    p.add_argument("model", metavar="MODEL.yaml", help="the node model file")
+    p.add_argument("-o", "--output", required=True, metavar="FILE", help="output file (.svg, .png, .pdf or .dot)")
+    p.add_argument("--format", choices=("svg", "png", "pdf", "dot"), help="output format (default: from the suffix of FILE)")
+    p.set_defaults(func=cmd_diagram)
+
+    p = sub.add_parser(
+        "generate",
+        help="emit the Coq file, check the proof, write the C",
+        description=(
+            "Generate the glue of a node: the per-node Coq file, checked by coqc "
+            "(generate accepts the model; the node's theorem is proved, closed under "
+            "the global context), and the C printed by Coq from the proved program."
+        ),
+    )
+    p.add_argument("model", metavar="MODEL.yaml", help="the node model file")
+    p.add_argument("-o", "--output", metavar="DIR", required=True, help="output directory")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
+    p.add_argument(
+        "--keep-work", action="store_true",
+        help="keep the temporary work directory (next to DIR) for inspection",
+    )
+    p.set_defaults(func=cmd_generate)
     return parser
 
 

@@ -48,3 +48,11 @@ Print Assumptions Generatorproof.generate_externals.
 Print Assumptions Generatorproof.generate_topic_externals.
 Print Assumptions Generatorproof.generate_assigned_places.
 Print Assumptions Generatorproof.generate_addresses_taken.
+From ROSGen Require Glueproof Loopproof.
+(* T1 (paper Figs. 10, 12, for every model): the generated callbacks,
+   input_glue and output glue meet their data delivery specifications. *)
+Print Assumptions Glueproof.generate_callback_ddc.
+Print Assumptions Glueproof.generate_input_glue_ddc.
+Print Assumptions Glueproof.generate_output_glue_ddc.
+(* T2: data delivery correctness of every generated node, over whole runs. *)
+Print Assumptions Loopproof.generate_node_ddc.

@@ -1,0 +1,1030 @@
+(** * Correctness proof for the generated node (theorem T2) *)
+
+(** For every well-formed node model [m] and its program [p], [node_ddc m p]
+    holds: in every environment with well-typed messages and controller,
+    [main] terminates after [n] cycles and its trace is a run of [n]
+    correct cycles ([DDC.run_ok]).
+
+    The proof follows [main]: registration of the subscriptions and
+    advertisements, then the loop, with the invariant [loop_inv]: after
+    [k] cycles, the global of every subscribed topic holds the newest
+    message received in those cycles (zero if none), every local
+    [c_cmd] holds an object of its type, and the world has the model's
+    subscriptions, [k] spins, and [n - k] answers of [ros_ok] left.
+    Each cycle uses T1 ([Glueproof]) for the callbacks run by
+    [ros_spinOnce], for [input_glue] and for the output glue. *)
+
+From Coq Require Import String List ZArith Bool Lia.
+From ROSGen Require Import Errors Syntax Values Memory Semantics NodeModel Generator Generatorproof.
+From ROSGen Require Import DDC Copyproof Glueproof.
+Import ListNotations.
+
+Local Open Scope list_scope.
+
+(** ** Arrivals and queues *)
+
+Lemma last_on_app:
+  forall name l1 l2,
+  last_on name (l1 ++ l2) = match last_on name l2 with Some v => Some v | None => last_on name l1 end.
+Proof.
+  induction l1 as [|[tp mv] l1 IH]; intros l2; simpl.
+  - destruct (last_on name l2); auto.
+  - rewrite IH. destruct (last_on name l2); auto.
+Qed.
+
+Lemma last_on_none_count:
+  forall name l, last_on name l = None -> count_topic name l = O.
+Proof.
+  induction l as [|[tp mv] l IH]; simpl; intros H; auto.
+  destruct (last_on name l); try discriminate.
+  unfold topic_eqb. destruct (string_dec tp name); try discriminate. rewrite IH; auto.
+Qed.
+
+(** The message held after cycle [k]: the newest one of the first [k]
+    spins (zero before the first). *)
+Definition held {CS : Type} (m : node_model) (ctx : ros_context CS) (tp : topic) (k : nat) : mval :=
+  match k with
+  | O => zero_mval (composites m) (Tstruct (tp_msg tp))
+  | S i => newest m ctx tp i
+  end.
+
+Lemma newest_step:
+  forall CS m (ctx : ros_context CS) tp k,
+  newest m ctx tp k
+  = match last_on (tp_name tp) (ctx_arrivals ctx k) with Some v => v | None => held m ctx tp k end.
+Proof.
+  intros CS m ctx tp k. unfold newest, arrivals_upto.
+  rewrite seq_S, flat_map_app. simpl. rewrite app_nil_r, last_on_app.
+  destruct (last_on (tp_name tp) (ctx_arrivals ctx k)); auto.
+  destruct k as [|i]; simpl; auto.
+Qed.
+
+Definition sub_eq (a b : subscription) : {a = b} + {a <> b}.
+Proof. decide equality; first [apply string_dec | apply Nat.eq_dec]. Defined.
+
+(** The last message delivered to subscription [s] in [D]. *)
+Fixpoint last_delivered (s : subscription) (D : list (subscription * mval)) : option mval :=
+  match D with
+  | [] => None
+  | (s', mv) :: rest =>
+      match last_delivered s rest with
+      | Some v => Some v
+      | None => if sub_eq s' s then Some mv else None
+      end
+  end.
+
+Lemma last_delivered_app:
+  forall s D1 D2,
+  last_delivered s (D1 ++ D2)
+  = match last_delivered s D2 with Some v => Some v | None => last_delivered s D1 end.
+Proof.
+  induction D1 as [|[s' mv] D1 IH]; intros D2; simpl.
+  - destruct (last_delivered s D2); auto.
+  - rewrite IH. destruct (last_delivered s D2); auto.
+Qed.
+
+Lemma last_delivered_map:
+  forall s mv L,
+  last_delivered s (map (fun s' => (s', mv)) L) = if in_dec sub_eq s L then Some mv else None.
+Proof.
+  induction L as [|s' L IH]; simpl; auto.
+  rewrite IH. destruct (in_dec sub_eq s L) as [H|H]; destruct (sub_eq s' s) as [E|E];
+    destruct (in_dec sub_eq s (s' :: L)) as [H'|H']; simpl in H'; intuition congruence.
+Qed.
+
+(** A queue of size at least 1 keeps the newest message: the last
+    delivery to a subscription in one spin is the last arrival on its
+    topic. *)
+Theorem last_delivered_deliverable:
+  forall subs s msgs, In s subs -> (1 <= sub_queue s)%nat ->
+  last_delivered s (deliverable subs msgs) = last_on (sub_topic s) msgs.
+Proof.
+  intros subs s msgs Hs Hq. induction msgs as [|[tpn mv] rest IH]; simpl; auto.
+  rewrite last_delivered_app, IH.
+  destruct (last_on (sub_topic s) rest) as [v|] eqn:L; auto.
+  rewrite last_delivered_map.
+  apply last_on_none_count in L.
+  destruct (in_dec sub_eq s _) as [H|H].
+  - apply filter_In in H. destruct H as [_ H]. apply andb_true_iff in H. destruct H as [H _].
+    unfold topic_eqb in H. destruct (string_dec (sub_topic s) tpn); try discriminate.
+    subst. destruct (string_dec (sub_topic s) (sub_topic s)); congruence.
+  - destruct (string_dec tpn (sub_topic s)) as [E|E]; auto.
+    exfalso. apply H. apply filter_In. split; auto.
+    subst tpn. rewrite L. unfold topic_eqb, keeps.
+    destruct (string_dec (sub_topic s) (sub_topic s)); [|congruence].
+    simpl. apply orb_true_iff; right. apply Nat.ltb_lt. lia.
+Qed.
+
+Lemma In_deliverable:
+  forall subs msgs s mv, In (s, mv) (deliverable subs msgs) ->
+  In s subs /\ In (sub_topic s, mv) msgs.
+Proof.
+  induction msgs as [|[tpn mv'] rest IH]; simpl; intros s mv H; [contradiction|].
+  apply in_app_iff in H. destruct H as [H|H].
+  - apply in_map_iff in H. destruct H as (s' & E & H). inversion E; subst.
+    apply filter_In in H. destruct H as [Hs H]. apply andb_true_iff in H. destruct H as [H _].
+    unfold topic_eqb in H. destruct (string_dec (sub_topic s) tpn); try discriminate. subst; auto.
+  - destruct (IH _ _ H); auto.
+Qed.
+
+(** ** Sequences *)
+
+Section SEQ.
+
+Context {CS : Type}.
+Variable ctx : ros_context CS.
+Variable ge : genv.
+
+Lemma exec_seq_of_app:
+  forall l1 l2 e le mm w t1 le1 mm1 w1 t2 le2 mm2 w2 out,
+  exec_stmt ctx ge e le mm w (seq_of l1) t1 le1 mm1 w1 Out_normal ->
+  exec_stmt ctx ge e le1 mm1 w1 (seq_of l2) t2 le2 mm2 w2 out ->
+  exec_stmt ctx ge e le mm w (seq_of (l1 ++ l2)) (t1 ++ t2) le2 mm2 w2 out.
+Proof.
+  induction l1 as [|s l1 IH]; intros l2 e le mm w t1 le1 mm1 w1 t2 le2 mm2 w2 out X1 X2.
+  - simpl in X1. inversion X1; subst. exact X2.
+  - simpl in X1 |- *. inversion X1; subst; [|congruence].
+    rewrite <- app_assoc. eapply exec_Sseq_1; eauto.
+Qed.
+
+Lemma exec_seq_cons:
+  forall s l e le mm w le1 mm1 w1 t le2 mm2 w2 out,
+  exec_stmt ctx ge e le mm w s [] le1 mm1 w1 Out_normal ->
+  exec_stmt ctx ge e le1 mm1 w1 (seq_of l) t le2 mm2 w2 out ->
+  exec_stmt ctx ge e le mm w (seq_of (s :: l)) t le2 mm2 w2 out.
+Proof.
+  intros. simpl. change t with ([] ++ t). eapply exec_Sseq_1; eauto.
+Qed.
+
+(** Calling a function by its name, from a scope where no local hides it. *)
+Lemma exec_call_named:
+  forall e le mm w optid f targs tres al fd vargs t mm' w' vres,
+  find_assoc f e = None -> find_var ge f = None -> find_funct ge f = Some fd ->
+  type_of_fundef fd = Tfunction targs tres ->
+  eval_exprlist ge e le mm al targs = Some vargs ->
+  eval_funcall ctx ge mm w fd vargs t mm' w' vres ->
+  exec_stmt ctx ge e le mm w (Scall optid (Evar f (Tfunction targs tres)) al)
+            t (set_opttemp optid vres le) mm' w' Out_normal.
+Proof.
+  intros. eapply exec_Scall; eauto.
+  - cbn [eval_expr]. unfold eval_funcname. rewrite H, H0, H1. auto.
+  - reflexivity.
+Qed.
+
+Lemma exec_call_none:
+  forall e le mm w f targs tres al fd vargs t mm' w' vres,
+  find_assoc f e = None -> find_var ge f = None -> find_funct ge f = Some fd ->
+  type_of_fundef fd = Tfunction targs tres ->
+  eval_exprlist ge e le mm al targs = Some vargs ->
+  eval_funcall ctx ge mm w fd vargs t mm' w' vres ->
+  exec_stmt ctx ge e le mm w (Scall None (Evar f (Tfunction targs tres)) al) t le mm' w' Out_normal.
+Proof.
+  intros. change le with (set_opttemp None vres le) at 2. eapply exec_call_named; eauto.
+Qed.
+
+End SEQ.
+
+(** ** Allocation of the locals *)
+
+Lemma alloc_vars_spec:
+  forall ce vars e mm e' mm',
+  alloc_vars ce e mm vars = (e', mm') -> mem_wf mm -> NoDup (map fst vars) ->
+     mem_wf mm'
+  /\ (Pos.le (mem_next mm) (mem_next mm'))
+  /\ (forall b, Pos.lt b (mem_next mm) -> get_block mm' b = get_block mm b)
+  /\ (forall x ty, In (x, ty) vars -> exists b, find_assoc x e' = Some (b, ty)
+        /\ Pos.le (mem_next mm) b /\ get_block mm' b = Some (ty, undef_mval ce ty))
+  /\ (forall x, ~ In x (map fst vars) -> find_assoc x e' = find_assoc x e).
+Proof.
+  induction vars as [|[x ty] vars IH]; intros e mm e' mm'; cbn [alloc_vars].
+  - intros A W ND. inversion A; subst. repeat split; auto; try lia. intros ? ? [].
+  - destruct (alloc mm ty (undef_mval ce ty)) as [m1 b] eqn:AL. intros A W ND.
+    inversion ND as [|? ? Hx ND']; subst.
+    assert (W1: mem_wf m1) by (eapply mem_wf_alloc; eauto).
+    destruct (IH _ _ _ _ A W1 ND') as (W2 & Le2 & Old2 & New2 & Oth2).
+    assert (Eb: b = mem_next mm) by (eapply alloc_result; eauto).
+    assert (En: mem_next m1 = Pos.succ (mem_next mm)) by (eapply alloc_next; eauto).
+    repeat split; auto.
+    + lia.
+    + intros b' Hb'. rewrite Old2 by lia. eapply get_block_alloc_other; eauto. lia.
+    + intros x' ty' [E|Hin].
+      * inversion E; subst x' ty'. exists b. split; [|split].
+        -- rewrite Oth2 by auto. apply find_assoc_set_same.
+        -- lia.
+        -- rewrite Old2 by lia. eapply get_block_alloc_same; eauto.
+      * destruct (New2 x' ty' Hin) as (b' & F & L & G). exists b'. repeat split; auto. lia.
+    + intros x' Hx'. simpl in Hx'. rewrite Oth2 by tauto.
+      apply find_assoc_set_other. intuition.
+Qed.
+
+(** ** Whole runs from cycles *)
+
+Section CYCLES.
+
+Context {CS : Type}.
+Variable m : node_model.
+Variable ctx : ros_context CS.
+
+(** [cycles_ok k r s t]: [t] is the trace of [r] correct cycles starting
+    with cycle [k] in controller state [s]. *)
+Inductive cycles_ok : nat -> nat -> CS -> trace -> Prop :=
+  | cycles_nil: forall k s, cycles_ok k O s []
+  | cycles_cons: forall k r s evs s' t,
+      cycle_ok m ctx k s evs s' -> cycles_ok (S k) r s' t -> cycles_ok k (S r) s (evs ++ t).
+
+Lemma cycles_ok_fun:
+  forall k r s t, cycles_ok k r s t ->
+  exists (sf : nat -> CS) (evf : nat -> trace),
+     sf k = s
+  /\ t = concat (map evf (seq k r))
+  /\ forall i, (k <= i < k + r)%nat -> cycle_ok m ctx i (sf i) (evf i) (sf (S i)).
+Proof.
+  induction 1 as [k s|k r s evs s' t C _ IH].
+  - exists (fun _ => s), (fun _ => []). repeat split; auto. intros; lia.
+  - destruct IH as (sf & evf & E0 & Et & Hc).
+    exists (fun i => if Nat.eqb i k then s else sf i), (fun i => if Nat.eqb i k then evs else evf i).
+    repeat split.
+    + rewrite Nat.eqb_refl; auto.
+    + simpl. rewrite Nat.eqb_refl. f_equal. rewrite Et. f_equal.
+      apply map_ext_in. intros i Hi. apply in_seq in Hi.
+      destruct (Nat.eqb i k) eqn:E; auto. apply Nat.eqb_eq in E. lia.
+    + intros i Hi. destruct (Nat.eqb i k) eqn:E.
+      * apply Nat.eqb_eq in E. subst i.
+        replace (Nat.eqb (S k) k) with false by (symmetry; apply Nat.eqb_neq; lia).
+        rewrite E0. auto.
+      * apply Nat.eqb_neq in E.
+        replace (Nat.eqb (S i) k) with false by (symmetry; apply Nat.eqb_neq; lia).
+        apply Hc. lia.
+Qed.
+
+Lemma run_ok_of_cycles:
+  forall n t, cycles_ok O n (ctx_init ctx) t -> run_ok m ctx n t.
+Proof.
+  intros n t C. destruct (cycles_ok_fun _ _ _ _ C) as (sf & evf & E0 & Et & Hc).
+  exists sf, evf. repeat split; auto. intros i Hi; apply Hc; lia.
+Qed.
+
+End CYCLES.
+
+(** ** The generated node *)
+
+(** The subscription that [main] registers for a subscribed topic. *)
+Definition sub_of (tp : topic) : subscription :=
+  mksub (tp_name tp) (tp_msg tp) (tp_queue tp) (callback_name (tp_cname tp)).
+
+Lemma NoDup_map_inj_in:
+  forall (A B : Type) (f : A -> B) l a b,
+  NoDup (map f l) -> In a l -> In b l -> f a = f b -> a = b.
+Proof.
+  induction l as [|x l IH]; simpl; intros a b N Ha Hb E; [contradiction|].
+  inversion N as [|? ? Hn N']; subst.
+  destruct Ha as [<-|Ha]; destruct Hb as [<-|Hb]; auto.
+  - elim Hn. rewrite E. apply in_map; auto.
+  - elim Hn. rewrite <- E. apply in_map; auto.
+Qed.
+
+Lemma NoDup_app_left: forall (A : Type) (l1 l2 : list A), NoDup (l1 ++ l2) -> NoDup l1.
+Proof.
+  induction l1 as [|a l1 IH]; simpl; intros l2 N; [constructor|].
+  inversion N as [|? ? Hn N']; subst. constructor; eauto.
+  intros H; apply Hn, in_or_app; auto.
+Qed.
+
+Lemma NoDup_app_right: forall (A : Type) (l1 l2 : list A), NoDup (l1 ++ l2) -> NoDup l2.
+Proof.
+  induction l1 as [|a l1 IH]; simpl; intros l2 N; auto. inversion N; eauto.
+Qed.
+
+Lemma mem_wf_unchanged:
+  forall mm mm' b, mem_wf mm -> unchanged_except mm mm' b -> get_block mm b <> None -> mem_wf mm'.
+Proof.
+  intros mm mm' b W [N O] L b' Hb'. rewrite N in Hb'.
+  destruct (Pos.eq_dec b' b) as [->|Ne].
+  - exfalso. apply L. apply W; auto.
+  - rewrite O; auto.
+Qed.
+
+Lemma live_below:
+  forall mm b v, mem_wf mm -> get_block mm b = Some v -> Pos.lt b (mem_next mm).
+Proof.
+  intros mm b v W G. destruct (Pos.lt_total b (mem_next mm)) as [H|[H|H]]; auto;
+    rewrite W in G by lia; discriminate.
+Qed.
+
+Section NODE.
+
+Variable m : node_model.
+Variable p : program.
+Hypothesis GEN : generate m = OK p.
+
+Context {CS : Type}.
+Variable ctx : ros_context CS.
+Hypothesis AWT : arrivals_wt m ctx.
+Hypothesis CWT : controller_wt m ctx.
+
+Let W : wf_facts m := wf_facts_intro m (generate_sound m p GEN).
+Let ND : NoDup (map fst (prog_defs p)) := generate_names_distinct m p GEN.
+
+Local Notation ge := (globalenv p).
+Local Notation ce := (composites m).
+
+Definition subs_of : list subscription := map sub_of (subscribed m).
+Definition advs_of : list string := map tp_name (published m).
+
+(** The world after [k] cycles, with [r] answers of [ros_ok] left and
+    controller state [s]. *)
+Definition wld (k r : nat) (s : CS) : world CS := mkworld subs_of advs_of k r s.
+
+(** *** Facts on the program *)
+
+Lemma types_eq: prog_types p = ce.
+Proof. apply (gen_types m p GEN). Qed.
+
+Lemma fun_not_var: forall x fd, find_def p x = Some (Gfun fd) -> find_var ge x = None.
+Proof.
+  intros x fd F. destruct (find_var ge x) as [[b ty]|] eqn:V; auto.
+  apply find_var_globalenv in V; auto. congruence.
+Qed.
+
+Lemma def_name: forall x d, find_def p x = Some d -> In x (map fst (prog_defs p)).
+Proof.
+  intros x d F. unfold find_def in F. apply Semantics.find_assoc_In in F.
+  apply (in_map fst _ _ F).
+Qed.
+
+Lemma global_var_block:
+  forall mm x b ty, globals_typed p mm -> find_var ge x = Some (b, ty) -> get_block mm b <> None.
+Proof. intros mm x b ty GT V. destruct (GT _ _ _ V) as (v & G & _). congruence. Qed.
+
+Lemma find_var_same_block:
+  forall x y bx tx ty, find_var ge x = Some (bx, tx) -> find_var ge y = Some (bx, ty) -> x = y /\ tx = ty.
+Proof.
+  intros x y bx tx ty Vx Vy. destruct (string_dec x y) as [->|N].
+  - rewrite Vx in Vy; inversion Vy; auto.
+  - exfalso. eapply (globalenv_vars_disjoint p x y bx tx bx ty); eauto.
+Qed.
+
+Lemma global_names_nodup: NoDup (global_names m).
+Proof. apply wf_globals_nodup; auto. Qed.
+
+Lemma msg_var_inj:
+  forall tp1 tp2, In tp1 (subscribed m) -> In tp2 (subscribed m) ->
+  msg_var (tp_cname tp1) = msg_var (tp_cname tp2) -> tp1 = tp2.
+Proof.
+  intros tp1 tp2 H1 H2 E.
+  generalize global_names_nodup; unfold global_names; intros N.
+  do 3 apply NoDup_app_right in N. apply NoDup_app_left in N.
+  apply (NoDup_map_inj_in _ _ _ _ _ _ N H1 H2 E).
+Qed.
+
+Lemma callback_inj:
+  forall tp1 tp2, In tp1 (subscribed m) -> In tp2 (subscribed m) ->
+  callback_name (tp_cname tp1) = callback_name (tp_cname tp2) -> tp1 = tp2.
+Proof.
+  intros tp1 tp2 H1 H2 E.
+  generalize global_names_nodup; unfold global_names; intros N.
+  do 4 apply NoDup_app_right in N. apply NoDup_app_left in N.
+  apply (NoDup_map_inj_in _ _ _ _ _ _ N H1 H2 E).
+Qed.
+
+Lemma msg_global:
+  forall tp, In tp (subscribed m) -> exists bg, find_var ge (msg_var (tp_cname tp)) = Some (bg, Tstruct (tp_msg tp)).
+Proof.
+  intros tp H. destruct (generate_callback m p tp GEN H) as [Fv _]. apply (gen_var m p GEN _ _ Fv).
+Qed.
+
+Lemma zero_shape:
+  forall tp v, In tp (nm_topics m) -> mval_has_type ce (Tstruct (tp_msg tp)) v ->
+  mval_shape v = undef_mval ce (Tstruct (tp_msg tp)).
+Proof.
+  intros tp v H T. rewrite <- (shape_zero_mval ce).
+  apply (mval_shape_typed ce v (Tstruct (tp_msg tp))); auto.
+  apply (gen_zero_typed m p GEN). apply (gen_msg_in m p GEN); auto.
+Qed.
+
+(** *** The invariant of the loop *)
+
+Record loop_inv (k : nat) (e : env) (mm : mem) : Prop := {
+  li_wf: mem_wf mm;
+  li_globals: globals_typed p mm;
+  li_msgs: forall tp, In tp (subscribed m) ->
+             global_value p mm (msg_var (tp_cname tp)) = Some (held m ctx tp k);
+  li_cmds: forall tp, In tp (published m) ->
+             exists b, find_assoc (cmd_var (tp_cname tp)) e = Some (b, Tstruct (tp_msg tp))
+             /\ not_global p b
+             /\ exists v, get_block mm b = Some (Tstruct (tp_msg tp), v)
+                          /\ mval_shape v = undef_mval ce (Tstruct (tp_msg tp));
+  li_funs: forall x, In x (map fst (prog_defs p)) -> find_assoc x e = None
+}.
+
+Arguments li_wf {k e mm}.
+Arguments li_globals {k e mm}.
+Arguments li_msgs {k e mm}.
+Arguments li_cmds {k e mm}.
+Arguments li_funs {k e mm}.
+
+(** Replacing the value of a global that is not a topic's message by a
+    value of its type keeps the invariant. *)
+Lemma inv_change_global:
+  forall k e mm mm' x v,
+  loop_inv k e mm -> only_global_changed p mm mm' x v ->
+  (forall tp, In tp (subscribed m) -> msg_var (tp_cname tp) <> x) ->
+  (forall b ty, find_var ge x = Some (b, ty) -> mval_has_type ce ty v) ->
+  loop_inv k e mm'.
+Proof.
+  intros k e mm mm' x v I (bx & tx & Vx & Gx & [Nn No]) NM Tv.
+  assert (Lx: get_block mm bx <> None) by (eapply global_var_block; [apply (li_globals I) | eauto]).
+  constructor.
+  - eapply mem_wf_unchanged; [apply (li_wf I) | split; eauto | auto].
+  - intros y b ty Vy. destruct (Pos.eq_dec b bx) as [->|Nb].
+    + destruct (find_var_same_block _ _ _ _ _ Vx Vy) as [-> ->]. exists v; split; auto.
+      rewrite types_eq; auto. eapply Tv; eauto.
+    + rewrite No; auto. apply (li_globals I _ _ _ Vy).
+  - intros tp Htp. generalize (li_msgs I tp Htp). unfold global_value.
+    destruct (find_var ge (msg_var (tp_cname tp))) as [[bg ty]|] eqn:Vg; auto.
+    rewrite No; auto. intros E; subst bg.
+    destruct (find_var_same_block _ _ _ _ _ Vx Vg) as [E _]. apply (NM tp Htp); auto.
+  - intros tp Htp. destruct (li_cmds I tp Htp) as (b & F & NG & v' & G & S).
+    exists b; split; auto; split; auto. exists v'; split; auto.
+    rewrite No; auto. intros E; subst b. apply (NG _ _ _ Vx); auto.
+  - apply (li_funs I).
+Qed.
+
+(** *** [ros_spinOnce] *)
+
+Lemma deliver_run:
+  forall (w : world CS) D mm (G : topic -> mval),
+  mem_wf mm -> globals_typed p mm ->
+  (forall tp, In tp (subscribed m) -> global_value p mm (msg_var (tp_cname tp)) = Some (G tp)) ->
+  (forall s mv, In (s, mv) D ->
+     exists tp, In tp (subscribed m) /\ s = sub_of tp /\ mval_has_type ce (Tstruct (tp_msg tp)) mv) ->
+  exists mm',
+     deliver ctx ge mm w D [] mm' w
+  /\ mem_wf mm' /\ globals_typed p mm'
+  /\ (forall tp, In tp (subscribed m) ->
+        global_value p mm' (msg_var (tp_cname tp))
+        = Some (match last_delivered (sub_of tp) D with Some v => v | None => G tp end))
+  /\ (forall b, get_block mm b <> None ->
+        (forall tp bg ty, In tp (subscribed m) -> find_var ge (msg_var (tp_cname tp)) = Some (bg, ty) -> bg <> b) ->
+        get_block mm' b = get_block mm b).
+Proof.
+  intros w D; induction D as [|[s mv] D IH]; intros mm G Wm GT HG HD.
+  - exists mm. repeat split; auto. apply deliver_nil.
+  - destruct (HD s mv (or_introl eq_refl)) as (tp' & Htp' & -> & Tmv).
+    destruct (generate_callback_ddc m p GEN tp' Htp') as (f' & Ff' & Spec).
+    destruct (msg_global tp' Htp') as [bg Vg].
+    destruct (alloc mm (Tstruct (tp_msg tp')) mv) as [m1 bn] eqn:AL.
+    assert (Ebn: bn = mem_next mm) by (eapply alloc_result; eauto).
+    assert (Glob: forall x bx tx, find_var ge x = Some (bx, tx) -> bx <> bn).
+    { intros x bx tx V E. subst bx. destruct (GT _ _ _ V) as (v & Gv & _).
+      rewrite (Wm bn) in Gv; [discriminate|]. lia. }
+    assert (GT1: globals_typed p m1).
+    { intros x bx tx V. rewrite (get_block_alloc_other _ _ _ _ _ _ AL) by (eapply Glob; eauto).
+      apply (GT _ _ _ V). }
+    assert (G1: get_block m1 bn = Some (Tstruct (tp_msg tp'), mv)) by (eapply get_block_alloc_same; eauto).
+    assert (W1: mem_wf m1) by (eapply mem_wf_alloc; eauto).
+    destruct (Spec m1 bn mv GT1 Glob G1 ltac:(rewrite types_eq; auto) CS ctx w)
+      as [[t1 [m2 [w1 [v1 X1]]]] All].
+    destruct (All t1 m2 w1 v1 X1) as (-> & -> & -> & (bg' & ty' & Vg' & G2 & [N2 O2])).
+    rewrite Vg in Vg'. inversion Vg'; subst bg' ty'.
+    assert (Lbg: get_block m1 bg <> None) by (eapply global_var_block; eauto).
+    assert (W2: mem_wf m2) by (eapply mem_wf_unchanged; [apply W1 | split; eauto | auto]).
+    set (m3 := free m2 bn).
+    set (G1f := fun tp => if sub_eq (sub_of tp') (sub_of tp) then mv else G tp).
+    assert (Nbg: bg <> bn) by (eapply Glob; eauto).
+    assert (GT3: globals_typed p m3).
+    { intros x bx tx V. unfold m3. rewrite get_block_free_other by (eapply Glob; eauto).
+      destruct (Pos.eq_dec bx bg) as [->|Nb].
+      - destruct (find_var_same_block _ _ _ _ _ V Vg) as [-> ->]. exists mv; split; auto.
+        rewrite types_eq; auto.
+      - rewrite O2; auto. apply (GT1 _ _ _ V). }
+    assert (HG3: forall tp, In tp (subscribed m) -> global_value p m3 (msg_var (tp_cname tp)) = Some (G1f tp)).
+    { intros tp Htp. destruct (msg_global tp Htp) as [bt Vt].
+      generalize (HG tp Htp). unfold global_value. rewrite Vt. unfold m3.
+      rewrite get_block_free_other by (eapply Glob; eauto). unfold G1f.
+      destruct (sub_eq (sub_of tp') (sub_of tp)) as [E|E].
+      - assert (tp' = tp) by (apply callback_inj; auto; inversion E; auto). subst tp'.
+        rewrite Vg in Vt; inversion Vt; subst bt. rewrite G2. auto.
+      - rewrite O2.
+        + rewrite (get_block_alloc_other _ _ _ _ _ _ AL) by (eapply Glob; eauto). auto.
+        + intros Eb; subst bt. destruct (find_var_same_block _ _ _ _ _ Vt Vg) as [Ex _].
+          apply E. f_equal. apply msg_var_inj; auto. }
+    destruct (IH m3 G1f (mem_wf_free _ _ W2) GT3 HG3) as (mm' & X & W' & GT' & HG' & Fr').
+    { intros s0 mv0 H0. apply HD; simpl; auto. }
+    exists mm'. repeat split; auto.
+    + change (@nil event) with (@nil event ++ @nil event). econstructor; eauto.
+    + intros tp Htp. rewrite HG' by auto. cbn [last_delivered]. unfold G1f.
+      destruct (last_delivered (sub_of tp) D); auto.
+      destruct (sub_eq (sub_of tp') (sub_of tp)); auto.
+    + intros b Lb Nmsg. rewrite Fr'.
+      * unfold m3. rewrite get_block_free_other.
+        -- rewrite O2.
+           ++ apply (get_block_alloc_other _ _ _ _ _ _ AL). intros ->.
+              apply Lb. apply Wm. lia.
+           ++ intros ->. apply (Nmsg tp' bg _ Htp' Vg); auto.
+        -- intros ->. apply Lb. apply Wm. lia.
+      * unfold m3. rewrite get_block_free_other.
+        -- rewrite O2.
+           ++ rewrite (get_block_alloc_other _ _ _ _ _ _ AL); auto. intros ->. apply Lb. apply Wm. lia.
+           ++ intros ->. apply (Nmsg tp' bg _ Htp' Vg); auto.
+        -- intros ->. apply Lb. apply Wm. lia.
+      * auto.
+Qed.
+
+Lemma spin_run:
+  forall k r s e mm, loop_inv k e mm ->
+  exists mm',
+     eval_funcall ctx ge mm (wld k r s) (External EF_ros_spinOnce [] Tvoid) [] [] mm' (wld (S k) r s) Vundef
+  /\ loop_inv (S k) e mm'.
+Proof.
+  intros k r s e mm I.
+  set (D := deliverable subs_of (ctx_arrivals ctx k)).
+  destruct (deliver_run (wld k r s) D mm (fun tp => held m ctx tp k) (li_wf I) (li_globals I)
+              (li_msgs I)) as (mm' & X & W' & GT' & HG' & Fr').
+  { intros s0 mv H0. apply In_deliverable in H0. destruct H0 as [Hs Ha].
+    unfold subs_of in Hs. apply in_map_iff in Hs. destruct Hs as (tp & <- & Htp).
+    exists tp; repeat split; auto. eapply AWT; eauto. }
+  exists mm'. split.
+  - change (wld (S k) r s) with (next_spin (wld k r s)). apply eval_funcall_spinOnce. exact X.
+  - constructor; auto.
+    + intros tp Htp. rewrite HG' by auto. unfold D.
+      rewrite last_delivered_deliverable.
+      * simpl. rewrite newest_step. auto.
+      * unfold subs_of. apply in_map; auto.
+      * simpl. generalize (wf_topics m W tp (proj1 (proj1 (in_subscribed m tp) Htp))).
+        unfold topic_ok. rewrite !andb_true_iff. intros [[_ Q] _]. apply Nat.leb_le; auto.
+    + intros tp Htp. destruct (li_cmds I tp Htp) as (b & F & NG & v & G & S).
+      exists b; split; auto; split; auto. exists v; split; auto.
+      rewrite Fr'; auto.
+      * congruence.
+      * intros tp' bg ty _ Vg. apply (NG _ _ _ Vg).
+    + apply (li_funs I).
+Qed.
+
+(** *** [input_glue], [Controller_step], output glue and publication *)
+
+Lemma call0_exec:
+  forall e le mm w f fd t mm' w' v,
+  find_assoc f e = None -> find_var ge f = None -> find_funct ge f = Some fd ->
+  type_of_fundef fd = Tfunction [] Tvoid ->
+  eval_funcall ctx ge mm w fd [] t mm' w' v ->
+  exec_stmt ctx ge e le mm w (call0 f) t le mm' w' Out_normal.
+Proof.
+  intros. unfold call0. change le with (set_opttemp None v le) at 2.
+  eapply exec_call_named; eauto. reflexivity.
+Qed.
+
+Lemma input_run:
+  forall k e le mm w, loop_inv (S k) e mm ->
+  exists mm' u,
+     exec_stmt ctx ge e le mm w (call0 input_glue_name) [] le mm' w Out_normal
+  /\ input_values m ctx k u
+  /\ global_value p mm' (nm_in_var m) = Some u
+  /\ loop_inv (S k) e mm'.
+Proof.
+  intros k e le mm w I.
+  destruct (generate_input_glue_ddc m p GEN) as (f & Ff & Spec).
+  destruct (generate_input_glue m p GEN) as (f' & Fd & Fret & Fpar & _).
+  assert (Ef: f' = f) by (rewrite (gen_funct m p GEN _ _ Fd) in Ff; congruence). subst f'.
+  destruct (Spec mm (li_globals I) CS ctx w) as [[t [mm' [w' [v X]]]] All].
+  destruct (All _ _ _ _ X) as (-> & -> & -> & (u & OG & Tu & Rel)).
+  rewrite types_eq in Tu.
+  destruct OG as (bu & ty & Vu & Gu & U).
+  exists mm', u. split; [|split; [|split]].
+  - eapply call0_exec; eauto.
+    + apply (li_funs I). eapply def_name; eauto.
+    + eapply fun_not_var; eauto.
+    + simpl. unfold type_of_function. rewrite Fpar, Fret. auto.
+  - split; auto.
+    intros ir Hir. destruct (Rel ir Hir) as (g & v & GV & Gg & Gv).
+    destruct (input_exprs m ir W Hir) as (tp & q & _ & Ec & Hs & _).
+    exists tp, v. repeat split; auto.
+    rewrite <- Ec in GV. rewrite (li_msgs I tp Hs) in GV. inversion GV; subst g. exact Gg.
+  - unfold global_value. rewrite Vu, Gu. auto.
+  - apply (inv_change_global (S k) e mm mm' (nm_in_var m) u I).
+    + exists bu, ty. auto.
+    + intros tp Htp E. apply (proj1 (gen_in_out_vars m p GEN tp Htp)); auto.
+    + intros b ty' V. destruct (generate_externals m p GEN) as (_ & _ & _ & _ & _ & _ & Fu & _).
+      destruct (gen_var m p GEN _ _ Fu) as [bu' Vu'].
+      rewrite Vu in Vu'. rewrite V in Vu. inversion Vu; inversion Vu'; subst. auto.
+Qed.
+
+Lemma step_run:
+  forall k r s e le mm u, loop_inv (S k) e mm -> global_value p mm (nm_in_var m) = Some u ->
+  exists mm' y s',
+     exec_stmt ctx ge e le mm (wld (S k) r s) (call0 (step_name m)) [Estep u y] le mm' (wld (S k) r s') Out_normal
+  /\ ctx_step ctx s u = (s', y)
+  /\ global_value p mm' (nm_out_var m) = Some y
+  /\ loop_inv (S k) e mm'.
+Proof.
+  intros k r s e le mm u I GU.
+  destruct (generate_externals m p GEN) as (_ & _ & _ & _ & _ & Fs & Fu & Fy).
+  destruct (gen_var m p GEN _ _ Fu) as [bu Vu]. destruct (gen_var m p GEN _ _ Fy) as [by_ Vy].
+  destruct (li_globals I _ _ _ Vy) as (y0 & Gy0 & _).
+  unfold global_value in GU. rewrite Vu in GU.
+  destruct (get_block mm bu) as [[tu uv]|] eqn:Gu; inversion GU; subst uv.
+  destruct (ctx_step ctx s u) as [s' y] eqn:CS1.
+  assert (Ty: mval_has_type ce (Tstruct (nm_out_struct m)) y).
+  { generalize (CWT s u). rewrite CS1. auto. }
+  set (mm' := mkmem (pset by_ (Tstruct (nm_out_struct m), y) (mem_contents mm)) (mem_next mm)).
+  assert (St: store_path mm by_ [] y = Some mm') by (unfold store_path; rewrite Gy0; reflexivity).
+  assert (G': get_block mm' by_ = Some (Tstruct (nm_out_struct m), y)) by (unfold get_block, mm'; simpl; apply pgss).
+  exists mm', y, s'. split; [|split; [auto|split]].
+  - eapply call0_exec.
+    + apply (li_funs I). eapply def_name; eauto.
+    + eapply fun_not_var; eauto.
+    + apply (gen_funct m p GEN _ _ Fs).
+    + reflexivity.
+    + assert (LP: load_path mm bu [] = Some u) by (unfold load_path; rewrite Gu; reflexivity).
+      apply eval_funcall_external. simpl. rewrite Vu, Vy, LP, CS1.
+      replace (mval_typecheck (ge_comp ge) (Tstruct (nm_out_struct m)) y) with true.
+      * rewrite St. reflexivity.
+      * symmetry. rewrite (gen_comp m p GEN). apply mval_typecheck_iff. auto.
+  - unfold global_value. rewrite Vy, G'. auto.
+  - apply (inv_change_global (S k) e mm mm' (nm_out_var m) y I).
+    + exists by_, (Tstruct (nm_out_struct m)). split; auto. split; auto.
+      split; auto. intros b' N. unfold get_block, mm'; simpl. apply pgso; auto.
+    + intros tp Htp E. apply (proj2 (gen_in_out_vars m p GEN tp Htp)); auto.
+    + intros b ty V. rewrite Vy in V. inversion V; subst. auto.
+Qed.
+
+Lemma cmd_arg:
+  forall e le mm tp b,
+  find_assoc (cmd_var (tp_cname tp)) e = Some (b, Tstruct (tp_msg tp)) ->
+  eval_exprlist ge e le mm [cmd_addr tp] [tptr (Tstruct (tp_msg tp))] = Some [Vptr b []].
+Proof.
+  intros e le mm tp b H. unfold cmd_addr. cbn [eval_exprlist eval_expr eval_lvalue].
+  unfold lvalue_var. rewrite H. reflexivity.
+Qed.
+
+(** Writing a message of its type into the local [c_cmd] of a published
+    topic keeps the invariant. *)
+Lemma inv_change_cmd:
+  forall k e mm mm1 tp b mv,
+  loop_inv k e mm -> In tp (published m) ->
+  find_assoc (cmd_var (tp_cname tp)) e = Some (b, Tstruct (tp_msg tp)) ->
+  get_block mm1 b = Some (Tstruct (tp_msg tp), mv) ->
+  mval_has_type ce (Tstruct (tp_msg tp)) mv ->
+  unchanged_except mm mm1 b ->
+  loop_inv k e mm1.
+Proof.
+  intros k e mm mm1 tp b mv I Htp Fb G1 Tmv [N1 O1].
+  destruct (li_cmds I tp Htp) as (b' & Fb' & NG & v & Gb & Sb).
+  rewrite Fb in Fb'; inversion Fb'; subst b'.
+  constructor.
+  - eapply mem_wf_unchanged; [apply (li_wf I) | split; eauto | congruence].
+  - intros x bx tx V. rewrite O1 by (apply (NG _ _ _ V)). apply (li_globals I _ _ _ V).
+  - intros tp' Htp'. generalize (li_msgs I tp' Htp'). unfold global_value.
+    destruct (find_var ge (msg_var (tp_cname tp'))) as [[bg ty]|] eqn:Vg; auto.
+    rewrite O1; auto. apply (NG _ _ _ Vg).
+  - intros tp2 Htp2. destruct (li_cmds I tp2 Htp2) as (b2 & F2 & NG2 & v2 & G2 & S2).
+    exists b2; split; auto; split; auto.
+    destruct (Pos.eq_dec b2 b) as [->|Nb].
+    + rewrite Gb in G2. injection G2 as EM _. exists mv; split.
+      * rewrite G1, EM. auto.
+      * rewrite <- EM. apply zero_shape; auto. apply in_published in Htp; tauto.
+    + exists v2; split; auto. rewrite O1; auto.
+  - apply (li_funs I).
+Qed.
+
+Lemma publishes_run:
+  forall k r s e y tps le mm, incl tps (published m) ->
+  loop_inv (S k) e mm -> global_value p mm (nm_out_var m) = Some y ->
+  exists mm' mvs,
+     exec_stmt ctx ge e le mm (wld (S k) r s)
+       (seq_of (flat_map publish_stmts tps ++ [call0 ros_rate_sleep_name]))
+       (publish_events tps mvs ++ [Ecycle]) le mm' (wld (S k) r s) Out_normal
+  /\ Forall2 (published_value m y) tps mvs
+  /\ loop_inv (S k) e mm'.
+Proof.
+  intros k r s e y tps; induction tps as [|tp tps IH]; intros le mm Inc I GY.
+  - exists mm, []. split; [|split; [constructor|auto]].
+    destruct (generate_externals m p GEN) as (_ & _ & _ & Frs & _).
+    simpl. change [Ecycle] with ([Ecycle] ++ []). eapply exec_Sseq_1; [|apply exec_Sskip].
+    eapply call0_exec.
+    + apply (li_funs I). eapply def_name; eauto.
+    + eapply fun_not_var; eauto.
+    + apply (gen_funct m p GEN _ _ Frs).
+    + reflexivity.
+    + apply eval_funcall_external. reflexivity.
+  - assert (Htp: In tp (published m)) by (apply Inc; simpl; auto).
+    assert (Htop: In tp (nm_topics m)) by (apply in_published in Htp; tauto).
+    assert (Pub: tp_dir tp = Publish) by (apply in_published in Htp; tauto).
+    destruct (li_cmds I tp Htp) as (b & Fb & NG & v & Gb & Sb).
+    destruct (generate_output_glue_ddc m p GEN tp Htp) as (f & Ff & Spec).
+    destruct (generate_output_glue m p tp GEN Htp) as (f' & Fd & Fret & Fpar & _).
+    assert (Ef: f' = f) by (rewrite (gen_funct m p GEN _ _ Fd) in Ff; congruence). subst f'.
+    destruct (Spec mm b v y (li_globals I) NG Gb ltac:(rewrite types_eq; auto) GY CS ctx (wld (S k) r s))
+      as [[t [mm1 [w1 [v1 X]]]] All].
+    destruct (All _ _ _ _ X) as (-> & -> & -> & (mv & G1 & PV & U1)).
+    generalize (generate_topic_externals m p tp GEN Htop). rewrite Pub. intros [_ Fpub].
+    assert (I1: loop_inv (S k) e mm1).
+    { eapply inv_change_cmd; eauto. apply PV. }
+    assert (GY1: global_value p mm1 (nm_out_var m) = Some y).
+    { generalize GY. unfold global_value.
+      destruct (find_var ge (nm_out_var m)) as [[by_ ty]|] eqn:Vy; auto.
+      destruct U1 as [_ O1]. rewrite O1; auto. apply (NG _ _ _ Vy). }
+    destruct (IH le mm1) as (mm' & mvs & X' & F' & I'); auto.
+    { intros x Hx; apply Inc; simpl; auto. }
+    exists mm', (mv :: mvs). split; [|split; [constructor; auto|auto]].
+    change (seq_of (flat_map publish_stmts (tp :: tps) ++ [call0 ros_rate_sleep_name]))
+      with (Ssequence (Scall None (Evar (output_glue_name (tp_cname tp)) (callback_type (tp_msg tp))) [cmd_addr tp])
+           (Ssequence (Scall None (Evar (publish_name (tp_cname tp)) (callback_type (tp_msg tp))) [cmd_addr tp])
+                      (seq_of (flat_map publish_stmts tps ++ [call0 ros_rate_sleep_name])))).
+    change (publish_events (tp :: tps) (mv :: mvs) ++ [Ecycle])
+      with ([] ++ ([Epublish (tp_name tp) mv] ++ (publish_events tps mvs ++ [Ecycle]))).
+    eapply exec_Sseq_1; [|eapply exec_Sseq_1; [|exact X']].
+    + unfold callback_type. eapply exec_call_none; eauto.
+      * apply (li_funs I). eapply def_name; eauto.
+      * eapply fun_not_var; eauto.
+      * simpl. unfold type_of_function. rewrite Fpar, Fret. auto.
+      * apply cmd_arg; auto.
+    + unfold callback_type. eapply exec_call_none.
+      * apply (li_funs I). eapply def_name; eauto.
+      * eapply fun_not_var; eauto.
+      * apply (gen_funct m p GEN _ _ Fpub).
+      * reflexivity.
+      * apply cmd_arg; exact Fb.
+      * apply eval_funcall_external. simpl.
+        replace (existsb (topic_eqb (tp_name tp)) advs_of) with true.
+        -- unfold load_path. rewrite G1. reflexivity.
+        -- symmetry. apply existsb_exists. exists (tp_name tp). split.
+           ++ unfold advs_of. apply in_map; auto.
+           ++ unfold topic_eqb. destruct (string_dec (tp_name tp) (tp_name tp)); congruence.
+Qed.
+
+(** *** One cycle, the loop *)
+
+Definition loop_body : statement :=
+  Ssequence (Scall (Some ok_temp) (Evar ros_ok_name (Tfunction [] tint)) [])
+ (Ssequence (Sifthenelse (Etempvar ok_temp tint) Sskip Sbreak)
+ (Ssequence (call0 ros_spinOnce_name)
+ (Ssequence (call0 input_glue_name)
+ (Ssequence (call0 (step_name m))
+            (seq_of (flat_map publish_stmts (published m) ++ [call0 ros_rate_sleep_name])))))).
+
+Lemma ros_ok_exec:
+  forall e le mm k r s res w',
+  loop_inv k e mm ->
+  external_call ctx ge EF_ros_ok [] mm (wld k r s) = Some (Vint res, [], mm, w') ->
+  exec_stmt ctx ge e le mm (wld k r s) (Scall (Some ok_temp) (Evar ros_ok_name (Tfunction [] tint)) [])
+            [] (set_assoc ok_temp (Vint res) le) mm w' Out_normal.
+Proof.
+  intros e le mm k r s res w' I Ex.
+  destruct (generate_externals m p GEN) as (_ & Fok & _).
+  change (set_assoc ok_temp (Vint res) le) with (set_opttemp (Some ok_temp) (Vint res) le).
+  eapply exec_call_named.
+  - apply (li_funs I). eapply def_name; eauto.
+  - eapply fun_not_var; eauto.
+  - apply (gen_funct m p GEN _ _ Fok).
+  - reflexivity.
+  - reflexivity.
+  - apply eval_funcall_external. exact Ex.
+Qed.
+
+Lemma cycle_run:
+  forall k r s e le mm, loop_inv k e mm ->
+  exists evs le' mm' s',
+     exec_stmt ctx ge e le mm (wld k (S r) s) loop_body evs le' mm' (wld (S k) r s') Out_normal
+  /\ cycle_ok m ctx k s evs s'
+  /\ loop_inv (S k) e mm'.
+Proof.
+  intros k r s e le mm I.
+  set (le1 := set_assoc ok_temp (Vint 1) le).
+  destruct (generate_externals m p GEN) as (_ & _ & Fspin & _).
+  destruct (spin_run k r s e mm I) as (mm2 & Xs & I2).
+  destruct (input_run k e le1 mm2 (wld (S k) r s) I2) as (mm3 & u & Xi & IV & GU & I3).
+  destruct (step_run k r s e le1 mm3 u I3 GU) as (mm4 & y & s' & Xst & CSt & GY & I4).
+  destruct (publishes_run k r s' e y (published m) le1 mm4 (incl_refl _) I4 GY)
+    as (mm5 & mvs & Xp & PV & I5).
+  exists (Estep u y :: publish_events (published m) mvs ++ [Ecycle]), le1, mm5, s'.
+  split; [|split; [exists u, y, mvs; auto|auto]].
+  unfold loop_body.
+  change (Estep u y :: publish_events (published m) mvs ++ [Ecycle])
+    with ([] ++ ([] ++ ([] ++ ([] ++ ([Estep u y] ++ (publish_events (published m) mvs ++ [Ecycle])))))).
+  eapply exec_Sseq_1.
+  { apply ros_ok_exec; auto. reflexivity. }
+  eapply exec_Sseq_1.
+  { eapply exec_Sifthenelse.
+    - simpl. unfold le1. apply find_assoc_set_same.
+    - reflexivity.
+    - apply exec_Sskip. }
+  eapply exec_Sseq_1.
+  { eapply call0_exec.
+    - apply (li_funs I). eapply def_name; eauto.
+    - eapply fun_not_var; eauto.
+    - apply (gen_funct m p GEN _ _ Fspin).
+    - reflexivity.
+    - exact Xs. }
+  eapply exec_Sseq_1; [exact Xi|].
+  eapply exec_Sseq_1; [exact Xst|].
+  exact Xp.
+Qed.
+
+Lemma loop_run:
+  forall r k s e le mm, loop_inv k e mm ->
+  exists t le' mm' w',
+     exec_stmt ctx ge e le mm (wld k r s) (Sloop loop_body) t le' mm' w' Out_normal
+  /\ cycles_ok m ctx k r s t.
+Proof.
+  induction r as [|r IH]; intros k s e le mm I.
+  - exists [], (set_assoc ok_temp (Vint 0) le), mm, (wld k 0 s). split; [|constructor].
+    change Out_normal with (loop_outcome Out_break). apply exec_Sloop_stop; [|discriminate].
+    unfold loop_body. change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1.
+    + apply ros_ok_exec; auto. reflexivity.
+    + apply exec_Sseq_2; [|discriminate].
+      eapply exec_Sifthenelse.
+      * simpl. apply find_assoc_set_same.
+      * reflexivity.
+      * apply exec_Sbreak.
+  - destruct (cycle_run k r s e le mm I) as (evs & le1 & mm1 & s' & X & C & I1).
+    destruct (IH (S k) s' e le1 mm1 I1) as (t & le' & mm' & w' & X' & C').
+    exists (evs ++ t), le', mm', w'. split.
+    + eapply exec_Sloop_loop; eauto.
+    + econstructor; eauto.
+Qed.
+
+(** *** [main] *)
+
+Lemma complete_struct:
+  forall id, In id (md_names (nm_msgs m)) \/ id = nm_in_struct m \/ id = nm_out_struct m ->
+  complete_type (composite_names ce) (Tstruct id) = true.
+Proof.
+  intros id H. simpl. apply in_ident_spec. unfold composite_names, composites.
+  rewrite map_app, map_map. simpl. apply in_or_app.
+  destruct H as [H|[H|H]]; [left; exact H | right; left; auto | right; right; left; auto].
+Qed.
+
+(** The global variables of the program have struct types of the model. *)
+Lemma global_var_types:
+  forall x b ty, find_var ge x = Some (b, ty) -> complete_type (composite_names ce) ty = true.
+Proof.
+  intros x b ty V. apply find_var_globalenv in V; auto.
+  apply (find_def_build m p x _ GEN) in V.
+  unfold build_defs in V. rewrite !in_app_iff in V.
+  destruct V as [V|[V|[V|[V|[V|[V|[V|V]]]]]]].
+  - simpl in V; intuition discriminate.
+  - apply in_flat_map in V; destruct V as (tp & _ & V).
+    unfold topic_externals in V; destruct (tp_dir tp); simpl in V; intuition discriminate.
+  - simpl in V. destruct V as [V|[V|[V|[V|[]]]]]; inversion V; subst; apply complete_struct; auto.
+  - apply in_map_iff in V. destruct V as (tp & E & Htp). inversion E; subst.
+    apply complete_struct. left. apply (gen_msg_in m p GEN). apply in_subscribed in Htp; tauto.
+  - apply in_map_iff in V; destruct V as (tp & E & _); discriminate.
+  - simpl in V; destruct V as [V|[]]; discriminate.
+  - apply in_map_iff in V; destruct V as (tp & E & _); discriminate.
+  - simpl in V; destruct V as [V|[V|[]]]; discriminate.
+Qed.
+
+(** The invariant holds when the loop starts. *)
+Lemma loop_entry:
+  forall f_loop e m1,
+  fn_vars f_loop = map (fun tp => (cmd_var (tp_cname tp), Tstruct (tp_msg tp))) (published m) ->
+  NoDup (map fst (fn_vars f_loop)) ->
+  alloc_vars ce [] (init_mem p) (fn_vars f_loop) = (e, m1) ->
+  loop_inv O e m1.
+Proof.
+  intros f_loop e m1 Vl NDl AV.
+  destruct (alloc_vars_spec ce _ _ _ _ _ AV (init_mem_wf p) NDl) as (W1 & Le & Old & New & Oth).
+  assert (GI: forall x b ty, find_var ge x = Some (b, ty) ->
+                get_block m1 b = Some (ty, zero_mval ce ty) /\ Pos.lt b (mem_next (init_mem p))).
+  { intros x b ty V. destruct (init_mem_global p x b ty V) as [G L].
+    rewrite types_eq in G. split; auto. rewrite Old; auto. }
+  constructor; auto.
+  - intros x b ty V. destruct (GI x b ty V) as [G _]. exists (zero_mval ce ty). split; auto.
+    rewrite types_eq. apply zero_mval_has_type; [apply wf_composites_of; auto|].
+    eapply global_var_types; eauto.
+  - intros tp Htp. destruct (msg_global tp Htp) as [bg Vg]. destruct (GI _ _ _ Vg) as [G _].
+    unfold global_value. rewrite Vg, G. auto.
+  - intros tp Htp. destruct (New (cmd_var (tp_cname tp)) (Tstruct (tp_msg tp))) as (b & F & Lb & G).
+    { rewrite Vl. apply (in_map (fun tp => (cmd_var (tp_cname tp), Tstruct (tp_msg tp)))); auto. }
+    exists b. split; auto. split.
+    + intros x bx tx V E. subst bx. destruct (GI _ _ _ V) as [_ L]. lia.
+    + exists (undef_mval ce (Tstruct (tp_msg tp))). split; [rewrite G; auto|apply shape_undef_mval].
+  - intros x Hx. rewrite Oth; auto. intros Hv. rewrite Vl, map_map in Hv. simpl in Hv.
+    apply in_map_iff in Hv. destruct Hv as (tp & Ex & Htp).
+    apply (generate_locals_fresh m p x GEN); auto.
+    unfold local_names. rewrite !in_app_iff. right; right. subst x. apply in_map_iff; eauto.
+Qed.
+
+Lemma subs_run:
+  forall tps l le mm s0 n, incl tps (subscribed m) ->
+  exec_stmt ctx ge [] le mm (mkworld l [] O n s0) (seq_of (map subscribe_stmt tps)) [] le mm
+            (mkworld (l ++ map sub_of tps) [] O n s0) Out_normal.
+Proof.
+  induction tps as [|tp tps IH]; intros l le mm s0 n Inc.
+  - simpl. rewrite app_nil_r. apply exec_Sskip.
+  - assert (Htp: In tp (subscribed m)) by (apply Inc; simpl; auto).
+    assert (Htop: In tp (nm_topics m)) by (apply in_subscribed in Htp; tauto).
+    assert (Sub: tp_dir tp = Subscribe) by (apply in_subscribed in Htp; tauto).
+    generalize (generate_topic_externals m p tp GEN Htop). rewrite Sub. intros Fs.
+    destruct (generate_callback m p tp GEN Htp) as [_ (f & Fcb & _)].
+    simpl map.
+    change (l ++ sub_of tp :: map sub_of tps) with (l ++ [sub_of tp] ++ map sub_of tps).
+    rewrite app_assoc.
+    apply exec_seq_cons with (le1 := le) (mm1 := mm) (w1 := mkworld (l ++ [sub_of tp]) [] O n s0).
+    + unfold subscribe_stmt. eapply exec_call_none.
+      * reflexivity.
+      * eapply fun_not_var; eauto.
+      * apply (gen_funct m p GEN _ _ Fs).
+      * reflexivity.
+      * unfold callback_type. cbn [eval_exprlist eval_expr]. unfold eval_funcname.
+        rewrite (fun_not_var _ _ Fcb), (gen_funct m p GEN _ _ Fcb). reflexivity.
+      * apply eval_funcall_external. reflexivity.
+    + apply IH. intros x Hx; apply Inc; simpl; auto.
+Qed.
+
+Lemma advs_run:
+  forall tps l l' le mm s0 n, incl tps (published m) ->
+  exec_stmt ctx ge [] le mm (mkworld l l' O n s0) (seq_of (map advertise_stmt tps)) [] le mm
+            (mkworld l (l' ++ map tp_name tps) O n s0) Out_normal.
+Proof.
+  induction tps as [|tp tps IH]; intros l l' le mm s0 n Inc.
+  - simpl. rewrite app_nil_r. apply exec_Sskip.
+  - assert (Htp: In tp (published m)) by (apply Inc; simpl; auto).
+    assert (Htop: In tp (nm_topics m)) by (apply in_published in Htp; tauto).
+    assert (Pub: tp_dir tp = Publish) by (apply in_published in Htp; tauto).
+    generalize (generate_topic_externals m p tp GEN Htop). rewrite Pub. intros [Fa _].
+    simpl map.
+    change (l' ++ tp_name tp :: map tp_name tps) with (l' ++ [tp_name tp] ++ map tp_name tps).
+    rewrite app_assoc.
+    apply exec_seq_cons with (le1 := le) (mm1 := mm) (w1 := mkworld l (l' ++ [tp_name tp]) O n s0).
+    + unfold advertise_stmt. eapply call0_exec.
+      * reflexivity.
+      * eapply fun_not_var; eauto.
+      * apply (gen_funct m p GEN _ _ Fa).
+      * reflexivity.
+      * apply eval_funcall_external. reflexivity.
+    + apply IH. intros x Hx; apply Inc; simpl; auto.
+Qed.
+
+(** [main] runs to completion, and its trace is a run of [n] correct
+    cycles. *)
+Theorem main_run:
+  forall n, exists t, program_behaves p ctx n t /\ run_ok m ctx n t.
+Proof.
+  intros n.
+  destruct (generate_main m p GEN) as (Pm & fm & Fm & Rm & Pm' & Vm & Tm & Bm).
+  destruct (generate_loop m p GEN) as (fl & Fl & Rl & Pl & Vl & NDl & Tl & Bl).
+  destruct (generate_externals m p GEN) as (Fi & _ & _ & _ & Fci & _).
+  destruct (alloc_vars ce [] (init_mem p) (fn_vars fl)) as [e m1] eqn:AV.
+  assert (I0: loop_inv O e m1) by (eapply loop_entry; eauto).
+  destruct (loop_run n O (ctx_init ctx) e [(ok_temp, Vundef)] m1 I0) as (t & le' & mm' & w' & X & C).
+  exists t. split; [|apply run_ok_of_cycles; auto].
+  econstructor.
+  - rewrite Pm. apply (gen_funct m p GEN _ _ Fm).
+  - eapply eval_funcall_internal.
+    + unfold function_entry. rewrite Vm, Pm', Tm. reflexivity.
+    + rewrite Bm.
+      rewrite <- (app_nil_r t). change (t ++ []) with ([] ++ [] ++ [] ++ (t ++ [])).
+      eapply exec_seq_of_app.
+      { eapply exec_seq_cons.
+        - eapply call0_exec; [reflexivity | eapply fun_not_var; eauto | apply (gen_funct m p GEN _ _ Fi)
+                             | reflexivity | apply eval_funcall_external; reflexivity].
+        - eapply exec_seq_cons; [|apply exec_Sskip].
+          eapply call0_exec; [reflexivity | eapply fun_not_var; eauto | apply (gen_funct m p GEN _ _ Fci)
+                             | reflexivity | apply eval_funcall_external; reflexivity]. }
+      eapply exec_seq_of_app.
+      { apply (subs_run (subscribed m) [] [] (init_mem p) (ctx_init ctx) n (incl_refl _)). }
+      eapply exec_seq_of_app.
+      { apply (advs_run (published m) _ [] [] (init_mem p) (ctx_init ctx) n (incl_refl _)). }
+      simpl seq_of. eapply exec_Sseq_1.
+      * eapply call0_exec; [reflexivity | eapply fun_not_var; eauto | apply (gen_funct m p GEN _ _ Fl)
+                           | simpl; unfold type_of_function; rewrite Pl, Rl; reflexivity |].
+        change (wld O n (ctx_init ctx)) with
+          (mkworld ([] ++ map sub_of (subscribed m)) ([] ++ map tp_name (published m)) O n (ctx_init ctx)) in X.
+        eapply eval_funcall_internal.
+        -- unfold function_entry. rewrite (gen_comp m p GEN), AV, Pl, Tl. reflexivity.
+        -- rewrite Bl. exact X.
+        -- rewrite Rl. reflexivity.
+      * apply exec_Sseq_2; [apply exec_Sreturn_some; reflexivity | discriminate].
+    + rewrite Rm. reflexivity.
+Qed.
+
+End NODE.
+
+(** ** The theorem *)
+
+(** Data delivery correctness of every generated node (theorem T2).
+
+    What it means for a robot: take any node model that pyrosgen accepts
+    and the program it generates.  Put the node in any environment:
+    sensor messages arrive at any times and in any order on any topics
+    (each of the right type), and the controller is any function with
+    outputs of the right type.  Let [ros_ok] allow [n] cycles.  Then the
+    node runs exactly [n] cycles and stops, and in every cycle [i]: the
+    controller is called once, and each of its inputs is the field that
+    the model relates to it, of the newest message received on that
+    topic up to this cycle (zero if none has arrived yet), even when
+    older messages were dropped by the queues; then every published
+    topic, in model order, publishes one message whose related fields
+    are the controller's outputs of this very step and whose other
+    fields are zero.  Nothing else is observable.  This is the paper's
+    DDC property plus its preservation property, over whole runs. *)
+Theorem generate_node_ddc:
+  forall m p, generate m = OK p -> node_ddc m p.
+Proof.
+  intros m p GEN CS ctx n AWT CWT.
+  destruct (main_run m p GEN ctx AWT CWT n) as (t & B & R).
+  split; [eauto|].
+  intros t' B'. rewrite (program_behaves_determ CS p ctx n t' t B' B). auto.
+Qed.

@@ -1,0 +1,389 @@
+"""The driver of the Coq tool chain: ``coqc``, ``coqchk``, extraction,
+``ocamlopt`` (in the manner of alectryon's and coq-tools' drivers).
+
+One class, :class:`CoqDriver`:
+
+- finds the tools (a clear error when one is missing: ``coqc not found: run
+  make deps``);
+- locates the ROSGen library (``coq/theories`` of the repository, or the
+  directory named by the environment variable ``PYROSGEN_COQLIB``) and checks
+  that it is built: every ``.v`` of ``coq/_CoqProject`` has a ``.vo`` that is
+  not older (else ``the Coq library is not built: run make proofs``);
+- runs the tools with ``check=False`` and turns Coq's
+  ``File "...", line N, characters a-b:`` reports into compiler-style
+  ``file:line:col: error: message`` lines;
+- checks ``Print Assumptions`` output ("Closed under the global context");
+- prints a compiled per-node module through the fast path of
+  ``coq/extraction/print_program.sh``: extraction with
+  ``ExtrOcamlNativeString`` of the module's ``types_h``, ``glue_c`` and
+  ``ast_sexp`` (the printer applied to ``the_program``), compiled by
+  ``ocamlopt`` with a small driver, and run.
+
+Every failure raises :class:`CoqError` (exit code 2 in the command line).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from .errors import PyrosgenError, escape
+
+__all__ = [
+    "CoqError",
+    "ModelRefused",
+    "REFUSAL_MARKER",
+    "CoqcResult",
+    "CoqDriver",
+    "REPO_ROOT",
+    "DEFAULT_THEORIES",
+    "COQLIB_ENV",
+    "CLOSED",
+    "coq_messages",
+]
+
+#: The repository (pyrosgen is installed editable from it).
+REPO_ROOT = Path(__file__).resolve().parent.parent
+#: The ROSGen library's sources and compiled files.
+DEFAULT_THEORIES = REPO_ROOT / "coq" / "theories"
+#: Environment variable naming another directory holding the compiled
+#: ROSGen library (its ``_CoqProject`` is looked up in the parent).
+COQLIB_ENV = "PYROSGEN_COQLIB"
+#: What ``Print Assumptions`` prints for a theorem that uses no axiom.
+CLOSED = "Closed under the global context"
+#: Logical name of the library.
+LIBRARY = "ROSGen"
+
+_LOCATION = re.compile(r'^File "(?P<file>[^"]*)", line (?P<line>\d+), characters (?P<a>\d+)-(?P<b>\d+):\s*$')
+_SEVERITY = re.compile(r"^(?P<sev>Error|Warning)(?::|\s*\(in proof[^)]*\):)\s?(?P<msg>.*)$")
+_MAX_MESSAGE = 2000
+
+
+class CoqError(PyrosgenError):
+    """A Coq tool failed, or its output was not what was required.
+
+    ``summary`` is one line; ``lines`` are compiler-style diagnostics
+    (``file:line:col: error: ...``) or tool output, shown after it.
+    """
+
+    def __init__(self, summary: str, lines: Sequence[str] = ()):
+        self.summary = summary
+        self.lines = tuple(lines)
+        super().__init__(summary if not self.lines else summary + "\n" + "\n".join(self.lines))
+
+
+class ModelRefused(CoqError):
+    """Coq's ``generate`` refused the model (its message in ``message``):
+    the model is invalid although the front end accepted it."""
+
+    def __init__(self, message: str, lines: Sequence[str] = ()):
+        self.message = message
+        super().__init__(f"Coq's generate refused the model: {message}", lines)
+
+
+#: What the per-node file's proof of [generate_accepts] fails with.
+REFUSAL_MARKER = "ROSGen.Generator.generate refused the model:"
+_REFUSAL = re.compile(re.escape(REFUSAL_MARKER) + r'\s*"((?:[^"]|"")*)"')
+
+
+def refusal_message(output: str) -> str | None:
+    """The generator's message if ``output`` reports a refusal."""
+    m = _REFUSAL.search(output)
+    if m is None:
+        return None
+    return _one_line(m.group(1).replace('""', '"'))
+
+
+@dataclass(frozen=True)
+class CoqcResult:
+    """The outcome of one tool run."""
+
+    argv: tuple[str, ...]
+    returncode: int
+    stdout: str
+    stderr: str
+    seconds: float
+
+    @property
+    def ok(self) -> bool:
+        return self.returncode == 0
+
+    @property
+    def output(self) -> str:
+        """stdout then stderr."""
+        return self.stdout + ("\n" if self.stdout and not self.stdout.endswith("\n") else "") + self.stderr
+
+
+def _one_line(text: str) -> str:
+    s = " ".join(escape(text, keep_quotes=True).split())
+    return s if len(s) <= _MAX_MESSAGE else s[: _MAX_MESSAGE - 3] + "..."
+
+
+def coq_messages(text: str, display: Callable[[str], str] = lambda f: f) -> list[str]:
+    """Coq's located messages in ``text`` as ``file:line:col: severity: msg``.
+
+    Coq reports ``File "F", line N, characters A-B:`` and, on the next
+    lines, ``Error: ...`` or ``Warning: ...`` possibly continued on further
+    lines (up to the next location or a blank line); the column is ``A+1``.
+    ``display`` maps Coq's file name to the one to show.  Unlocated
+    ``Error:`` lines are kept as ``error: ...``.
+    """
+    out: list[str] = []
+    lines = text.splitlines()
+    i = 0
+    while i < len(lines):
+        m = _LOCATION.match(lines[i])
+        if m:
+            body: list[str] = []
+            i += 1
+            while i < len(lines) and not _LOCATION.match(lines[i]) and lines[i].strip():
+                body.append(lines[i])
+                i += 1
+            sev, msg = "error", " ".join(body)
+            if body:
+                s = _SEVERITY.match(body[0])
+                if s:
+                    sev = "warning" if s.group("sev") == "Warning" else "error"
+                    msg = " ".join([s.group("msg"), *body[1:]])
+            where = f"{display(m.group('file'))}:{m.group('line')}:{int(m.group('a')) + 1}"
+            out.append(f"{where}: {sev}: {_one_line(msg)}")
+            continue
+        s = _SEVERITY.match(lines[i])
+        if s and s.group("sev") == "Error":
+            body = [s.group("msg")]
+            i += 1
+            while i < len(lines) and lines[i].strip() and not _LOCATION.match(lines[i]):
+                body.append(lines[i])
+                i += 1
+            out.append(f"error: {_one_line(' '.join(body))}")
+            continue
+        i += 1
+    return out
+
+
+_DRIVER_ML = """\
+(* Driver of pyrosgen's printing path (pyrosgen/coqdriver.py, after
+   coq/extraction/print_program.sh).  [Job] is the OCaml extraction of the
+   per-node module's [types_h], [glue_c] and [ast_sexp]: ROSGen.Printer
+   applied to [the_program], as native OCaml strings
+   (ExtrOcamlNativeString).  This driver only writes them. *)
+
+let write path text =
+  let oc = open_out_bin path in
+  output_string oc text;
+  close_out oc
+
+let () =
+  match Sys.argv with
+  | [| _; out_h; out_c; out_sexp |] ->
+      write out_h (Job.types_h ());
+      write out_c (Job.glue_c ());
+      write out_sexp (Job.ast_sexp ())
+  | _ ->
+      prerr_endline "usage: print_job OUT.h OUT.c OUT.sexp";
+      exit 2
+"""
+
+
+class CoqDriver:
+    """Runs the Coq tool chain against the ROSGen library.
+
+    ``theories`` is the directory of the compiled library (default:
+    ``$PYROSGEN_COQLIB`` if set, else ``coq/theories`` of the repository).
+    Tools are looked up in ``PATH`` when first needed.
+    """
+
+    def __init__(self, theories: str | Path | None = None, *, timeout: float | None = None):
+        if theories is None:
+            env = os.environ.get(COQLIB_ENV)
+            theories = Path(env) if env else DEFAULT_THEORIES
+        self.theories = Path(theories).absolute()
+        self.timeout = timeout
+        self._tools: dict[str, str] = {}
+
+    # -- tools ---------------------------------------------------------------
+
+    def tool(self, name: str) -> str:
+        """The path of tool ``name`` (``CoqError`` if it is not installed)."""
+        if name not in self._tools:
+            path = shutil.which(name)
+            if path is None:
+                raise CoqError(f"{name} not found: run make deps")
+            self._tools[name] = path
+        return self._tools[name]
+
+    def ocamlopt(self) -> list[str]:
+        """``ocamlfind ocamlopt`` if ocamlfind is installed, else ``ocamlopt``."""
+        if shutil.which("ocamlfind") is not None:
+            return [self.tool("ocamlfind"), "ocamlopt"]
+        return [self.tool("ocamlopt")]
+
+    def check_tools(self) -> None:
+        """Find every tool now, so that a missing one is reported first."""
+        self.tool("coqc")
+        self.tool("coqchk")
+        self.ocamlopt()
+
+    # -- the library ---------------------------------------------------------
+
+    @property
+    def coqproject(self) -> Path:
+        """``_CoqProject`` next to the library directory."""
+        return self.theories.parent / "_CoqProject"
+
+    def library_sources(self) -> list[Path]:
+        """The library's ``.v`` files, in the order of ``_CoqProject``
+        (every ``.v`` of the directory if there is no ``_CoqProject``)."""
+        if self.coqproject.is_file():
+            out = []
+            for line in self.coqproject.read_text(encoding="utf-8").splitlines():
+                line = line.split("#", 1)[0].strip()
+                if line.endswith(".v") and not line.startswith("-"):
+                    # normalised, not resolved: the library may be made of links
+                    p = Path(os.path.normpath(self.coqproject.parent / line))
+                    if p.parent == Path(os.path.normpath(self.theories)):
+                        out.append(p)
+            return out
+        return sorted(self.theories.glob("*.v"))
+
+    def check_library(self) -> None:
+        """Require the library to be built: each ``X.v`` has an ``X.vo``
+        at least as recent."""
+        if not self.theories.is_dir():
+            raise CoqError(f"the Coq library is not built: run make proofs (no directory {self.theories})")
+        sources = self.library_sources()
+        if not sources:
+            raise CoqError(f"the Coq library is not built: run make proofs (no .v file in {self.theories})")
+        stale = []
+        for v in sources:
+            vo = v.with_suffix(".vo")
+            if not vo.is_file():
+                stale.append(f"{LIBRARY}/{vo.name} is missing")
+            elif v.is_file() and vo.stat().st_mtime < v.stat().st_mtime:
+                stale.append(f"{LIBRARY}/{vo.name} is older than {v.name}")
+        if stale:
+            raise CoqError("the Coq library is not built: run make proofs", [f"  {s}" for s in stale])
+
+    def has_module(self, name: str) -> bool:
+        """Whether ``theories/<name>.v`` is part of the library (listed in
+        ``_CoqProject``, or present as ``<name>.vo`` if there is none)."""
+        if self.coqproject.is_file():
+            return any(p.name == f"{name}.v" for p in self.library_sources())
+        return (self.theories / f"{name}.vo").is_file()
+
+    def ddc_available(self) -> bool:
+        """Whether the node DDC theorem T2 (``ROSGen.DDC.node_ddc``,
+        ``ROSGen.Loopproof.generate_node_ddc``) is in the library."""
+        return self.has_module("DDC") and self.has_module("Loopproof")
+
+    # -- running -------------------------------------------------------------
+
+    def run(self, argv: Sequence[str], cwd: Path) -> CoqcResult:
+        """Run a tool (``check=False``); a tool that cannot be started or
+        times out raises :class:`CoqError`."""
+        t0 = time.monotonic()
+        try:
+            proc = subprocess.run(
+                list(argv),
+                cwd=str(cwd),
+                stdin=subprocess.DEVNULL,
+                capture_output=True,
+                text=True,
+                errors="replace",
+                check=False,
+                timeout=self.timeout,
+            )
+        except OSError as exc:
+            raise CoqError(f"cannot run {argv[0]}: {exc.strerror or exc}") from None
+        except subprocess.TimeoutExpired:
+            raise CoqError(f"{Path(argv[0]).name} did not finish within {self.timeout} s") from None
+        return CoqcResult(tuple(argv), proc.returncode, proc.stdout, proc.stderr, time.monotonic() - t0)
+
+    def load_path(self, extra: Sequence[tuple[Path, str]] = ()) -> list[str]:
+        """``-R <theories> ROSGen`` and ``-R DIR LIB`` for each extra pair."""
+        args = ["-R", str(self.theories), LIBRARY]
+        for d, lib in extra:
+            args += ["-R", str(d), lib]
+        return args
+
+    def coqc(self, vfile: Path, lib: tuple[Path, str], *, display: Callable[[str], str] | None = None) -> CoqcResult:
+        """Compile ``vfile`` (inside ``lib[0]``, logical prefix ``lib[1]``);
+        a failure raises :class:`CoqError` with Coq's messages located."""
+        argv = [self.tool("coqc"), *self.load_path([lib]), vfile.name]
+        res = self.run(argv, vfile.parent)
+        if not res.ok:
+            shown = display or (lambda f: f)
+            msgs = coq_messages(res.output, shown) or [_one_line(res.output) or f"exit status {res.returncode}"]
+            refused = refusal_message(res.output)
+            if refused is not None:
+                raise ModelRefused(refused, msgs)
+            raise CoqError(f"coqc failed on {shown(vfile.name)} (exit status {res.returncode})", msgs)
+        return res
+
+    @staticmethod
+    def check_assumptions(output: str, theorems: Sequence[str]) -> None:
+        """Require one "Closed under the global context" per theorem whose
+        assumptions the file printed (``Print Assumptions``, in order)."""
+        closed = output.count(CLOSED)
+        if closed != len(theorems):
+            axioms = []
+            lines = output.splitlines()
+            for i, line in enumerate(lines):
+                if line.strip() == "Axioms:":
+                    for ax in lines[i + 1 :]:
+                        if not ax.strip() or ax.strip() == CLOSED:
+                            break
+                        if not ax.startswith(" "):
+                            axioms.append("  " + _one_line(ax))
+            raise CoqError(
+                f"{len(theorems) - closed} of the theorems {', '.join(theorems)} "
+                f"depend on axioms (Print Assumptions did not say \"{CLOSED}\")",
+                axioms,
+            )
+
+    def coqchk(self, module: str, lib: tuple[Path, str]) -> CoqcResult:
+        """Re-check the compiled ``module`` with ``coqchk`` (the library
+        itself is checked by ``make proofs``: ``-norec``)."""
+        argv = [self.tool("coqchk"), "-silent", *self.load_path([lib]), "-norec", module]
+        res = self.run(argv, lib[0])
+        if not res.ok:
+            raise CoqError(
+                f"coqchk rejected {module} (exit status {res.returncode})",
+                coq_messages(res.output) or [_one_line(res.output)],
+            )
+        return res
+
+    def print_texts(self, module: str, lib: tuple[Path, str], outputs: tuple[Path, Path, Path]) -> dict[str, float]:
+        """Print the compiled per-node ``module`` through extraction: write
+        its ``types_h``, ``glue_c`` and ``ast_sexp`` texts to ``outputs``.
+        Returns the time of each step."""
+        work = lib[0]
+        times: dict[str, float] = {}
+        (work / "Extract.v").write_text(
+            "(* Generated by pyrosgen (coqdriver.py): extraction of the printed\n"
+            f"   texts of {module}, after coq/extraction/print_program.sh. *)\n"
+            "From Coq Require Import extraction.ExtrOcamlBasic extraction.ExtrOcamlNativeString.\n"
+            f"Require {module}.\n"
+            f'Extraction "job.ml" {module}.types_h {module}.glue_c {module}.ast_sexp.\n',
+            encoding="ascii",
+        )
+        res = self.run([self.tool("coqc"), "-q", *self.load_path([lib]), "Extract.v"], work)
+        if not res.ok:
+            raise CoqError("extraction failed", coq_messages(res.output) or [_one_line(res.output)])
+        times["extraction"] = res.seconds
+        (work / "driver.ml").write_text(_DRIVER_ML, encoding="ascii")
+        res = self.run([*self.ocamlopt(), "-w", "-a", "job.mli", "job.ml", "driver.ml", "-o", "print_job"], work)
+        if not res.ok:
+            raise CoqError("ocamlopt failed on the extracted printer", [_one_line(res.output)])
+        times["ocamlopt"] = res.seconds
+        res = self.run([str(work / "print_job"), *(str(p) for p in outputs)], work)
+        if not res.ok:
+            raise CoqError(f"the extracted printer failed (exit status {res.returncode})", [_one_line(res.output)])
+        times["run"] = res.seconds
+        return times

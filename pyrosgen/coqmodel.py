@@ -1,0 +1,381 @@
+"""The Coq emitter: a :class:`~pyrosgen.model.NodeModel` as terms of
+``ROSGen.NodeModel`` (``coq/theories/NodeModel.v``), and the per-node Coq
+file rendered from ``coq/templates/node.v.j2``.
+
+The layers are kept apart as in rosidl: this module turns model values into
+Coq *literals* (strings, primitive constructors, paths, field types), each
+checked again before it is printed, and the templates in ``coq/templates``
+lay those literals out as Coq definitions.
+
+Defence in depth: the front end already refuses hostile names, but nothing
+reaches Coq text unchecked here either.  Every identifier must match the C
+identifier regex, every topic name the ROS graph-name regex, every string is
+printable ASCII with its ``"`` doubled (Coq's string escape), and every
+comment is reduced to a harmless character set.  A violation raises
+:class:`EmitError` (exit code 2: it means the front end let something
+through).  Semantic rules (keywords, types of relations, ...) are *not*
+re-checked here: that is the job of Coq's ``generate``, which refuses an
+ill-formed model with a message naming the culprit.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import jinja2
+
+from .errors import PyrosgenError
+from .model import NodeModel
+from .msgtypes import PRIMITIVES, FieldPath, MsgField, MsgType, msg_c_name
+
+__all__ = [
+    "EmitError",
+    "TEMPLATE_DIR",
+    "NODE_TEMPLATE",
+    "PRIM_CONSTRUCTORS",
+    "coq_string",
+    "coq_ident",
+    "coq_ros_name",
+    "coq_comment",
+    "coq_z",
+    "coq_nat",
+    "coq_prim",
+    "coq_path",
+    "coq_ftype",
+    "CoqMsgdef",
+    "CoqTopic",
+    "CoqNodeModel",
+    "emit_model",
+    "NodeFile",
+    "node_file_names",
+    "render_node_file",
+    "render_model_definitions",
+    "template_env",
+]
+
+#: ``coq/templates`` of the repository (pyrosgen is installed editable).
+TEMPLATE_DIR = Path(__file__).resolve().parent.parent / "coq" / "templates"
+
+#: The per-node template, relative to the repository root (for the
+#: "generated from" line).
+NODE_TEMPLATE = "coq/templates/node.v.j2"
+
+#: ``ROSGen.NodeModel.prim`` constructor of each ROS primitive.
+PRIM_CONSTRUCTORS: dict[str, str] = {
+    "bool": "Pbool",
+    "int8": "Pint8",
+    "uint8": "Puint8",
+    "int16": "Pint16",
+    "uint16": "Puint16",
+    "int32": "Pint32",
+    "uint32": "Puint32",
+    "int64": "Pint64",
+    "uint64": "Puint64",
+    "float32": "Pfloat32",
+    "float64": "Pfloat64",
+}
+assert tuple(PRIM_CONSTRUCTORS) == PRIMITIVES
+
+_C_IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+_ROS_NAME = re.compile(r"/?[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*")
+_MSG_NAME = re.compile(r"[a-z][a-z0-9_]*/[A-Za-z][A-Za-z0-9]*|time|duration")
+_PRINTABLE = re.compile(r"[ -~]*")
+#: Characters kept as they are in Coq comments: printable ASCII but the
+#: double quote (Coq lexes strings inside comments), the star and the
+#: parentheses (no comment can be opened or closed) and the backslash (our
+#: escape); any other character is written \xNN.
+_COMMENT_SAFE = re.compile(r'[ -~]')
+_COMMENT_UNSAFE = frozenset('"()*\\')
+#: Longest identifier accepted (as the front end: C's 63 significant
+#: characters); a little slack for derived names is not needed here.
+_MAX_IDENT = 63
+
+
+class EmitError(PyrosgenError):
+    """A value the emitter refuses to print into Coq text (it should have
+    been refused by the front end: this is a tool failure, exit code 2)."""
+
+
+# --------------------------------------------------------------------------
+# Literals
+
+
+def coq_string(value: str, what: str = "string") -> str:
+    """A Coq string literal: printable ASCII only, ``"`` doubled."""
+    if not isinstance(value, str) or not _PRINTABLE.fullmatch(value):
+        raise EmitError(f"refusing to print {value!r} as a Coq string ({what}): not printable ASCII")
+    return '"' + value.replace('"', '""') + '"'
+
+
+def coq_ident(name: str, what: str = "identifier") -> str:
+    """A C identifier as a Coq string literal (checked against the regex)."""
+    if not isinstance(name, str) or not _C_IDENT.fullmatch(name) or len(name) > _MAX_IDENT:
+        raise EmitError(f"refusing to print {name!r} as a C identifier ({what})")
+    return coq_string(name, what)
+
+
+def coq_ros_name(name: str, what: str = "topic name") -> str:
+    """A ROS graph name as a Coq string literal (checked against the regex)."""
+    if not isinstance(name, str) or not _ROS_NAME.fullmatch(name):
+        raise EmitError(f"refusing to print {name!r} as a ROS graph name ({what})")
+    return coq_string(name, what)
+
+
+def coq_comment(text: str) -> str:
+    """``text`` reduced to characters that are harmless inside a Coq comment."""
+    return "".join(
+        ch if _COMMENT_SAFE.fullmatch(ch) and ch not in _COMMENT_UNSAFE else f"\\x{ord(ch):02x}" if ord(ch) < 256 else f"\\u{ord(ch):04x}"
+        for ch in str(text)
+    )
+
+
+def coq_z(n: int) -> str:
+    """An integer literal of type ``Z`` (negative ones parenthesised)."""
+    if isinstance(n, bool) or not isinstance(n, int):
+        raise EmitError(f"refusing to print {n!r} as an integer")
+    return str(n) if n >= 0 else f"({n})"
+
+
+def coq_nat(n: int) -> str:
+    """A natural-number literal (type ``nat``)."""
+    if isinstance(n, bool) or not isinstance(n, int) or n < 0:
+        raise EmitError(f"refusing to print {n!r} as a natural number")
+    return str(n)
+
+
+def coq_prim(prim: str) -> str:
+    """The ``prim`` constructor of a ROS primitive type name."""
+    try:
+        return PRIM_CONSTRUCTORS[prim]
+    except (KeyError, TypeError):
+        raise EmitError(f"refusing to print {prim!r} as a primitive type") from None
+
+
+def coq_path(path: FieldPath | tuple) -> str:
+    """A field path as a ``NodeModel.path``: ``[PField "twist"; PIndex 35]``."""
+    steps = path.steps if isinstance(path, FieldPath) else tuple(path)
+    out = []
+    for s in steps:
+        if isinstance(s, int) and not isinstance(s, bool):
+            out.append(f"PIndex {coq_z(s)}")
+        else:
+            out.append(f"PField {coq_ident(s, 'field name')}")
+    return "[" + "; ".join(out) + "]"
+
+
+def coq_ftype(f: MsgField) -> str:
+    """The ``ftype`` of a carried message field."""
+    if f.kind == "prim":
+        base = f"FTprim {coq_prim(f.prim)}"
+    elif f.kind == "msg":
+        base = f"FTmsg {coq_ident(msg_c_name(_msg_name(f.msg)), 'message struct name')}"
+    else:
+        raise EmitError(f"refusing to print field {f.name!r} of kind {f.kind!r}")
+    if f.array_len is None:
+        return base
+    return f"FTarray ({base}) {coq_z(f.array_len)}"
+
+
+def _msg_name(name: str) -> str:
+    if not isinstance(name, str) or not _MSG_NAME.fullmatch(name):
+        raise EmitError(f"refusing to print {name!r} as a message type name")
+    return name
+
+
+# --------------------------------------------------------------------------
+# The model as Coq literals
+
+
+@dataclass(frozen=True)
+class CoqMsgdef:
+    """A message definition: ``comment`` (the ROS type, comment-safe),
+    ``name`` (the struct name literal) and ``fields`` (pairs of literals)."""
+
+    comment: str
+    name: str
+    fields: tuple[tuple[str, str], ...]
+
+
+@dataclass(frozen=True)
+class CoqTopic:
+    """A topic as the literals of ``mktopic``."""
+
+    comment: str
+    name: str
+    c_name: str
+    direction: str
+    msg: str
+    queue: str
+
+
+@dataclass(frozen=True)
+class CoqNodeModel:
+    """Every part of a ``NodeModel.node_model`` record as Coq literals."""
+
+    node: str                       #: the node name (a checked identifier, unquoted)
+    name: str
+    period_ms: str
+    ctrl: str
+    in_var: str
+    in_struct: str
+    inputs: tuple[tuple[str, str], ...]
+    out_var: str
+    out_struct: str
+    outputs: tuple[tuple[str, str], ...]
+    msgs: tuple[CoqMsgdef, ...]
+    topics: tuple[CoqTopic, ...]
+    inrels: tuple[tuple[str, str, str, str], ...]   #: (topic, path, input, comment)
+    outrels: tuple[tuple[str, str, str, str], ...]  #: (output, topic, path, comment)
+
+
+def _msgdef(m: MsgType) -> CoqMsgdef:
+    return CoqMsgdef(
+        comment=coq_comment(_msg_name(m.name)),
+        name=coq_ident(m.c_name, "message struct name"),
+        fields=tuple((coq_ident(f.name, "message field name"), coq_ftype(f)) for f in m.fields),
+    )
+
+
+def emit_model(model: NodeModel) -> CoqNodeModel:
+    """The model as Coq literals.
+
+    It does not require ``model`` to be well formed (tests feed it models
+    mutated past the front end's checks, to see Coq refuse them); it only
+    requires every value to be printable safely.
+    """
+    if not isinstance(model.name, str) or not _C_IDENT.fullmatch(model.name):
+        raise EmitError(f"refusing to print {model.name!r} as a node name")
+    c = model.controller
+    return CoqNodeModel(
+        node=model.name,
+        name=coq_ident(model.name, "node name"),
+        period_ms=coq_z(model.period_ms),
+        ctrl=coq_ident(c.name, "controller name"),
+        in_var=coq_ident(c.inputs.var_name, "controller input variable"),
+        in_struct=coq_ident(c.inputs.struct_name, "controller input struct"),
+        inputs=tuple((coq_ident(f.name, "controller input"), coq_prim(f.prim)) for f in c.inputs.fields),
+        out_var=coq_ident(c.outputs.var_name, "controller output variable"),
+        out_struct=coq_ident(c.outputs.struct_name, "controller output struct"),
+        outputs=tuple((coq_ident(f.name, "controller output"), coq_prim(f.prim)) for f in c.outputs.fields),
+        msgs=tuple(_msgdef(m) for m in model.messages),
+        topics=tuple(
+            CoqTopic(
+                comment=coq_comment(_msg_name(t.msg_type)),
+                name=coq_ros_name(t.name),
+                c_name=coq_ident(t.c_name, "topic C name"),
+                direction={"subscribe": "Subscribe", "publish": "Publish"}[_direction(t.direction)],
+                msg=coq_ident(msg_c_name(_msg_name(t.msg_type)), "message struct name"),
+                queue=coq_nat(t.queue_size),
+            )
+            for t in model.topics
+        ),
+        inrels=tuple(
+            (
+                coq_ident(r.topic.c_name, "topic C name"),
+                coq_path(r.path),
+                coq_ident(r.input_field, "controller input"),
+                coq_comment(f"{r.topic.name} {r.path} -> {r.input_field}"),
+            )
+            for r in model.input_relations
+        ),
+        outrels=tuple(
+            (
+                coq_ident(r.output_field, "controller output"),
+                coq_ident(r.topic.c_name, "topic C name"),
+                coq_path(r.path),
+                coq_comment(f"{r.output_field} -> {r.topic.name} {r.path}"),
+            )
+            for r in model.output_relations
+        ),
+    )
+
+
+def _direction(d: str) -> str:
+    if d not in ("subscribe", "publish"):
+        raise EmitError(f"refusing to print {d!r} as a topic direction")
+    return d
+
+
+# --------------------------------------------------------------------------
+# Rendering
+
+
+def template_env() -> jinja2.Environment:
+    """The jinja2 environment over ``coq/templates`` (StrictUndefined,
+    trim_blocks, lstrip_blocks)."""
+    if not TEMPLATE_DIR.is_dir():
+        raise EmitError(f"the Coq templates are missing: {TEMPLATE_DIR}")
+    return jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(TEMPLATE_DIR)),
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        keep_trailing_newline=True,
+        autoescape=False,
+    )
+
+
+@dataclass(frozen=True)
+class NodeFile:
+    """Names in and around the per-node Coq file of a node."""
+
+    node: str             #: the node name
+    v_file: str           #: ``<node>.v``
+    types_header: str     #: ``<node>_types.h``
+    glue_c: str           #: ``<node>_glue.c``
+    sexp: str             #: ``<node>.sexp``
+    guard: str            #: include guard of the types header
+    theorem_wf: str       #: ``<node>_wf`` (T4 instance)
+    theorem_ddc: str      #: ``<node>_ddc`` (T2 instance)
+
+
+def node_file_names(node: str) -> NodeFile:
+    """The file and theorem names derived from the node name."""
+    if not isinstance(node, str) or not _C_IDENT.fullmatch(node):
+        raise EmitError(f"refusing to use {node!r} as a node name")
+    return NodeFile(
+        node=node,
+        v_file=f"{node}.v",
+        types_header=f"{node}_types.h",
+        glue_c=f"{node}_glue.c",
+        sexp=f"{node}.sexp",
+        guard=f"PYROSGEN_{node.upper()}_TYPES_H",
+        theorem_wf=f"{node}_wf",
+        theorem_ddc=f"{node}_ddc",
+    )
+
+
+def render_node_file(model: NodeModel, *, ddc_available: bool, source: str | None = None) -> str:
+    """The per-node Coq file of ``model`` (``coq/templates/node.v.j2``).
+
+    ``ddc_available`` selects the main theorem: the node DDC theorem
+    ``<node>_ddc`` (T2, from ``ROSGen.DDC`` / ``ROSGen.Loopproof``) when true;
+    otherwise only ``<node>_wf`` (T4's soundness instance) is proved.
+    ``source`` is the model file shown in the first line (default: the
+    model's file name).
+    """
+    m = emit_model(model)
+    names = node_file_names(model.name)
+    label = coq_comment(source if source is not None else Path(model.source).name)
+    return template_env().get_template("node.v.j2").render(
+        template=NODE_TEMPLATE,
+        source=label,
+        m=m,
+        names=names,
+        guard=coq_string(names.guard, "include guard"),
+        ddc_available=bool(ddc_available),
+    )
+
+
+def render_model_definitions(models: list[tuple[str, NodeModel]]) -> str:
+    """Coq definitions ``<def>_msgs : list msgdef`` and ``<def> : node_model``
+    for each ``(def, model)`` (``coq/templates/models.v.j2``), for files that
+    check several models at once (the agreement tests)."""
+    defs = []
+    for name, model in models:
+        if not _C_IDENT.fullmatch(name) or "__" in name:
+            raise EmitError(f"refusing to use {name!r} as a Coq definition name")
+        defs.append((name, emit_model(model)))
+    return template_env().get_template("models.v.j2").render(defs=defs)

@@ -1,0 +1,246 @@
+"""``pyrosgen generate MODEL.yaml -o DIR``: the pipeline of DESIGN.md section 1.
+
+1. front end: read and validate the model (:func:`pyrosgen.model.load_model`),
+   render the per-node Coq file (:func:`pyrosgen.coqmodel.render_node_file`);
+2. coqc: Coq computes ``generate model``, checks that it is ``OK``, and proves
+   the node's theorem (``<node>_ddc``, or ``<node>_wf`` while the node DDC
+   theorem is not in the library);
+3. checking: ``Print Assumptions`` must say "Closed under the global
+   context" for every theorem of the file, and ``coqchk`` re-checks the
+   compiled file;
+4. printing: the C texts and the AST dump are printed from ``the_program``
+   through extraction (:meth:`pyrosgen.coqdriver.CoqDriver.print_texts`);
+5. writing: ``<node>.v``, ``<node>_types.h``, ``<node>_glue.c`` and
+   ``<node>.sexp`` go into ``DIR``.
+
+Everything is produced in a temporary directory next to ``DIR`` and moved
+into ``DIR`` only when every step succeeded: on failure, ``DIR`` gets
+nothing new (and keeps its other files).  A file is rewritten only when its
+content changed.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .coqdriver import CLOSED, CoqDriver, CoqError
+from .coqmodel import node_file_names, render_node_file
+from .errors import PyrosgenError
+from .model import NodeModel, load_model
+
+__all__ = ["OutputDirError", "GenerateResult", "generate", "generate_model", "STEPS"]
+
+#: Number of progress steps.
+STEPS = 5
+
+
+class OutputDirError(PyrosgenError):
+    """The output directory cannot be used (a user error: exit code 1)."""
+
+
+@dataclass
+class GenerateResult:
+    """What :func:`generate` did."""
+
+    model: NodeModel
+    out_dir: Path
+    files: list[tuple[Path, bool]]     #: (path, rewritten?) in writing order
+    theorem: str                       #: the main theorem checked
+    theorem_kind: str                  #: what it states, for the summary
+    theorems: list[str]                #: every theorem whose assumptions were printed
+    ddc: bool                          #: whether it is the node DDC theorem (T2)
+    assumptions: str = CLOSED
+    times: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def written(self) -> list[Path]:
+        return [p for p, w in self.files if w]
+
+
+def _existing_ancestor(p: Path) -> Path:
+    p = p.absolute()
+    while not p.exists():
+        p = p.parent
+    return p
+
+
+def _same_content(path: Path, data: bytes) -> bool:
+    try:
+        return path.is_file() and path.read_bytes() == data
+    except OSError:
+        return False
+
+
+def _install(staged: list[tuple[Path, str]], out_dir: Path) -> list[tuple[Path, bool]]:
+    """Move the staged files into ``out_dir`` (created if missing), each
+    only if its content changed; on an error, undo what was done."""
+    created = not out_dir.exists()
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise PyrosgenError(f"cannot create {out_dir}: {exc.strerror or exc}") from None
+    done: list[tuple[Path, Path | None]] = []  # (target, backup of the old file)
+    result: list[tuple[Path, bool]] = []
+    try:
+        for src, name in staged:
+            target = out_dir / name
+            if _same_content(target, src.read_bytes()):
+                result.append((target, False))
+                continue
+            backup = None
+            if target.exists():
+                backup = src.with_name(src.name + ".old")
+                shutil.copy2(target, backup)
+            os.replace(src, target)
+            done.append((target, backup))
+            result.append((target, True))
+    except OSError as exc:
+        for target, backup in reversed(done):
+            try:
+                if backup is not None:
+                    os.replace(backup, target)
+                else:
+                    target.unlink()
+            except OSError:
+                pass
+        if created:
+            shutil.rmtree(out_dir, ignore_errors=True)
+        raise PyrosgenError(f"cannot write into {out_dir}: {exc.strerror or exc}") from None
+    return result
+
+
+def generate(
+    model_path: str | Path,
+    out_dir: str | Path,
+    *,
+    progress: Callable[[str], None] | None = None,
+    keep_work: bool = False,
+    driver: CoqDriver | None = None,
+    ddc_available: bool | None = None,
+) -> GenerateResult:
+    """Run the whole pipeline on the model file ``model_path``; see the
+    module documentation.
+
+    ``progress`` receives one line per step.  ``ddc_available`` forces the
+    choice of the main theorem (default: whether the library has it).
+    Raises :class:`~pyrosgen.errors.InvalidNodeModel` (exit 1),
+    :class:`OutputDirError` (exit 1), :class:`~pyrosgen.coqdriver.CoqError`
+    and other :class:`~pyrosgen.errors.PyrosgenError` (exit 2).
+    """
+    say = progress or (lambda _line: None)
+    t_start = time.monotonic()
+    say(f"[1/{STEPS}] front end: reading {model_path}")
+    model = load_model(model_path)
+    return generate_model(
+        model, out_dir, progress=progress, keep_work=keep_work, driver=driver,
+        ddc_available=ddc_available, _t_start=t_start,
+    )
+
+
+def generate_model(
+    model: NodeModel,
+    out_dir: str | Path,
+    *,
+    progress: Callable[[str], None] | None = None,
+    keep_work: bool = False,
+    driver: CoqDriver | None = None,
+    ddc_available: bool | None = None,
+    _t_start: float | None = None,
+) -> GenerateResult:
+    """The pipeline after the front end, on an already built ``model``.
+
+    ``model`` is trusted for printability only (the emitter re-checks every
+    name lexically); whether it is well formed is decided by Coq's
+    ``generate``, so a model that bypassed the front end's checks is
+    refused at the coqc step (:class:`~pyrosgen.coqdriver.CoqError`).
+    """
+    say = progress or (lambda _line: None)
+    times: dict[str, float] = {}
+    t_start = _t_start if _t_start is not None else time.monotonic()
+    out_dir = Path(out_dir)
+
+    # 1. front end (continued): output folder, tools, library, the .v
+    if out_dir.exists() and not out_dir.is_dir():
+        raise OutputDirError(f"{out_dir}: exists and is not a directory")
+    names = node_file_names(model.name)
+    drv = driver or CoqDriver()
+    drv.check_tools()
+    drv.check_library()
+    ddc = drv.ddc_available() if ddc_available is None else ddc_available
+    vtext = render_node_file(model, ddc_available=ddc)
+    theorems = [names.theorem_ddc, names.theorem_wf] if ddc else [names.theorem_wf]
+    main_thm = theorems[0]
+    kind = (
+        "node data delivery correctness, T2 (DDC.node_ddc)"
+        if ddc
+        else "well-formedness, T4 (Generator.wf); fallback: the node DDC theorem T2 "
+        "(Loopproof.generate_node_ddc) is not in the ROSGen library"
+    )
+    times["front end"] = time.monotonic() - t_start
+
+    base = _existing_ancestor(out_dir.parent if out_dir.name else out_dir)
+    try:
+        work = Path(tempfile.mkdtemp(prefix=f".pyrosgen-{model.name}-", dir=str(base)))
+    except OSError as exc:
+        raise PyrosgenError(f"cannot create a work directory in {base}: {exc.strerror or exc}") from None
+    try:
+        coq_dir = work / "coq"
+        stage = work / "out"
+        coq_dir.mkdir()
+        stage.mkdir()
+        vfile = coq_dir / names.v_file
+        vfile.write_text(vtext, encoding="ascii")
+        lib = (coq_dir, "RosgenNode")
+        module = f"RosgenNode.{model.name}"
+        shown_v = str(vfile) if keep_work else f"{names.v_file} (generated; not written, see --keep-work)"
+
+        # 2. coqc
+        say(f"[2/{STEPS}] coqc: generating the glue and proving {main_thm} ...")
+        res = drv.coqc(vfile, lib, display=lambda f: shown_v if Path(f).name == names.v_file else f)
+        times["coqc"] = res.seconds
+
+        # 3. assumptions and coqchk
+        say(f"[3/{STEPS}] checking: Print Assumptions, coqchk")
+        t0 = time.monotonic()
+        drv.check_assumptions(res.stdout, theorems)
+        drv.coqchk(module, lib)
+        times["checking"] = time.monotonic() - t0
+
+        # 4. printing
+        say(f"[4/{STEPS}] printing: extraction, ocamlopt, run")
+        t0 = time.monotonic()
+        out_h, out_c, out_s = stage / names.types_header, stage / names.glue_c, stage / names.sexp
+        drv.print_texts(module, lib, (out_h, out_c, out_s))
+        times["printing"] = time.monotonic() - t0
+        out_v = stage / names.v_file
+        shutil.copyfile(vfile, out_v)
+
+        # 5. writing
+        say(f"[5/{STEPS}] writing into {out_dir}")
+        staged = [(out_v, names.v_file), (out_h, names.types_header), (out_c, names.glue_c), (out_s, names.sexp)]
+        for p, _ in staged:
+            if not p.is_file():
+                raise CoqError(f"the printer did not write {p.name}")
+        files = _install(staged, out_dir)
+    finally:
+        if keep_work:
+            say(f"work directory kept: {work}")
+        else:
+            shutil.rmtree(work, ignore_errors=True)
+    times["total"] = time.monotonic() - t_start
+    return GenerateResult(
+        model=model,
+        out_dir=out_dir,
+        files=files,
+        theorem=main_thm,
+        theorem_kind=kind,
+        theorems=theorems,
+        ddc=ddc,
+        times=times,
+    )

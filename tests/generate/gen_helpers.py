@@ -1,0 +1,101 @@
+"""Helpers shared by the tests of ``pyrosgen generate`` (the per-node Coq
+file, the Coq driver and the pipeline)."""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import re
+import subprocess
+from pathlib import Path
+
+from pyrosgen.coqdriver import DEFAULT_THEORIES, CoqDriver
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parents[1]
+GOLDEN = HERE / "golden"
+MODELS = HERE / "models"
+LANDSHARK = REPO / "examples" / "landshark" / "landshark_controller.yaml"
+MULTI = REPO / "examples" / "multi" / "multi_node.yaml"
+COQPROJECT = REPO / "coq" / "_CoqProject"
+
+GCC_STRICT = ["gcc", "-std=c11", "-Wall", "-Wextra", "-Werror", "-pedantic"]
+
+#: Every model that the front end must accept and Coq's generate too.
+OK_MODELS = sorted(
+    {*(REPO / "tests" / "frontend" / "models").glob("ok_*.yaml"),
+     *(REPO / "examples").glob("*/*.yaml"),
+     *MODELS.glob("ok_*.yaml")}
+)
+
+
+def ddc_in_coqproject() -> bool:
+    """Whether ``coq/_CoqProject`` lists the node DDC theorem's files."""
+    lines = [ln.split("#", 1)[0].strip() for ln in COQPROJECT.read_text().splitlines()]
+    return "theories/Loopproof.v" in lines and "theories/DDC.v" in lines
+
+
+def run(cmd: list[str], cwd: Path | None = None, timeout: int = 900, env=None) -> subprocess.CompletedProcess:
+    """Run a command; raise with its output if it fails."""
+    proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=timeout, check=False, env=env)
+    if proc.returncode != 0:
+        raise AssertionError(
+            f"command failed ({proc.returncode}): {' '.join(map(str, cmd))}\n"
+            f"--- stdout ---\n{proc.stdout}\n--- stderr ---\n{proc.stderr}"
+        )
+    return proc
+
+
+def coqc(vfile: Path, lib: str = "T", check: bool = True) -> subprocess.CompletedProcess:
+    """Compile ``vfile`` against the ROSGen library (``-R <dir> <lib>``)."""
+    cmd = ["coqc", "-R", str(DEFAULT_THEORIES), "ROSGen", "-R", str(vfile.parent), lib, vfile.name]
+    if check:
+        return run(cmd, cwd=vfile.parent)
+    return subprocess.run(cmd, cwd=vfile.parent, capture_output=True, text=True, check=False, timeout=900)
+
+
+_PRINTED_STRING = re.compile(r'^\s*=\s*"((?:[^"]|"")*)"\s*\n\s*:\s*(?:String\.)?string', re.M)
+
+
+def printed_strings(output: str) -> list[str]:
+    """The values printed by ``Eval vm_compute in <string>.`` commands, in order."""
+    return [m.group(1).replace('""', '"') for m in _PRINTED_STRING.finditer(output)]
+
+
+def printer_helpers():
+    """``tests/coq/printer_helpers.py`` (dump parser), loaded by path."""
+    path = REPO / "tests" / "coq" / "printer_helpers.py"
+    spec = importlib.util.spec_from_file_location("_printer_helpers_for_generate", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def require_library() -> None:
+    """Fail (not skip) with the fix when the ROSGen library is not built."""
+    CoqDriver().check_library()
+
+
+def make_standin_library(dest: Path, *, drop: tuple[str, ...] = (), extra: dict[str, str] | None = None) -> Path:
+    """A copy of the ROSGen library in ``dest/theories`` made of symbolic
+    links to the real compiled files, whose ``_CoqProject`` omits the
+    modules in ``drop``; each ``extra`` module (name -> Coq source) is
+    written and compiled there instead.  Returns the theories directory."""
+    theories = dest / "theories"
+    theories.mkdir(parents=True)
+    listed = []
+    for line in COQPROJECT.read_text().splitlines():
+        entry = line.split("#", 1)[0].strip()
+        if entry.startswith("theories/") and entry.endswith(".v"):
+            name = Path(entry).stem
+            if name in drop or (extra and name in extra):
+                continue
+            listed.append(entry)
+            for suffix in (".v", ".vo"):
+                os.symlink(DEFAULT_THEORIES / f"{name}{suffix}", theories / f"{name}{suffix}")
+    for name, text in (extra or {}).items():
+        (theories / f"{name}.v").write_text(text)
+        run(["coqc", "-R", str(theories), "ROSGen", f"{name}.v"], cwd=theories)
+        listed.append(f"theories/{name}.v")
+    (dest / "_CoqProject").write_text("-R theories ROSGen\n" + "\n".join(listed) + "\n")
+    return theories

@@ -1,0 +1,238 @@
+"""``pyrosgen generate`` on the command line: exit codes (DESIGN.md section
+8), nothing written on failure, idempotence, progress and summary."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import stat
+from pathlib import Path
+
+import pytest
+
+from pyrosgen import cli
+from pyrosgen.coqdriver import CLOSED, DEFAULT_THEORIES
+
+from .gen_helpers import LANDSHARK, MULTI, ddc_in_coqproject, require_library
+
+NODE = "landshark_controller"
+OUTPUTS = [f"{NODE}.v", f"{NODE}_types.h", f"{NODE}_glue.c", f"{NODE}.sexp"]
+
+
+def run(capsys, *argv):
+    code = cli.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def _snapshot(d: Path) -> dict[str, tuple[int, bytes]]:
+    return {p.name: (p.stat().st_mtime_ns, p.read_bytes()) for p in sorted(d.iterdir())}
+
+
+def _no_work_dirs(parent: Path) -> bool:
+    return not list(parent.glob(".pyrosgen-*"))
+
+
+@pytest.fixture
+def outdir(tmp_path):
+    """An existing output folder holding a file of the user's."""
+    d = tmp_path / "out"
+    d.mkdir()
+    (d / "keep.txt").write_text("mine\n")
+    return d
+
+
+def test_generate_then_idempotent(capsys, tmp_path, outdir):
+    require_library()
+    code, out, err = run(capsys, "generate", LANDSHARK, "-o", outdir)
+    assert code == 0, err
+    thm = f"{NODE}_ddc" if ddc_in_coqproject() else f"{NODE}_wf"
+    # summary: files, theorem, closedness, times per phase
+    for name in OUTPUTS:
+        assert f"  written   {outdir / name}\n" in out
+    assert f"  theorem   {thm}: " in out
+    assert CLOSED in out
+    for phase in ("front end", "coqc", "checking", "printing", "total"):
+        assert phase in out.split("  time      ")[1]
+    if not ddc_in_coqproject():
+        assert "fallback" in out
+    # progress on stderr, five steps
+    assert [ln.split()[1] for ln in err.splitlines() if ln.startswith("pyrosgen: [")] == [
+        "[1/5]", "[2/5]", "[3/5]", "[4/5]", "[5/5]"]
+    assert f"pyrosgen: [2/5] coqc: generating the glue and proving {thm} ..." in err
+    assert sorted(p.name for p in outdir.iterdir()) == sorted(OUTPUTS + ["keep.txt"])
+    assert (outdir / "keep.txt").read_text() == "mine\n"
+    assert _no_work_dirs(tmp_path)
+
+    # second run: nothing rewritten, mtimes unchanged; --quiet: no progress
+    before = _snapshot(outdir)
+    code, out, err = run(capsys, "generate", LANDSHARK, "-o", outdir, "--quiet")
+    assert code == 0, err
+    assert err == ""
+    for name in OUTPUTS:
+        assert f"  unchanged {outdir / name}\n" in out
+    assert _snapshot(outdir) == before
+
+    # a file changed by hand is rewritten, and only that one
+    glue = outdir / f"{NODE}_glue.c"
+    glue.write_text("/* edited */\n")
+    edited = _snapshot(outdir)
+    code, out, err = run(capsys, "generate", LANDSHARK, "-o", outdir, "-q")
+    assert code == 0, err
+    assert f"  written   {glue}\n" in out and out.count("  unchanged ") == 3
+    after = _snapshot(outdir)
+    assert after[glue.name][1] == before[glue.name][1]
+    assert {k: v for k, v in after.items() if k != glue.name} == {
+        k: v for k, v in edited.items() if k != glue.name}
+
+
+def test_invalid_model_exit_1_nothing_written(capsys, tmp_path, outdir):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(LANDSHARK.read_text().replace("period_ms: 20", "period_ms: 0"))
+    before = _snapshot(outdir)
+    code, out, err = run(capsys, "generate", bad, "-o", outdir)
+    assert code == 1
+    assert out == ""
+    assert f"{bad}:6:" in err and "error: node.period_ms" in err
+    assert _snapshot(outdir) == before
+    # a folder that does not exist is not created
+    code, _, _ = run(capsys, "generate", bad, "-o", tmp_path / "new")
+    assert code == 1 and not (tmp_path / "new").exists()
+    assert _no_work_dirs(tmp_path)
+
+
+def test_output_is_a_file_exit_1(capsys, tmp_path):
+    f = tmp_path / "file"
+    f.write_text("x")
+    code, out, err = run(capsys, "generate", LANDSHARK, "-o", f)
+    assert code == 1 and "exists and is not a directory" in err
+    assert f.read_text() == "x"
+
+
+def test_coq_refusal_exit_1_nothing_written(capsys, tmp_path, outdir):
+    """A model the front end lets through but Coq's generate refuses is a
+    user error: exit 1, Coq's message, nothing written."""
+    require_library()
+    m = tmp_path / "mod.yaml"
+    m.write_text(LANDSHARK.read_text().replace("name: landshark_controller", "name: mod"))
+    from pyrosgen.model import load_model
+    from pyrosgen.errors import InvalidNodeModel
+
+    try:
+        load_model(m)
+    except InvalidNodeModel:
+        pytest.fail("the front end refuses the node name 'mod' now: pick another model Coq alone refuses")
+    before = _snapshot(outdir)
+    code, out, err = run(capsys, "generate", m, "-o", outdir, "-q")
+    assert code == 1
+    assert f"{m}: error: Coq's generate refused the model: Generator: the node name is a Coq keyword: 'mod'" in err
+    assert _snapshot(outdir) == before
+    assert _no_work_dirs(tmp_path)
+
+
+def _fake_tool(d: Path, name: str, script: str) -> None:
+    p = d / name
+    p.write_text("#!/bin/sh\n" + script)
+    p.chmod(p.stat().st_mode | stat.S_IXUSR | stat.S_IXGRP | stat.S_IXOTH)
+
+
+def test_coqc_failure_exit_2_located_messages(capsys, tmp_path, outdir, monkeypatch):
+    """A coqc that fails: exit 2, its messages as file:line:col, nothing
+    written, no work directory left."""
+    require_library()
+    fake = tmp_path / "bin"
+    fake.mkdir()
+    _fake_tool(fake, "coqc", (
+        'echo "File \\"./landshark_controller.v\\", line 12, characters 4-9:" >&2\n'
+        'echo "Error: The reference boom was not found" >&2\n'
+        'echo "in the current environment." >&2\n'
+        "exit 1\n"))
+    monkeypatch.setenv("PATH", f"{fake}{os.pathsep}{os.environ['PATH']}")
+    before = _snapshot(outdir)
+    code, out, err = run(capsys, "generate", LANDSHARK, "-o", outdir, "-q")
+    assert code == 2
+    assert out == ""
+    lines = err.splitlines()
+    assert lines[0].startswith("pyrosgen: error: coqc failed on landshark_controller.v")
+    assert lines[0].endswith(f"nothing written to {outdir}")
+    assert lines[1] == (
+        "landshark_controller.v (generated; not written, see --keep-work):12:5: "
+        "error: The reference boom was not found in the current environment.")
+    assert _snapshot(outdir) == before
+    assert _no_work_dirs(tmp_path)
+
+
+def test_coqc_missing_exit_2(capsys, tmp_path, outdir, monkeypatch):
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    monkeypatch.setenv("PATH", str(empty))
+    code, out, err = run(capsys, "generate", LANDSHARK, "-o", outdir)
+    assert code == 2
+    assert "pyrosgen: error: coqc not found: run make deps" in err
+    assert (outdir / "keep.txt").exists() and len(list(outdir.iterdir())) == 1
+
+
+def test_library_not_built_exit_2(capsys, tmp_path, outdir, monkeypatch):
+    empty = tmp_path / "nolib"
+    empty.mkdir()
+    monkeypatch.setenv("PYROSGEN_COQLIB", str(empty))
+    code, out, err = run(capsys, "generate", LANDSHARK, "-o", outdir)
+    assert code == 2
+    assert "the Coq library is not built: run make proofs" in err
+    assert len(list(outdir.iterdir())) == 1
+
+
+def test_library_stale_exit_2(capsys, tmp_path, outdir, monkeypatch):
+    """A library whose NodeModel.v is newer than its NodeModel.vo."""
+    lib = tmp_path / "lib" / "theories"
+    lib.mkdir(parents=True)
+    shutil.copy(DEFAULT_THEORIES.parent / "_CoqProject", lib.parent / "_CoqProject")
+    for p in DEFAULT_THEORIES.iterdir():
+        if p.suffix in (".v", ".vo"):
+            os.symlink(p, lib / p.name)
+    (lib / "NodeModel.v").unlink()
+    shutil.copy(DEFAULT_THEORIES / "NodeModel.v", lib / "NodeModel.v")
+    later = (DEFAULT_THEORIES / "NodeModel.vo").stat().st_mtime + 10
+    os.utime(lib / "NodeModel.v", (later, later))
+    monkeypatch.setenv("PYROSGEN_COQLIB", str(lib))
+    code, out, err = run(capsys, "generate", LANDSHARK, "-o", outdir)
+    assert code == 2
+    assert "the Coq library is not built: run make proofs" in err
+    assert "ROSGen/NodeModel.vo is older than NodeModel.v" in err
+    assert len(list(outdir.iterdir())) == 1
+
+
+def test_corrupt_library_exit_2(capsys, tmp_path, outdir, monkeypatch):
+    """A library whose compiled files are garbage: coqc fails, exit 2."""
+    require_library()
+    lib = tmp_path / "lib" / "theories"
+    lib.mkdir(parents=True)
+    shutil.copy(DEFAULT_THEORIES.parent / "_CoqProject", lib.parent / "_CoqProject")
+    for p in DEFAULT_THEORIES.iterdir():
+        if p.suffix == ".v":
+            os.symlink(p, lib / p.name)
+        elif p.suffix == ".vo":
+            (lib / p.name).write_bytes(b"not a Coq library\n")
+    monkeypatch.setenv("PYROSGEN_COQLIB", str(lib))
+    code, out, err = run(capsys, "generate", MULTI, "-o", outdir, "-q")
+    assert code == 2
+    assert err.startswith("pyrosgen: error: coqc failed on multi_node.v")
+    assert len(list(outdir.iterdir())) == 1
+    assert _no_work_dirs(tmp_path)
+
+
+def test_keep_work(capsys, tmp_path):
+    require_library()
+    code, out, err = run(capsys, "generate", LANDSHARK, "-o", tmp_path / "o", "--keep-work")
+    assert code == 0, err
+    kept = list(tmp_path.glob(".pyrosgen-landshark_controller-*"))
+    assert len(kept) == 1 and f"work directory kept: {kept[0]}" in err
+    assert (kept[0] / "coq" / f"{NODE}.vo").is_file()
+    shutil.rmtree(kept[0])
+
+
+def test_usage_errors(capsys):
+    code, out, err = run(capsys, "generate", LANDSHARK)
+    assert code == 1 and "-o" in err
+    code, out, err = run(capsys, "check", LANDSHARK)
+    assert code == 0
