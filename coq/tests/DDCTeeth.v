@@ -5,7 +5,7 @@
     generated program [p] by swapping the sources of [In1] and [In2] in
     [input_glue] does not satisfy it.  The witness: one cycle, the left
     wheel reports [0.0] and the right wheel [+inf] before the first spin,
-    and the controller outputs zeros.  The interpreter computes the run
+    and the controller outputs [+inf].  The interpreter computes the run
     of [p'] (T5 makes it a behaviour, determinism the only one), and its
     first event hands [In1 = +inf] to the controller instead of the left
     wheel's [0.0].
@@ -134,15 +134,29 @@ Example p'_input_glue:
     (Ssequence (input_copy_of "landshark_gps_velocity_msg" "In3") Sskip)))))).
 Proof. vm_compute. reflexivity. Qed.
 
+Lemma mutate_other: forall d, fst d <> input_glue_name -> mutate d = d.
+Proof.
+  intros [y g] N. simpl in N. destruct g as [[f|ef targs tres]|ty]; simpl; auto.
+  destruct (string_dec y input_glue_name); [contradiction|auto].
+Qed.
+
+Lemma find_assoc_mutate:
+  forall l x, x <> input_glue_name -> find_assoc x (map mutate l) = find_assoc x l.
+Proof.
+  induction l as [|[y g] l IH]; intros x N; [reflexivity|].
+  change (map mutate ((y, g) :: l)) with (mutate (y, g) :: map mutate l).
+  assert (M: fst (mutate (y, g)) = y /\ (y <> input_glue_name -> snd (mutate (y, g)) = g)).
+  { destruct g as [[f|ef targs tres]|ty]; unfold mutate; auto.
+    destruct (string_dec y input_glue_name); simpl; split; auto; intros C; contradiction. }
+  destruct (mutate (y, g)) as [y' g'] eqn:E. simpl in M. destruct M as [-> M].
+  simpl. destruct (string_dec x y) as [->|Nxy].
+  - rewrite M; auto.
+  - apply IH; auto.
+Qed.
+
 Example p'_same_elsewhere:
   forall x, x <> input_glue_name -> find_def p' x = find_def p x.
-Proof.
-  intros x N. unfold find_def, p'. simpl. induction (prog_defs p) as [|[y d] l IH]; simpl; auto.
-  destruct d as [[f|ef targs tres]|ty]; simpl;
-    try (destruct (string_dec x y); auto; fail).
-  destruct (string_dec y input_glue_name) as [E|E]; simpl;
-    destruct (string_dec x y); subst; auto; congruence.
-Qed.
+Proof. intros x N. unfold find_def, p'. cbn [prog_defs]. apply find_assoc_mutate; auto. Qed.
 
 (** ** The environment *)
 
@@ -158,17 +172,18 @@ Definition msg_x (x : float64) : mval :=
   | None => MVscalar Vundef
   end.
 
-Definition y_zero : mval := zero_mval ce (Tstruct "ExtY_Controller_T").
+(** The controller's outputs: [Out1 = +inf]. *)
+Definition y_out : mval := MVstruct [("Out1", MVscalar (Vfloat f_inf))].
 
 (** Before the first spin, the left wheel reports [0.0] and the right
     wheel [+inf]; nothing else ever arrives.  The controller always
-    outputs zeros. *)
+    outputs [Out1 = +inf]. *)
 Definition ctx : ros_context unit :=
   mkctx (fun k => match k with
                   | O => [(tp_name left_wheel, msg_x f_zero); (tp_name right_wheel, msg_x f_inf)]
                   | S _ => []
                   end)
-        tt (fun _ _ => (tt, y_zero)).
+        tt (fun _ _ => (tt, y_out)).
 
 Lemma ctx_arrivals_wt: arrivals_wt landshark ctx.
 Proof.
@@ -209,14 +224,15 @@ Proof.
   destruct (D unit ctx 1%nat ctx_arrivals_wt ctx_controller_wt) as [_ All].
   destruct (All t' p'_behaves) as (s & evs & _ & Et & C).
   destruct (C O (le_n 1)) as (u & y & mvs & Ee & [_ IV] & _ & _).
-  simpl in Et. rewrite app_nil_r, Ee in Et.
+  change (concat (map evs (seq 0 1))) with (evs O ++ []) in Et.
+  rewrite app_nil_r, Ee in Et.
   assert (Hu: mval_get u [Sfield "In1"] = Some (MVscalar (Vfloat f_inf))).
-  { generalize t'_first_inputs. rewrite <- Et. intros [H _]. exact H. }
+  { generalize t'_first_inputs. rewrite Et. intros [H _]. exact H. }
   destruct (IV (mkinrel "landshark_left_wheel_velocity" twist_x "In1")) as (tp & v & Htp & Ec & Gn & Gu).
   { simpl; auto. }
   simpl in Htp. destruct Htp as [<-|[<-|[<-|[]]]]; try discriminate Ec.
   simpl ir_path in Gn. rewrite newest_left in Gn. simpl ir_input in Gu. rewrite Hu in Gu.
-  congruence.
+  rewrite <- Gu in Gn. unfold f_zero, f_inf in Gn. discriminate Gn.
 Qed.
 
 (** ** The generated program on the same environment *)
@@ -237,14 +253,14 @@ Qed.
 
 (** Concretely: the one cycle steps the controller on [In1 = 0.0] (left
     wheel), [In2 = +inf] (right wheel), [In3 = 0.0] (no GPS message yet),
-    then publishes a zero message whose [twist.linear.x] is [Out1 = 0.0],
+    then publishes a zero message whose [twist.linear.x] is [Out1 = +inf],
     then ends. *)
 Definition u_expected : mval :=
   MVstruct [("In1", MVscalar (Vfloat f_zero)); ("In2", MVscalar (Vfloat f_inf));
             ("In3", MVscalar (Vfloat f_zero))].
 
 Example t_expected:
-  t = [Estep u_expected y_zero; Epublish (tp_name base) (msg_x f_zero); Ecycle].
+  t = [Estep u_expected y_out; Epublish (tp_name base) (msg_x f_inf); Ecycle].
 Proof. vm_compute. reflexivity. Qed.
 
 Lemma W : wf_facts landshark.
@@ -254,21 +270,22 @@ Theorem p_run_ok_concretely: run_ok landshark ctx 1 t.
 Proof.
   exists (fun _ => tt), (fun _ => t). split; [reflexivity|]. split; [reflexivity|].
   intros i Hi. assert (i = O) by (inversion Hi; [reflexivity|inversion H0]). subst i.
-  exists u_expected, y_zero, [msg_x f_zero]. split; [|split; [|split]].
+  exists u_expected, y_out, [msg_x f_inf]. split; [|split; [|split]].
   - rewrite t_expected. reflexivity.
   - split; [apply mval_typecheck_iff; vm_compute; reflexivity|].
     intros ir Hir. simpl in Hir.
     destruct Hir as [<-|[<-|[<-|[]]]].
-    + exists left_wheel, (Vfloat f_zero). repeat split; [simpl; auto | vm_compute; reflexivity | vm_compute; reflexivity].
-    + exists right_wheel, (Vfloat f_inf). repeat split; [simpl; auto | vm_compute; reflexivity | vm_compute; reflexivity].
-    + exists gps, (Vfloat f_zero). repeat split; [simpl; auto | vm_compute; reflexivity | vm_compute; reflexivity].
+    + exists left_wheel, (Vfloat f_zero). split; [simpl; auto|]. split; [reflexivity|]. split; vm_compute; reflexivity.
+    + exists right_wheel, (Vfloat f_inf). split; [simpl; auto|]. split; [reflexivity|]. split; vm_compute; reflexivity.
+    + exists gps, (Vfloat f_zero). split; [simpl; auto|]. split; [reflexivity|]. split; vm_compute; reflexivity.
   - reflexivity.
   - constructor; [|constructor]. split; [apply mval_typecheck_iff; vm_compute; reflexivity|split].
     + intros o Ho Eo. simpl in Ho. destruct Ho as [<-|[]].
-      exists (Vfloat f_zero). split; vm_compute; reflexivity.
+      exists (Vfloat f_inf). split; vm_compute; reflexivity.
     + intros lp q R NF. apply (leaves_spec landshark _ lp q W) in R.
       vm_compute in R.
       destruct R as [R|[R|[R|[R|[R|[R|[R|[R|[R|[]]]]]]]]]]; inversion R; subst lp q;
         try (vm_compute; reflexivity).
+      (* the fed leaf [twist.linear.x] is excluded *)
       exfalso. apply (NF (mkoutrel "Out1" "landshark_control_base_velocity" twist_x)); simpl; auto.
 Qed.

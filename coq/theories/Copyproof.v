@@ -177,10 +177,6 @@ Proof.
     destruct k; simpl in E; try discriminate; [inversion E; subst; auto | eauto].
 Qed.
 
-Lemma elems_have_type_length:
-  forall ce t es, elems_have_type ce t es -> True.
-Proof. auto. Qed.
-
 Lemma mval_get_typed_inv:
   forall ce p ty v x, mval_has_type ce ty v -> mval_get v p = Some x ->
   exists t, type_at ce ty p = Some t /\ mval_has_type ce t x.
@@ -331,19 +327,19 @@ Lemma composites_ok_msgs:
   forall l known rest,
   msgs_ok known l = true ->
   NoDup (md_names l) -> (forall x, In x (md_names l) -> ~ In x known) ->
+  (forall md, In md l -> NoDup (map fst (md_fields md))) ->
   composites_ok (rev (md_names l) ++ known) rest = true ->
   composites_ok known (map composite_of_msgdef l ++ rest) = true.
 Proof.
-  induction l as [|md l IH]; simpl; intros known rest OK ND D R; auto.
+  induction l as [|md l IH]; simpl; intros known rest OK ND D NF R; auto.
   apply andb_true_iff in OK; destruct OK as [OKmd OKl].
   inversion ND as [|? ? Hn ND']; subst.
   unfold msgdef_ok in OKmd. rewrite !andb_true_iff in OKmd.
-  destruct OKmd as [[_ Hnd] Hft].
+  destruct OKmd as [_ Hft].
   rewrite !andb_true_iff; split; [split; [split|]|].
   - apply negb_true_iff. destruct (in_ident (md_name md) known) eqn:E; auto.
     apply in_ident_spec in E. elim (D (md_name md)); auto.
-  - apply nodup_idents_spec. simpl. rewrite map_map; simpl.
-    apply (nodupb_NoDup _ _ ident_eqb_true); auto.
+  - apply nodup_idents_spec. simpl. rewrite map_map; simpl. apply NF; auto.
   - rewrite forallb_forall. intros [f t] Hin. simpl in Hin.
     apply in_map_iff in Hin. destruct Hin as ([f' t'] & E & Hin). inversion E; subst.
     simpl. apply ftype_ok_complete. rewrite forallb_forall in Hft. apply (Hft _ Hin).
@@ -351,6 +347,10 @@ Proof.
     + intros x Hx [Hx'|Hx']; [subst; contradiction|]. apply (D x); auto.
     + rewrite <- app_assoc in R. exact R.
 Qed.
+
+Lemma scope_ok_field_names:
+  forall s, scope_ok s -> forall md, In md s -> NoDup (map fst (md_fields md)).
+Proof. induction 1 as [|md0 rest _ ND _ _ IH]; simpl; intros md H; [contradiction|]. destruct H as [<-|H]; auto. Qed.
 
 Lemma msg_names_nodup: NoDup (md_names msgs).
 Proof. apply wf_msg_names_nodup; auto. Qed.
@@ -363,6 +363,7 @@ Proof.
   - apply wf_msgs; auto.
   - apply msg_names_nodup.
   - simpl; tauto.
+  - intros md H. apply (scope_ok_field_names _ (wf_scope_ok m W)). apply -> in_rev; auto.
   - rewrite app_nil_r. simpl.
     assert (N1: ~ In (nm_in_struct m) (md_names msgs)) by (apply in_struct_not_msg; auto).
     assert (N2: ~ In (nm_out_struct m) (md_names msgs)) by (apply out_struct_not_msg; auto).
