@@ -105,7 +105,8 @@ def cmd_generate(args: argparse.Namespace) -> int:
     except ValueError:  # not in the main thread
         previous = None
     try:
-        res = generate(args.model, args.output, progress=_progress(args), keep_work=args.keep_work)
+        res = generate(args.model, args.output, progress=_progress(args), keep_work=args.keep_work,
+                       wp=args.wp)
     except OutputDirError as exc:
         _print_err(f"pyrosgen: error: {exc}")
         return EXIT_USER
@@ -129,9 +130,88 @@ def cmd_generate(args: argparse.Namespace) -> int:
         print(f"  {'written' if rewritten else 'unchanged':<10}{path}")
     print(f"  theorem   {res.theorem}: {res.theorem_kind}")
     print(f"            checked by coqc and coqchk; Print Assumptions: {res.assumptions}")
+    if res.validation is not None:
+        print(f"  printer   C text = AST dump (pycparser): {res.validation.summary()}")
+    if res.wp is not None:
+        print(f"  WP        {res.wp.summary()}")
     t = res.times
-    phases = ", ".join(f"{k} {t[k]:.2f} s" for k in ("front end", "coqc", "checking", "printing") if k in t)
+    phases = ", ".join(f"{k} {t[k]:.2f} s" for k in ("front end", "coqc", "checking", "printing", "wp") if k in t)
     print(f"  time      {phases}; total {t.get('total', 0.0):.2f} s")
+    return EXIT_OK
+
+
+def cmd_build(args: argparse.Namespace) -> int:
+    """``pyrosgen build MODEL.yaml --controller DIR -o OUT``: generate and
+    prove the glue, then compile and link a runnable ROS node (see
+    :mod:`pyrosgen.build`)."""
+    import signal
+
+    from .build import BuildError, BuildToolError, ControllerError, build
+    from .coqdriver import CoqError, ModelRefused
+    from .generate import OutputDirError
+    from .layout import LayoutMismatch, LayoutToolError
+
+    def _terminated(signum, frame):  # clean up the work directory on SIGTERM too
+        raise KeyboardInterrupt
+
+    try:
+        previous = signal.signal(signal.SIGTERM, _terminated)
+    except ValueError:  # not in the main thread
+        previous = None
+    nothing = f"nothing written to {args.output}"
+    try:
+        res = build(args.model, args.controller, args.output, progress=_progress(args), keep_work=args.keep_work)
+    except (OutputDirError, BuildError) as exc:
+        if isinstance(exc, ControllerError):
+            _print_err(f"{exc.summary}; {nothing}")
+            for line in exc.lines:
+                _print_err(line)
+        else:
+            _print_err(f"pyrosgen: error: {exc}; {nothing}")
+        return EXIT_USER
+    except LayoutMismatch as exc:
+        _print_err(f"{exc.header}: error: the controller header does not match the node model "
+                   f"(layout check); {nothing}")
+        for problem in exc.problems:
+            _print_err(f"{exc.header}: error: {problem}")
+        return EXIT_USER
+    except ModelRefused as exc:
+        _print_err(
+            f"{args.model}: error: Coq's generate refused the model: {exc.message} "
+            f"(the front end accepted it: please report this); {nothing}"
+        )
+        return EXIT_USER
+    except (CoqError, BuildToolError) as exc:
+        _print_err(f"pyrosgen: error: {exc.summary}; {nothing}")
+        for line in exc.lines:
+            _print_err(line)
+        return EXIT_TOOL
+    except LayoutToolError as exc:
+        _print_err(f"pyrosgen: error: {exc}; {nothing}")
+        return EXIT_TOOL
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+    for line in res.warnings:
+        _print_err(line)
+    print(f"pyrosgen: built node {res.model.name} into {res.out_dir}")
+    print(f"  binary    {res.binary}")
+    rebuilt = [name for name, r in res.steps if r]
+    reused = [name for name, r in res.steps if not r]
+    print(f"  compiled  {', '.join(rebuilt) if rebuilt else 'nothing (all up to date)'}")
+    if reused:
+        print(f"  reused    {', '.join(reused)}")
+    changed = sum(1 for _, w in res.files if w)
+    print(f"  files     {changed} written, {len(res.files) - changed} unchanged")
+    g = res.generated
+    print(f"  theorem   {g.theorem}: {g.theorem_kind}")
+    print(f"            checked by coqc and coqchk; Print Assumptions: {g.assumptions}")
+    print(f"  layout    {res.model.controller.name}.h agrees with the glue (sizes, offsets, types)")
+    t = res.times
+    phases = ", ".join(f"{k} {t[k]:.2f} s" for k in (
+        "generate", "wrapper", "layout check", "glue", "wrapper compile", "controller", "link and install") if k in t)
+    print(f"  time      {phases}; total {t.get('total', 0.0):.2f} s")
+    print(f"  run       ROS_MASTER_URI=http://127.0.0.1:11311 {res.binary}")
     return EXIT_OK
 
 
@@ -174,7 +254,31 @@ def build_parser() -> argparse.ArgumentParser:
         "--keep-work", action="store_true",
         help="keep the temporary work directory (next to DIR) for inspection",
     )
+    p.add_argument(
+        "--wp", action="store_true",
+        help="also prove ACSL contracts generated from the model on the printed C with Frama-C WP",
+    )
     p.set_defaults(func=cmd_generate)
+
+    p = sub.add_parser(
+        "build",
+        help="generate, prove and compile a runnable ROS node",
+        description=(
+            "Build a ROS node: generate and prove the glue (as generate does), render "
+            "the C API over roscpp, check the controller header's layout against the "
+            "glue, compile and link OUT/bin/<node>, and write a catkin package in OUT."
+        ),
+    )
+    p.add_argument("model", metavar="MODEL.yaml", help="the node model file")
+    p.add_argument("--controller", metavar="DIR", required=True,
+                   help="folder of the controller: <Controller>.h and its .c sources")
+    p.add_argument("-o", "--output", metavar="OUT", required=True, help="output directory")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
+    p.add_argument(
+        "--keep-work", action="store_true",
+        help="keep the temporary work directory (next to OUT) for inspection",
+    )
+    p.set_defaults(func=cmd_build)
     return parser
 
 

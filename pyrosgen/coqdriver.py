@@ -39,6 +39,7 @@ __all__ = [
     "CoqError",
     "ModelRefused",
     "REFUSAL_MARKER",
+    "refusal_message",
     "CoqcResult",
     "CoqDriver",
     "REPO_ROOT",

@@ -9,7 +9,11 @@
    context" for every theorem of the file, and ``coqchk`` re-checks the
    compiled file;
 4. printing: the C texts and the AST dump are printed from ``the_program``
-   through extraction (:meth:`pyrosgen.coqdriver.CoqDriver.print_texts`);
+   through extraction (:meth:`pyrosgen.coqdriver.CoqDriver.print_texts`),
+   and the printed C is validated against the dump with pycparser
+   (:mod:`pyrosgen.validate_c`); with ``wp=True`` (``--wp``), Frama-C WP
+   also proves ACSL contracts generated from the model on the printed C
+   (:mod:`pyrosgen.acsl`);
 5. writing: ``<node>.v``, ``<node>_types.h``, ``<node>_glue.c`` and
    ``<node>.sexp`` go into ``DIR``.
 
@@ -57,6 +61,8 @@ class GenerateResult:
     ddc: bool                          #: whether it is the node DDC theorem (T2)
     assumptions: str = CLOSED
     times: dict[str, float] = field(default_factory=dict)
+    validation: object = None          #: :class:`pyrosgen.validate_c.ValidationReport`
+    wp: object = None                  #: :class:`pyrosgen.acsl.WPResult` (``--wp`` only)
 
     @property
     def written(self) -> list[Path]:
@@ -123,6 +129,7 @@ def generate(
     keep_work: bool = False,
     driver: CoqDriver | None = None,
     ddc_available: bool | None = None,
+    wp: bool = False,
 ) -> GenerateResult:
     """Run the whole pipeline on the model file ``model_path``; see the
     module documentation.
@@ -139,7 +146,7 @@ def generate(
     model = load_model(model_path)
     return generate_model(
         model, out_dir, progress=progress, keep_work=keep_work, driver=driver,
-        ddc_available=ddc_available, _t_start=t_start,
+        ddc_available=ddc_available, wp=wp, _t_start=t_start,
     )
 
 
@@ -151,6 +158,7 @@ def generate_model(
     keep_work: bool = False,
     driver: CoqDriver | None = None,
     ddc_available: bool | None = None,
+    wp: bool = False,
     _t_start: float | None = None,
 ) -> GenerateResult:
     """The pipeline after the front end, on an already built ``model``.
@@ -213,11 +221,24 @@ def generate_model(
         times["checking"] = time.monotonic() - t0
 
         # 4. printing
-        say(f"[4/{STEPS}] printing: extraction, ocamlopt, run")
+        say(f"[4/{STEPS}] printing: extraction, ocamlopt, run; validation against the AST dump")
         t0 = time.monotonic()
         out_h, out_c, out_s = stage / names.types_header, stage / names.glue_c, stage / names.sexp
         drv.print_texts(module, lib, (out_h, out_c, out_s))
+        from .validate_c import validate_glue  # raises PrinterValidationError (a CoqError)
+
+        validation = validate_glue(
+            out_c.read_text(encoding="utf-8"), out_h.read_text(encoding="utf-8"),
+            out_s.read_text(encoding="utf-8"), glue_name=names.glue_c, header_name=names.types_header)
         times["printing"] = time.monotonic() - t0
+        wp_result = None
+        if wp:
+            from .acsl import run_wp  # raises WPError (a CoqError) unless every goal is proved
+
+            say(f"[4/{STEPS}] Frama-C WP: proving the ACSL contracts of the model on the printed C ...")
+            t0 = time.monotonic()
+            wp_result = run_wp(model, out_c, out_h, work / "wp")
+            times["wp"] = time.monotonic() - t0
         out_v = stage / names.v_file
         shutil.copyfile(vfile, out_v)
 
@@ -243,4 +264,6 @@ def generate_model(
         theorems=theorems,
         ddc=ddc,
         times=times,
+        validation=validation,
+        wp=wp_result,
     )

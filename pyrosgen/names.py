@@ -69,7 +69,7 @@ CXX_KEYWORDS = frozenset(
 COQ_KEYWORDS = frozenset(
     """
     _ as at by cofix else end exists exists2 fix for forall fun if IF in
-    lazymatch let match multimatch return then using where with struct
+    lazymatch let match mod multimatch return then using where with struct
     Prop SProp Set Type
     Abort Admit Admitted admit Axiom Axioms CoFixpoint CoInductive Class
     Conjecture Corollary Defined Definition End Example Export Fact Fixpoint

@@ -62,6 +62,12 @@ FIXED_C_NAMES = (
     "ros_rate_sleep",
 )
 
+#: Local names of the generated functions (parameters of the callbacks and
+#: output glues).  Coq's ``generate`` requires every global name to differ
+#: from every local one, so that no local hides a global.  (The temporaries
+#: ``_ok`` and ``_t_<type>`` start with '_', which no global may.)
+LOCAL_C_NAMES = ("msg", "command")
+
 _TOP_REQUIRED = ("node", "controller", "topics", "relations")
 _TOP_OPTIONAL = ("msg_paths",)
 
@@ -618,6 +624,8 @@ def check_c_names(ck: _Checker, decls, ctrl_name, cm, uvar, yvar, registry: MsgR
 
     for n in FIXED_C_NAMES:
         seen[n] = "the generated glue"
+    for n in LOCAL_C_NAMES:
+        seen[n] = "the generated glue (a parameter name)"
     if ctrl_name is not None:
         where = cm.get("name") if cm is not None else None
         for n in (f"{ctrl_name}_step", f"{ctrl_name}_initialize", f"ExtU_{ctrl_name}_T", f"ExtY_{ctrl_name}_T"):

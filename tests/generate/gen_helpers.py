@@ -3,7 +3,6 @@ file, the Coq driver and the pipeline)."""
 
 from __future__ import annotations
 
-import importlib.util
 import os
 import re
 import subprocess
@@ -60,15 +59,6 @@ _PRINTED_STRING = re.compile(r'^\s*=\s*"((?:[^"]|"")*)"\s*\n\s*:\s*(?:String\.)?
 def printed_strings(output: str) -> list[str]:
     """The values printed by ``Eval vm_compute in <string>.`` commands, in order."""
     return [m.group(1).replace('""', '"') for m in _PRINTED_STRING.finditer(output)]
-
-
-def printer_helpers():
-    """``tests/coq/printer_helpers.py`` (dump parser), loaded by path."""
-    path = REPO / "tests" / "coq" / "printer_helpers.py"
-    spec = importlib.util.spec_from_file_location("_printer_helpers_for_generate", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
 
 
 def require_library() -> None:

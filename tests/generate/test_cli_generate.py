@@ -109,19 +109,24 @@ def test_output_is_a_file_exit_1(capsys, tmp_path):
     assert f.read_text() == "x"
 
 
-def test_coq_refusal_exit_1_nothing_written(capsys, tmp_path, outdir):
-    """A model the front end lets through but Coq's generate refuses is a
-    user error: exit 1, Coq's message, nothing written."""
+def test_coq_refusal_exit_1_nothing_written(capsys, tmp_path, outdir, monkeypatch):
+    """A model that Coq's generate refuses after the front end let it
+    through is a user error: exit 1, Coq's message, nothing written.  The
+    front end now refuses every model Coq refuses, so the front end is
+    bypassed here: it returns LandShark renamed to the Coq keyword 'mod'."""
     require_library()
+    import dataclasses
+
+    import pyrosgen.generate as gen
+    from pyrosgen.errors import InvalidNodeModel
+    from pyrosgen.model import load_model
+
     m = tmp_path / "mod.yaml"
     m.write_text(LANDSHARK.read_text().replace("name: landshark_controller", "name: mod"))
-    from pyrosgen.model import load_model
-    from pyrosgen.errors import InvalidNodeModel
-
-    try:
-        load_model(m)
-    except InvalidNodeModel:
-        pytest.fail("the front end refuses the node name 'mod' now: pick another model Coq alone refuses")
+    with pytest.raises(InvalidNodeModel):
+        load_model(m)  # the front end refuses it on its own
+    bypass = dataclasses.replace(load_model(LANDSHARK), name="mod", source=m)
+    monkeypatch.setattr(gen, "load_model", lambda _path: bypass)
     before = _snapshot(outdir)
     code, out, err = run(capsys, "generate", m, "-o", outdir, "-q")
     assert code == 1

@@ -13,9 +13,7 @@ to the real compiled files, with some modules left out or replaced):
 
 from __future__ import annotations
 
-from pathlib import Path
 
-import pytest
 
 from pyrosgen import cli
 from pyrosgen.coqdriver import CLOSED, CoqDriver

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import re
 import shutil
-from pathlib import Path
 
 import pytest
 
@@ -15,6 +14,7 @@ from pyrosgen.coqdriver import CLOSED
 from pyrosgen.generate import generate
 from pyrosgen.model import load_model
 from pyrosgen.ros import render_wrapper, wrapper_files
+from pyrosgen.sexp import parse_sexp, program_items
 
 from .gen_helpers import (
     GCC_STRICT,
@@ -23,7 +23,6 @@ from .gen_helpers import (
     MULTI,
     coqc,
     ddc_in_coqproject,
-    printer_helpers,
     require_library,
     run,
 )
@@ -272,10 +271,9 @@ def test_wrapper_header_includes_the_coq_types(generated, key, tmp_path):
 def test_dump_matches_c(generated, key):
     from pycparser import c_ast, c_parser
 
-    ph = printer_helpers()
     f = _files(generated, key)
     model = load_model(NODES[key][0])
-    items = ph.program_items(ph.parse_sexp(f["sexp"].read_text()))
+    items = program_items(parse_sexp(f["sexp"].read_text()))
     assert items["externs"] == [model.controller.inputs.var_name, model.controller.outputs.var_name]
     assert items["main"] == "main"
     pre = run(["gcc", "-E", "-P", f"-I{f['c'].parent}", str(f["c"])]).stdout
