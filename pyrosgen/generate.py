@@ -36,9 +36,13 @@ from pathlib import Path
 from .coqdriver import CLOSED, CoqDriver, CoqError
 from .coqmodel import node_file_names, render_node_file
 from .errors import PyrosgenError
+from .certificate import render_certificate
 from .model import NodeModel, load_model
 
 __all__ = ["OutputDirError", "GenerateResult", "generate", "generate_model", "STEPS"]
+
+#: The certificate written next to the glue (:mod:`pyrosgen.certificate`).
+CERTIFICATE = "CERTIFICATE.md"
 
 #: Number of progress steps.
 STEPS = 5
@@ -241,10 +245,17 @@ def generate_model(
             times["wp"] = time.monotonic() - t0
         out_v = stage / names.v_file
         shutil.copyfile(vfile, out_v)
+        out_cert = stage / CERTIFICATE
+        out_cert.write_text(render_certificate(
+            model, node_v=out_v, glue_c=out_c, types_h=out_h, theorem=main_thm,
+            theorems=theorems, ddc=ddc, wp=wp_result,
+            assumptions="\n".join(f"Print Assumptions {t}.\n{CLOSED}" for t in theorems),
+        ), encoding="utf-8")
 
         # 5. writing
         say(f"[5/{STEPS}] writing into {out_dir}")
-        staged = [(out_v, names.v_file), (out_h, names.types_header), (out_c, names.glue_c), (out_s, names.sexp)]
+        staged = [(out_v, names.v_file), (out_h, names.types_header), (out_c, names.glue_c), (out_s, names.sexp),
+                  (out_cert, CERTIFICATE)]
         for p, _ in staged:
             if not p.is_file():
                 raise CoqError(f"the printer did not write {p.name}")

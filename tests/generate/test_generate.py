@@ -51,6 +51,7 @@ def _files(generated, key):
         "h": d / f"{node}_types.h",
         "c": d / f"{node}_glue.c",
         "sexp": d / f"{node}.sexp",
+        "cert": d / "CERTIFICATE.md",
     }
 
 
@@ -73,7 +74,7 @@ def test_files_written_and_theorem(generated, key):
     node = NODES[key][1]
     files = _files(generated, key)
     assert sorted(p.name for p in d.iterdir()) == sorted(p.name for p in files.values())
-    assert [p for p, _ in res.files] == [files["v"], files["h"], files["c"], files["sexp"]]
+    assert [p for p, _ in res.files] == [files["v"], files["h"], files["c"], files["sexp"], files["cert"]]
     assert all(rewritten for _, rewritten in res.files)
     # the main theorem: T2 when the library has it, else the T4 fallback
     if ddc_in_coqproject():
@@ -319,3 +320,46 @@ def _assignments(node):
         yield node
     for _name, child in node.children():
         yield from _assignments(child)
+
+
+# --------------------------------------------------------------------------
+# The DDC certificate
+
+
+@pytest.mark.parametrize("key", list(NODES))
+def test_certificate_claims_match_the_files(generated, key):
+    """Every relation of the model is listed with C lines that really are
+    those lines of the glue and really copy the related fields; the digests
+    are those of the files; the theorem is the one checked."""
+    import hashlib
+
+    res, d, _ = generated[key]
+    files = _files(generated, key)
+    cert = files["cert"].read_text()
+    glue = files["c"].read_text().splitlines()
+    model = res.model
+    assert f"`{res.theorem}" in cert and "Closed under the global context" in cert
+    # each quoted line is the line of the glue it claims to be
+    quoted = re.findall(r"^/\* (\S+):(\d+) \*/ (.*)$", cert, re.M)
+    assert quoted, "no C lines quoted"
+    for fname, n, text in quoted:
+        assert fname == files["c"].name
+        assert glue[int(n) - 1].strip() == text
+    uvar, yvar = model.controller.inputs.var_name, model.controller.outputs.var_name
+    for r in model.input_relations:
+        head = f"### `{r.topic.name} {r.path}` → `{uvar}.{r.input_field}` ({r.path.prim})"
+        assert head in cert
+        block = cert.split(head, 1)[1].split("###", 1)[0]
+        src = r.path.c_access(r.topic.msg_var)
+        assert re.search(rf"\*/ (_t_\w+) = {re.escape(src)};\n/\* \S+ \*/ {re.escape(uvar)}\.{r.input_field} = \1;", block)
+    for r in model.output_relations:
+        head = f"### `{yvar}.{r.output_field}` → `{r.topic.name} {r.path}` ({r.path.prim})"
+        assert head in cert
+        block = cert.split(head, 1)[1].split("###", 1)[0]
+        dst = r.path.c_access("(*command)")
+        assert re.search(rf"\*/ (_t_\w+) = {re.escape(yvar)}\.{r.output_field};\n/\* \S+ \*/ {re.escape(dst)} = \1;", block)
+    digests = dict(re.findall(r"^\| `([^`]+)` \| `([0-9a-f]{64})` \|$", cert, re.M))
+    expected = {p.name: p for p in (files["v"], files["h"], files["c"], model.source)}
+    assert set(digests) == set(expected)
+    for name, path in expected.items():
+        assert digests[name] == hashlib.sha256(path.read_bytes()).hexdigest()
