@@ -40,6 +40,13 @@ demo: deps proofs
 docs: venv
 	@$(MAKE) --no-print-directory -C coq docs PYTHON=$(abspath $(PY)) DOCDIR=$(abspath build/docs)
 
+## bench: the benchmarks of BENCHMARKS.md (rewrites its tables, plots in bench/results/);
+## `make bench BENCH_ARGS=--quick` for a short run
+.PHONY: bench
+BENCH_ARGS ?=
+bench: deps proofs
+	@$(PY) bench/run.py $(BENCH_ARGS)
+
 ## test: everything
 test: deps proofs
 	@$(PY) -m pytest $(PYTEST_ARGS)

@@ -204,6 +204,7 @@ def cmd_build(args: argparse.Namespace) -> int:
     changed = sum(1 for _, w in res.files if w)
     print(f"  files     {changed} written, {len(res.files) - changed} unchanged")
     g = res.generated
+    print(f"  generated {', '.join(p.name for p, _ in g.files)}")
     print(f"  theorem   {g.theorem}: {g.theorem_kind}")
     print(f"            checked by coqc and coqchk; Print Assumptions: {g.assumptions}")
     print(f"  layout    {res.model.controller.name}.h agrees with the glue (sizes, offsets, types)")

@@ -69,80 +69,10 @@ def coq_eval_strings(v_file: Path, exprs: list[str], workdir: Path) -> list[str]
 
 
 # ---------------------------------------------------------------------------
-# S-expressions
+# S-expressions: the parser lives in pyrosgen.sexp (shared with the printer
+# validation and the differential tests); re-exported here.
 
-class SString(str):
-    """A double-quoted string of the dump (distinct from an atom)."""
-
-
-def parse_sexp(text: str):
-    """Parse one S-expression: lists become Python lists, atoms ``str``,
-    quoted strings ``SString``.  Iterative (no recursion limit)."""
-    stack: list[list] = [[]]
-    i, n = 0, len(text)
-    while i < n:
-        c = text[i]
-        if c.isspace():
-            i += 1
-        elif c == "(":
-            stack.append([])
-            i += 1
-        elif c == ")":
-            if len(stack) < 2:
-                raise ValueError(f"unbalanced ')' at offset {i}")
-            done = stack.pop()
-            stack[-1].append(done)
-            i += 1
-        elif c == '"':
-            j, buf = i + 1, []
-            while True:
-                if j >= n:
-                    raise ValueError("unterminated string")
-                if text[j] == "\\":
-                    if j + 1 >= n or text[j + 1] not in '"\\':
-                        raise ValueError(f"bad escape at offset {j}")
-                    buf.append(text[j + 1])
-                    j += 2
-                elif text[j] == '"':
-                    break
-                else:
-                    buf.append(text[j])
-                    j += 1
-            stack[-1].append(SString("".join(buf)))
-            i = j + 1
-        else:
-            j = i
-            while j < n and not text[j].isspace() and text[j] not in '()"':
-                j += 1
-            stack[-1].append(text[i:j])
-            i = j
-    if len(stack) != 1:
-        raise ValueError("unbalanced '('")
-    if len(stack[0]) != 1:
-        raise ValueError(f"expected one S-expression, got {len(stack[0])}")
-    return stack[0][0]
-
-
-def program_items(tree) -> dict:
-    """Index the items of a parsed ``(program ...)`` dump."""
-    assert tree[0] == "program"
-    assert tree[1][0] == "externs" and tree[2][0] == "main"
-    out = {"externs": tree[1][1:], "main": tree[2][1], "structs": {}, "gvars": {},
-           "externals": {}, "functions": {}, "order": []}
-    for item in tree[3:]:
-        kind, name = item[0], item[1]
-        out["order"].append((kind, name))
-        if kind == "struct":
-            out["structs"][name] = [(m[0], m[1]) for m in item[2:]]
-        elif kind == "gvar":
-            out["gvars"][name] = item[2]
-        elif kind == "external":
-            out["externals"][name] = item[2:]
-        elif kind == "function":
-            out["functions"][name] = item
-        else:
-            raise ValueError(f"unknown item {kind}")
-    return out
+from pyrosgen.sexp import SString, parse_sexp, program_items  # noqa: E402,F401
 
 
 # ---------------------------------------------------------------------------

@@ -1,0 +1,365 @@
+"""Rewrite the generated tables of BENCHMARKS.md and the plots in
+bench/results/ from the results of the last runs (bench/results/*.json).
+
+BENCHMARKS.md is hand-written prose with generated blocks between
+``<!-- BEGIN bench:NAME -->`` and ``<!-- END bench:NAME -->``; only those
+blocks are replaced (a block whose results are missing says so).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from common import REPO, RESULTS
+
+DOC = REPO / "BENCHMARKS.md"
+
+#: The targets of the issue (seconds, ratios).
+T_LANDSHARK = 5.0
+T_N400 = 30.0
+T_GROWTH = 6.0
+T_PROOFS = 300.0
+T_LATENCY = 1.05
+T_INSTR = 1.0
+
+
+def _ok(good: bool) -> str:
+    return "met" if good else "**missed**"
+
+
+def _s(x, nd=2) -> str:
+    if x is None:
+        return "–"
+    return f"{x:.{nd}f}"
+
+
+def _mb(kb) -> str:
+    return "–" if not kb else f"{kb / 1024:.0f}"
+
+
+def block_machine(load_json) -> str:
+    m = load_json("machine.json")
+    if not m:
+        return "_No run recorded yet: `make bench`._\n"
+    rows = [
+        ("date", m.get("date")), ("mode", m.get("mode")), ("CPU", m.get("cpu")), ("cores", m.get("cores")),
+        ("RAM", m.get("ram")), ("OS", f"{m.get('os')} (kernel {m.get('kernel')})"),
+        ("load average (1, 5, 15 min) at start / end", f"{m.get('load_at_start')} / {m.get('load_at_end', '?')}"),
+        ("Coq", m.get("coq")), ("OCaml", m.get("ocaml")), ("gcc", m.get("gcc")), ("valgrind", m.get("valgrind")),
+        ("Python", m.get("python")),
+        ("whole benchmark", f"{m.get('bench_seconds', 0) / 60:.1f} min"),
+    ]
+    out = ["| | |", "|---|---|"] + [f"| {k} | {v} |" for k, v in rows]
+    out.append("")
+    out.append("The machine is shared (2 cores, other jobs running): every figure has the load "
+               "average of its run next to it, wall times are inflated by the load, CPU times "
+               "(user + system, from the kernel's accounting) much less.")
+    return "\n".join(out) + "\n"
+
+
+def _by(res) -> dict:
+    return {m["label"]: m for m in res["models"]}
+
+
+def block_pipeline_targets(load_json) -> str:
+    res = load_json("pipeline.json")
+    if not res:
+        return "_Not run yet._\n"
+    by = _by(res)
+    rows = ["| figure | target | measured | |", "|---|---|---|---|"]
+    ls = by.get("landshark")
+    if ls:
+        cpu_ok = ls["cli_cpu"] <= T_LANDSHARK
+        rows.append(f"| LandShark, `pyrosgen generate` end to end, wall (load {ls['loads'][-1].split()[0]}) "
+                    f"| ≤ {T_LANDSHARK:.0f} s | {ls['cli_wall']:.2f} s | {_ok(ls['cli_wall'] <= T_LANDSHARK)} |")
+        rows.append(f"| LandShark, same, CPU time (= wall on an idle machine: the pipeline is sequential) "
+                    f"| ≤ {T_LANDSHARK:.0f} s | {ls['cli_cpu']:.2f} s | {_ok(cpu_ok)} |")
+    n4 = by.get("synth_400")
+    if n4:
+        rows.append(f"| N = 400, end to end, wall (load {n4['loads'][-1].split()[0]}) | ≤ {T_N400:.0f} s "
+                    f"| {n4['cli_wall']:.2f} s | {_ok(n4['cli_wall'] <= T_N400)} |")
+    r = res.get("ratios", {})
+    if "cli t(2000)/t(400)" in r:
+        g = r["cli t(2000)/t(400)"]
+        rows.append(f"| growth t(2000) / t(400), wall, same run | ≤ {T_GROWTH:.0f} | {g:.2f} | {_ok(g <= T_GROWTH)} |")
+        gc = r["cli cpu(2000)/cpu(400)"]
+        rows.append(f"| growth, CPU time | ≤ {T_GROWTH:.0f} | {gc:.2f} | {_ok(gc <= T_GROWTH)} |")
+    else:
+        rows.append("| growth t(2000) / t(400) | ≤ 6 | not measured (quick run) | |")
+    return "\n".join(rows) + "\n"
+
+
+PHASES = ("front end", "coqc", "checking", "printing")
+
+
+def block_pipeline_phases(load_json) -> str:
+    res = load_json("pipeline.json")
+    if not res:
+        return "_Not run yet._\n"
+    head = ("| model | N | glue lines | front end | coqc | checking | printing | validation | gcc -O2 | "
+            "in-process total | CLI wall | CLI CPU | coqc peak MB | load (1 min) |")
+    rows = [head, "|" + "|".join(["---"] * 14) + "|"]
+    for m in res["models"]:
+        ph = m["phases"]
+        val = m.get("validation") or {}
+        loads = sorted(float(x.split()[0]) for x in m["loads"])
+        rows.append(
+            f"| {m['label']} | {m['n']} | {m['glue_lines']} | "
+            + " | ".join(_s(ph.get(p)) for p in PHASES)
+            + f" | {_s(val.get('wall'))} | {_s(m['gcc']['wall'])} | {_s(m['inproc_total'])} | "
+            f"{_s(m['cli_wall'])} | {_s(m['cli_cpu'])} | {_mb(m['tools'].get('coqc', {}).get('maxrss_kb'))} | "
+            f"{loads[0]:.1f}–{loads[-1]:.1f} |")
+    rows.append("")
+    rows.append("Seconds (median of the runs); phases as `pyrosgen generate` reports them (its "
+                "printing phase includes the printer validation when the pipeline runs it; "
+                "the validation column times it again on its own); `gcc -O2` compiles the "
+                "printed glue (`-c`).")
+    return "\n".join(rows) + "\n"
+
+
+def block_pipeline_tools(load_json) -> str:
+    res = load_json("pipeline.json")
+    if not res:
+        return "_Not run yet._\n"
+    tools = []
+    for m in res["models"]:
+        for t in m["tools"]:
+            if t not in tools:
+                tools.append(t)
+    head = "| model | " + " | ".join(f"{t} wall / CPU / MB" for t in tools) + " |"
+    rows = [head, "|" + "|".join(["---"] * (len(tools) + 1)) + "|"]
+    for m in res["models"]:
+        cells = []
+        for t in tools:
+            d = m["tools"].get(t)
+            cells.append("–" if not d else f"{d['wall']:.2f} / {d['cpu']:.2f} / {_mb(d['maxrss_kb'])}")
+        rows.append(f"| {m['label']} | " + " | ".join(cells) + " |")
+    return "\n".join(rows) + "\n"
+
+
+def block_pipeline_profile(load_json) -> str:
+    res = load_json("pipeline.json")
+    if not res:
+        return "_Not run yet._\n"
+    out = []
+    for m in res["models"]:
+        prof = m.get("coq_profile")
+        if not prof:
+            continue
+        sizes = ""
+        if m.get("v_bytes"):
+            sizes = (f" (per-node .v {m['v_bytes'] / 1024:.0f} KB, .vo {m.get('vo_bytes', 0) / 1024:.0f} KB, "
+                     f"extracted job.ml {m.get('job_ml_bytes', 0) / 1024:.0f} KB)")
+        out.append(f"**{m['label']}**{sizes}: slowest commands of `coqc -time` on the per-node file")
+        out.append("")
+        out.append("| command | wall s | CPU s |")
+        out.append("|---|---|---|")
+        for r in prof[:6]:
+            cmd = r["command"].replace("|", "\\|")
+            out.append(f"| `{cmd}` | {r['wall']:.2f} | {r['cpu']:.2f} |")
+        out.append("")
+    return "\n".join(out) + "\n" if out else "_No profile in this run._\n"
+
+
+def block_ab(load_json) -> str:
+    res = load_json("pipeline.json")
+    ab = (res or {}).get("ab")
+    if not ab:
+        return "_Not measured in this run._\n"
+    rows = ["| LandShark, in-process pipeline | before (second coqc for extraction, ocamlopt) | after | gain |",
+            "|---|---|---|---|"]
+    for k in ("wall", "cpu"):
+        b, a = ab["before"][k], ab["after"][k]
+        rows.append(f"| {k} (median of {ab['runs']} alternated runs) | {b:.2f} s | {a:.2f} s | {b - a:.2f} s ({100 * (b - a) / b:.0f} %) |")
+    rows.append(f"| printing phase, wall | {ab['before']['printing']:.2f} s | {ab['after']['printing']:.2f} s | |")
+    rows.append(f"| load (1 min) | {ab['load']} | | |")
+    return "\n".join(rows) + "\n"
+
+
+def block_proofs(load_json) -> str:
+    res = load_json("proofs.json")
+    if not res:
+        return "_Not run yet._\n"
+    rows = ["| step (`coq/Makefile` target) | wall s | CPU s | peak MB | load (1, 5, 15 min) |", "|---|---|---|---|---|"]
+    for s in res["steps"]:
+        rows.append(f"| `{s['target']}` | {s['wall']:.1f} | {s['cpu']:.1f} | {_mb(s['maxrss_kb'])} | {s['load']} |")
+    tot = res["total_wall"]
+    rows.append(f"| **total `make proofs` from clean** | **{tot:.1f}** | {res['total_cpu']:.1f} | | |")
+    rows.append("")
+    rows.append(f"Target ≤ {T_PROOFS / 60:.0f} min: {_ok(tot <= T_PROOFS)} ({tot / 60:.1f} min, "
+                f"{res.get('machine', {}).get('date', '')}).")
+    if res.get("files"):
+        rows.append("")
+        rows.append(f"Slowest of the {res['n_files']} library files (coq_makefile `TIMED=1`):")
+        rows.append("")
+        rows.append("| file | wall s | peak MB |")
+        rows.append("|---|---|---|")
+        for f in res["files"][:6]:
+            rows.append(f"| {f['file']} | {f['wall']:.1f} | {f['mem_kb'] / 1024:.0f} |")
+    return "\n".join(rows) + "\n"
+
+
+def block_runtime(load_json) -> str:
+    res = load_json("runtime.json")
+    if not res:
+        return "_Not run yet._\n"
+    out = []
+    ins = res.get("instructions")
+    lat = res.get("latency")
+    out.append("| figure | target | measured | |")
+    out.append("|---|---|---|---|")
+    if lat:
+        r = lat["ratio_median"]
+        lo, hi = lat["ratio_median_ci95"]
+        out.append(f"| latency ratio generated / hand-written (medians, 1 ms period) | ≤ {T_LATENCY} | "
+                   f"{r:.3f} (95 % bootstrap interval {lo:.3f}–{hi:.3f}) | {_ok(r <= T_LATENCY)} |")
+    if ins:
+        r = ins["ratio"]
+        out.append(f"| glue instructions per cycle, generated / hand-written | ≤ {T_INSTR:.0f} | "
+                   f"{ins['generated']['per_cycle']:.0f} / {ins['handwritten']['per_cycle']:.0f} = {r:.2f} "
+                   f"| {_ok(r <= T_INSTR)} |")
+    out.append("")
+    if ins:
+        out.append("Instructions per cycle (callgrind, exact; fake ROS, `-O2`, no inlining between the "
+                   "counted functions):")
+        out.append("")
+        out.append("| code | per cycle | by function |")
+        out.append("|---|---|---|")
+        names = {"generated": "generated glue (callbacks + input_glue + output_glue)",
+                 "handwritten": "hand-written (callbacks + building and destroying the command)",
+                 "generated_production_loop": "generated glue as `pyrosgen build` compiles it (-O2: "
+                                              "input/output glue inlined into `loop`; includes loop control)",
+                 "roscpp_roundtrip": "for scale: roscpp serialize + deserialize of one TwistStamped"}
+        for k in ("generated", "handwritten", "generated_production_loop", "roscpp_roundtrip"):
+            d = ins.get(k)
+            if d:
+                fs = ", ".join(f"`{f}` {v:.0f}" for f, v in sorted(d["functions"].items(), key=lambda kv: -kv[1]))
+                out.append(f"| {names[k]} | {d['per_cycle']:.0f} | {fs} |")
+        out.append("")
+    if lat:
+        out.append(f"Latency (µs) from the publication of an input change to the receipt of the first "
+                   f"command reflecting it, node period 1 ms, {lat['edges_per_block']} edges per block, "
+                   f"blocks alternated:")
+        out.append("")
+        out.append("| node | edges | median | mean | p10 | p90 | p99 | lost |")
+        out.append("|---|---|---|---|---|---|---|---|")
+        for k in ("generated", "handwritten"):
+            s = lat[k]
+            out.append(f"| {k} | {s['n']} | {s['median']:.0f} | {s['mean']:.0f} | {s['p10']:.0f} | "
+                       f"{s['p90']:.0f} | {s['p99']:.0f} | {lat['lost'][k]} |")
+        out.append("")
+        out.append("| block | node | median µs | p90 µs | load (1, 5, 15 min) |")
+        out.append("|---|---|---|---|---|")
+        for i, b in enumerate(lat["blocks"]):
+            out.append(f"| {i + 1} | {b['node']} | {b['median']:.0f} | {b['p90']:.0f} | {b['load']} |")
+        out.append("")
+    b = res.get("build")
+    if b:
+        out.append(f"`pyrosgen build` of the 1 ms node: {b['wall']:.1f} s wall, {b['cpu']:.1f} s CPU ({b['times']}).")
+    return "\n".join(out) + "\n"
+
+
+def plots(load_json, log) -> list[str]:
+    res = load_json("pipeline.json")
+    if not res:
+        return []
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ms = [m for m in res["models"] if m["label"].startswith("synth_")]
+    if len(ms) < 2:
+        return []
+    ns = [m["n"] for m in ms]
+    made = []
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for p in PHASES:
+        ys = [m["phases"].get(p) for m in ms]
+        if all(y is not None and y > 0 for y in ys):
+            ax.plot(ns, ys, "o-", label=p)
+    ax.plot(ns, [m["cli_wall"] for m in ms], "k*-", label="end to end (CLI, wall)")
+    ax.plot(ns, [m["cli_cpu"] for m in ms], "k+--", label="end to end (CLI, CPU)")
+    ax.plot(ns, [m["gcc"]["wall"] for m in ms], "s:", label="gcc -O2 of the glue")
+    ax.axhline(T_N400, color="r", lw=0.8, ls="--")
+    ax.annotate(f"target N = 400: {T_N400:.0f} s", (ns[0], T_N400 * 1.08), color="r", fontsize=8)
+    # linear reference through the N = 400 end-to-end point
+    if 400 in ns:
+        y4 = ms[ns.index(400)]["cli_wall"]
+        ax.plot([40, 2000], [y4 * 40 / 400, y4 * 2000 / 400], color="grey", lw=0.8, ls=":", label="linear (slope 1)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("N (relations)")
+    ax.set_ylabel("seconds")
+    load = res.get("machine", {}).get("load_at_start", "?")
+    ax.set_title(f"pyrosgen generate: time per phase vs N (load {load})", fontsize=10)
+    ax.legend(fontsize=8)
+    ax.grid(True, which="both", lw=0.3)
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    p = RESULTS / "pipeline_phases.png"
+    fig.tight_layout()
+    fig.savefig(p, dpi=110)
+    plt.close(fig)
+    made.append(p.name)
+    # tools (CPU)
+    fig, ax = plt.subplots(figsize=(7, 5))
+    tools = []
+    for m in ms:
+        for t in m["tools"]:
+            if t not in tools:
+                tools.append(t)
+    for t in tools:
+        ys = [m["tools"].get(t, {}).get("cpu") for m in ms]
+        if all(y is not None and y > 0 for y in ys):
+            ax.plot(ns, ys, "o-", label=f"{t} (CPU)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("N (relations)")
+    ax.set_ylabel("CPU seconds")
+    ax.set_title("pyrosgen generate: CPU time of each tool vs N", fontsize=10)
+    ax.legend(fontsize=8)
+    ax.grid(True, which="both", lw=0.3)
+    p = RESULTS / "pipeline_tools.png"
+    fig.tight_layout()
+    fig.savefig(p, dpi=110)
+    plt.close(fig)
+    made.append(p.name)
+    log(f"report: plots {', '.join(made)} in {RESULTS}")
+    return made
+
+
+BLOCKS = {
+    "machine": block_machine,
+    "pipeline-targets": block_pipeline_targets,
+    "pipeline-phases": block_pipeline_phases,
+    "pipeline-tools": block_pipeline_tools,
+    "pipeline-profile": block_pipeline_profile,
+    "pipeline-ab": block_ab,
+    "proofs": block_proofs,
+    "runtime": block_runtime,
+}
+
+
+def write_report(load_json, log) -> None:
+    plots(load_json, log)
+    text = DOC.read_text() if DOC.exists() else ""
+    for name, fn in BLOCKS.items():
+        body = fn(load_json)
+        pat = re.compile(rf"(<!-- BEGIN bench:{re.escape(name)} -->\n)(.*?)(<!-- END bench:{re.escape(name)} -->)", re.S)
+        if pat.search(text):
+            text = pat.sub(lambda m: m.group(1) + body + m.group(3), text)
+        else:
+            log(f"report: BENCHMARKS.md has no block {name}: appended")
+            text += f"\n<!-- BEGIN bench:{name} -->\n{body}<!-- END bench:{name} -->\n"
+    DOC.write_text(text)
+    log(f"report: {DOC} rewritten")
+
+
+if __name__ == "__main__":
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from common import load_json
+
+    write_report(load_json, log=print)

@@ -1,0 +1,320 @@
+"""ACSL contracts of the printed glue, and the Frama-C WP run that proves them.
+
+An independent check of the final C text against the data delivery
+specifications (DESIGN.md section 7, "the final C meets DDC"): the contracts
+are generated here, in Python, from the node model (:class:`NodeModel`), not
+from the Coq development, and proved by Frama-C's WP plug-in on the very
+files that ``pyrosgen generate`` writes (``pyrosgen generate --wp``).
+
+For each generated function (``pyrosgen/templates/wp_contracts.c.j2``):
+
+- callback of a subscribed topic, ``void <c>_callback(struct M *msg)``
+  (Figure 10): requires ``\\valid_read(msg)`` and ``msg`` separated from every
+  global (and, implied by ``\\valid_read(msg)``, the validity of each leaf
+  ``&msg->f``: stated so that WP's simplifier discharges the memory-access
+  goals of ``-wp-rte`` by itself instead of calling a prover); assigns exactly the topic's global ``<c>_msg``; ensures every
+  carried leaf of ``<c>_msg`` equals the same leaf of ``\\old(*msg)``;
+- ``void input_glue(void)`` (Figure 12): assigns exactly the related fields
+  of ``Controller_U``; ensures each equals the related field of the related
+  topic's global;
+- ``void output_glue_<c>(struct M *command)``: requires ``\\valid(command)``
+  and separation from every global; assigns exactly ``*command``; ensures
+  every leaf named by an output relation equals the related field of
+  ``Controller_Y`` and every other leaf is zero.
+
+Equality of leaves.  ACSL's ``==`` on floating-point values compares their
+*real* values (WP translates ``a == b`` to ``of_f64(a) = of_f64(b)``): it
+identifies +0.0 with -0.0 and says nothing about NaN, so it is too weak for
+a copy.  Floating-point leaves are therefore compared with the predicates
+``rosgen_same_f64`` / ``rosgen_same_f32``: equality of two one-member
+structs ``{box \\with .v = a} == {box \\with .v = b}``.  WP models struct
+equality as the conjunction of the members' *logical* equality, so the
+predicate is exactly ``a = b`` on WP's IEEE values (Why3's ``ieee_float``:
++0.0 and -0.0 are distinct, a NaN equals itself).  This is sound for copies
+of any value including NaN, and strictly stronger than ``==`` elsewhere.
+What the model cannot see is the payload of a NaN (it has one NaN): payload
+preservation is checked bit for bit by the differential tests
+(:mod:`pyrosgen.difftest`).  Integer leaves are compared with ``==``
+(mathematical integers: exact).
+
+Memory-model hypotheses.  WP's typed model may assume that pointers are
+separated from globals; it reports such assumptions as "Memory model
+hypotheses".  The contracts state the separation of each pointer argument
+from every global themselves, and :func:`run_wp` fails if WP reports a
+hypothesis that the contract does not state, so nothing is assumed silently.
+
+The run fails (:class:`WPError`, a :class:`~pyrosgen.coqdriver.CoqError`:
+exit code 2) unless every goal is proved.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import jinja2
+
+from .coqdriver import CoqError
+from .model import NodeModel
+from .msgtypes import C_TYPES, FieldPath
+
+__all__ = [
+    "WPError",
+    "WPResult",
+    "Contract",
+    "contracts",
+    "render_wrapper",
+    "run_wp",
+    "WRAPPER_TEMPLATE",
+    "PROVERS",
+]
+
+#: The wrapper template, relative to the repository root.
+WRAPPER_TEMPLATE = "pyrosgen/templates/wp_contracts.c.j2"
+_TEMPLATE_DIR = Path(__file__).resolve().parent / "templates"
+
+#: Provers tried, in order, among those that Why3 detects.
+PROVERS = ("alt-ergo", "z3", "cvc4", "cvc5")
+_WHY3_NAMES = {"alt-ergo": "Alt-Ergo", "z3": "Z3", "cvc4": "CVC4", "cvc5": "CVC5"}
+
+
+class WPError(CoqError):
+    """Frama-C WP did not prove every goal, or could not run (exit 2)."""
+
+
+@dataclass(frozen=True)
+class Box:
+    """A one-member struct through which leaves of ``c_type`` are compared."""
+
+    c_type: str
+    struct: str
+    var: str
+    predicate: str
+
+
+_BOXES = {
+    "float64": Box("double", "rosgen_wp_box_f64", "rosgen_wp_f64", "rosgen_same_f64"),
+    "float32": Box("float", "rosgen_wp_box_f32", "rosgen_wp_f32", "rosgen_same_f32"),
+}
+
+
+@dataclass(frozen=True)
+class Contract:
+    """The ACSL contract of one glue function."""
+
+    name: str
+    proto: str
+    requires: tuple[str, ...]
+    assigns: tuple[str, ...]
+    ensures: tuple[str, ...]
+    pointer: str | None = None          #: the pointer argument, if any
+    separated: tuple[str, ...] = ()     #: what it is stated separated from
+
+
+@dataclass
+class WPResult:
+    """The outcome of a WP run."""
+
+    proved: int
+    total: int
+    seconds: float
+    provers: tuple[str, ...]
+    functions: tuple[str, ...]
+    wrapper: Path | None = None
+    output: str = ""
+    by_prover: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        return self.total > 0 and self.proved == self.total
+
+    def summary(self) -> str:
+        how = ", ".join(f"{k} {v}" for k, v in self.by_prover.items())
+        return (f"WP: {self.proved}/{self.total} goals proved ({how}; {len(self.functions)} functions, "
+                f"{self.seconds:.1f} s)")
+
+
+def _same(prim: str, a: str, b: str) -> str:
+    """The ACSL statement that leaves [a] and [b] of primitive [prim] are
+    equal.  For floats, the struct equality is written out rather than
+    through the predicate [rosgen_same_f64] (whose definition it is): WP's
+    simplifier (Qed) does not unfold user predicates, but decides struct
+    equalities of known members at once."""
+    box = _BOXES.get(prim)
+    if box is None:
+        return f"{a} == {b}"
+    return f"{{ {box.var} \\with .v = {a} }} == {{ {box.var} \\with .v = {b} }}"
+
+
+def _zero(prim: str) -> str:
+    return {"float64": "(double)0", "float32": "(float)0"}.get(prim, "0")
+
+
+def _globals(model: NodeModel) -> list[tuple[str, str]]:
+    """(declaration, name) of every global of the glue."""
+    c = model.controller
+    out = [(f"struct {c.inputs.struct_name} {c.inputs.var_name}", c.inputs.var_name),
+           (f"struct {c.outputs.struct_name} {c.outputs.var_name}", c.outputs.var_name)]
+    out += [(f"struct {t.msg_struct} {t.msg_var}", t.msg_var) for t in model.subscribed]
+    return out
+
+
+def contracts(model: NodeModel) -> list[Contract]:
+    """The contracts of the callbacks, ``input_glue`` and the output glues,
+    in the order of the glue."""
+    globs = [name for _, name in _globals(model)] + [b.var for b in _BOXES.values()]
+    out: list[Contract] = []
+    for t in model.subscribed:
+        sep = tuple(f"&{g}" for g in globs)
+        ens = tuple(_same(p.prim, p.c_access(t.msg_var), f"\\old({p.c_access('msg', arrow=True)})")
+                    for p in model.leaf_paths(t.msg_type))
+        out.append(Contract(
+            name=t.callback,
+            proto=f"void {t.callback}(struct {t.msg_struct} *msg)",
+            requires=("\\valid_read(msg)", f"\\separated(msg, {', '.join(sep)})",
+                      *(f"\\valid_read(&{p.c_access('msg', arrow=True)})" for p in model.leaf_paths(t.msg_type))),
+            assigns=(t.msg_var,),
+            ensures=ens, pointer="msg", separated=sep))
+    u = model.controller.inputs
+    ens, assigned = [], []
+    for r in model.input_relations:
+        dst = f"{u.var_name}.{r.input_field}"
+        assigned.append(dst)
+        ens.append(_same(r.path.prim, dst, f"\\old({r.path.c_access(r.topic.msg_var)})"))
+    out.append(Contract(name="input_glue", proto="void input_glue(void)", requires=(),
+                        assigns=tuple(assigned) or ("\\nothing",), ensures=tuple(ens)))
+    y = model.controller.outputs
+    for t in model.published:
+        rels = {str(r.path): r for r in model.output_relations_of(t)}
+        ens = []
+        for p in model.leaf_paths(t.msg_type):
+            leaf = p.c_access("command", arrow=True)
+            r = rels.get(str(p))
+            ens.append(_same(p.prim, leaf, f"\\old({y.var_name}.{r.output_field})") if r is not None
+                       else _same(p.prim, leaf, _zero(p.prim)))
+        sep = tuple(f"&{g}" for g in globs)
+        out.append(Contract(
+            name=t.output_glue,
+            proto=f"void {t.output_glue}(struct {t.msg_struct} *command)",
+            requires=("\\valid(command)", f"\\separated(command, {', '.join(sep)})",
+                      *(f"\\valid(&{p.c_access('command', arrow=True)})" for p in model.leaf_paths(t.msg_type))),
+            assigns=("*command",), ensures=tuple(ens), pointer="command", separated=sep))
+    return out
+
+
+def _env() -> jinja2.Environment:
+    return jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(_TEMPLATE_DIR)), undefined=jinja2.StrictUndefined,
+        trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True, autoescape=False)
+
+
+def render_wrapper(model: NodeModel, glue_name: str, header_name: str,
+                   contract_list: list[Contract] | None = None) -> str:
+    """The WP wrapper: the contracts, then ``#include`` of the glue."""
+    cs = contracts(model) if contract_list is None else contract_list
+    return _env().get_template("wp_contracts.c.j2").render(
+        template=WRAPPER_TEMPLATE, source=Path(model.source).name, header=header_name,
+        glue=glue_name, externs=_globals(model), boxes=list(_BOXES.values()), functions=cs)
+
+
+# ---------------------------------------------------------------------------
+# Running Frama-C
+
+_PROVED = re.compile(r"^\[wp\] Proved goals:\s+(\d+)\s*/\s*(\d+)\s*$", re.M)
+_GOAL = re.compile(r"^\[wp\] \[(?P<prover>[^\]]+)\] Goal (?P<goal>\S+) : (?P<status>\w+)", re.M)
+_UNPROVED = re.compile(r"^\[wp\] (?:\[(?P<prover>[^\]]+)\] )?Goal (?P<goal>\S+) : (?P<status>.*)$", re.M)
+_HYPS = re.compile(r"Memory model hypotheses for function '(?P<fn>\w+)':(?P<body>.*?)void \w+\(", re.S)
+_SEPARATED = re.compile(r"\\separated\(([^;]*)\);")
+_BY_PROVER = re.compile(r"^\s+(Qed|[A-Z][\w-]*(?: [\d.]+)?):\s+(\d+)", re.M)
+
+
+def _tool(name: str, hint: str) -> str:
+    path = shutil.which(name)
+    if path is None:
+        raise WPError(f"{name} not found: {hint}")
+    return path
+
+
+def _why3_config(work: Path) -> tuple[Path, tuple[str, ...]]:
+    """A private Why3 configuration (``why3 config detect``) and the
+    provers of :data:`PROVERS` it found."""
+    why3 = _tool("why3", "install why3 (Debian package why3) for --wp")
+    conf = work / "why3.conf"
+    proc = subprocess.run([why3, "config", "detect", "-C", str(conf)], capture_output=True, text=True,
+                          check=False, timeout=300, cwd=str(work))
+    if proc.returncode != 0 or not conf.is_file():
+        raise WPError("why3 config detect failed", [ln for ln in (proc.stdout + proc.stderr).splitlines()[-5:]])
+    text = conf.read_text(errors="replace")
+    found = tuple(p for p in PROVERS if re.search(rf'^name = "{re.escape(_WHY3_NAMES[p])}"', text, re.M))
+    if not found:
+        raise WPError("no SMT prover found by why3 (install z3 or alt-ergo) for --wp")
+    return conf, found
+
+
+def _check_hypotheses(output: str, cs: list[Contract]) -> None:
+    """Every memory-model hypothesis WP reports must be stated in the contract."""
+    by_name = {c.name: c for c in cs}
+    for m in _HYPS.finditer(output):
+        fn = m.group("fn")
+        c = by_name.get(fn)
+        for sep in _SEPARATED.findall(m.group("body")):
+            terms = [t.strip() for t in sep.replace("\n", " ").split(",")]
+            stated = set(c.separated) | {c.pointer} if c is not None and c.pointer else set()
+            if c is None or c.pointer not in terms or not set(terms) <= stated:
+                raise WPError(f"WP assumed a memory-model hypothesis that the contract of {fn} does not "
+                              f"state: \\separated({', '.join(terms)})")
+
+
+def run_wp(model: NodeModel, glue: str | Path, header: str | Path, work: str | Path, *,
+           timeout: int = 10, jobs: int = 2, provers: tuple[str, ...] | None = None) -> WPResult:
+    """Prove the contracts of :func:`contracts` on the printed ``glue`` (which
+    includes ``header``) with Frama-C WP, in the directory ``work``.
+
+    Raises :class:`WPError` unless every goal is proved."""
+    frama_c = _tool("frama-c", "install Frama-C (Debian package frama-c-base) for --wp")
+    work = Path(work)
+    work.mkdir(parents=True, exist_ok=True)
+    glue, header = Path(glue), Path(header)
+    for f in (glue, header):
+        if f.resolve().parent != work.resolve():
+            shutil.copyfile(f, work / f.name)
+    cs = contracts(model)
+    wrapper = work / f"{model.name}_wp.c"
+    wrapper.write_text(render_wrapper(model, glue.name, header.name, cs), encoding="ascii")
+    conf, found = _why3_config(work)
+    use = tuple(p for p in (provers or found) if p in found)
+    if not use:
+        raise WPError(f"none of the provers {', '.join(provers or ())} is installed")
+    argv = [frama_c, "-no-autoload-plugins", "-load-module", "wp",
+            "-wp", "-wp-rte", "-wp-model", "Typed+float", "-wp-prover", ",".join(use),
+            "-wp-timeout", str(timeout), "-wp-par", str(jobs),
+            "-wp-fct", ",".join(c.name for c in cs), "-wp-session", str(work / "wp-session"),
+            wrapper.name]
+    # Frama-C resolves relative file names against $PWD, not the process's cwd
+    env = dict(os.environ, WHY3CONFIG=str(conf), PWD=str(work.resolve()))
+    t0 = time.monotonic()
+    try:
+        proc = subprocess.run(argv, cwd=str(work), capture_output=True, text=True, errors="replace",
+                              check=False, env=env, timeout=3600)
+    except subprocess.TimeoutExpired:
+        raise WPError("frama-c did not finish within an hour") from None
+    seconds = time.monotonic() - t0
+    output = proc.stdout + proc.stderr
+    m = _PROVED.search(output)
+    if proc.returncode != 0 or m is None:
+        tail = [ln for ln in output.splitlines() if "rror" in ln or "abort" in ln][:10]
+        raise WPError(f"frama-c failed (exit status {proc.returncode})", tail or output.splitlines()[-10:])
+    proved, total = int(m.group(1)), int(m.group(2))
+    by_prover = {k: int(v) for k, v in _BY_PROVER.findall(output[m.end():])}
+    result = WPResult(proved, total, seconds, use, tuple(c.name for c in cs), wrapper, output, by_prover)
+    if not result.ok:
+        bad = [f"  {g.group('goal')}: {g.group('status').strip()}" for g in _UNPROVED.finditer(output)
+               if not g.group("status").startswith(("Valid", "trivial"))]
+        raise WPError(f"Frama-C WP: {proved}/{total} goals proved, not all", bad[:20])
+    _check_hypotheses(output, cs)
+    return result

@@ -1,0 +1,523 @@
+"""``pyrosgen build MODEL.yaml --controller DIR -o OUT``: a runnable ROS node.
+
+The steps (each one progress line):
+
+1. front end: read and validate the model; find the controller folder,
+   its header ``<Controller>.h`` and its ``*.c`` sources;
+2. generate: the pipeline of :mod:`pyrosgen.generate` (coqc proves the
+   node's DDC theorem, Coq prints the C), into the staging folder;
+3. wrapper: the C API over roscpp (:func:`pyrosgen.ros.render_wrapper`),
+   gencpp headers for custom messages (``include/``), a copy of the
+   controller (``controller/``), the catkin package (``package.xml``,
+   ``CMakeLists.txt``);
+4. layout check: ``<node>_layout_check.c`` (:mod:`pyrosgen.layout`);
+5. compile the glue: ``gcc -std=c11 -Wall -Wextra -Werror -pedantic``;
+6. compile the controller: every ``DIR/*.c`` with ``-std=c11 -Wall
+   -Wextra -I DIR`` (user code: warnings are shown, not errors);
+7. compile the wrapper: ``g++ -std=c++14 -Wall -Wextra -Werror`` with the
+   flags of ``pkg-config roscpp <message packages>``;
+8. link ``bin/<node>`` and install everything into ``OUT``.
+
+Nothing partial: everything is built in a staging folder next to ``OUT``
+and moved into ``OUT`` only when every step succeeded (files whose content
+did not change are left alone; files of a previous build that this one no
+longer produces are removed; other files in ``OUT`` are kept).
+
+Compiling roscpp code is slow (about 10 s for the wrapper), so an object
+file, and the binary, is reused from the previous build in ``OUT`` when the
+hash of everything it is made from is unchanged: the compiler command (with
+the staging folder abstracted), the compiler's identity, the source, the
+headers it can include from the build (the generated headers, the
+controller folder's files) and the pkg-config flags.  The hashes are kept in
+``OUT/.pyrosgen-build.json``.  System headers are assumed not to change
+between builds (delete the stamp file to force a full rebuild).
+
+Exit codes (see :mod:`pyrosgen.cli`): a model, controller folder or
+controller source error, or a layout mismatch, is a user error (1); a
+proof, tool or generated-code compilation failure is exit 2.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import tempfile
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from . import layout, ros
+from .errors import PyrosgenError
+from .generate import GenerateResult, OutputDirError, generate_model
+from .model import NodeModel, load_model
+
+__all__ = [
+    "BuildError",
+    "ControllerError",
+    "BuildToolError",
+    "BuildResult",
+    "STEPS",
+    "STAMP",
+    "build",
+    "build_model",
+]
+
+#: Number of progress steps.
+STEPS = 8
+#: The stamp file (hashes of the inputs of each object and of the binary).
+STAMP = ".pyrosgen-build.json"
+_STAMP_VERSION = 1
+
+GLUE_CFLAGS = ("-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic")
+WRAPPER_CXXFLAGS = ("-std=c++14", "-O2", "-Wall", "-Wextra", "-Werror", "-pthread")
+CONTROLLER_CFLAGS = ("-std=c11", "-O2", "-Wall", "-Wextra")
+LDFLAGS = ("-pthread",)
+LDLIBS = ("-lm",)
+
+_FILE_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]*$")
+_MAX_OUTPUT = 12000
+
+
+class BuildError(PyrosgenError):
+    """A user error found by ``build`` (exit 1): the controller folder, a
+    controller source that does not compile, the output folder."""
+
+
+class ControllerError(BuildError):
+    """The user's controller code does not compile (exit 1); ``lines`` are
+    the compiler's messages."""
+
+    def __init__(self, summary: str, lines: Sequence[str] = ()):
+        self.summary = summary
+        self.lines = tuple(lines)
+        super().__init__(summary + ("\n" + "\n".join(self.lines) if self.lines else ""))
+
+
+class BuildToolError(PyrosgenError):
+    """A tool failed on generated code, or could not be run (exit 2)."""
+
+    def __init__(self, summary: str, lines: Sequence[str] = ()):
+        self.summary = summary
+        self.lines = tuple(lines)
+        super().__init__(summary + ("\n" + "\n".join(self.lines) if self.lines else ""))
+
+
+@dataclass
+class BuildResult:
+    """What :func:`build` did."""
+
+    model: NodeModel
+    out_dir: Path
+    binary: Path
+    generated: GenerateResult
+    files: list[tuple[Path, bool]]              #: (path, rewritten?)
+    steps: list[tuple[str, bool]]               #: (object or binary, rebuilt?)
+    warnings: list[str] = field(default_factory=list)
+    times: dict[str, float] = field(default_factory=dict)
+
+
+# -- small helpers --------------------------------------------------------------
+
+def _sha(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def _clip(text: str) -> str:
+    text = text.strip()
+    return text if len(text) <= _MAX_OUTPUT else text[:_MAX_OUTPUT] + "\n[... output cut ...]"
+
+
+def _existing_ancestor(p: Path) -> Path:
+    p = p.absolute()
+    while not p.exists():
+        p = p.parent
+    return p
+
+
+def _tool(env_var: str, default: str) -> list[str]:
+    value = os.environ.get(env_var, "").strip()
+    return shlex.split(value) if value else [default]
+
+
+def _run(argv: Sequence[str], what: str, cwd: Path | None = None, timeout: int = 900) -> subprocess.CompletedProcess:
+    try:
+        return subprocess.run(list(argv), capture_output=True, text=True, errors="replace",
+                              stdin=subprocess.DEVNULL, check=False, timeout=timeout,
+                              cwd=str(cwd) if cwd else None)
+    except OSError as exc:
+        raise BuildToolError(f"cannot run {argv[0]} ({what}): {exc.strerror or exc}") from None
+    except subprocess.TimeoutExpired:
+        raise BuildToolError(f"{argv[0]} did not finish {what} within {timeout} s") from None
+
+
+def _compiler_identity(cc: list[str]) -> str:
+    path = shutil.which(cc[0]) or cc[0]
+    r = _run([*cc, "--version"], "--version")
+    first = (r.stdout or r.stderr).splitlines()[:1]
+    return f"{path} {' '.join(cc[1:])} {first[0] if first else r.returncode}"
+
+
+def pkg_config(modules: Sequence[str]) -> tuple[list[str], list[str]]:
+    """``(cflags, libs)`` of ``pkg-config`` for ``modules``."""
+    pc = _tool("PKG_CONFIG", "pkg-config")
+    r = _run([*pc, "--cflags", *modules], "pkg-config")
+    if r.returncode != 0:
+        raise BuildToolError(
+            f"pkg-config does not know {' '.join(modules)}: install the ROS development "
+            "packages (make deps)", [_clip(r.stderr or r.stdout)])
+    cflags = shlex.split(r.stdout)
+    r = _run([*pc, "--libs", *modules], "pkg-config")
+    if r.returncode != 0:
+        raise BuildToolError(f"pkg-config --libs {' '.join(modules)} failed", [_clip(r.stderr or r.stdout)])
+    return cflags, shlex.split(r.stdout)
+
+
+# -- the controller folder -------------------------------------------------------
+
+@dataclass(frozen=True)
+class ControllerDir:
+    """The user's controller: its folder, header and C sources."""
+
+    path: Path
+    header: Path
+    sources: tuple[Path, ...]
+    files: tuple[Path, ...]          #: every *.c and *.h (copied into OUT/controller)
+
+
+def find_controller(model: NodeModel, directory: str | Path) -> ControllerDir:
+    """Check the controller folder: it holds ``<Controller>.h`` and at
+    least one ``*.c``; file names are plain (they go into CMakeLists.txt)."""
+    d = Path(directory)
+    if not d.is_dir():
+        raise BuildError(f"{d}: controller folder not found")
+    header = d / layout.controller_header_name(model)
+    if not header.is_file():
+        raise BuildError(
+            f"{d}: no {header.name} in the controller folder (the model's controller "
+            f"is {model.controller.name}: {model.controller.step_fn}() and "
+            f"{model.controller.inputs.var_name}/{model.controller.outputs.var_name} "
+            f"must be declared in {header.name})")
+    files = sorted(p for p in d.iterdir() if p.is_file() and p.suffix in (".c", ".h"))
+    for p in files:
+        if not _FILE_NAME.match(p.name):
+            raise BuildError(f"{p}: unsupported file name in the controller folder "
+                             "(letters, digits, '_', '.', '-' only)")
+    sources = tuple(p for p in files if p.suffix == ".c")
+    if not sources:
+        raise BuildError(f"{d}: no .c file in the controller folder (the controller must define "
+                         f"{model.controller.initialize_fn}() and {model.controller.step_fn}())")
+    return ControllerDir(d, header, sources, tuple(files))
+
+
+# -- the stamp file and the object cache -------------------------------------------
+
+class _Cache:
+    """Objects and binary of the previous build in ``OUT``, by input hash."""
+
+    def __init__(self, out_dir: Path):
+        self.out_dir = out_dir
+        self.old: dict = {}
+        try:
+            data = json.loads((out_dir / STAMP).read_text(encoding="utf-8"))
+            if isinstance(data, dict) and data.get("version") == _STAMP_VERSION:
+                self.old = data
+        except (OSError, ValueError):
+            pass
+        self.entries: dict[str, str] = {}
+
+    @property
+    def old_files(self) -> list[str]:
+        files = self.old.get("files", [])
+        return [f for f in files if isinstance(f, str)]
+
+    def reuse(self, rel: str, key: str, dest: Path) -> bool:
+        """Copy ``OUT/rel`` to ``dest`` if it was made from inputs with hash ``key``."""
+        self.entries[rel] = key
+        if self.old.get("entries", {}).get(rel) != key:
+            return False
+        src = self.out_dir / rel
+        if not src.is_file():
+            return False
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(src, dest)
+        return True
+
+    def stamp(self, files: list[str]) -> str:
+        return json.dumps({"version": _STAMP_VERSION, "entries": self.entries, "files": files},
+                          indent=1, sort_keys=True) + "\n"
+
+
+def _key(argv: Sequence[str], stage: Path, identity: str, inputs: Sequence[Path], extra: Sequence[str] = ()) -> str:
+    h = hashlib.sha256()
+    s = str(stage)
+    h.update(json.dumps([a.replace(s, "$OUT") for a in argv]).encode())
+    h.update(identity.encode())
+    for x in extra:
+        h.update(b"\0" + x.encode())
+    for p in inputs:
+        h.update(b"\0" + str(p).replace(s, "$OUT").encode() + b"\0" + _sha(p.read_bytes()).encode())
+    return h.hexdigest()
+
+
+# -- installing into OUT ----------------------------------------------------------
+
+def _all_files(root: Path) -> list[str]:
+    return sorted(str(p.relative_to(root)) for p in root.rglob("*") if p.is_file() or p.is_symlink())
+
+
+def _same(a: Path, b: Path) -> bool:
+    try:
+        return b.is_file() and a.stat().st_size == b.stat().st_size and a.read_bytes() == b.read_bytes() \
+            and (a.stat().st_mode & 0o111) == (b.stat().st_mode & 0o111)
+    except OSError:
+        return False
+
+
+def _install(stage: Path, out_dir: Path, old_files: list[str], backup_dir: Path) -> list[tuple[Path, bool]]:
+    """Move every file of ``stage`` into ``out_dir`` (only the changed
+    ones), then remove the files of ``old_files`` not produced any more;
+    undo everything on an error."""
+    files = _all_files(stage)
+    if not out_dir.exists():
+        try:
+            out_dir.parent.mkdir(parents=True, exist_ok=True)
+            os.rename(stage, out_dir)
+        except OSError as exc:
+            raise BuildError(f"cannot create {out_dir}: {exc.strerror or exc}") from None
+        return [(out_dir / f, True) for f in files]
+    done: list[tuple[Path, Path | None]] = []
+    result: list[tuple[Path, bool]] = []
+    removed: list[tuple[Path, Path]] = []
+    try:
+        for rel in files:
+            src, target = stage / rel, out_dir / rel
+            if _same(src, target):
+                result.append((target, False))
+                continue
+            backup = None
+            if target.exists() or target.is_symlink():
+                backup = backup_dir / rel
+                backup.parent.mkdir(parents=True, exist_ok=True)
+                os.replace(target, backup)
+            target.parent.mkdir(parents=True, exist_ok=True)
+            os.replace(src, target)
+            done.append((target, backup))
+            result.append((target, True))
+        new = set(files)
+        for rel in old_files:
+            target = out_dir / rel
+            if rel in new or ".." in Path(rel).parts or Path(rel).is_absolute():
+                continue
+            if target.is_file():
+                backup = backup_dir / "removed" / rel
+                backup.parent.mkdir(parents=True, exist_ok=True)
+                os.replace(target, backup)
+                removed.append((target, backup))
+    except OSError as exc:
+        for target, backup in reversed(removed):
+            try:
+                os.replace(backup, target)
+            except OSError:
+                pass
+        for target, backup in reversed(done):
+            try:
+                if backup is not None:
+                    os.replace(backup, target)
+                else:
+                    target.unlink()
+            except OSError:
+                pass
+        raise BuildError(f"cannot write into {out_dir}: {exc.strerror or exc}") from None
+    for target, _ in removed:  # drop folders left empty by removed files
+        parent = target.parent
+        while parent != out_dir and parent.is_dir() and not any(parent.iterdir()):
+            parent.rmdir()
+            parent = parent.parent
+    return result
+
+
+# -- the build ----------------------------------------------------------------------
+
+def build(model_path: str | Path, controller_dir: str | Path, out_dir: str | Path, *,
+          progress: Callable[[str], None] | None = None, keep_work: bool = False,
+          driver=None) -> BuildResult:
+    """Build the node of the model file ``model_path`` with the controller
+    in ``controller_dir`` into ``out_dir``; see the module documentation.
+
+    Raises :class:`~pyrosgen.errors.InvalidNodeModel`, :class:`BuildError`,
+    :class:`~pyrosgen.layout.LayoutMismatch`,
+    :class:`~pyrosgen.generate.OutputDirError` (exit 1), and
+    :class:`BuildToolError`, :class:`~pyrosgen.layout.LayoutToolError`,
+    :class:`~pyrosgen.coqdriver.CoqError` (exit 2).
+    """
+    say = progress or (lambda _line: None)
+    t0 = time.monotonic()
+    say(f"[1/{STEPS}] front end: reading {model_path}")
+    model = load_model(model_path)
+    return build_model(model, controller_dir, out_dir, progress=progress, keep_work=keep_work,
+                       driver=driver, _t_start=t0)
+
+
+def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Path, *,
+                progress: Callable[[str], None] | None = None, keep_work: bool = False,
+                driver=None, _t_start: float | None = None) -> BuildResult:
+    """:func:`build` on an already loaded ``model``."""
+    say = progress or (lambda _line: None)
+    t_start = _t_start if _t_start is not None else time.monotonic()
+    times: dict[str, float] = {}
+    out_dir = Path(out_dir)
+    if out_dir.exists() and not out_dir.is_dir():
+        raise OutputDirError(f"{out_dir}: exists and is not a directory")
+    ctl = find_controller(model, controller_dir)
+    cc, cxx = _tool("CC", "gcc"), _tool("CXX", "g++")
+    names = ros.wrapper_files(model)
+    node = model.name
+    glue_c = f"{node}_glue.c"
+    check_c = f"{node}_layout_check.c"
+    times["front end"] = time.monotonic() - t_start
+
+    base = _existing_ancestor(out_dir.parent if out_dir.name else out_dir)
+    try:
+        work = Path(tempfile.mkdtemp(prefix=f".pyrosgen-build-{node}-", dir=str(base)))
+    except OSError as exc:
+        raise BuildError(f"cannot create a work directory in {base}: {exc.strerror or exc}") from None
+    stage = work / "out"
+    cache = _Cache(out_dir)
+    steps: list[tuple[str, bool]] = []
+    warnings: list[str] = []
+
+    def shown(text: str) -> str:
+        return text.replace(str(stage), str(out_dir))
+
+    try:
+        stage.mkdir()
+        # 2. generate (its own steps, as sub-steps)
+        t = time.monotonic()
+
+        def sub(line: str) -> None:
+            say(f"[2/{STEPS}] generate: " + re.sub(r"^\[\d+/\d+\] ", "", line).replace(str(stage), str(out_dir)))
+
+        gen = generate_model(model, stage, progress=sub, keep_work=keep_work, driver=driver)
+        times["generate"] = time.monotonic() - t
+        types_h = (stage / names.types_header).read_text(encoding="ascii")
+
+        # 3. wrapper, custom messages, controller copy, catkin files
+        say(f"[3/{STEPS}] wrapper: C API over roscpp, gencpp, catkin package")
+        t = time.monotonic()
+        for fname, text in ros.render_wrapper(model).items():
+            (stage / fname).write_text(text, encoding="ascii")
+        include = stage / "include"
+        try:
+            custom_headers = ros.generate_custom_cpp(model, include)
+        except ros.ToolError as exc:
+            raise BuildToolError(str(exc).splitlines()[0], str(exc).splitlines()[1:]) from None
+        (stage / "controller").mkdir()
+        for p in ctl.files:
+            shutil.copyfile(p, stage / "controller" / p.name)
+        c_sources = [glue_c, *(f"controller/{p.name}" for p in ctl.sources)]
+        include_dirs = [".", "controller"] + (["include"] if custom_headers else [])
+        for fname, text in ros.render_catkin(model, c_sources, [names.api_source], include_dirs).items():
+            (stage / fname).write_text(text, encoding="utf-8")
+        modules = ros.ros_pkg_config_modules(model)
+        pc_cflags, pc_libs = pkg_config(modules)
+        times["wrapper"] = time.monotonic() - t
+
+        # 4. layout check
+        say(f"[4/{STEPS}] layout check: {ctl.header} against {names.types_header}")
+        t = time.monotonic()
+        (stage / check_c).write_text(layout.render_layout_check(model, types_h, names.types_header), encoding="ascii")
+        layout.check_layout(model, stage / check_c, ctl.path, work, types_h, cc=cc,
+                            shown_check=str(out_dir / check_c))
+        times["layout check"] = time.monotonic() - t
+
+        obj = stage / "obj"
+        obj.mkdir()
+        cc_id, cxx_id = _compiler_identity(cc), _compiler_identity(cxx)
+        objects: list[Path] = []
+        keys: list[str] = []
+
+        def compile_one(step: int, what: str, tool: list[str], ident: str, flags: Sequence[str],
+                        src: Path, out_name: str, inputs: Sequence[Path], user: bool) -> None:
+            out = obj / out_name
+            argv = [*tool, *flags, "-c", str(src), "-o", str(out)]
+            key = _key(argv, stage, ident, [src, *inputs])
+            keys.append(key)
+            objects.append(out)
+            if cache.reuse(f"obj/{out_name}", key, out):
+                say(f"[{step}/{STEPS}] {what}: {src.name} unchanged, reusing obj/{out_name}")
+                steps.append((f"obj/{out_name}", False))
+                return
+            say(f"[{step}/{STEPS}] {what}: {' '.join(tool)} {src.name}")
+            r = _run(argv, f"compiling {src.name}", cwd=stage)
+            if r.returncode != 0:
+                msg = _clip(shown(r.stderr + r.stdout))
+                if user:
+                    raise ControllerError(f"{ctl.path / src.name}: error: the controller source does not compile "
+                                          f"({' '.join(tool)} exit status {r.returncode})", msg.splitlines())
+                raise BuildToolError(f"{' '.join(tool)} failed on generated code {out_dir / src.name} "
+                                     f"(exit status {r.returncode})", msg.splitlines())
+            if user and (r.stderr.strip() or r.stdout.strip()):
+                warnings.extend(_clip(r.stderr + r.stdout).splitlines())
+            steps.append((f"obj/{out_name}", True))
+
+        # 5. glue
+        t = time.monotonic()
+        compile_one(5, "compile glue", cc, cc_id, [*GLUE_CFLAGS, "-I", str(stage)],
+                    stage / glue_c, f"{node}_glue.o", [stage / names.types_header], user=False)
+        times["glue"] = time.monotonic() - t
+        # 6. controller (before the slow wrapper: user errors first)
+        t = time.monotonic()
+        for src in ctl.sources:
+            compile_one(6, "compile controller", cc, cc_id, [*CONTROLLER_CFLAGS, "-I", str(ctl.path.absolute())],
+                        src.absolute(), f"controller_{src.stem}.o",
+                        [p.absolute() for p in ctl.files if p != src], user=True)
+        times["controller"] = time.monotonic() - t
+
+        # 7. wrapper
+        t = time.monotonic()
+        wrapper_inputs = [stage / names.types_header, stage / names.api_header, *custom_headers]
+        wflags = [*WRAPPER_CXXFLAGS, "-I", str(stage)] + (["-I", str(include)] if custom_headers else []) + pc_cflags
+        compile_one(7, "compile wrapper", cxx, cxx_id, wflags, stage / names.api_source,
+                    f"{node}_ros.o", wrapper_inputs, user=False)
+        times["wrapper compile"] = time.monotonic() - t
+        # 8. link and install
+        t = time.monotonic()
+        (stage / "bin").mkdir()
+        binary = stage / "bin" / node
+        argv = [*cxx, *LDFLAGS, *(str(o) for o in objects), "-o", str(binary), *pc_libs, *LDLIBS]
+        key = _key(argv, stage, cxx_id, [], extra=keys)
+        if cache.reuse(f"bin/{node}", key, binary):
+            say(f"[8/{STEPS}] link: objects unchanged, reusing bin/{node}")
+            steps.append((f"bin/{node}", False))
+        else:
+            say(f"[8/{STEPS}] link: bin/{node}")
+            r = _run(argv, f"linking {node}", cwd=stage)
+            if r.returncode != 0:
+                msg = _clip(shown(r.stderr + r.stdout))
+                # An undefined controller symbol is the user's; anything else is ours.
+                ctl_names = (model.controller.step_fn, model.controller.initialize_fn,
+                             model.controller.inputs.var_name, model.controller.outputs.var_name)
+                if any(f"undefined reference to `{n}'" in msg for n in ctl_names):
+                    raise ControllerError(f"{ctl.path}: error: the controller does not define what "
+                                          "the glue uses", msg.splitlines())
+                raise BuildToolError(f"linking {node} failed (exit status {r.returncode})", msg.splitlines())
+            steps.append((f"bin/{node}", True))
+        files = _all_files(stage) + [STAMP]
+        (stage / STAMP).write_text(cache.stamp(sorted(files)), encoding="utf-8")
+        say(f"[8/{STEPS}] installing into {out_dir}")
+        installed = _install(stage, out_dir, cache.old_files, work / "backup")
+        times["link and install"] = time.monotonic() - t
+    finally:
+        if keep_work:
+            say(f"work directory kept: {work}")
+        else:
+            shutil.rmtree(work, ignore_errors=True)
+    times["total"] = time.monotonic() - t_start
+    return BuildResult(model=model, out_dir=out_dir, binary=out_dir / "bin" / node, generated=gen,
+                       files=installed, steps=steps, warnings=warnings, times=times)

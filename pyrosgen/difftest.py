@@ -1,0 +1,306 @@
+"""Differential testing: the Coq semantics against the gcc-compiled C.
+
+The semantics of ``coq/theories/Semantics.v`` is trusted to describe what
+the C glue does once compiled.  This module checks it on concrete runs:
+the same message schedule is run
+
+- by the **C side**: the printed glue, compiled by gcc together with a fake
+  ROS C API and a test controller (``pyrosgen/templates/difftest_ros.c.j2``,
+  generated from the AST dump: structs, subscriptions, publications), which
+  reads the schedule on stdin and prints the trace;
+- by the **Coq side**: ``Interp.run_program`` (proved sound with respect to
+  the semantics, theorem T5) on the node's ``the_program``, extracted to
+  OCaml (``coq/templates/difftest.v.j2``) and driven by
+  ``pyrosgen/templates/difftest_runner.ml.j2``, which builds the
+  ``ros_context`` of the schedule and prints the trace in the same format.
+
+Both must print the same text, byte for byte: every controller input
+handed to the step function, every leaf of every published message
+(floats as IEEE bit patterns, NaN payloads included), the cycle marks.
+
+A schedule (:class:`Schedule`) gives, for each cycle, the messages that
+arrive before the cycle's ``ros_spinOnce`` (topic and leaves, in arrival
+order: also topics nobody subscribes to, and bursts longer than queues)
+and the controller's outputs for the cycle (a table: the controller does no
+arithmetic, so any difference is the glue's or the semantics').
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import jinja2
+
+from .coqdriver import CoqDriver, CoqError
+from .sexp import parse_sexp, program_items
+
+__all__ = [
+    "Leaf",
+    "Struct",
+    "NodeDump",
+    "Message",
+    "Schedule",
+    "harness_source",
+    "build_c_harness",
+    "build_coq_runner",
+    "run_side",
+    "GCC_STRICT",
+    "SANITIZE",
+    "DifftestError",
+    "leaf_token",
+]
+
+#: The warnings the glue and the harness are compiled with.
+GCC_STRICT = ("-std=c11", "-Wall", "-Wextra", "-Werror", "-pedantic")
+#: Sanitizers for the sanitized build of the C side.
+SANITIZE = ("-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer", "-g")
+
+_PYROSGEN_TEMPLATES = Path(__file__).resolve().parent / "templates"
+_COQ_TEMPLATES = Path(__file__).resolve().parent.parent / "coq" / "templates"
+HARNESS_TEMPLATE = "pyrosgen/templates/difftest_ros.c.j2"
+RUNNER_TEMPLATE = "pyrosgen/templates/difftest_runner.ml.j2"
+EXTRACT_TEMPLATE = "coq/templates/difftest.v.j2"
+
+
+class DifftestError(CoqError):
+    """Building or running a side of the differential test failed."""
+
+
+def _env(folder: Path) -> jinja2.Environment:
+    return jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(folder)), undefined=jinja2.StrictUndefined,
+        trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True, autoescape=False)
+
+
+# ---------------------------------------------------------------------------
+# What the harness needs from the dump
+
+@dataclass(frozen=True)
+class Leaf:
+    """A scalar leaf of a struct: C access path (``header.stamp.sec``,
+    ``covariance[3]``), kind (``signed``, ``unsigned``, ``f32``, ``f64``),
+    C type, bit width and the bounds of its values (C literals)."""
+
+    path: str
+    kind: str
+    ctype: str
+    bits: int
+    min: str = "0"
+    max: str = "0"
+
+
+@dataclass(frozen=True)
+class Struct:
+    """A struct the harness decodes from the schedule (``fill``) and/or
+    prints (``show``)."""
+
+    name: str
+    leaves: tuple[Leaf, ...]
+    fill: bool
+    show: bool
+
+
+_CTYPES = {("I8", "signed"): "signed char", ("I8", "unsigned"): "unsigned char",
+           ("I16", "signed"): "short", ("I16", "unsigned"): "unsigned short",
+           ("I32", "signed"): "int", ("I32", "unsigned"): "unsigned int"}
+_BITS = {"I8": 8, "I16": 16, "I32": 32}
+
+
+def _scalar(t) -> tuple[str, str, int]:
+    """(kind, C type, bits) of a scalar type of the dump."""
+    if t[0] == "int":
+        return (t[2], _CTYPES[(t[1], t[2])], _BITS[t[1]])
+    if t[0] == "long":
+        return (t[1], "long long" if t[1] == "signed" else "unsigned long long", 64)
+    if t == ["float", "F64"]:
+        return ("f64", "double", 64)
+    if t == ["float", "F32"]:
+        return ("f32", "float", 32)
+    raise DifftestError(f"the differential tests do not handle leaves of type {t}")
+
+
+@dataclass
+class NodeDump:
+    """The parts of a node's AST dump that the harness and the schedules need."""
+
+    items: dict
+    subs: list[tuple[str, str, str, int]] = field(default_factory=list)   # fn, topic, struct, queue
+    advs: list[tuple[str, str]] = field(default_factory=list)             # fn, topic
+    pubs: list[tuple[str, str, str]] = field(default_factory=list)        # fn, topic, struct
+    fns: dict[str, str] = field(default_factory=dict)
+    u: tuple[str, str] = ("", "")
+    y: tuple[str, str] = ("", "")
+
+    @classmethod
+    def from_text(cls, sexp_text: str) -> "NodeDump":
+        d = cls(program_items(parse_sexp(sexp_text)))
+        for name, (ef, _params, _res) in d.items["externals"].items():
+            tag = ef[0]
+            if tag == "ros_subscribe":
+                d.subs.append((name, str(ef[1]), ef[2], int(ef[3])))
+            elif tag == "ros_advertise":
+                d.advs.append((name, str(ef[1])))
+            elif tag == "ros_publish":
+                d.pubs.append((name, str(ef[1]), ef[2]))
+            elif tag in ("controller_initialize", "controller_step"):
+                d.fns["init" if tag == "controller_initialize" else "step"] = name
+                d.u = (ef[1], d.items["gvars"][ef[1]][1])
+                d.y = (ef[2], d.items["gvars"][ef[2]][1])
+            else:
+                d.fns[tag] = name
+        missing = {"ros_init", "ros_ok", "ros_spinOnce", "ros_rate_sleep", "init", "step"} - set(d.fns)
+        if missing:
+            raise DifftestError(f"the program lacks the external functions {sorted(missing)}")
+        return d
+
+    def leaves(self, struct: str) -> tuple[Leaf, ...]:
+        """Every scalar leaf of ``struct``, in member order, arrays expanded."""
+        out: list[Leaf] = []
+
+        def go(t, path: str) -> None:
+            if t[0] == "struct":
+                for m, mt in self.items["structs"][t[1]]:
+                    go(mt, f"{path}.{m}" if path else m)
+            elif t[0] == "array":
+                for k in range(int(t[2])):
+                    go(t[1], f"{path}[{k}]")
+            else:
+                kind, ctype, bits = _scalar(t)
+                if kind == "signed":
+                    lo, hi = f"(-{2 ** (bits - 1) - 1}LL - 1)", f"{2 ** (bits - 1) - 1}LL"
+                elif kind == "unsigned":
+                    lo, hi = "0", f"{2 ** bits - 1}ULL"
+                else:
+                    lo, hi = "0", "0"
+                out.append(Leaf(path, kind, ctype, bits, lo, hi))
+
+        go(["struct", struct], "")
+        return tuple(out)
+
+    def root_structs(self) -> list[str]:
+        """The structs the harness reads or prints: messages, inputs, outputs."""
+        out: list[str] = []
+        for s in [st for _, _, st, _ in self.subs] + [st for _, _, st in self.pubs] + [self.u[1], self.y[1]]:
+            if s not in out:
+                out.append(s)
+        return out
+
+
+def harness_source(sexp_text: str, header_name: str, source: str = "the AST dump") -> str:
+    """The C source of the fake ROS C API and the test controller."""
+    d = NodeDump.from_text(sexp_text)
+    filled = {st for _, _, st, _ in d.subs} | {d.y[1]}
+    shown = {st for _, _, st in d.pubs} | {d.u[1], d.y[1]}
+    structs = [Struct(s, d.leaves(s), s in filled, s in shown) for s in d.root_structs()]
+    kinds = sorted({leaf.kind for s in structs if s.fill for leaf in s.leaves})
+    return _env(_PYROSGEN_TEMPLATES).get_template("difftest_ros.c.j2").render(
+        template=HARNESS_TEMPLATE, source=source, header=header_name, structs=structs, kinds=kinds,
+        fns=d.fns, subs=d.subs, advs=d.advs, pubs=d.pubs, u=d.u, y=d.y)
+
+
+# ---------------------------------------------------------------------------
+# Building the two sides
+
+def _run(argv: list[str], cwd: Path, what: str, timeout: float = 900) -> subprocess.CompletedProcess:
+    proc = subprocess.run(argv, cwd=str(cwd), capture_output=True, text=True, errors="replace",
+                          check=False, timeout=timeout)
+    if proc.returncode != 0:
+        raise DifftestError(f"{what} failed (exit status {proc.returncode})",
+                            (proc.stdout + proc.stderr).splitlines()[-30:])
+    return proc
+
+
+def build_c_harness(out_dir: str | Path, node: str, work: str | Path, *, sanitize: bool = False,
+                    opt: str = "-O1", name: str | None = None) -> Path:
+    """Compile the printed glue of ``out_dir`` (``pyrosgen generate`` output)
+    with the harness, with :data:`GCC_STRICT` warnings (and the sanitizers
+    of :data:`SANITIZE` if ``sanitize``).  Returns the executable."""
+    out_dir, work = Path(out_dir).resolve(), Path(work)
+    work.mkdir(parents=True, exist_ok=True)
+    glue, header, sexp = out_dir / f"{node}_glue.c", out_dir / f"{node}_types.h", out_dir / f"{node}.sexp"
+    src = work / f"{node}_difftest_ros.c"
+    src.write_text(harness_source(sexp.read_text(), header.name, sexp.name), encoding="ascii")
+    exe = work / (name or f"{node}_c{'_san' if sanitize else ''}")
+    argv = ["gcc", *GCC_STRICT, opt, *(SANITIZE if sanitize else ()), "-I", str(out_dir),
+            str(glue), str(src), "-o", str(exe)]
+    _run(argv, work, "gcc (differential-test harness)")
+    return exe
+
+
+def build_coq_runner(out_dir: str | Path, node: str, work: str | Path,
+                     driver: CoqDriver | None = None) -> Path:
+    """Compile the per-node Coq file of ``out_dir``, extract
+    ``Interp.run_program`` and its ``the_program`` to OCaml, and compile the
+    runner.  Returns the executable."""
+    drv = driver or CoqDriver()
+    out_dir, work = Path(out_dir).resolve(), Path(work).resolve()
+    coq = work / "coq"
+    coq.mkdir(parents=True, exist_ok=True)
+    vfile = coq / f"{node}.v"
+    shutil.copyfile(out_dir / f"{node}.v", vfile)
+    lib = (coq, "RosgenNode")
+    drv.coqc(vfile, lib)
+    module = f"RosgenNode.{node}"
+    (coq / "Extract.v").write_text(_env(_COQ_TEMPLATES).get_template("difftest.v.j2").render(
+        template=EXTRACT_TEMPLATE, module=module, output="difftest.ml"), encoding="ascii")
+    res = drv.run([drv.tool("coqc"), "-q", *drv.load_path([lib]), "Extract.v"], coq)
+    if not res.ok:
+        raise DifftestError("extraction of the interpreter failed", res.output.splitlines()[-20:])
+    (coq / "runner.ml").write_text(_env(_PYROSGEN_TEMPLATES).get_template("difftest_runner.ml.j2").render(
+        template=RUNNER_TEMPLATE, module="Difftest"), encoding="ascii")
+    exe = work / f"{node}_coq"
+    res = drv.run([*drv.ocamlopt(), "-w", "-a", "difftest.mli", "difftest.ml", "runner.ml",
+                   "-o", str(exe)], coq)
+    if not res.ok:
+        raise DifftestError("ocamlopt failed on the extracted interpreter", res.output.splitlines()[-20:])
+    return exe
+
+
+def run_side(exe: str | Path, schedule_text: str, timeout: float = 120) -> str:
+    """Run one side on a schedule; its trace (stdout).  A non-zero exit
+    (harness error, sanitizer report, interpreter stuck) raises."""
+    proc = subprocess.run([str(exe)], input=schedule_text, capture_output=True, text=True,
+                          check=False, timeout=timeout)
+    if proc.returncode != 0:
+        raise DifftestError(f"{Path(exe).name} failed (exit status {proc.returncode})",
+                            proc.stderr.splitlines()[-30:])
+    return proc.stdout
+
+
+# ---------------------------------------------------------------------------
+# Schedules
+
+@dataclass(frozen=True)
+class Message:
+    """A message arriving on ``topic``: its leaves as schedule tokens
+    (integers in decimal, floats as ``0x`` bit patterns)."""
+
+    topic: str
+    leaves: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Schedule:
+    """Per cycle: the messages arriving before its spin, in order, and the
+    controller's outputs (leaf tokens)."""
+
+    cycles: tuple[tuple[tuple[Message, ...], tuple[str, ...]], ...]
+
+    def text(self) -> str:
+        lines = [f"schedule {len(self.cycles)}"]
+        for k, (msgs, y) in enumerate(self.cycles):
+            lines.append(f"cycle {k} {len(msgs)}")
+            lines += [f"msg {m.topic} {len(m.leaves)} {' '.join(m.leaves)}".rstrip() for m in msgs]
+            lines.append(f"y {len(y)} {' '.join(y)}".rstrip())
+        return "\n".join(lines) + "\n"
+
+
+def leaf_token(leaf: Leaf, value: int) -> str:
+    """The schedule token of ``value`` for ``leaf``: a float's value is its
+    bit pattern (an int)."""
+    if leaf.kind in ("f32", "f64"):
+        return f"0x{value:0{leaf.bits // 4}x}"
+    return str(value)
