@@ -52,6 +52,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from . import console
 from . import layout, ros
 from .errors import PyrosgenError
 from .generate import GenerateResult, OutputDirError, generate_model
@@ -146,10 +147,14 @@ def _tool(env_var: str, default: str) -> list[str]:
 
 
 def _run(argv: Sequence[str], what: str, cwd: Path | None = None, timeout: int = 900) -> subprocess.CompletedProcess:
+    console.trace_command(argv)
+    t0 = time.monotonic()
     try:
-        return subprocess.run(list(argv), capture_output=True, text=True, errors="replace",
-                              stdin=subprocess.DEVNULL, check=False, timeout=timeout,
-                              cwd=str(cwd) if cwd else None)
+        r = subprocess.run(list(argv), capture_output=True, text=True, errors="replace",
+                           stdin=subprocess.DEVNULL, check=False, timeout=timeout,
+                           cwd=str(cwd) if cwd else None)
+        console.trace_result(argv, r.returncode, time.monotonic() - t0)
+        return r
     except OSError as exc:
         raise BuildToolError(f"cannot run {argv[0]} ({what}): {exc.strerror or exc}") from None
     except subprocess.TimeoutExpired:

@@ -17,6 +17,7 @@ import os
 import sys
 from collections.abc import Callable, Sequence
 
+from . import console
 from .errors import InvalidNodeModel, PyrosgenError
 
 __all__ = ["main", "build_parser", "EXIT_OK", "EXIT_USER", "EXIT_TOOL"]
@@ -216,21 +217,58 @@ def cmd_build(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+_EXAMPLES = {
+    "pyrosgen": """examples:
+  pyrosgen check examples/landshark/landshark_controller.yaml
+  pyrosgen generate examples/landshark/landshark_controller.yaml -o build/landshark
+  pyrosgen build examples/landshark/landshark_controller.yaml --controller examples/landshark/controller -o build/landshark
+  pyrosgen diagram examples/landshark/landshark_controller.yaml -o landshark.svg
+
+exit codes: 0 success, 1 invalid model or usage, 2 proof or tool failure.
+'pyrosgen COMMAND --help' shows each command's options.""",
+    "check": """examples:
+  pyrosgen check examples/landshark/landshark_controller.yaml
+  pyrosgen check my_node.yaml && echo valid
+
+Every problem is reported as FILE:LINE:COL: error: MESSAGE; exit 1 if any.""",
+    "diagram": """examples:
+  pyrosgen diagram examples/landshark/landshark_controller.yaml -o landshark.svg
+  pyrosgen diagram examples/multi/multi_node.yaml -o multi.dot      # Graphviz source
+  pyrosgen diagram my_node.yaml -o out.img --format png""",
+    "generate": """examples:
+  pyrosgen generate examples/landshark/landshark_controller.yaml -o build/landshark
+  pyrosgen generate examples/multi/multi_node.yaml -o build/multi --wp     # also Frama-C WP
+  pyrosgen -v generate my_node.yaml -o out --keep-work                     # show commands, keep the Coq work dir
+
+writes DIR/<node>.v, <node>_types.h, <node>_glue.c, <node>.sexp, CERTIFICATE.md
+only if the node's DDC theorem was checked and is closed under the global context.""",
+    "build": """examples:
+  pyrosgen build examples/landshark/landshark_controller.yaml \\
+      --controller examples/landshark/controller -o build/landshark
+  ROS_MASTER_URI=http://127.0.0.1:11311 build/landshark/bin/landshark_controller""",
+}
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with one subparser per command."""
     parser = _Parser(
         prog="pyrosgen",
         description="Generate proven glue code for ROS 1 nodes from a node model.",
+        epilog=_EXAMPLES["pyrosgen"],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    parser.add_argument("-v", "--verbose", action="store_true",
+                        help="show every external command (coqc, coqchk, ocamlopt, gcc, ...) as it runs")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
 
-    p = sub.add_parser("check", help="validate a node model", description="Validate a node model file.")
+    p = sub.add_parser("check", epilog=_EXAMPLES["check"], formatter_class=argparse.RawDescriptionHelpFormatter, help="validate a node model", description="Validate a node model file.")
     p.add_argument("model", metavar="MODEL.yaml", help="the node model file")
     p.set_defaults(func=cmd_check)
 
     p = sub.add_parser(
         "diagram",
+        epilog=_EXAMPLES["diagram"], formatter_class=argparse.RawDescriptionHelpFormatter,
         help="draw a node's data flow with Graphviz",
         description="Draw the data flow of a node (topics, callbacks, glue, controller) with Graphviz.",
     )
@@ -241,6 +279,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser(
         "generate",
+        epilog=_EXAMPLES["generate"], formatter_class=argparse.RawDescriptionHelpFormatter,
         help="emit the Coq file, check the proof, write the C",
         description=(
             "Generate the glue of a node: the per-node Coq file, checked by coqc "
@@ -263,6 +302,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser(
         "build",
+        epilog=_EXAMPLES["build"], formatter_class=argparse.RawDescriptionHelpFormatter,
         help="generate, prove and compile a runnable ROS node",
         description=(
             "Build a ROS node: generate and prove the glue (as generate does), render "
@@ -284,6 +324,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _print_err(text: str) -> None:
+    text = console.colourize(text)
     sys.stderr.write(text if text.endswith("\n") else text + "\n")
     sys.stderr.flush()
 
@@ -299,6 +340,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             return EXIT_USER
         except SystemExit as exc:  # --help / --version
             return int(exc.code or 0) if not isinstance(exc.code, str) else EXIT_USER
+        console.VERBOSE = bool(getattr(args, "verbose", False))
         func: Callable[[argparse.Namespace], int] = args.func
         return func(args)
     except InvalidNodeModel as exc:

@@ -36,6 +36,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from . import console
 from .errors import PyrosgenError, escape
 
 __all__ = [
@@ -307,6 +308,7 @@ class CoqDriver:
         """Run a tool (``check=False``); a tool that cannot be started or
         times out raises :class:`CoqError`."""
         t0 = time.monotonic()
+        console.trace_command(argv)
         try:
             proc = subprocess.run(
                 list(argv),
@@ -322,6 +324,7 @@ class CoqDriver:
             raise CoqError(f"cannot run {argv[0]}: {exc.strerror or exc}") from None
         except subprocess.TimeoutExpired:
             raise CoqError(f"{Path(argv[0]).name} did not finish within {self.timeout} s") from None
+        console.trace_result(argv, proc.returncode, time.monotonic() - t0)
         return CoqcResult(tuple(argv), proc.returncode, proc.stdout, proc.stderr, time.monotonic() - t0)
 
     def load_path(self, extra: Sequence[tuple[Path, str]] = ()) -> list[str]:
