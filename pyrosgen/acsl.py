@@ -61,7 +61,6 @@ import jinja2
 
 from .coqdriver import CoqError
 from .model import NodeModel
-from .msgtypes import C_TYPES, FieldPath
 
 __all__ = [
     "WPError",
@@ -70,6 +69,7 @@ __all__ = [
     "contracts",
     "render_wrapper",
     "run_wp",
+    "memory_hypotheses",
     "WRAPPER_TEMPLATE",
     "PROVERS",
 ]
@@ -133,9 +133,13 @@ class WPResult:
     def ok(self) -> bool:
         return self.total > 0 and self.proved == self.total
 
+    @property
+    def prover(self) -> str:
+        """What proved the goals, with counts: ``Qed 87`` (WP's simplifier), ``Z3 4.8.12 3``."""
+        return ", ".join(f"{k} {v}" for k, v in self.by_prover.items())
+
     def summary(self) -> str:
-        how = ", ".join(f"{k} {v}" for k, v in self.by_prover.items())
-        return (f"WP: {self.proved}/{self.total} goals proved ({how}; {len(self.functions)} functions, "
+        return (f"WP: {self.proved}/{self.total} goals proved ({self.prover}; {len(self.functions)} functions, "
                 f"{self.seconds:.1f} s)")
 
 
@@ -256,18 +260,25 @@ def _why3_config(work: Path) -> tuple[Path, tuple[str, ...]]:
     return conf, found
 
 
+def memory_hypotheses(output: str) -> list[tuple[str, tuple[str, ...]]]:
+    """The memory-model hypotheses WP reports: (function, terms of each
+    ``\\separated(...)``)."""
+    out = []
+    for m in _HYPS.finditer(output):
+        for sep in _SEPARATED.findall(m.group("body")):
+            out.append((m.group("fn"), tuple(t.strip() for t in sep.replace("\n", " ").split(","))))
+    return out
+
+
 def _check_hypotheses(output: str, cs: list[Contract]) -> None:
     """Every memory-model hypothesis WP reports must be stated in the contract."""
     by_name = {c.name: c for c in cs}
-    for m in _HYPS.finditer(output):
-        fn = m.group("fn")
+    for fn, terms in memory_hypotheses(output):
         c = by_name.get(fn)
-        for sep in _SEPARATED.findall(m.group("body")):
-            terms = [t.strip() for t in sep.replace("\n", " ").split(",")]
-            stated = set(c.separated) | {c.pointer} if c is not None and c.pointer else set()
-            if c is None or c.pointer not in terms or not set(terms) <= stated:
-                raise WPError(f"WP assumed a memory-model hypothesis that the contract of {fn} does not "
-                              f"state: \\separated({', '.join(terms)})")
+        stated = set(c.separated) | {c.pointer} if c is not None and c.pointer else set()
+        if c is None or c.pointer not in terms or not set(terms) <= stated:
+            raise WPError(f"WP assumed a memory-model hypothesis that the contract of {fn} does not "
+                          f"state: \\separated({', '.join(terms)})")
 
 
 def run_wp(model: NodeModel, glue: str | Path, header: str | Path, work: str | Path, *,

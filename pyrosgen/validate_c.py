@@ -634,11 +634,6 @@ def _parse_error() -> type:
     return ParseError
 
 
-def _coord(node) -> str:
-    c = getattr(node, "coord", None)
-    return f"{c.file}:{c.line}" if c is not None else "?"
-
-
 class _CProgram:
     """Normalises a translation unit parsed by pycparser."""
 

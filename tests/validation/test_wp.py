@@ -1,0 +1,119 @@
+"""Frama-C WP on the printed C (pyrosgen/acsl.py, ``pyrosgen generate --wp``).
+
+- the ACSL contracts generated from the model (callbacks, input_glue,
+  output glues) are proved on LandShark and multi, every goal, and WP's
+  memory-model hypotheses are all stated by the contracts;
+- ``pyrosgen generate --wp`` prints the goal count;
+- mutated glues (swapped sources, a missing zeroing, a copied neighbour
+  leaf, a value changed by ``+ 0.0``) are not proved: the run fails.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+
+import pytest
+
+from pyrosgen import cli
+from pyrosgen.acsl import WPError, contracts, memory_hypotheses, run_wp
+from pyrosgen.model import load_model
+
+from .helpers import EXAMPLES, LANDSHARK
+
+
+@pytest.mark.parametrize("key", list(EXAMPLES))
+def test_wp_proves_the_examples(generated, key, tmp_path):
+    node = generated[key]
+    model = load_model(EXAMPLES[key][0])
+    res = run_wp(model, node.glue, node.header, tmp_path / "wp")
+    assert res.ok and res.proved == res.total
+    cs = contracts(model)
+    # one contract per callback, input_glue and each output glue
+    assert [c.name for c in cs] == (
+        [t.callback for t in model.subscribed] + ["input_glue"] + [t.output_glue for t in model.published])
+    assert set(res.functions) == {c.name for c in cs}
+    # every function contributes an ensures goal, an assigns goal per write, RTE goals per access
+    for c in cs:
+        assert f"typed_{c.name}_ensures : Valid" in res.output, c.name
+    # the ensures state every leaf: one conjunct per carried leaf
+    for t in model.subscribed:
+        c = next(c for c in cs if c.name == t.callback)
+        assert len(c.ensures) == len(model.leaf_paths(t.msg_type))
+    for t in model.published:
+        c = next(c for c in cs if c.name == t.output_glue)
+        assert len(c.ensures) == len(model.leaf_paths(t.msg_type))
+    # WP's hypotheses are exactly the separations the contracts state
+    hyps = memory_hypotheses(res.output)
+    assert {fn for fn, _ in hyps} == {c.name for c in cs if c.pointer}
+    assert res.total >= {"landshark": 80, "multi": 350}[key]
+
+
+def test_generate_wp_prints_goal_count(capsys, tmp_path):
+    code = cli.main(["generate", str(LANDSHARK), "-o", str(tmp_path / "out"), "--wp", "-q"])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    m = re.search(r"  WP        WP: (\d+)/(\d+) goals proved", out)
+    assert m and m.group(1) == m.group(2) and int(m.group(1)) > 50, out
+
+
+LS = "landshark_left_wheel_velocity_msg"
+RS = "landshark_right_wheel_velocity_msg"
+
+
+@pytest.mark.parametrize("name,old,new,failing", [
+    ("swapped sources",
+     f"    _t_double = {LS}.twist.linear.x;\n    Controller_U.In1 = _t_double;\n"
+     f"    _t_double = {RS}.twist.linear.x;\n    Controller_U.In2 = _t_double;\n",
+     f"    _t_double = {RS}.twist.linear.x;\n    Controller_U.In1 = _t_double;\n"
+     f"    _t_double = {LS}.twist.linear.x;\n    Controller_U.In2 = _t_double;\n",
+     "input_glue_ensures"),
+    ("missing zeroing", "    (*command).twist.angular.y = 0x0p+0;\n", "", "output_glue_landshark_control_base_velocity_ensures"),
+    ("neighbour leaf", f"    _t_double = (*msg).twist.angular.z;\n    {LS}.twist.angular.z",
+     f"    _t_double = (*msg).twist.angular.y;\n    {LS}.twist.angular.z", "left_wheel_velocity_callback_ensures"),
+    ("plus zero", f"    _t_double = (*msg).twist.linear.x;\n    {LS}",
+     f"    _t_double = (*msg).twist.linear.x + 0x0p+0;\n    {LS}", "left_wheel_velocity_callback_ensures"),
+], ids=["swapped-sources", "missing-zeroing", "neighbour-leaf", "plus-zero"])
+def test_wp_fails_on_mutated_glue(generated, tmp_path, name, old, new, failing):
+    node = generated["landshark"]
+    work = tmp_path / "wp"
+    work.mkdir()
+    glue = node.glue.read_text()
+    assert glue.count(old) == 1, name
+    (work / node.glue.name).write_text(glue.replace(old, new))
+    shutil.copyfile(node.header, work / node.header.name)
+    with pytest.raises(WPError) as info:
+        run_wp(load_model(LANDSHARK), work / node.glue.name, work / node.header.name, work, timeout=3)
+    msg = str(info.value)
+    assert "goals proved, not all" in msg and failing in msg, msg
+
+
+def test_generate_wp_failure_is_exit_2(monkeypatch, capsys, tmp_path):
+    """A contract the glue does not meet (input_glue's In1 said to come from
+    the right wheel): ``pyrosgen generate --wp`` exits 2, prints the goal
+    count and the unproved goal, and writes nothing."""
+    import dataclasses
+
+    from pyrosgen import acsl
+
+    original = acsl.contracts
+
+    def wrong(model):
+        out = []
+        for c in original(model):
+            if c.name == "input_glue":
+                ens = list(c.ensures)
+                assert LS in ens[0]
+                ens[0] = ens[0].replace(LS, RS)
+                c = dataclasses.replace(c, ensures=tuple(ens))
+            out.append(c)
+        return out
+
+    monkeypatch.setattr(acsl, "contracts", wrong)
+    out = tmp_path / "out"
+    code = cli.main(["generate", str(LANDSHARK), "-o", str(out), "--wp", "-q"])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert re.search(r"Frama-C WP: (\d+)/(\d+) goals proved, not all; nothing written", err), err
+    assert "typed_input_glue_ensures" in err
+    assert not out.exists()
