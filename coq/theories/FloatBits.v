@@ -1,7 +1,7 @@
 (** * IEEE 754 bit patterns, without axioms *)
 
-(** Conversions between the bit pattern of an IEEE 754 number (a [Z] in
-    [[0, 2^(mw+ew+1))]) and Flocq's [binary_float].
+(** Conversions between the bit pattern of an IEEE 754 number (a [Z] [z] with
+    [0 <= z < 2^(mw+ew+1)]) and Flocq's [binary_float].
 
     Flocq's own [b64_of_bits] / [b32_of_bits] build the validity proof of
     the float with real-number lemmas, which pulls Coq's classical reals
