@@ -180,6 +180,12 @@ def bench_model(label: str, n: int | None, model: Path, env: dict, repeat: int, 
         "loads": [r["load"] for r in runs] + [c["load"] for c in clis],
         "cli_wall": median([c["wall"] for c in clis]),
         "cli_cpu": median([c["cpu"] for c in clis]),
+        # the load of other jobs only ever adds time: the best run is the
+        # estimate of the pipeline's own cost, the median is shown too
+        "cli_wall_min": min(c["wall"] for c in clis),
+        "cli_cpu_min": min(c["cpu"] for c in clis),
+        "cli_runs": [{"wall": c["wall"], "cpu": c["cpu"], "load": c["load"]} for c in clis],
+        "phases_min": {k: min(r["phases"][k] for r in runs if k in r["phases"]) for k in runs[0]["phases"]},
         "cli_maxrss_kb": max(c["maxrss_kb"] for c in clis),
         "inproc_total": med(lambda r: r["total"]),
         "phases": phases,
@@ -262,8 +268,8 @@ def run_pipeline(env: dict, *, quick: bool, log) -> dict:
     by = {r["label"]: r for r in results}
     ratios = {}
     if "synth_400" in by and "synth_2000" in by:
-        ratios["cli t(2000)/t(400)"] = by["synth_2000"]["cli_wall"] / by["synth_400"]["cli_wall"]
-        ratios["cli cpu(2000)/cpu(400)"] = by["synth_2000"]["cli_cpu"] / by["synth_400"]["cli_cpu"]
+        ratios["cli t(2000)/t(400)"] = by["synth_2000"]["cli_wall_min"] / by["synth_400"]["cli_wall_min"]
+        ratios["cli cpu(2000)/cpu(400)"] = by["synth_2000"]["cli_cpu_min"] / by["synth_400"]["cli_cpu_min"]
     if "synth_40" in by and "synth_400" in by:
-        ratios["cli t(400)/t(40)"] = by["synth_400"]["cli_wall"] / by["synth_40"]["cli_wall"]
+        ratios["cli t(400)/t(40)"] = by["synth_400"]["cli_wall_min"] / by["synth_40"]["cli_wall_min"]
     return {"models": results, "ratios": ratios, "ab": ab}

@@ -69,16 +69,23 @@ def block_pipeline_targets(load_json) -> str:
     by = _by(res)
     rows = ["| figure | target | measured | |", "|---|---|---|---|"]
     ls = by.get("landshark")
+
+    def wl(m, key):  # best run (median of the runs)
+        mn = m.get(key + "_min", m[key])
+        return f"{mn:.2f} s ({m[key]:.2f} s)"
+
+    def lds(m):
+        return ", ".join(x.split()[0] for x in m["loads"])
+
     if ls:
-        cpu_ok = ls["cli_cpu"] <= T_LANDSHARK
-        rows.append(f"| LandShark, `pyrosgen generate` end to end, wall (load {ls['loads'][-1].split()[0]}) "
-                    f"| ≤ {T_LANDSHARK:.0f} s | {ls['cli_wall']:.2f} s | {_ok(ls['cli_wall'] <= T_LANDSHARK)} |")
-        rows.append(f"| LandShark, same, CPU time (= wall on an idle machine: the pipeline is sequential) "
-                    f"| ≤ {T_LANDSHARK:.0f} s | {ls['cli_cpu']:.2f} s | {_ok(cpu_ok)} |")
+        rows.append(f"| LandShark, `pyrosgen generate` end to end, wall | ≤ {T_LANDSHARK:.0f} s | {wl(ls, 'cli_wall')} "
+                    f"| {_ok(ls.get('cli_wall_min', ls['cli_wall']) <= T_LANDSHARK)} |")
+        rows.append(f"| LandShark, same, CPU time (the wall time on an idle machine: the pipeline is sequential) "
+                    f"| ≤ {T_LANDSHARK:.0f} s | {wl(ls, 'cli_cpu')} | {_ok(ls.get('cli_cpu_min', ls['cli_cpu']) <= T_LANDSHARK)} |")
     n4 = by.get("synth_400")
     if n4:
-        rows.append(f"| N = 400, end to end, wall (load {n4['loads'][-1].split()[0]}) | ≤ {T_N400:.0f} s "
-                    f"| {n4['cli_wall']:.2f} s | {_ok(n4['cli_wall'] <= T_N400)} |")
+        rows.append(f"| N = 400, end to end, wall | ≤ {T_N400:.0f} s "
+                    f"| {wl(n4, 'cli_wall')} | {_ok(n4.get('cli_wall_min', n4['cli_wall']) <= T_N400)} |")
     r = res.get("ratios", {})
     if "cli t(2000)/t(400)" in r:
         g = r["cli t(2000)/t(400)"]
@@ -87,6 +94,10 @@ def block_pipeline_targets(load_json) -> str:
         rows.append(f"| growth, CPU time | ≤ {T_GROWTH:.0f} | {gc:.2f} | {_ok(gc <= T_GROWTH)} |")
     else:
         rows.append("| growth t(2000) / t(400) | ≤ 6 | not measured (quick run) | |")
+    rows.append("")
+    rows.append("Best run, median of the runs in brackets (the load of other jobs only adds time, so the "
+                "best run is the estimate of pyrosgen's own cost); ratios of best runs. Load average "
+                "(1 min) at each run: " + "; ".join(f"{m['label']} {lds(m)}" for m in res["models"]) + ".")
     return "\n".join(rows) + "\n"
 
 
@@ -237,23 +248,44 @@ def block_runtime(load_json) -> str:
                 fs = ", ".join(f"`{f}` {v:.0f}" for f, v in sorted(d["functions"].items(), key=lambda kv: -kv[1]))
                 out.append(f"| {names[k]} | {d['per_cycle']:.0f} | {fs} |")
         out.append("")
+    wh = res.get("whole")
+    if wh:
+        out.append(f"Whole nodes, instructions per cycle (callgrind on the real processes, every thread, "
+                   f"20 ms period, inputs published at 50 Hz, {wh['window_s']:.0f} s window after a warm-up, "
+                   f"{wh.get('rounds', 1)} alternated round(s), sums over the rounds; timing-dependent "
+                   f"(how many messages each spinOnce finds), so not exact like the table above):")
+        out.append("")
+        out.append("| node | per cycle | main-thread loop | of which `ros::spinOnce` | watchdog thread | cycles | load per round |")
+        out.append("|---|---|---|---|---|---|---|")
+        for k in ("generated", "handwritten"):
+            d = wh[k]
+            p = d["parts_per_cycle"]
+            rounds = ", ".join(f"{x:.0f}" for x in d.get("per_round", []))
+            out.append(f"| {k} | {d['per_cycle']:.0f} (rounds: {rounds}) | {p.get('main thread loop', 0):.0f} | "
+                       f"{p.get('ros::spinOnce', 0):.0f} | {p.get('watchdog thread', 0):.0f} | {d['cycles']} | {d['load']} |")
+        out.append(f"| ratio | {wh['ratio']:.3f} | | | | | |")
+        out.append("")
     if lat:
+        per = lat.get("edges_per_round", lat.get("edges_per_block"))
         out.append(f"Latency (µs) from the publication of an input change to the receipt of the first "
-                   f"command reflecting it, node period 1 ms, {lat['edges_per_block']} edges per block, "
-                   f"blocks alternated:")
+                   f"command reflecting it, both nodes at a 1 ms period running side by side, the driver "
+                   f"alternating edges between them; {len(lat.get('rounds', []))} round(s) of {per} edges "
+                   f"per node, fresh nodes each round:")
         out.append("")
         out.append("| node | edges | median | mean | p10 | p90 | p99 | lost |")
         out.append("|---|---|---|---|---|---|---|---|")
         for k in ("generated", "handwritten"):
-            s = lat[k]
-            out.append(f"| {k} | {s['n']} | {s['median']:.0f} | {s['mean']:.0f} | {s['p10']:.0f} | "
-                       f"{s['p90']:.0f} | {s['p99']:.0f} | {lat['lost'][k]} |")
+            s_ = lat[k]
+            out.append(f"| {k} | {s_['n']} | {s_['median']:.0f} | {s_['mean']:.0f} | {s_['p10']:.0f} | "
+                       f"{s_['p90']:.0f} | {s_['p99']:.0f} | {lat['lost'][k]} |")
         out.append("")
-        out.append("| block | node | median µs | p90 µs | load (1, 5, 15 min) |")
-        out.append("|---|---|---|---|---|")
-        for i, b in enumerate(lat["blocks"]):
-            out.append(f"| {i + 1} | {b['node']} | {b['median']:.0f} | {b['p90']:.0f} | {b['load']} |")
-        out.append("")
+        if lat.get("rounds"):
+            out.append("| round | generated median µs | hand-written median µs | ratio | load (1, 5, 15 min) |")
+            out.append("|---|---|---|---|---|")
+            for r in lat["rounds"]:
+                out.append(f"| {r['round']} | {r['generated']['median']:.0f} | {r['handwritten']['median']:.0f} | "
+                           f"{r['ratio_median']:.3f} | {r['load']} |")
+            out.append("")
     b = res.get("build")
     if b:
         out.append(f"`pyrosgen build` of the 1 ms node: {b['wall']:.1f} s wall, {b['cpu']:.1f} s CPU ({b['times']}).")

@@ -20,8 +20,9 @@ hand-written roscpp node doing the same thing with the same controller
   hand-written node with ``_period_ms:=1``): from the publication of a
   change of the three inputs to the receipt of the first command that
   reflects it (bench/runtime/latency_driver.cpp), against a private
-  master; blocks of edges alternate between the two nodes so that both
-  see the same machine load.
+  master; the two nodes run side by side (topics remapped) and the
+  driver alternates edges between them, so that both see the same
+  machine load.
 """
 
 from __future__ import annotations
@@ -79,6 +80,10 @@ def build_nodes(env: dict, log) -> dict:
     m = re.search(r"time\s+(.*)$", p.stdout, re.M)
     out["pyrosgen_build"] = {"wall": p.wall, "cpu": p.cpu, "times": m.group(1) if m else ""}
     out["generated"] = gen_dir / "bin" / NODE
+    gen20 = RT / "generated_20ms"
+    log("runtime: pyrosgen build examples/landshark/landshark_controller.yaml (20 ms, for the whole-node count)")
+    run([PYROSGEN, "build", EXAMPLE, "--controller", CONTROLLER, "-o", gen20, "-q"], env=env, timeout=1800)
+    out["generated_20ms"] = gen20 / "bin" / NODE
     ctrl_o = RT / "Controller.o"
     run(["gcc", "-std=c11", "-O2", "-I", CONTROLLER, "-c", CONTROLLER / "Controller.c", "-o", ctrl_o])
     ros = _pkg("roscpp")
@@ -186,6 +191,114 @@ def instruction_counts(nodes: dict, log) -> dict:
 
 
 # ---------------------------------------------------------------------------
+# Whole nodes under callgrind
+
+def _dump_totals(path: Path) -> int:
+    for ln in path.read_text(errors="replace").splitlines():
+        if ln.startswith("totals:") or ln.startswith("summary:"):
+            return int(ln.split()[1])
+    return 0
+
+
+def _count_calls(path: Path, name: str) -> int:
+    """Calls to function ``name`` recorded in a callgrind dump (name
+    compression: ``cfn=(id) name`` the first time, ``cfn=(id)`` after)."""
+    ids: dict[str, str] = {}
+    total, cur = 0, None
+    for ln in path.read_text(errors="replace").splitlines():
+        m = re.match(r"^(c?fn)=\((\d+)\)(?: (.*))?$", ln.strip())
+        if m:
+            if m.group(3):
+                ids[m.group(2)] = m.group(3)
+            cur = ids.get(m.group(2)) if m.group(1) == "cfn" else None
+            continue
+        if ln.startswith("calls=") and cur is not None:
+            if cur.split("(")[0] == name:
+                total += int(ln.split("=")[1].split()[0])
+            cur = None
+    return total
+
+
+def _inclusive(path: Path, patterns: dict[str, str]) -> dict[str, int]:
+    ann = run(["callgrind_annotate", "--inclusive=yes", "--threshold=100", path]).stdout
+    out = {k: 0 for k in patterns}
+    for ln in ann.splitlines():
+        m = re.match(r"^\s*([\d,]+) \([\s\d.]+%\)\s+\S*?:(.+?) \[", ln)
+        if not m:
+            continue
+        fn = m.group(2).strip()
+        for k, pat in patterns.items():
+            if out[k] == 0 and re.fullmatch(pat, fn):
+                out[k] = int(m.group(1).replace(",", ""))
+    return out
+
+
+def whole_nodes(nodes: dict, *, window: float, rounds: int, log) -> dict:
+    """Each node (20 ms period) under callgrind, fed 50 Hz inputs by the
+    driver: counters zeroed after a warm-up, dumped after ``window``
+    seconds; instructions of the whole process (every thread) per cycle
+    (calls of Controller_step in the window).  ``rounds`` rounds, the two
+    nodes alternated; the sums over the rounds are kept."""
+    import glob
+    import os
+
+    from pyrosgen.rosmaster import ros_master, stop_process
+
+    argv = {"generated": [str(nodes["generated_20ms"])], "handwritten": [str(nodes["handwritten"])]}
+    main_fn = {"generated": r"loop", "handwritten": r"main"}
+    parts = {"main thread loop": None, "ros::spinOnce": r"ros::spinOnce\(\)",
+             "watchdog thread": r"\(anonymous namespace\)::watchdog\(\)"}
+    acc = {w: {"instructions": 0, "cycles": 0, "parts": {k: 0 for k in parts}, "loads": [], "rounds": []}
+           for w in argv}
+    with ros_master() as ros:
+        for r in range(rounds):
+            for which in (("generated", "handwritten") if r % 2 == 0 else ("handwritten", "generated")):
+                outf = RT / f"whole_{which}.callgrind"
+                for f in glob.glob(str(outf) + "*"):
+                    os.unlink(f)
+                la = loadavg()
+                node = ros.spawn(["valgrind", "--tool=callgrind", f"--callgrind-out-file={outf}", *argv[which]],
+                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                feeder = ros.spawn([str(nodes["driver"]), "feed", str(window + 25), "50"],
+                                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                try:
+                    time.sleep(15)  # valgrind start-up, connections
+                    run(["callgrind_control", "-z", str(node.pid)], timeout=60)
+                    time.sleep(window)
+                    run(["callgrind_control", "-d", str(node.pid)], timeout=60)
+                finally:
+                    stop_process(feeder)
+                    stop_process(node)
+                dumps = sorted(Path(p) for p in glob.glob(str(outf) + ".*"))
+                if not dumps:
+                    raise RuntimeError(f"no callgrind dump for the {which} node")
+                d = dumps[0]
+                total = _dump_totals(d)
+                steps = _count_calls(d, "Controller_step")
+                inc = _inclusive(d, {k: (v or main_fn[which]) for k, v in parts.items()})
+                a = acc[which]
+                a["instructions"] += total
+                a["cycles"] += steps
+                for k, v in inc.items():
+                    a["parts"][k] += v
+                a["loads"].append(la)
+                a["rounds"].append(total / max(steps, 1))
+                log(f"  whole node {which}: {total / max(steps, 1):.0f} instructions per cycle "
+                    f"({steps} cycles; {', '.join(f'{k} {v / max(steps, 1):.0f}' for k, v in inc.items())}) "
+                    f"load {la}")
+    res: dict = {}
+    for which, a in acc.items():
+        n = max(a["cycles"], 1)
+        res[which] = {"instructions": a["instructions"], "cycles": a["cycles"], "per_cycle": a["instructions"] / n,
+                      "parts_per_cycle": {k: v / n for k, v in a["parts"].items()},
+                      "load": " / ".join(x.split()[0] for x in a["loads"]), "per_round": a["rounds"]}
+    res["ratio"] = res["generated"]["per_cycle"] / res["handwritten"]["per_cycle"]
+    res["window_s"] = window
+    res["rounds"] = rounds
+    return res
+
+
+# ---------------------------------------------------------------------------
 # Latency
 
 def _stats(xs: list[float]) -> dict:
@@ -212,40 +325,60 @@ def _bootstrap_ratio(a: list[float], b: list[float], iters: int = 1000, seed: in
     return rs[int(0.025 * iters)], rs[int(0.975 * iters)]
 
 
-def latency(nodes: dict, *, blocks: int, edges: int, log) -> dict:
+REMAPS = ("/landshark/left_wheel_velocity", "/landshark/right_wheel_velocity", "/landshark/gps_velocity",
+          "/landshark_control/base_velocity")
+
+
+def latency(nodes: dict, *, rounds: int, edges: int, log) -> dict:
+    """Both nodes side by side (topics remapped under /gen and /hw), the
+    driver alternating edges between them in a random order: both are
+    measured under the same load.  ``rounds`` rounds with fresh nodes."""
     from pyrosgen.rosmaster import ros_master, stop_process
 
-    lat: dict[str, list[float]] = {"generated": [], "handwritten": []}
-    lost = {"generated": 0, "handwritten": 0}
-    block_rows = []
+    which = ("generated", "handwritten")
+    prefix = {"generated": "/gen", "handwritten": "/hw"}
     argv = {"generated": [str(nodes["generated"])],
             "handwritten": [str(nodes["handwritten"]), "_period_ms:=1"]}
+    lat: dict[str, list[float]] = {w: [] for w in which}
+    lost = {w: 0 for w in which}
+    round_rows = []
     with ros_master() as ros:
-        order = []
-        for i in range(blocks):
-            order += (["generated", "handwritten"] if i % 2 == 0 else ["handwritten", "generated"])
-        for which in order:
+        for r in range(rounds):
             la = loadavg()
-            node = ros.spawn(argv[which], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            procs = []
             try:
-                p = run([nodes["driver"], str(edges), "1"], env=ros.env, timeout=600, check=False)
+                for w in (which if r % 2 == 0 else which[::-1]):
+                    remap = [f"{t}:={prefix[w]}{t}" for t in REMAPS]
+                    procs.append(ros.spawn([*argv[w], *remap, f"__name:=bench_{w}"],
+                                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+                p = run([nodes["driver"], str(edges), "1", prefix["generated"], prefix["handwritten"]],
+                        env=ros.env, timeout=1200, check=False)
             finally:
-                stop_process(node)
-            xs = [float(ln.split()[1]) for ln in p.stdout.splitlines() if ln.startswith("latency_us")]
-            m = re.search(r"^lost (\d+)", p.stdout, re.M)
-            lost[which] += int(m.group(1)) if m else edges - len(xs)
-            if p.rc != 0 or not xs:
-                raise RuntimeError(f"latency driver failed against the {which} node: {p.stderr[-2000:]}")
-            lat[which] += xs
-            block_rows.append({"node": which, "load": la, **_stats(xs)})
-            log(f"  latency {which}: median {median(xs):.0f} us, p90 {_stats(xs)['p90']:.0f} us "
-                f"({len(xs)} edges) load {la}")
+                for pr in procs:
+                    stop_process(pr)
+            got: dict[str, list[float]] = {w: [] for w in which}
+            for ln in p.stdout.splitlines():
+                f = ln.split()
+                if f and f[0] == "latency_us":
+                    got[which[int(f[1])]].append(float(f[2]))
+                elif f and f[0] == "lost":
+                    lost[which[int(f[1])]] += int(f[2])
+            if p.rc != 0 or not all(got.values()):
+                raise RuntimeError(f"latency driver failed: {p.stderr[-2000:]}")
+            row = {"round": r + 1, "load": la}
+            for w in which:
+                lat[w] += got[w]
+                row[w] = _stats(got[w])
+            row["ratio_median"] = row["generated"]["median"] / row["handwritten"]["median"]
+            round_rows.append(row)
+            log(f"  latency round {r + 1}: generated median {row['generated']['median']:.0f} us, "
+                f"hand-written {row['handwritten']['median']:.0f} us, ratio {row['ratio_median']:.3f} load {la}")
             time.sleep(0.5)
     g, h = _stats(lat["generated"]), _stats(lat["handwritten"])
     lo, hi = _bootstrap_ratio(lat["generated"], lat["handwritten"])
-    return {"generated": g, "handwritten": h, "lost": lost, "blocks": block_rows,
+    return {"generated": g, "handwritten": h, "lost": lost, "rounds": round_rows,
             "ratio_median": g["median"] / h["median"], "ratio_mean": g["mean"] / h["mean"],
-            "ratio_median_ci95": [lo, hi], "period_ms": 1, "edges_per_block": edges}
+            "ratio_median_ci95": [lo, hi], "period_ms": 1, "edges_per_round": edges}
 
 
 def run_runtime(env: dict, *, quick: bool, log) -> dict:
@@ -257,6 +390,8 @@ def run_runtime(env: dict, *, quick: bool, log) -> dict:
     res: dict = {"build": nodes.pop("pyrosgen_build")}
     log("runtime: instructions per cycle (callgrind, fake ROS)")
     res["instructions"] = instruction_counts(nodes, log)
+    log("runtime: instructions per cycle of the whole nodes (callgrind, real ROS, 20 ms)")
+    res["whole"] = whole_nodes(nodes, window=10 if quick else 20, rounds=1 if quick else 3, log=log)
     log("runtime: latency at 1 ms (private master)")
-    res["latency"] = latency(nodes, blocks=1 if quick else 3, edges=300 if quick else 1500, log=log)
+    res["latency"] = latency(nodes, rounds=1 if quick else 3, edges=300 if quick else 1500, log=log)
     return res
