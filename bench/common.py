@@ -36,13 +36,6 @@ def loadavg() -> str:
         return "?"
 
 
-def load1() -> float:
-    try:
-        return float(loadavg().split()[0])
-    except ValueError:
-        return float("nan")
-
-
 @dataclass
 class Proc:
     """One finished child process."""
@@ -199,6 +192,17 @@ def private_coq_is_current(dest: Path) -> bool:
     if not stamp.is_file():
         return False
     return stamp.read_text().strip() == coq_sources_digest(REPO / "coq")
+
+
+def use_results(folder: Path) -> None:
+    """Write and read results in ``folder`` from now on (--quick runs use
+    a scratch folder, so that they do not replace the recorded results)."""
+    global RESULTS
+    RESULTS = folder
+
+
+def results_dir() -> Path:
+    return RESULTS
 
 
 def save_json(name: str, data) -> Path:

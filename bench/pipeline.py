@@ -204,27 +204,65 @@ def bench_model(label: str, n: int | None, model: Path, env: dict, repeat: int, 
     return summary
 
 
-def ab_landshark(env: dict, runs: int, log) -> dict:
-    """The fix of the printing path measured in the same run: LandShark
-    through the pipeline as it was before (the per-node file without its
-    extraction lines, so that the driver extracts with a second coqc, and
-    ocamlopt always) and as it is, alternated, in-process; wall time and
-    CPU time (this process and its children)."""
+#: The per-node file's acceptance lemmas as they were before the fixes of
+#: BENCHMARKS.md (coq/templates/node.v.j2 at commit f7b0efe): [generate]
+#: run to the end by vm_compute, the program included.
+_BEFORE_LEMMAS = """\
+Definition accepted (r : res program) : bool :=
+  match r with OK _ => true | Error _ => false end.
+Definition refusal (r : res program) : string :=
+  match r with OK _ => "" | Error msg => string_of_errmsg msg end.
+
+Lemma generate_accepts : accepted program_result = true.
+Proof.
+  vm_compute.
+  lazymatch goal with
+  | |- true = true => reflexivity
+  | _ => let msg := eval vm_compute in (refusal program_result) in
+         fail 0 "ROSGen.Generator.generate refused the model:" msg
+  end.
+Qed.
+
+Lemma generate_ok : Generator.generate model = OK the_program.
+Proof.
+  generalize generate_accepts; unfold the_program, program_of, accepted, program_result.
+  destruct (Generator.generate model) as [p|msg]; intro ACCEPTS;
+    [reflexivity | discriminate ACCEPTS].
+Qed.
+
+"""
+
+
+def before_fixes(text: str) -> str:
+    """The per-node file as the template made it before the fixes: the old
+    acceptance lemmas, and no extraction (so that the driver extracts with a
+    second coqc)."""
+    i = text.find("(** [generate] accepts the model")
+    j = text.find("(** ** Theorems about this node *)")
+    if i < 0 or j < 0:
+        raise RuntimeError("bench: the per-node file does not have the expected shape (update pipeline.py)")
+    text = text[:i] + _BEFORE_LEMMAS + text[j:]
+    k = text.find("(** ** Extraction of the printed texts *)")
+    return text[:k].rstrip() + "\n" if k >= 0 else text
+
+
+def ab(model: Path, label: str, env: dict, runs: int, log) -> dict:
+    """The fixes measured in the same run: the pipeline as it was before
+    them (:func:`before_fixes`, and ocamlopt always) and as it is,
+    alternated, in-process; wall time and CPU time (this process and its
+    children)."""
     import pyrosgen.coqdriver as cd
     import pyrosgen.generate as gen
 
     orig_render, orig_max = gen.render_node_file, cd.BYTECODE_MAX_BYTES
-    marker = "(** ** Extraction of the printed texts *)"
 
     def old_render(*a, **kw):
-        text = orig_render(*a, **kw)
-        i = text.find(marker)
-        return text[:i].rstrip() + "\n" if i >= 0 else text
+        return before_fixes(orig_render(*a, **kw))
 
-    out = {"before": {"wall": [], "cpu": [], "printing": []}, "after": {"wall": [], "cpu": [], "printing": []}}
+    out = {v: {"wall": [], "cpu": [], "coqc": [], "printing": []} for v in ("before", "after")}
     la = loadavg()
     theories = Path(env["PYROSGEN_COQLIB"])
-    dest = WORK / "pipeline" / "ab" / "out"
+    dest = WORK / "pipeline" / f"ab_{label}" / "out"
     dest.parent.mkdir(parents=True, exist_ok=True)
     try:
         for i in range(runs):
@@ -234,19 +272,24 @@ def ab_landshark(env: dict, runs: int, log) -> dict:
                 if dest.exists():
                     shutil.rmtree(dest)
                 c0, t0 = os.times(), time.monotonic()
-                res = gen.generate(LANDSHARK, dest, driver=CoqDriver(theories))
+                res = gen.generate(model, dest, driver=CoqDriver(theories))
                 c1, t1 = os.times(), time.monotonic()
                 cpu = (c1.user - c0.user) + (c1.system - c0.system) + (c1.children_user - c0.children_user) \
                     + (c1.children_system - c0.children_system)
-                out[variant]["wall"].append(t1 - t0)
-                out[variant]["cpu"].append(cpu)
-                out[variant]["printing"].append(res.times.get("printing", float("nan")))
-                log(f"  A/B {variant}: {t1 - t0:.2f} s wall, {cpu:.2f} s CPU, printing {res.times.get('printing', 0):.2f} s")
+                o = out[variant]
+                o["wall"].append(t1 - t0)
+                o["cpu"].append(cpu)
+                o["coqc"].append(res.times.get("coqc", float("nan")))
+                o["printing"].append(res.times.get("printing", float("nan")))
+                log(f"  A/B {label} {variant}: {t1 - t0:.2f} s wall, {cpu:.2f} s CPU, coqc "
+                    f"{o['coqc'][-1]:.2f} s, printing {o['printing'][-1]:.2f} s")
     finally:
         gen.render_node_file, cd.BYTECODE_MAX_BYTES = orig_render, orig_max
-    return {"runs": runs, "load": la + " / " + loadavg(),
+    return {"label": label, "runs": runs, "load": la + " / " + loadavg(),
             "before": {k: median(v) for k, v in out["before"].items()},
-            "after": {k: median(v) for k, v in out["after"].items()}}
+            "after": {k: median(v) for k, v in out["after"].items()},
+            "before_min": {k: min(v) for k, v in out["before"].items()},
+            "after_min": {k: min(v) for k, v in out["after"].items()}}
 
 
 def run_pipeline(env: dict, *, quick: bool, log) -> dict:
@@ -263,8 +306,10 @@ def run_pipeline(env: dict, *, quick: bool, log) -> dict:
         repeat = 1 if quick else (2 if (n or 0) >= 2000 else 3)
         log(f"pipeline: {label} ({repeat} run(s))")
         results.append(bench_model(label, n, path, env, repeat, profile=not quick or label == "landshark", log=log))
-    log("pipeline: A/B of the printing-path fix on LandShark")
-    ab = ab_landshark(env, 2 if quick else 4, log)
+    log("pipeline: A/B of the fixes (LandShark, N = 400)")
+    abs_ = [ab(LANDSHARK, "landshark", env, 2 if quick else 4, log)]
+    if "synth_400" in {r["label"] for r in results}:
+        abs_.append(ab(WORK / "models" / "synth_400" / "synth_400.yaml", "synth_400", env, 1 if quick else 2, log))
     by = {r["label"]: r for r in results}
     ratios = {}
     if "synth_400" in by and "synth_2000" in by:
@@ -272,4 +317,4 @@ def run_pipeline(env: dict, *, quick: bool, log) -> dict:
         ratios["cli cpu(2000)/cpu(400)"] = by["synth_2000"]["cli_cpu_min"] / by["synth_400"]["cli_cpu_min"]
     if "synth_40" in by and "synth_400" in by:
         ratios["cli t(400)/t(40)"] = by["synth_400"]["cli_wall_min"] / by["synth_40"]["cli_wall_min"]
-    return {"models": results, "ratios": ratios, "ab": ab}
+    return {"models": results, "ratios": ratios, "ab": abs_}

@@ -11,7 +11,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from common import REPO, RESULTS
+import common
+from common import REPO
 
 DOC = REPO / "BENCHMARKS.md"
 
@@ -175,16 +176,23 @@ def block_pipeline_profile(load_json) -> str:
 
 def block_ab(load_json) -> str:
     res = load_json("pipeline.json")
-    ab = (res or {}).get("ab")
-    if not ab:
+    abs_ = (res or {}).get("ab")
+    if not abs_:
         return "_Not measured in this run._\n"
-    rows = ["| LandShark, in-process pipeline | before (second coqc for extraction, ocamlopt) | after | gain |",
-            "|---|---|---|---|"]
-    for k in ("wall", "cpu"):
-        b, a = ab["before"][k], ab["after"][k]
-        rows.append(f"| {k} (median of {ab['runs']} alternated runs) | {b:.2f} s | {a:.2f} s | {b - a:.2f} s ({100 * (b - a) / b:.0f} %) |")
-    rows.append(f"| printing phase, wall | {ab['before']['printing']:.2f} s | {ab['after']['printing']:.2f} s | |")
-    rows.append(f"| load (1 min) | {ab['load']} | | |")
+    if isinstance(abs_, dict):  # older result format
+        abs_ = [dict(abs_, label="landshark")]
+    rows = ["| model, in-process pipeline | runs | before the fixes | after | gain | load (1, 5, 15 min) at start / end |",
+            "|---|---|---|---|---|---|"]
+    for a in abs_:
+        for k, what in (("wall", "total, wall"), ("cpu", "total, CPU"), ("coqc", "coqc phase"),
+                        ("printing", "printing phase")):
+            if k not in a["before"]:
+                continue
+            b, f = a["before"][k], a["after"][k]
+            rows.append(f"| {a['label']}: {what} | {a['runs']} | {b:.2f} s | {f:.2f} s | {b - f:.2f} s "
+                        f"({100 * (b - f) / b:.0f} %) | {a['load'] if k == 'wall' else ''} |")
+    rows.append("")
+    rows.append("Medians of alternated runs (before, after, after, before, ...) in the same benchmark run.")
     return "\n".join(rows) + "\n"
 
 
@@ -328,8 +336,9 @@ def plots(load_json, log) -> list[str]:
     ax.set_title(f"pyrosgen generate: time per phase vs N (load {load})", fontsize=10)
     ax.legend(fontsize=8)
     ax.grid(True, which="both", lw=0.3)
-    RESULTS.mkdir(parents=True, exist_ok=True)
-    p = RESULTS / "pipeline_phases.png"
+    results = common.results_dir()
+    results.mkdir(parents=True, exist_ok=True)
+    p = results / "pipeline_phases.png"
     fig.tight_layout()
     fig.savefig(p, dpi=110)
     plt.close(fig)
@@ -352,12 +361,12 @@ def plots(load_json, log) -> list[str]:
     ax.set_title("pyrosgen generate: CPU time of each tool vs N", fontsize=10)
     ax.legend(fontsize=8)
     ax.grid(True, which="both", lw=0.3)
-    p = RESULTS / "pipeline_tools.png"
+    p = results / "pipeline_tools.png"
     fig.tight_layout()
     fig.savefig(p, dpi=110)
     plt.close(fig)
     made.append(p.name)
-    log(f"report: plots {', '.join(made)} in {RESULTS}")
+    log(f"report: plots {', '.join(made)} in {results}")
     return made
 
 
@@ -373,9 +382,11 @@ BLOCKS = {
 }
 
 
-def write_report(load_json, log) -> None:
+def write_report(load_json, log, doc: Path = DOC) -> None:
+    """Rewrite the blocks of ``doc`` (BENCHMARKS.md, or a copy of it for
+    --quick runs) and draw the plots."""
     plots(load_json, log)
-    text = DOC.read_text() if DOC.exists() else ""
+    text = doc.read_text() if doc.exists() else DOC.read_text()
     for name, fn in BLOCKS.items():
         body = fn(load_json)
         pat = re.compile(rf"(<!-- BEGIN bench:{re.escape(name)} -->\n)(.*?)(<!-- END bench:{re.escape(name)} -->)", re.S)
@@ -384,8 +395,8 @@ def write_report(load_json, log) -> None:
         else:
             log(f"report: BENCHMARKS.md has no block {name}: appended")
             text += f"\n<!-- BEGIN bench:{name} -->\n{body}<!-- END bench:{name} -->\n"
-    DOC.write_text(text)
-    log(f"report: {DOC} rewritten")
+    doc.write_text(text)
+    log(f"report: {doc} rewritten")
 
 
 if __name__ == "__main__":

@@ -12,9 +12,12 @@ usage: run.py [--quick] [--only proofs,pipeline,runtime] [--report-only]
   (bench/runtime.py).
 
 ``--quick`` is for iteration: N up to 400, one run each, a short latency
-run; the library copy is rebuilt only when the sources changed.  Results
-go to bench/results/*.json (each benchmark's last run), and the tables of
-BENCHMARKS.md are rewritten from them (``--report-only`` does only that).
+run; the library copy is rebuilt only when the sources changed; its
+results and report go to build/bench/results-quick/ and
+build/bench/BENCHMARKS-quick.md, leaving the recorded ones alone.
+Otherwise results go to bench/results/*.json (each benchmark's last run),
+and the tables of BENCHMARKS.md are rewritten from them
+(``--report-only`` does only that).
 """
 
 from __future__ import annotations
@@ -27,7 +30,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from common import load_json, loadavg, machine, save_json  # noqa: E402
+import common  # noqa: E402
+from common import WORK, load_json, loadavg, machine, save_json  # noqa: E402
 
 ALL = ("proofs", "pipeline", "runtime")
 
@@ -62,6 +66,11 @@ def main(argv: list[str] | None = None) -> int:
     ensure_matplotlib()
     import report
 
+    doc = report.DOC
+    if a.quick:
+        common.use_results(WORK / "results-quick")
+        doc = WORK / "BENCHMARKS-quick.md"
+
     if not a.report_only:
         t0 = time.monotonic()
         mach = machine()
@@ -89,7 +98,7 @@ def main(argv: list[str] | None = None) -> int:
         mach["load_at_end"] = loadavg()
         mach["bench_seconds"] = time.monotonic() - t0
         save_json("machine.json", mach)
-    report.write_report(load_json, log=log)
+    report.write_report(load_json, log=log, doc=doc)
     return 0
 
 
