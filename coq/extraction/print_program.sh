@@ -69,8 +69,8 @@ else
   [ -n "$prefix" ] || prefix=${src%.v}
   module=RosgenJob.Job
 fi
-[ -f "$theories/Printer.vo" ] || {
-  echo "print_program.sh: $theories/Printer.vo missing: run 'make -C coq' first" >&2; exit 1; }
+[ -f "$theories/clight/Printer.vo" ] || {
+  echo "print_program.sh: $theories/clight/Printer.vo missing: run 'make -C coq' first" >&2; exit 1; }
 
 work=$(mktemp -d "${TMPDIR:-/tmp}/rosgen-print.XXXXXX")
 if [ "$keep" = 1 ]; then echo "print_program.sh: work directory $work" >&2

@@ -21,7 +21,12 @@
 
 From Coq Require Import ZArith Bool Lia Eqdep_dec.
 From Flocq Require Import Core.Zaux IEEE754.Binary IEEE754.Bits.
-From ROSGen Require Import Syntax.
+
+(** The two formats, as [ROSGen.Syntax] names them ([float64] for
+    [double], [float32] for [float]); local names, so that this file does
+    not depend on the C syntax. *)
+Local Notation float64 := (binary_float 53 1024).
+Local Notation float32 := (binary_float 24 128).
 
 Local Open Scope Z_scope.
 
