@@ -27,85 +27,13 @@
     The blocks of globals, locals and delivered messages are disjoint by
     construction ([alloc] always returns [mem_next] and increments it), so
     writes through one variable never affect another one.  The finite map
-    is a binary trie on [positive] written below, so that the interpreter
-    runs efficiently under [vm_compute]. *)
+    is the binary trie on [positive] of [Maps] ([ptree]), so that the
+    interpreter runs efficiently under [vm_compute]. *)
 
 From Coq Require Import String List ZArith Bool Lia.
-From ROSGen Require Import Syntax Values.
+From ROSGen Require Import Maps Syntax Values.
 Import ListNotations.
 Local Open Scope Z_scope.
-
-(** ** Binary tries indexed by positive numbers *)
-
-Inductive ptree (A : Type) : Type :=
-  | PLeaf
-  | PNode (l : ptree A) (o : option A) (r : ptree A).
-
-Arguments PLeaf {A}.
-Arguments PNode {A} l o r.
-
-Fixpoint pget {A : Type} (i : positive) (t : ptree A) {struct i} : option A :=
-  match t with
-  | PLeaf => None
-  | PNode l o r =>
-      match i with
-      | xH => o
-      | xO i' => pget i' l
-      | xI i' => pget i' r
-      end
-  end.
-
-Fixpoint pset {A : Type} (i : positive) (x : A) (t : ptree A) {struct i} : ptree A :=
-  match t with
-  | PLeaf =>
-      match i with
-      | xH => PNode PLeaf (Some x) PLeaf
-      | xO i' => PNode (pset i' x PLeaf) None PLeaf
-      | xI i' => PNode PLeaf None (pset i' x PLeaf)
-      end
-  | PNode l o r =>
-      match i with
-      | xH => PNode l (Some x) r
-      | xO i' => PNode (pset i' x l) o r
-      | xI i' => PNode l o (pset i' x r)
-      end
-  end.
-
-Fixpoint premove {A : Type} (i : positive) (t : ptree A) {struct i} : ptree A :=
-  match t with
-  | PLeaf => PLeaf
-  | PNode l o r =>
-      match i with
-      | xH => PNode l None r
-      | xO i' => PNode (premove i' l) o r
-      | xI i' => PNode l o (premove i' r)
-      end
-  end.
-
-Lemma pget_leaf: forall A i, @pget A i PLeaf = None.
-Proof. destruct i; reflexivity. Qed.
-
-Lemma pgss: forall A i (x : A) t, pget i (pset i x t) = Some x.
-Proof.
-  induction i; destruct t; simpl; auto.
-Qed.
-
-Lemma pgso: forall A i j (x : A) t, i <> j -> pget i (pset j x t) = pget i t.
-Proof.
-  induction i; destruct j; destruct t; simpl; intros H;
-    try rewrite pget_leaf; auto; try congruence;
-    try (apply IHi; congruence);
-    try (rewrite IHi; [apply pget_leaf | congruence]).
-Qed.
-
-Lemma pgrs: forall A i (t : ptree A), pget i (premove i t) = None.
-Proof. induction i; destruct t; simpl; auto. Qed.
-
-Lemma pgro: forall A i j (t : ptree A), i <> j -> pget i (premove j t) = pget i t.
-Proof.
-  induction i; destruct j; destruct t; simpl; intros H; auto; try congruence;
-    apply IHi; congruence.
-Qed.
 
 (** ** Sub-values at a path *)
 

@@ -36,7 +36,7 @@
 
 From Coq Require Import String Ascii List ZArith Bool.
 From Flocq Require Import IEEE754.Binary.
-From ROSGen Require Import Errors Syntax Tries NodeModel.
+From ROSGen Require Import Errors Syntax Maps NodeModel.
 Import ListNotations.
 
 Local Open Scope string_scope.
@@ -210,17 +210,17 @@ Definition callback_type (M : ident) : type := Tfunction [tptr (Tstruct M)] Tvoi
     [Generatorproof.tables_topics] etc. give their meaning in terms of
     [find_topic], [find_assoc] and [filter]. *)
 Record tables : Type := mktables {
-  tb_topics : trie topic;
-  tb_inputs : trie prim;
-  tb_outputs : trie prim;
-  tb_outrels : trie (list outrel)
+  tb_topics : ptree topic;
+  tb_inputs : ptree prim;
+  tb_outputs : ptree prim;
+  tb_outrels : ptree (list outrel)
 }.
 
 (** The output relations grouped by topic, each group in model order. *)
-Definition group_outrels (l : list outrel) : trie (list outrel) :=
+Definition group_outrels (l : list outrel) : ptree (list outrel) :=
   fold_right (fun o t => tset (enc_string (or_topic o))
                               (o :: tget_default [] (enc_string (or_topic o)) t) t)
-             Tleaf l.
+             PLeaf l.
 
 Definition make_tables (m : node_model) : tables :=
   mktables (tmap_of_list enc_string (map (fun tp => (tp_cname tp, tp)) (nm_topics m)))
@@ -659,7 +659,7 @@ Definition outrel_ok (m : node_model) (tb : tables) (o : outrel) : bool :=
   end.
 
 (** The controller inputs fed by some input relation. *)
-Definition fed_inputs (m : node_model) : trie unit :=
+Definition fed_inputs (m : node_model) : ptree unit :=
   tset_of_list enc_string (map ir_input (nm_inrels m)).
 
 (** The well-formedness of a node model, as a boolean. *)

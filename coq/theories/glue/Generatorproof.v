@@ -21,7 +21,7 @@
       [generate_inputs_address_not_taken]). *)
 
 From Coq Require Import String Ascii List ZArith Bool Lia.
-From ROSGen Require Import Errors Syntax Tries NodeModel Generator.
+From ROSGen Require Import Errors Syntax Maps NodeModel Generator.
 Import ListNotations.
 
 Local Open Scope string_scope.
@@ -346,7 +346,7 @@ Lemma tmap_of_list_find_assoc:
   forall (A : Type) (l : list (ident * A)) x,
   tget (enc_string x) (tmap_of_list enc_string l) = find_assoc x l.
 Proof.
-  induction l as [|[y v] l IH]; intros x; simpl; auto.
+  induction l as [|[y v] l IH]; intros x; simpl; auto using tget_leaf.
   destruct (string_dec x y) as [<-|n]; [apply tget_tset_same|].
   rewrite tget_tset_other; auto. intros E; apply n, enc_string_inj; auto.
 Qed.
@@ -355,7 +355,7 @@ Lemma tables_topics:
   forall m c, lookup_topic (make_tables m) c = find_topic (nm_topics m) c.
 Proof.
   intros m c; unfold lookup_topic, make_tables, find_topic; simpl.
-  induction (nm_topics m) as [|tp l IH]; simpl; auto.
+  induction (nm_topics m) as [|tp l IH]; simpl; auto using tget_leaf.
   destruct (ident_eqb (tp_cname tp) c) eqn:E.
   - apply ident_eqb_true in E; subst; apply tget_tset_same.
   - rewrite tget_tset_other; auto. intros E'; apply enc_string_inj in E'.
@@ -374,7 +374,8 @@ Lemma tables_outrels:
   forall m c, topic_outrels (make_tables m) c = filter (fun o => ident_eqb (or_topic o) c) (nm_outrels m).
 Proof.
   intros m c; unfold topic_outrels, make_tables; simpl.
-  induction (nm_outrels m) as [|o l IH]; simpl; auto.
+  induction (nm_outrels m) as [|o l IH]; simpl;
+    [unfold tget_default; rewrite tget_leaf; reflexivity|].
   unfold tget_default at 1.
   destruct (ident_eqb (or_topic o) c) eqn:E.
   - apply ident_eqb_true in E; subst. rewrite tget_tset_same. f_equal; auto.

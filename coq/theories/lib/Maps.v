@@ -1,72 +1,140 @@
-(** * Binary tries, for checking and building large models in linear time *)
+(** * Finite maps: binary tries keyed by positive numbers *)
 
-(** Maps keyed by lists of booleans, and prefix-free encodings of strings,
-    integers, pairs and lists into such keys.  The generator uses them to
-    look up names and to find duplicates without comparing every pair of
-    names: a model with thousands of relations is checked and translated in
-    time linear in its size.  Only their specifications ([tget_tset_same],
-    [tget_tset_other], [find_dup_None], ...) matter to the proofs. *)
+(** The one finite-map implementation of the library, used for two
+    purposes:
+    - the memory ([Memory]): blocks are numbered by [positive]s, and a
+      memory maps each live block to its contents ([ptree], [pget],
+      [pset], [premove]);
+    - the generator's tables ([Wellformed], [Generator]): names, paths
+      and pairs are mapped to bit strings by the prefix-free encodings
+      below ([enc_string], [enc_Z], [enc_pair], [enc_list]), and a bit
+      string to a [positive] by the bijection [pos_of_bits]; [tget] and
+      [tset] look up and update a map at such a key.  With them a model
+      with thousands of relations is checked and translated in time linear
+      in its size, without comparing every pair of names.
+    Only the specifications ([pgss], [pgso], [pgrs], [pgro],
+    [tget_tset_same], [tget_tset_other], [find_dup_None],
+    [tmem_of_list], ...) matter to the proofs.  The trees compute under
+    [vm_compute] and in extracted code. *)
 
 From Coq Require Import String Ascii List ZArith Bool.
 Import ListNotations.
 
-(** ** Tries *)
+(** ** Binary tries indexed by positive numbers (used by [Memory]) *)
 
-Inductive trie (A : Type) : Type :=
-  | Tleaf
-  | Tnode (l : trie A) (o : option A) (r : trie A).
+Inductive ptree (A : Type) : Type :=
+  | PLeaf
+  | PNode (l : ptree A) (o : option A) (r : ptree A).
 
-Arguments Tleaf {A}.
-Arguments Tnode {A} l o r.
+Arguments PLeaf {A}.
+Arguments PNode {A} l o r.
 
-Fixpoint tget {A : Type} (k : list bool) (t : trie A) {struct t} : option A :=
+Fixpoint pget {A : Type} (i : positive) (t : ptree A) {struct i} : option A :=
   match t with
-  | Tleaf => None
-  | Tnode l o r =>
-      match k with
-      | [] => o
-      | false :: k' => tget k' l
-      | true :: k' => tget k' r
+  | PLeaf => None
+  | PNode l o r =>
+      match i with
+      | xH => o
+      | xO i' => pget i' l
+      | xI i' => pget i' r
       end
   end.
 
-Fixpoint tset {A : Type} (k : list bool) (v : A) (t : trie A) : trie A :=
-  match k, t with
-  | [], Tleaf => Tnode Tleaf (Some v) Tleaf
-  | [], Tnode l _ r => Tnode l (Some v) r
-  | false :: k', Tleaf => Tnode (tset k' v Tleaf) None Tleaf
-  | false :: k', Tnode l o r => Tnode (tset k' v l) o r
-  | true :: k', Tleaf => Tnode Tleaf None (tset k' v Tleaf)
-  | true :: k', Tnode l o r => Tnode l o (tset k' v r)
+Fixpoint pset {A : Type} (i : positive) (x : A) (t : ptree A) {struct i} : ptree A :=
+  match t with
+  | PLeaf =>
+      match i with
+      | xH => PNode PLeaf (Some x) PLeaf
+      | xO i' => PNode (pset i' x PLeaf) None PLeaf
+      | xI i' => PNode PLeaf None (pset i' x PLeaf)
+      end
+  | PNode l o r =>
+      match i with
+      | xH => PNode l (Some x) r
+      | xO i' => PNode (pset i' x l) o r
+      | xI i' => PNode l o (pset i' x r)
+      end
   end.
 
-Lemma tget_leaf: forall (A : Type) k, tget k (@Tleaf A) = None.
-Proof. destruct k; reflexivity. Qed.
+Fixpoint premove {A : Type} (i : positive) (t : ptree A) {struct i} : ptree A :=
+  match t with
+  | PLeaf => PLeaf
+  | PNode l o r =>
+      match i with
+      | xH => PNode l None r
+      | xO i' => PNode (premove i' l) o r
+      | xI i' => PNode l o (premove i' r)
+      end
+  end.
+
+Lemma pget_leaf: forall A i, @pget A i PLeaf = None.
+Proof. destruct i; reflexivity. Qed.
+
+Lemma pgss: forall A i (x : A) t, pget i (pset i x t) = Some x.
+Proof.
+  induction i; destruct t; simpl; auto.
+Qed.
+
+Lemma pgso: forall A i j (x : A) t, i <> j -> pget i (pset j x t) = pget i t.
+Proof.
+  induction i; destruct j; destruct t; simpl; intros H;
+    try rewrite pget_leaf; auto; try congruence;
+    try (apply IHi; congruence);
+    try (rewrite IHi; [apply pget_leaf | congruence]).
+Qed.
+
+Lemma pgrs: forall A i (t : ptree A), pget i (premove i t) = None.
+Proof. induction i; destruct t; simpl; auto. Qed.
+
+Lemma pgro: forall A i j (t : ptree A), i <> j -> pget i (premove j t) = pget i t.
+Proof.
+  induction i; destruct j; destruct t; simpl; intros H; auto; try congruence;
+    apply IHi; congruence.
+Qed.
+
+(** ** Keys that are bit strings *)
+
+(** A bit string as a positive number: the bits, least significant
+    first, then a leading 1.  Every positive is the image of exactly one
+    bit string. *)
+Fixpoint pos_of_bits (k : list bool) : positive :=
+  match k with
+  | [] => xH
+  | false :: k' => xO (pos_of_bits k')
+  | true :: k' => xI (pos_of_bits k')
+  end.
+
+Lemma pos_of_bits_inj: forall k k', pos_of_bits k = pos_of_bits k' -> k = k'.
+Proof.
+  induction k as [|[|] k IH]; intros [|[|] k'] E; simpl in E; try discriminate; auto;
+    injection E; intros E'; rewrite (IH _ E'); reflexivity.
+Qed.
+
+(** The value at a bit-string key, and the map updated there. *)
+Definition tget {A : Type} (k : list bool) (t : ptree A) : option A := pget (pos_of_bits k) t.
+
+Definition tset {A : Type} (k : list bool) (v : A) (t : ptree A) : ptree A :=
+  pset (pos_of_bits k) v t.
+
+Lemma tget_leaf: forall (A : Type) k, tget k (@PLeaf A) = None.
+Proof. intros; apply pget_leaf. Qed.
 
 Lemma tget_tset_same: forall (A : Type) k (v : A) t, tget k (tset k v t) = Some v.
-Proof.
-  induction k as [|[|] k IH]; intros v [|l o r]; simpl; auto.
-Qed.
+Proof. intros; apply pgss. Qed.
 
 Lemma tget_tset_other:
   forall (A : Type) k k' (v : A) t, k <> k' -> tget k' (tset k v t) = tget k' t.
 Proof.
-  induction k as [|b k IH]; intros k' v t H.
-  - destruct k' as [|b' k']; [congruence|].
-    destruct t as [|l o r], b'; simpl; auto.
-  - destruct k' as [|b' k'].
-    + destruct t, b; reflexivity.
-    + assert (N: b = b' -> k <> k') by (intros -> E; apply H; congruence).
-      destruct t as [|l o r], b, b'; simpl; auto; rewrite IH; auto.
+  intros A k k' v t N. apply pgso. intros E. apply N. symmetry. apply pos_of_bits_inj; auto.
 Qed.
 
 (** ** Maps built from association lists (the first binding wins) *)
 
-Definition tmap_of_list {A B : Type} (enc : A -> list bool) (l : list (A * B)) : trie B :=
-  fold_right (fun kv t => tset (enc (fst kv)) (snd kv) t) Tleaf l.
+Definition tmap_of_list {A B : Type} (enc : A -> list bool) (l : list (A * B)) : ptree B :=
+  fold_right (fun kv t => tset (enc (fst kv)) (snd kv) t) PLeaf l.
 
 (** The value of a key, or a default. *)
-Definition tget_default {A : Type} (d : A) (k : list bool) (t : trie A) : A :=
+Definition tget_default {A : Type} (d : A) (k : list bool) (t : ptree A) : A :=
   match tget k t with Some v => v | None => d end.
 
 (** ** Prefix-free encodings *)
@@ -165,7 +233,7 @@ Variable enc : A -> list bool.
 Hypothesis enc_inj: forall a b, enc a = enc b -> a = b.
 
 (** The first element of a list that occurs earlier in it. *)
-Fixpoint find_dup_aux (seen : trie unit) (l : list A) : option A :=
+Fixpoint find_dup_aux (seen : ptree unit) (l : list A) : option A :=
   match l with
   | [] => None
   | x :: l' =>
@@ -175,7 +243,7 @@ Fixpoint find_dup_aux (seen : trie unit) (l : list A) : option A :=
       end
   end.
 
-Definition find_dup (l : list A) : option A := find_dup_aux Tleaf l.
+Definition find_dup (l : list A) : option A := find_dup_aux PLeaf l.
 
 Lemma find_dup_aux_None:
   forall l seen,
@@ -201,20 +269,20 @@ Qed.
 Lemma find_dup_None: forall l, find_dup l = None <-> NoDup l.
 Proof.
   intros l; unfold find_dup; rewrite find_dup_aux_None.
-  split; [tauto|]. intros; split; auto.
+  split; [tauto|]. intros; split; auto. intros; apply tget_leaf.
 Qed.
 
 (** The set of the elements of a list, and membership. *)
-Definition tset_of_list (l : list A) : trie unit :=
-  fold_right (fun x t => tset (enc x) tt t) Tleaf l.
+Definition tset_of_list (l : list A) : ptree unit :=
+  fold_right (fun x t => tset (enc x) tt t) PLeaf l.
 
-Definition tmem (x : A) (s : trie unit) : bool :=
+Definition tmem (x : A) (s : ptree unit) : bool :=
   match tget (enc x) s with Some _ => true | None => false end.
 
 Lemma tmem_of_list: forall x l, tmem x (tset_of_list l) = true <-> In x l.
 Proof.
   unfold tmem; induction l as [|y l IH]; simpl.
-  - split; [discriminate|tauto].
+  - rewrite tget_leaf. split; [discriminate|tauto].
   - destruct (list_eq_dec Bool.bool_dec (enc y) (enc x)) as [E|E].
     + rewrite E, tget_tset_same. apply enc_inj in E; subst; tauto.
     + rewrite tget_tset_other by auto. rewrite IH.
