@@ -9,7 +9,8 @@ Print Assumptions Interpproof.interp_sound.
 Print Assumptions Interpproof.run_program_sound.
 (* The semantics is deterministic; the typing checker is sound. *)
 Print Assumptions Semantics.semantics_determ.
-Print Assumptions Semantics.check_program_correct.
+From ROSGen Require Typing.
+Print Assumptions Typing.check_program_correct.
 From ROSGen Require FloatBits.
 (* Float bit patterns: decoding and encoding are inverse, without axioms. *)
 Print Assumptions FloatBits.bits_of_float64_of_bits.

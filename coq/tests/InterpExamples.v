@@ -7,7 +7,7 @@
 
 From Coq Require Import String List ZArith.
 From Flocq Require Import IEEE754.Binary.
-From ROSGen Require Import Syntax Values Memory Semantics Interp Interpproof.
+From ROSGen Require Import Syntax Values Memory Environment Semantics Typing Interp Interpproof.
 Import ListNotations.
 Local Open Scope string_scope.
 Local Open Scope Z_scope.

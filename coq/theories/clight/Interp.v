@@ -11,7 +11,7 @@
     semantics (theorem T5). *)
 
 From Coq Require Import String List ZArith Bool.
-From ROSGen Require Import Syntax Values Memory Semantics.
+From ROSGen Require Import Syntax Values Memory Environment Semantics.
 Import ListNotations.
 
 Section INTERP.

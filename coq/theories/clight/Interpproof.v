@@ -7,7 +7,7 @@
     what makes the interpreter's answers answers of the semantics. *)
 
 From Coq Require Import String List ZArith Bool.
-From ROSGen Require Import Syntax Values Memory Semantics Interp.
+From ROSGen Require Import Syntax Values Memory Environment Semantics Interp.
 Import ListNotations.
 
 Section SOUNDNESS.

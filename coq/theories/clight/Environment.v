@@ -1,0 +1,239 @@
+(** * The ROS environment model *)
+
+(** This file says what the world outside the program does: what
+    [ros_spinOnce] delivers (the subscriptions, the message queues and
+    [deliverable]), what [ros_publish], [ros_ok], [ros_subscribe],
+    [ros_advertise], [ros_rate_sleep], [Controller_initialize] and
+    [Controller_step] mean, and what the events of a trace are.  Together
+    with the C subset's syntax, values and memory, it is the part of the
+    semantics that a reviewer must trust: the theorems (T1, T2) are only
+    as meaningful as this model is faithful to roscpp and to the
+    controller's C code.  It is kept in a file of its own so that it can be
+    reviewed alone; the rest of the semantics ([Semantics]) only uses it
+    through [external_call] and [spin_messages], and through the two
+    places where [ros_spinOnce] runs the callbacks (the rule
+    [eval_funcall_spinOnce] and the judgement [deliver] of [Semantics]:
+    each delivered message is put in a fresh block, the callback is
+    called with a pointer to it, the block is freed).
+
+    A [ros_context CS] fixes everything the program cannot control:
+    - [ctx_arrivals k]: the messages [(topic, value)] that arrive, in
+      order, between the [k-1]-th and the [k]-th call of [ros_spinOnce]
+      (calls counted from 0);
+    - a controller: a state type [CS], an initial state [ctx_init] and a
+      step function [ctx_step : CS -> mval -> CS * mval] that receives the
+      whole value of the inputs global ([Controller_U]) and returns its new
+      state and the new value of the outputs global ([Controller_Y]).
+    The number [n] of [true] answers of [ros_ok] is a parameter of
+    [Semantics.program_behaves].
+
+    The [world] is the part of the state that lives outside the program's
+    memory: the subscriptions registered so far (topic, message struct,
+    queue size, callback), the advertised topics, the number of spins so
+    far, the remaining [true] answers of [ros_ok], and the controller's
+    state.  The external functions act as follows:
+    - [ros_init()]: nothing.
+    - [ros_ok()]: returns 1 and consumes one [true] answer if one is left,
+      otherwise returns 0.
+    - [ros_subscribe_T(cb)] ([EF_ros_subscribe topic msgty q]), with
+      argument the function pointer [Vfptr cb]: registers the subscription
+      [(topic, msgty, q, cb)].
+    - [ros_advertise_T()]: registers the topic as advertised.
+    - [ros_spinOnce()]: takes the messages [ctx_arrivals k] ([k] the spin
+      counter) and computes [deliverable subs msgs]: for each
+      subscription, the messages of its topic, of which a queue of size
+      [q] keeps the newest [q] ([q = 0]: unbounded, as in roscpp);
+      messages of topics nobody subscribed to are dropped; arrival order
+      is kept.  Then, for each kept message in order, a fresh block
+      holding the message value (of type [struct msgty]) is allocated,
+      the callback is called with a pointer to it, and the block is freed
+      ([deliver]).  Finally the spin counter is incremented.
+    - [ros_publish_T(&msg)] ([EF_ros_publish topic msgty]), with argument a
+      pointer: the topic must have been advertised; the value at the
+      pointer is emitted as the event [Epublish topic value].
+    - [ros_rate_sleep()]: emits [Ecycle], which marks the end of a cycle.
+    - [Controller_initialize()] ([EF_controller_initialize u y]): sets the
+      controller state to [ctx_init].
+    - [Controller_step()] ([EF_controller_step u y]): reads the whole value
+      [uv] of the global [u], computes [(s', yv) := ctx_step s uv], stores
+      [yv] into the global [y] and emits [Estep uv yv].  If [yv] does not
+      have the type of [y], the step is undefined (the semantics is
+      stuck): the controller may only write its outputs, at their type.
+
+    The trace of a run is the list of its events in the order they
+    happen. *)
+
+From Coq Require Import String List ZArith Bool.
+From ROSGen Require Import Syntax Values Memory.
+Import ListNotations.
+
+(** ** Events and traces *)
+
+Inductive event : Type :=
+  | Estep (u y : mval)                 (**r [Controller_step] read [u] and wrote [y] *)
+  | Epublish (topic : string) (m : mval)  (**r message [m] published on [topic] *)
+  | Ecycle.                            (**r [ros_rate_sleep]: end of a cycle *)
+
+Definition trace := list event.
+
+(** ** What the environment sees of the program *)
+
+(** [Controller_step] reads and writes the globals whose names it is
+    given, so the environment looks them up in the program's global
+    environment ([Semantics.globalenv] builds it).
+
+    The global environment: struct definitions, the block and type of
+    each global variable, the definition of each function. *)
+Record genv : Type := mkgenv {
+  ge_comp : composite_env;
+  ge_vars : list (ident * (block * type));
+  ge_funs : list (ident * fundef)
+}.
+
+Definition find_var (ge : genv) (x : ident) : option (block * type) := find_assoc x (ge_vars ge).
+Definition find_funct (ge : genv) (x : ident) : option fundef := find_assoc x (ge_funs ge).
+
+(** ** The ROS environment model *)
+
+(** A subscription, as registered by [ros_subscribe_T]. *)
+Record subscription : Type := mksub {
+  sub_topic : string;      (**r the topic *)
+  sub_msgty : ident;       (**r the message struct *)
+  sub_queue : nat;         (**r the queue size (0: unbounded) *)
+  sub_callback : ident     (**r the callback function *)
+}.
+
+(** What the environment of a run fixes: the message arrivals and the
+    controller. *)
+Record ros_context (CS : Type) : Type := mkctx {
+  ctx_arrivals : nat -> list (string * mval);
+  ctx_init : CS;
+  ctx_step : CS -> mval -> CS * mval
+}.
+
+Arguments mkctx {CS} ctx_arrivals ctx_init ctx_step.
+Arguments ctx_arrivals {CS} r _.
+Arguments ctx_init {CS} r.
+Arguments ctx_step {CS} r _ _.
+
+(** The state of the world outside the program's memory. *)
+Record world (CS : Type) : Type := mkworld {
+  w_subs : list subscription;   (**r subscriptions, in registration order *)
+  w_advertised : list string;   (**r advertised topics *)
+  w_spins : nat;                (**r calls of [ros_spinOnce] so far *)
+  w_ok : nat;                   (**r remaining [true] answers of [ros_ok] *)
+  w_ctrl : CS                   (**r the controller's state *)
+}.
+
+Arguments mkworld {CS} w_subs w_advertised w_spins w_ok w_ctrl.
+Arguments w_subs {CS} w.
+Arguments w_advertised {CS} w.
+Arguments w_spins {CS} w.
+Arguments w_ok {CS} w.
+Arguments w_ctrl {CS} w.
+
+(** The world at the start of [main]. *)
+Definition initial_world {CS : Type} (ctx : ros_context CS) (n : nat) : world CS :=
+  mkworld [] [] O n (ctx_init ctx).
+
+Definition add_subscription {CS} (w : world CS) (s : subscription) : world CS :=
+  mkworld (w_subs w ++ [s]) (w_advertised w) (w_spins w) (w_ok w) (w_ctrl w).
+Definition add_advertised {CS} (w : world CS) (topic : string) : world CS :=
+  mkworld (w_subs w) (w_advertised w ++ [topic]) (w_spins w) (w_ok w) (w_ctrl w).
+Definition set_ok {CS} (w : world CS) (k : nat) : world CS :=
+  mkworld (w_subs w) (w_advertised w) (w_spins w) k (w_ctrl w).
+Definition next_spin {CS} (w : world CS) : world CS :=
+  mkworld (w_subs w) (w_advertised w) (S (w_spins w)) (w_ok w) (w_ctrl w).
+Definition set_ctrl {CS} (w : world CS) (s : CS) : world CS :=
+  mkworld (w_subs w) (w_advertised w) (w_spins w) (w_ok w) s.
+
+Definition topic_eqb (a b : string) : bool := if string_dec a b then true else false.
+
+(** The number of messages on [topic] in [msgs]. *)
+Fixpoint count_topic (topic : string) (msgs : list (string * mval)) : nat :=
+  match msgs with
+  | [] => O
+  | (tp, _) :: rest => (if topic_eqb tp topic then 1 else 0) + count_topic topic rest
+  end%nat.
+
+(** Whether subscription [s] still holds a message after which [newer]
+    messages arrived on its topic: its queue keeps the newest
+    [sub_queue s] messages, all of them when the queue size is 0. *)
+Definition keeps (s : subscription) (newer : nat) : bool :=
+  Nat.eqb (sub_queue s) 0 || Nat.ltb newer (sub_queue s).
+
+(** The callback invocations performed by one [ros_spinOnce] when the
+    messages [msgs] arrived since the previous one: for each message in
+    arrival order, one invocation per subscription of its topic whose
+    queue still holds it (subscriptions in registration order).  Messages
+    of topics without subscription are dropped. *)
+Fixpoint deliverable (subs : list subscription) (msgs : list (string * mval))
+  : list (subscription * mval) :=
+  match msgs with
+  | [] => []
+  | (tp, mv) :: rest =>
+      map (fun s => (s, mv))
+          (filter (fun s => topic_eqb (sub_topic s) tp && keeps s (count_topic tp rest)) subs)
+      ++ deliverable subs rest
+  end.
+
+(** ** The external functions *)
+
+Section EXTERNAL.
+
+Context {CS : Type}.
+Variable ctx : ros_context CS.
+Variable ge : genv.
+
+(** The external functions other than [ros_spinOnce] (see the header):
+    result, events, new memory and new world, or [None] when the call is
+    undefined. *)
+Definition external_call (ef : external_function) (vargs : list val) (m : mem) (w : world CS)
+  : option (val * trace * mem * world CS) :=
+  match ef, vargs with
+  | EF_ros_init, [] => Some (Vundef, [], m, w)
+  | EF_ros_ok, [] =>
+      match w_ok w with
+      | S k => Some (Vint 1, [], m, set_ok w k)
+      | O => Some (Vint 0, [], m, w)
+      end
+  | EF_ros_rate_sleep, [] => Some (Vundef, [Ecycle], m, w)
+  | EF_ros_subscribe topic msgty q, [Vfptr cb] =>
+      Some (Vundef, [], m, add_subscription w (mksub topic msgty q cb))
+  | EF_ros_advertise topic _ _, [] => Some (Vundef, [], m, add_advertised w topic)
+  | EF_ros_publish topic _, [Vptr b p] =>
+      if existsb (topic_eqb topic) (w_advertised w) then
+        match load_path m b p with
+        | Some mv => Some (Vundef, [Epublish topic mv], m, w)
+        | None => None
+        end
+      else None
+  | EF_controller_initialize _ _, [] => Some (Vundef, [], m, set_ctrl w (ctx_init ctx))
+  | EF_controller_step u y, [] =>
+      match find_var ge u, find_var ge y with
+      | Some (bu, _), Some (by_, ty) =>
+          match load_path m bu [] with
+          | Some uv =>
+              let (s', yv) := ctx_step ctx (w_ctrl w) uv in
+              if mval_typecheck (ge_comp ge) ty yv then
+                match store_path m by_ [] yv with
+                | Some m' => Some (Vundef, [Estep uv yv], m', set_ctrl w s')
+                | None => None
+                end
+              else None
+          | None => None
+          end
+      | _, _ => None
+      end
+  | _, _ => None
+  end.
+
+(** The messages one [ros_spinOnce] delivers. *)
+Definition spin_messages (w : world CS) : list (subscription * mval) :=
+  deliverable (w_subs w) (ctx_arrivals ctx (w_spins w)).
+
+Lemma external_call_not_spin:
+  forall vargs m w r, external_call EF_ros_spinOnce vargs m w = Some r -> False.
+Proof. intros vargs m w r H; destruct vargs; discriminate. Qed.
+
+End EXTERNAL.
