@@ -23,8 +23,9 @@ Print Assumptions Generatorproof.generate_complete.
 Print Assumptions Generatorproof.generate_sound.
 Print Assumptions Generatorproof.wf_check_wf.
 (* Leaves of a message: exactly its scalar paths, each once. *)
-Print Assumptions Generatorproof.leaves_spec.
-Print Assumptions Generatorproof.leaves_nodup.
+From ROSGen Require Generatorspec.
+Print Assumptions Generatorspec.leaves_spec.
+Print Assumptions Generatorspec.leaves_nodup.
 (* T3 (paper Section 6): relation consistency (Fig. 15), valid assignment
    via type checking (Fig. 16), preservation. *)
 Print Assumptions Generatorproof.relation_consistency_input_glue.

@@ -16,7 +16,7 @@
 From Coq Require Import String List ZArith.
 From Flocq Require Import IEEE754.Binary.
 From ROSGen Require Import Errors Syntax Values Memory Environment Semantics Interp Interpproof.
-From ROSGen Require Import NodeModel Generator Generatorproof DDC Loopproof.
+From ROSGen Require Import NodeModel Wellformed Generator Generatorspec Generatorproof DDC Loopproof.
 Import ListNotations.
 Local Open Scope string_scope.
 Local Open Scope list_scope.

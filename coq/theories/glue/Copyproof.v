@@ -16,7 +16,7 @@
       ([exec_copy]). *)
 
 From Coq Require Import String List ZArith Bool Lia.
-From ROSGen Require Import Errors Maps Syntax Values Memory Environment Semantics NodeModel Generator Generatorproof DDC.
+From ROSGen Require Import Errors Maps Syntax Values Memory Environment Semantics NodeModel Wellformed Generator Generatorspec Generatorproof DDC.
 Import ListNotations.
 
 Local Open Scope list_scope.

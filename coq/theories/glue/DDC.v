@@ -23,7 +23,7 @@
     (DESIGN.md, section 5), so the specifications refer to them. *)
 
 From Coq Require Import String List ZArith Bool.
-From ROSGen Require Import Errors Syntax Values Memory Environment Semantics NodeModel Generator.
+From ROSGen Require Import Errors Syntax Values Memory Environment Semantics NodeModel Wellformed Generator.
 Import ListNotations.
 
 (** ** Paths of the model and paths of the memory *)

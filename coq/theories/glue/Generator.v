@@ -3,9 +3,12 @@
 (** [generate m] turns a node model into a program of the Clight subset of
     [Syntax] (DESIGN.md, section 5; the paper's Figures 7, 8, 11), or fails
     with a message naming the culprit.  It first checks that the model is
-    well formed ([wf_check], equivalent to the boolean [wf]), then builds
-    the program with total functions ([build_program]).  Its properties are
-    proved in [Generatorproof].
+    well formed ([Wellformed.wf_check], equivalent to the boolean
+    [Wellformed.wf]), then builds the program with total functions
+    ([build_program]).  The names it gives to functions, globals and
+    temporaries, and its lookup tables, are fixed in [Wellformed], since
+    the rules are about them.  Its properties are proved in
+    [Generatorspec] and [Generatorproof].
 
     The generated program, for a node whose subscribed topics have C names
     [s1 ... sk] and published topics [p1 ... pl]:
@@ -36,64 +39,14 @@
 
 From Coq Require Import String Ascii List ZArith Bool.
 From Flocq Require Import IEEE754.Binary.
-From ROSGen Require Import Errors Syntax Maps NodeModel.
+From ROSGen Require Import Errors Syntax Maps NodeModel Wellformed.
 Import ListNotations.
 
 Local Open Scope string_scope.
 Local Open Scope list_scope.
 Local Open Scope error_monad_scope.
 
-(** ** Generated names *)
-
-(** Derived from a topic's C name [c]. *)
-Definition msg_var (c : ident) : ident := (c ++ "_msg")%string.
-Definition callback_name (c : ident) : ident := (c ++ "_callback")%string.
-Definition subscribe_name (c : ident) : ident := ("ros_subscribe_" ++ c)%string.
-Definition advertise_name (c : ident) : ident := ("ros_advertise_" ++ c)%string.
-Definition publish_name (c : ident) : ident := ("ros_publish_" ++ c)%string.
-Definition output_glue_name (c : ident) : ident := ("output_glue_" ++ c)%string.
-Definition cmd_var (c : ident) : ident := (c ++ "_cmd")%string.
-
-(** Derived from the controller's name. *)
-Definition init_name (m : node_model) : ident := (nm_ctrl m ++ "_initialize")%string.
-Definition step_name (m : node_model) : ident := (nm_ctrl m ++ "_step")%string.
-
-(** Fixed names. *)
-Definition ros_init_name : ident := "ros_init".
-Definition ros_ok_name : ident := "ros_ok".
-Definition ros_spinOnce_name : ident := "ros_spinOnce".
-Definition ros_rate_sleep_name : ident := "ros_rate_sleep".
-Definition input_glue_name : ident := "input_glue".
-Definition loop_name : ident := "loop".
-Definition main_name : ident := "main".
-
-(** Parameters and temporaries. *)
-Definition msg_param : ident := "msg".
-Definition command_param : ident := "command".
-Definition ok_temp : ident := "_ok".
-
-(** One temporary per C scalar type ([bool] and [uint8] share one). *)
-Definition temp_name (q : prim) : ident :=
-  match q with
-  | Pbool | Puint8 => "_t_uchar"
-  | Pint8 => "_t_schar"
-  | Pint16 => "_t_short"
-  | Puint16 => "_t_ushort"
-  | Pint32 => "_t_int"
-  | Puint32 => "_t_uint"
-  | Pint64 => "_t_llong"
-  | Puint64 => "_t_ullong"
-  | Pfloat32 => "_t_float"
-  | Pfloat64 => "_t_double"
-  end.
-
-(** All temporaries, each with its C type. *)
-Definition all_temps : list (ident * type) :=
-  [("_t_uchar", Tint I8 Unsigned); ("_t_schar", Tint I8 Signed);
-   ("_t_short", Tint I16 Signed); ("_t_ushort", Tint I16 Unsigned);
-   ("_t_int", Tint I32 Signed); ("_t_uint", Tint I32 Unsigned);
-   ("_t_llong", Tlong Signed); ("_t_ullong", Tlong Unsigned);
-   ("_t_float", Tfloat F32); ("_t_double", Tfloat F64)].
+(** ** Temporaries *)
 
 (** The temporaries needed to copy values of the primitives [qs], in the
     order of [all_temps]. *)
@@ -202,32 +155,6 @@ Definition deref_param (x M : ident) : expr := Ederef (Etempvar x (tptr (Tstruct
 (** The type of a callback on messages [M], and of [&c_cmd]. *)
 Definition callback_type (M : ident) : type := Tfunction [tptr (Tstruct M)] Tvoid.
 
-(** ** Lookup tables *)
-
-(** Tables of the model's topics (by C name), controller fields, and output
-    relations (by topic), built once per program so that generating and
-    checking take time linear in the size of the model.
-    [Generatorproof.tables_topics] etc. give their meaning in terms of
-    [find_topic], [find_assoc] and [filter]. *)
-Record tables : Type := mktables {
-  tb_topics : ptree topic;
-  tb_inputs : ptree prim;
-  tb_outputs : ptree prim;
-  tb_outrels : ptree (list outrel)
-}.
-
-(** The output relations grouped by topic, each group in model order. *)
-Definition group_outrels (l : list outrel) : ptree (list outrel) :=
-  fold_right (fun o t => tset (enc_string (or_topic o))
-                              (o :: tget_default [] (enc_string (or_topic o)) t) t)
-             PLeaf l.
-
-Definition make_tables (m : node_model) : tables :=
-  mktables (tmap_of_list enc_string (map (fun tp => (tp_cname tp, tp)) (nm_topics m)))
-           (tmap_of_list enc_string (nm_inputs m))
-           (tmap_of_list enc_string (nm_outputs m))
-           (group_outrels (nm_outrels m)).
-
 Section GENERATION.
 
 Variable m : node_model.
@@ -238,11 +165,9 @@ Let ce := composites m.
 
 Variable tb : tables.
 
-(** The topic with C name [c], its message type. *)
-Definition lookup_topic (c : ident) : option topic := tget (enc_string c) (tb_topics tb).
-
+(** The message type of the topic with C name [c]. *)
 Definition topic_msg (c : ident) : ident :=
-  match lookup_topic c with Some tp => tp_msg tp | None => "" end.
+  match lookup_topic tb c with Some tp => tp_msg tp | None => "" end.
 
 (** The primitive of a controller input / output field. *)
 Definition input_prim (x : ident) : prim :=
@@ -407,408 +332,24 @@ Definition build_defs : list (ident * globdef) :=
   ++ [(loop_name, Gfun (Internal loop_function));
       (main_name, Gfun (Internal main_function))].
 
-(** ** Names, for the well-formedness rules *)
-
-(** The global names, in the order of [build_defs]
-    ([Generatorproof.build_defs_names]). *)
-Definition topic_extern_names (tp : topic) : list ident :=
-  match tp_dir tp with
-  | Subscribe => [subscribe_name (tp_cname tp)]
-  | Publish => [advertise_name (tp_cname tp); publish_name (tp_cname tp)]
-  end.
-
-Definition global_names : list ident :=
-  [ros_init_name; ros_ok_name; ros_spinOnce_name; ros_rate_sleep_name]
-  ++ flat_map topic_extern_names (nm_topics m)
-  ++ [init_name m; step_name m; nm_in_var m; nm_out_var m]
-  ++ map (fun tp => msg_var (tp_cname tp)) (subscribed m)
-  ++ map (fun tp => callback_name (tp_cname tp)) (subscribed m)
-  ++ [input_glue_name]
-  ++ map (fun tp => output_glue_name (tp_cname tp)) (published m)
-  ++ [loop_name; main_name].
-
-(** The names of parameters, temporaries and local variables.  They are
-    required distinct from the global names so that no local hides a
-    global. *)
-Definition local_names : list ident :=
-  [msg_param; command_param; ok_temp]
-  ++ map fst all_temps
-  ++ map (fun tp => cmd_var (tp_cname tp)) (published m).
-
-(** Struct names. *)
-Definition struct_names : list ident :=
-  map md_name (nm_msgs m) ++ [nm_in_struct m; nm_out_struct m].
-
-(** Every name that reaches the C text. *)
-Definition c_names : list ident :=
-  global_names ++ local_names ++ struct_names
-  ++ flat_map (fun md => map fst (md_fields md)) (nm_msgs m)
-  ++ map fst (nm_inputs m) ++ map fst (nm_outputs m).
-
 End GENERATION.
 
 (** The program, with the lookup tables built once. *)
 Definition build_program (m : node_model) : program :=
   mkprogram (composites m) (build_defs m (make_tables m)) main_name.
 
-(** ** Lexical rules *)
-
-Definition char_between (lo hi : N) (c : ascii) : bool :=
-  (lo <=? N_of_ascii c)%N && (N_of_ascii c <=? hi)%N.
-
-Definition is_upper (c : ascii) : bool := char_between 65 90 c.
-Definition is_lower (c : ascii) : bool := char_between 97 122 c.
-Definition is_digit (c : ascii) : bool := char_between 48 57 c.
-Definition is_letter (c : ascii) : bool := is_upper c || is_lower c.
-Definition is_underscore (c : ascii) : bool := Ascii.eqb c "_"%char.
-
-(** Every character satisfies [f]. *)
-Fixpoint all_chars (f : ascii -> bool) (s : string) : bool :=
-  match s with
-  | EmptyString => true
-  | String c s' => f c && all_chars f s'
-  end.
-
-(** Keywords of C11 and C++11 (the C API over ROS is compiled as C++ too),
-    and the alternative operator spellings of C++. *)
-Definition c_keywords : list string :=
-  ["auto"; "break"; "case"; "char"; "const"; "continue"; "default"; "do";
-   "double"; "else"; "enum"; "extern"; "float"; "for"; "goto"; "if";
-   "inline"; "int"; "long"; "register"; "restrict"; "return"; "short";
-   "signed"; "sizeof"; "static"; "struct"; "switch"; "typedef"; "union";
-   "unsigned"; "void"; "volatile"; "while";
-   "alignas"; "alignof"; "asm"; "bool"; "catch"; "char16_t"; "char32_t";
-   "class"; "constexpr"; "const_cast"; "decltype"; "delete"; "dynamic_cast";
-   "explicit"; "export"; "false"; "friend"; "mutable"; "namespace"; "new";
-   "noexcept"; "nullptr"; "operator"; "private"; "protected"; "public";
-   "reinterpret_cast"; "static_assert"; "static_cast"; "template"; "this";
-   "thread_local"; "throw"; "true"; "try"; "typeid"; "typename"; "using";
-   "virtual"; "wchar_t";
-   "and"; "and_eq"; "bitand"; "bitor"; "compl"; "not"; "not_eq"; "or";
-   "or_eq"; "xor"; "xor_eq"].
-
-(** Keywords of Coq's term language (the node name names Coq definitions). *)
-Definition coq_keywords : list string :=
-  ["as"; "at"; "cofix"; "else"; "end"; "exists"; "exists2"; "fix"; "for";
-   "forall"; "fun"; "if"; "IF"; "in"; "let"; "match"; "mod"; "return";
-   "SProp"; "Prop"; "Set"; "Type"; "then"; "using"; "where"; "with"].
-
-(** Reserved by the C standard: [__x] and [_X]. *)
-Definition reserved_prefix (s : string) : bool :=
-  match s with
-  | String c1 (String c2 _) => is_underscore c1 && (is_underscore c2 || is_upper c2)
-  | _ => false
-  end.
-
-(** A C identifier: [[A-Za-z_][A-Za-z0-9_]*], at most 63 characters (the
-    significant length guaranteed by C99), not a keyword, not reserved. *)
-Definition valid_ident (s : string) : bool :=
-  match s with
-  | EmptyString => false
-  | String c s' =>
-      (is_letter c || is_underscore c)
-      && all_chars (fun c => is_letter c || is_digit c || is_underscore c) s'
-  end
-  && (String.length s <=? 63)%nat
-  && negb (existsb (String.eqb s) c_keywords)
-  && negb (reserved_prefix s).
-
-(** A ROS graph name: a letter, [/] or [~], then letters, digits, [_], [/]. *)
-Definition valid_ros_name (s : string) : bool :=
-  match s with
-  | EmptyString => false
-  | String c s' =>
-      (is_letter c || Ascii.eqb c "/"%char || Ascii.eqb c "~"%char)
-      && all_chars (fun c => is_letter c || is_digit c || is_underscore c || Ascii.eqb c "/"%char) s'
-  end.
-
-(** ** Auxiliary checks *)
-
-Definition null {A : Type} (l : list A) : bool :=
-  match l with [] => true | _ :: _ => false end.
-
-(** Keys for names, paths and published fields. *)
-Definition enc_pstep (s : pstep) : list bool :=
-  match s with
-  | PField f => true :: enc_string f
-  | PIndex i => false :: enc_Z i
-  end.
-
-Definition enc_path : path -> list bool := enc_list enc_pstep.
-
-Definition enc_target : ident * path -> list bool := enc_pair enc_string enc_path.
-
-(** No element occurs twice (in linear time, with a trie): for the long
-    lists of a model (names, topics, relations). *)
-Definition nodup_keys {A : Type} (enc : A -> list bool) (l : list A) : bool :=
-  match find_dup enc l with None => true | Some _ => false end.
-
-(** Fail naming the first repeated element. *)
-Definition check_nodup_keys {A : Type} (enc : A -> list bool) (show : A -> errmsg) (l : list A) : res unit :=
-  match find_dup enc l with None => OK tt | Some x => Error (show x) end.
-
-(** The same by comparing every pair, for short lists (the fields of a
-    message): the first element of [l] that occurs again later in [l]. *)
-Fixpoint first_dup {A : Type} (eqb : A -> A -> bool) (l : list A) : option A :=
-  match l with
-  | [] => None
-  | x :: l' => if existsb (eqb x) l' then Some x else first_dup eqb l'
-  end.
-
-Definition nodupb {A : Type} (eqb : A -> A -> bool) (l : list A) : bool :=
-  match first_dup eqb l with None => true | Some _ => false end.
-
-Definition check_nodup {A : Type} (eqb : A -> A -> bool) (show : A -> errmsg) (l : list A) : res unit :=
-  match first_dup eqb l with None => OK tt | Some x => Error (show x) end.
-
-(** Check every element, failing at the first bad one. *)
-Fixpoint check_all {A : Type} (f : A -> res unit) (l : list A) : res unit :=
-  match l with
-  | [] => OK tt
-  | x :: l' => do _ <- f x; check_all f l'
-  end.
-
-(** Decimal notation of an integer, for messages. *)
-Fixpoint digits (fuel : nat) (n : Z) (acc : string) : string :=
-  match fuel with
-  | O => acc
-  | S fuel' =>
-      let acc' := String (ascii_of_nat (48 + Z.to_nat (n mod 10))) acc in
-      if (n <? 10)%Z then acc' else digits fuel' (n / 10)%Z acc'
-  end.
-
-Definition string_of_Z (n : Z) : string :=
-  if (n <? 0)%Z
-  then ("-" ++ digits (S (Z.to_nat (Z.log2 (- n)))) (- n) "")%string
-  else digits (S (Z.to_nat (Z.log2 n))) n "".
-
-(** A path as written in the node model: [twist.linear.x], [covariance[35]]. *)
-Fixpoint string_of_path (p : path) : string :=
-  match p with
-  | [] => ""
-  | PField f :: p' => ("." ++ f ++ string_of_path p')%string
-  | PIndex i :: p' => ("[" ++ string_of_Z i ++ "]" ++ string_of_path p')%string
-  end.
-
-(** ** Well-formedness rules (DESIGN.md, section 4) *)
-
-(** Array sizes are positive and fit the [int] index constants. *)
-Definition max_array : Z := 2147483647.
-
-(** Rule: a field type refers only to messages in [seen] (the messages
-    defined before), and its arrays have sizes in range. *)
-Fixpoint ftype_ok (seen : list ident) (t : ftype) : bool :=
-  match t with
-  | FTprim _ => true
-  | FTmsg id => existsb (ident_eqb id) seen
-  | FTarray t' n => (0 <? n)%Z && (n <=? max_array)%Z && ftype_ok seen t'
-  end.
-
-(** Rule: a message has fields, distinct field names and good field types. *)
-Definition msgdef_ok (seen : list ident) (md : msgdef) : bool :=
-  negb (null (md_fields md))
-  && nodupb ident_eqb (map fst (md_fields md))
-  && forallb (fun ft => ftype_ok seen (snd ft)) (md_fields md).
-
-(** Rule: every message only refers to the messages before it. *)
-Fixpoint msgs_ok (seen : list ident) (msgs : list msgdef) : bool :=
-  match msgs with
-  | [] => true
-  | md :: msgs' => msgdef_ok seen md && msgs_ok (md_name md :: seen) msgs'
-  end.
-
-(** Rule: a topic has a ROS name, a queue, and a defined message type. *)
-Definition topic_ok (msgs : list msgdef) (tp : topic) : bool :=
-  valid_ros_name (tp_name tp)
-  && (1 <=? tp_queue tp)%nat
-  && match find_msg msgs (tp_msg tp) with Some _ => true | None => false end.
-
-(** Rule (the paper's [type_checking_input_glue], on model types): an input
-    relation reads a leaf of a subscribed topic's message whose primitive
-    type is the controller input's. *)
-Definition inrel_ok (m : node_model) (tb : tables) (ir : inrel) : bool :=
-  match lookup_topic tb (ir_topic ir) with
-  | None => false
-  | Some tp =>
-      is_subscribed tp
-      && match tget (enc_string (ir_input ir)) (tb_inputs tb) with
-         | None => false
-         | Some q =>
-             match resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir) with
-             | None => false
-             | Some q' => prim_eqb q' q
-             end
-         end
-  end.
-
-(** Rule: an output relation writes a leaf of a published topic's message
-    whose primitive type is the controller output's. *)
-Definition outrel_ok (m : node_model) (tb : tables) (o : outrel) : bool :=
-  match tget (enc_string (or_output o)) (tb_outputs tb) with
-  | None => false
-  | Some q =>
-      match lookup_topic tb (or_topic o) with
-      | None => false
-      | Some tp =>
-          is_published tp
-          && match resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (or_path o) with
-             | None => false
-             | Some q' => prim_eqb q' q
-             end
-      end
-  end.
-
-(** The controller inputs fed by some input relation. *)
-Definition fed_inputs (m : node_model) : ptree unit :=
-  tset_of_list enc_string (map ir_input (nm_inrels m)).
-
-(** The well-formedness of a node model, as a boolean. *)
-Definition wf (m : node_model) : bool :=
-  let tb := make_tables m in
-  let fed := fed_inputs m in
-  (0 <? nm_period_ms m)%Z
-  && valid_ident (nm_name m) && negb (existsb (String.eqb (nm_name m)) coq_keywords)
-  && valid_ident (nm_ctrl m)
-  && nodup_keys enc_string (map tp_cname (nm_topics m))
-  && nodup_keys enc_string (map tp_name (nm_topics m))
-  && forallb valid_ident (c_names m)
-  && nodup_keys enc_string (global_names m ++ local_names m)
-  && nodup_keys enc_string (struct_names m)
-  && msgs_ok [] (nm_msgs m)
-  && negb (null (nm_inputs m)) && nodup_keys enc_string (map fst (nm_inputs m))
-  && negb (null (nm_outputs m)) && nodup_keys enc_string (map fst (nm_outputs m))
-  && forallb (topic_ok (nm_msgs m)) (nm_topics m)
-  && forallb (inrel_ok m tb) (nm_inrels m)
-  && nodup_keys enc_string (map ir_input (nm_inrels m))
-  && forallb (fun xq => tmem enc_string (fst xq) fed) (nm_inputs m)
-  && forallb (outrel_ok m tb) (nm_outrels m)
-  && nodup_keys enc_target (map (fun o => (or_topic o, or_path o)) (nm_outrels m)).
-
-(** ** The same rules, failing with a message that names the culprit *)
-
-Definition gen_error (s : string) (x : string) : errmsg := [MSG ("Generator: " ++ s)%string; CTX x].
-
-Definition check_ident (what : string) (x : ident) : res unit :=
-  assertion (valid_ident x) (gen_error (what ++ " is not a valid C identifier: ")%string x).
-
-Fixpoint ftype_check (md : ident) (seen : list ident) (t : ftype) : res unit :=
-  match t with
-  | FTprim _ => OK tt
-  | FTmsg id =>
-      assertion (existsb (ident_eqb id) seen)
-        [MSG "Generator: message "; CTX md; MSG " refers to message "; CTX id;
-         MSG ", which is not defined before it"]
-  | FTarray t' n =>
-      do _ <- assertion ((0 <? n)%Z && (n <=? max_array)%Z)
-                [MSG "Generator: array size out of range in message "; CTX md;
-                 MSG ": "; MSG (string_of_Z n)];
-      ftype_check md seen t'
-  end.
-
-Definition msgdef_check (seen : list ident) (md : msgdef) : res unit :=
-  do _ <- assertion (negb (null (md_fields md)))
-            (gen_error "message has no carried field: " (md_name md));
-  do _ <- check_nodup ident_eqb
-            (fun f => [MSG "Generator: field "; CTX f; MSG " defined twice in message "; CTX (md_name md)])
-            (map fst (md_fields md));
-  check_all (fun ft => ftype_check (md_name md) seen (snd ft)) (md_fields md).
-
-Fixpoint msgs_check (seen : list ident) (msgs : list msgdef) : res unit :=
-  match msgs with
-  | [] => OK tt
-  | md :: msgs' => do _ <- msgdef_check seen md; msgs_check (md_name md :: seen) msgs'
-  end.
-
-Definition topic_check (msgs : list msgdef) (tp : topic) : res unit :=
-  do _ <- assertion (valid_ros_name (tp_name tp)) (gen_error "not a valid ROS graph name: " (tp_name tp));
-  do _ <- assertion (1 <=? tp_queue tp)%nat (gen_error "queue size must be at least 1 for topic " (tp_name tp));
-  match find_msg msgs (tp_msg tp) with
-  | Some _ => OK tt
-  | None => Error [MSG "Generator: unknown message type "; CTX (tp_msg tp);
-                   MSG " of topic "; CTX (tp_name tp)]
-  end.
-
-Definition inrel_check (m : node_model) (tb : tables) (ir : inrel) : res unit :=
-  match lookup_topic tb (ir_topic ir) with
-  | None => Error (gen_error "input relation for unknown topic " (ir_topic ir))
-  | Some tp =>
-      do _ <- assertion (is_subscribed tp)
-                [MSG "Generator: input relation reads topic "; CTX (ir_topic ir);
-                 MSG ", which is not subscribed"];
-      match tget (enc_string (ir_input ir)) (tb_inputs tb) with
-      | None => Error (gen_error "input relation for unknown controller input " (ir_input ir))
-      | Some q =>
-          match resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir) with
-          | None =>
-              Error [MSG "Generator: input relation: "; CTX (string_of_path (ir_path ir));
-                     MSG " is not a carried scalar field of message "; CTX (tp_msg tp)]
-          | Some q' =>
-              assertion (prim_eqb q' q)
-                [MSG "Generator: type mismatch in input relation: ";
-                 CTX (ir_topic ir ++ string_of_path (ir_path ir))%string;
-                 MSG (" is " ++ prim_name q' ++ " but controller input ")%string;
-                 CTX (ir_input ir); MSG (" is " ++ prim_name q)%string]
-          end
-      end
-  end.
-
-Definition outrel_check (m : node_model) (tb : tables) (o : outrel) : res unit :=
-  match tget (enc_string (or_output o)) (tb_outputs tb) with
-  | None => Error (gen_error "output relation from unknown controller output " (or_output o))
-  | Some q =>
-      match lookup_topic tb (or_topic o) with
-      | None => Error (gen_error "output relation for unknown topic " (or_topic o))
-      | Some tp =>
-          do _ <- assertion (is_published tp)
-                    [MSG "Generator: output relation writes topic "; CTX (or_topic o);
-                     MSG ", which is not published"];
-          match resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (or_path o) with
-          | None =>
-              Error [MSG "Generator: output relation: "; CTX (string_of_path (or_path o));
-                     MSG " is not a carried scalar field of message "; CTX (tp_msg tp)]
-          | Some q' =>
-              assertion (prim_eqb q' q)
-                [MSG "Generator: type mismatch in output relation: controller output ";
-                 CTX (or_output o); MSG (" is " ++ prim_name q ++ " but ")%string;
-                 CTX (or_topic o ++ string_of_path (or_path o))%string;
-                 MSG (" is " ++ prim_name q')%string]
-          end
-      end
-  end.
-
-(** [wf_check m = OK tt] iff [wf m = true] ([Generatorproof.wf_check_wf]). *)
-Definition wf_check (m : node_model) : res unit :=
-  let tb := make_tables m in
-  let fed := fed_inputs m in
-  do _ <- assertion (0 <? nm_period_ms m)%Z [MSG "Generator: period_ms must be positive"];
-  do _ <- check_ident "node name" (nm_name m);
-  do _ <- assertion (negb (existsb (String.eqb (nm_name m)) coq_keywords))
-            (gen_error "the node name is a Coq keyword: " (nm_name m));
-  do _ <- check_ident "controller name" (nm_ctrl m);
-  do _ <- check_nodup_keys enc_string (gen_error "two topics with the C name ") (map tp_cname (nm_topics m));
-  do _ <- check_nodup_keys enc_string (gen_error "topic declared twice: ") (map tp_name (nm_topics m));
-  do _ <- check_all (check_ident "name") (c_names m);
-  do _ <- check_nodup_keys enc_string (gen_error "name defined twice: ") (global_names m ++ local_names m);
-  do _ <- check_nodup_keys enc_string (gen_error "struct defined twice: ") (struct_names m);
-  do _ <- msgs_check [] (nm_msgs m);
-  do _ <- assertion (negb (null (nm_inputs m))) (gen_error "controller has no input: " (nm_ctrl m));
-  do _ <- check_nodup_keys enc_string (gen_error "controller input declared twice: ") (map fst (nm_inputs m));
-  do _ <- assertion (negb (null (nm_outputs m))) (gen_error "controller has no output: " (nm_ctrl m));
-  do _ <- check_nodup_keys enc_string (gen_error "controller output declared twice: ") (map fst (nm_outputs m));
-  do _ <- check_all (topic_check (nm_msgs m)) (nm_topics m);
-  do _ <- check_all (inrel_check m tb) (nm_inrels m);
-  do _ <- check_nodup_keys enc_string (gen_error "controller input fed by several input relations: ")
-            (map ir_input (nm_inrels m));
-  do _ <- check_all (fun xq => assertion (tmem enc_string (fst xq) fed)
-                                 (gen_error "controller input not fed by any input relation: " (fst xq)))
-            (nm_inputs m);
-  do _ <- check_all (outrel_check m tb) (nm_outrels m);
-  check_nodup_keys enc_target
-    (fun tp => gen_error "published field fed twice: " (fst tp ++ string_of_path (snd tp))%string)
-    (map (fun o => (or_topic o, or_path o)) (nm_outrels m)).
-
 (** ** The generator *)
 
+(** [wf_check] first (it names the culprit of a refusal), then the
+    program. *)
 Definition generate (m : node_model) : res program :=
   do _ <- wf_check m;
   OK (build_program m).
+
+(** ** Former names *)
+
+(** The rules used to be defined in this file; [Generator.wf] and
+    [Generator.wf_check] still name [Wellformed.wf] and
+    [Wellformed.wf_check], for per-node files written before the move. *)
+Notation wf := Wellformed.wf (only parsing).
+Notation wf_check := Wellformed.wf_check (only parsing).

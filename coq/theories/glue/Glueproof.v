@@ -9,7 +9,7 @@
     leaf or relation, into one destination block, from other blocks. *)
 
 From Coq Require Import String List ZArith Bool Lia.
-From ROSGen Require Import Errors Maps Syntax Values Memory Environment Semantics NodeModel Generator Generatorproof.
+From ROSGen Require Import Errors Maps Syntax Values Memory Environment Semantics NodeModel Wellformed Generator Generatorspec Generatorproof.
 From ROSGen Require Import DDC Copyproof.
 Import ListNotations.
 

@@ -15,7 +15,7 @@
     [ros_spinOnce], for [input_glue] and for the output glue. *)
 
 From Coq Require Import String List ZArith Bool Lia.
-From ROSGen Require Import Errors Maps Syntax Values Memory Environment Semantics NodeModel Generator Generatorproof.
+From ROSGen Require Import Errors Maps Syntax Values Memory Environment Semantics NodeModel Wellformed Generator Generatorspec Generatorproof.
 From ROSGen Require Import DDC Copyproof Glueproof.
 Import ListNotations.
 
