@@ -24,7 +24,7 @@ Local Ltac destr_some H :=
   | Some _ = Some _ => inversion H; clear H; subst
   end.
 
-Lemma interp_sound:
+Theorem interp_sound:
   forall fuel,
   (forall e le m w s t le' m' w' out,
      exec_stmt_fuel ctx ge fuel e le m w s = Some (t, le', m', w', out) ->
@@ -118,19 +118,19 @@ Proof.
         inversion H; subst. econstructor; eauto.
 Qed.
 
-Theorem exec_stmt_fuel_sound:
+Lemma exec_stmt_fuel_sound:
   forall fuel e le m w s t le' m' w' out,
   exec_stmt_fuel ctx ge fuel e le m w s = Some (t, le', m', w', out) ->
   exec_stmt ctx ge e le m w s t le' m' w' out.
 Proof. intros fuel; apply (interp_sound fuel). Qed.
 
-Theorem call_fuel_sound:
+Lemma call_fuel_sound:
   forall fuel m w fd vargs t m' w' v,
   call_fuel ctx ge fuel m w fd vargs = Some (t, m', w', v) ->
   eval_funcall ctx ge m w fd vargs t m' w' v.
 Proof. intros fuel; apply (interp_sound fuel). Qed.
 
-Theorem deliver_fuel_sound:
+Lemma deliver_fuel_sound:
   forall fuel m w msgs t m' w',
   deliver_fuel ctx ge fuel m w msgs = Some (t, m', w') ->
   deliver ctx ge m w msgs t m' w'.
@@ -152,7 +152,7 @@ Proof.
   inversion H; subst. econstructor; eauto. eapply call_fuel_sound; eauto.
 Qed.
 
-Corollary run_trace_sound:
+Theorem run_trace_sound:
   forall (CS : Type) (ctx : ros_context CS) fuel p n t,
   run_trace fuel p ctx n = Some t -> program_behaves p ctx n t.
 Proof.
@@ -163,7 +163,7 @@ Qed.
 
 (** With determinism: the trace the interpreter computes is the only
     behaviour of the program. *)
-Corollary run_trace_exact:
+Theorem run_trace_exact:
   forall (CS : Type) (ctx : ros_context CS) fuel p n t t',
   run_trace fuel p ctx n = Some t -> program_behaves p ctx n t' -> t' = t.
 Proof.

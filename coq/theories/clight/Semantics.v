@@ -704,7 +704,7 @@ Qed.
 End DETERMINISM.
 
 (** A program has at most one behaviour in a given environment. *)
-Corollary program_behaves_determ:
+Theorem program_behaves_determ:
   forall (CS : Type) p (ctx : ros_context CS) n t1 t2,
   program_behaves p ctx n t1 -> program_behaves p ctx n t2 -> t1 = t2.
 Proof.

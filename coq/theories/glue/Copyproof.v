@@ -223,7 +223,7 @@ Qed.
 (** Extensionality: a well-typed value [v1] is equal to any value [v2] of
     the same shape that has the same scalar at every path where [v1] has
     a scalar. *)
-Theorem typed_ext:
+Lemma typed_ext:
   forall ce, wf_composites ce ->
   forall v1 ty v2, mval_has_type ce ty v1 -> mval_shape v2 = mval_shape v1 ->
   (forall p x, mval_get v1 p = Some (MVscalar x) -> mval_get v2 p = Some (MVscalar x)) ->
@@ -356,7 +356,7 @@ Lemma msg_names_nodup: NoDup (md_names msgs).
 Proof. apply wf_msg_names_nodup; auto. Qed.
 
 (** The structs of a well-formed model are well formed. *)
-Theorem wf_composites_of: wf_composites ce.
+Lemma wf_composites_of: wf_composites ce.
 Proof.
   unfold wf_composites, composites.
   apply composites_ok_msgs.
@@ -419,7 +419,7 @@ Proof.
 Qed.
 
 (** The C type at a model path is the C type of what the path resolves to. *)
-Theorem type_at_ctype:
+Lemma type_at_ctype:
   forall p t, ftype_ok (md_names msgs) t = true ->
   type_at ce (ctype_of_ftype t) (path_steps p) = option_map ctype_of_ftype (resolve msgs t p).
 Proof.
@@ -463,7 +463,7 @@ Proof.
 Qed.
 
 (** A leaf of the message type holds a scalar of the leaf's C type. *)
-Theorem leaf_typed:
+Lemma leaf_typed:
   forall M p q v, resolve msgs (FTmsg M) p = Some (FTprim q) ->
   mval_has_type ce (Tstruct M) v ->
   exists x, mval_get v (path_steps p) = Some (MVscalar x) /\ val_has_type x (ctype_of_prim q).
@@ -476,7 +476,7 @@ Proof.
 Qed.
 
 (** The scalars of a value of a message type are at its leaves. *)
-Theorem scalar_is_leaf:
+Lemma scalar_is_leaf:
   forall M v p x, In M (md_names msgs) -> mval_has_type ce (Tstruct M) v ->
   mval_get v p = Some (MVscalar x) ->
   exists lp q, p = path_steps lp /\ resolve msgs (FTmsg M) lp = Some (FTprim q).
@@ -495,7 +495,7 @@ Qed.
 
 (** Two values of a message type, of the same shape, that agree on all
     leaves of the message are equal. *)
-Theorem leaves_ext:
+Lemma leaves_ext:
   forall M v1 v2, In M (md_names msgs) ->
   mval_has_type ce (Tstruct M) v1 -> mval_shape v2 = mval_shape v1 ->
   (forall lp q, resolve msgs (FTmsg M) lp = Some (FTprim q) ->
@@ -534,7 +534,7 @@ Lemma resolve_prim_cons:
 Proof. intros q [f|i] p; reflexivity. Qed.
 
 (** Distinct leaves designate disjoint sub-values. *)
-Theorem leaves_disjoint:
+Lemma leaves_disjoint:
   forall p1 p2 t q1 q2, resolve msgs t p1 = Some (FTprim q1) -> resolve msgs t p2 = Some (FTprim q2) ->
   p1 <> p2 -> path_disjoint (path_steps p1) (path_steps p2).
 Proof.
@@ -564,7 +564,7 @@ Qed.
 
 (** [e.p], for a model path [p] from the type of [e], designates the
     location of [e] followed by [p]. *)
-Theorem eval_lvalue_path:
+Lemma eval_lvalue_path:
   forall ge e le mm p t t' ex b q0,
   ftype_ok (md_names msgs) t = true -> resolve msgs t p = Some t' ->
   typeof ex = ctype_of_ftype t -> eval_lvalue ge e le mm ex = Some (b, q0) ->
@@ -614,7 +614,7 @@ Proof.
 Qed.
 
 (** Reading a leaf [e.p] of a message: a scalar load of the leaf's type. *)
-Theorem eval_leaf:
+Lemma eval_leaf:
   forall ge e le mm M p q ex b q0,
   resolve msgs (FTmsg M) p = Some (FTprim q) ->
   typeof ex = Tstruct M -> eval_lvalue ge e le mm ex = Some (b, q0) ->
@@ -764,7 +764,7 @@ Definition item_ok (a : A) : Prop :=
   /\ val_has_type (sv a) (ctype_of_prim (qf a))
   /\ type_at ce tyd (dp a) = Some (ctype_of_prim (qf a)).
 
-Theorem exec_copies:
+Lemma exec_copies:
   forall L le mm v,
   le_ok le -> frame mm ->
   get_block mm bd = Some (tyd, v) -> mval_has_type ce tyd v ->

@@ -129,7 +129,7 @@ Theorem generate_sound: forall m p, generate m = OK p -> wf m = true.
 Proof. intros m p H; apply (generate_inv m p H). Qed.
 
 (** An ill-formed model is refused with an error message. *)
-Corollary generate_refuses: forall m, wf m = false -> exists msg, generate m = Error msg.
+Theorem generate_refuses: forall m, wf m = false -> exists msg, generate m = Error msg.
 Proof.
   intros m H; unfold generate. destruct (wf_check m) as [[]|e] eqn:E.
   - apply wf_check_wf in E; congruence.
@@ -344,7 +344,7 @@ Inductive relation_consistency_input (m : node_model) : list inrel -> list expr 
       relation_consistency_input m lir lg lc ->
       relation_consistency_input m (ir :: lir) (g :: lg) (c :: lc).
 
-Lemma relation_consistency_input_glue:
+Theorem relation_consistency_input_glue:
   forall m lir lg lc,
   lg = gen_list_global_expr_input_glue m lir ->
   lc = gen_list_controller_expr_input_glue m lir ->
@@ -384,7 +384,7 @@ Inductive relation_consistency_output (m : node_model) (c : ident) :
       relation_consistency_output m c lor ls ld ->
       relation_consistency_output m c (o :: lor) (s :: ls) (d :: ld).
 
-Lemma relation_consistency_output_glue:
+Theorem relation_consistency_output_glue:
   forall m c M lor ls ld,
   lor = topic_outrels (make_tables m) c ->
   ls = gen_list_controller_expr_output_glue m lor ->
@@ -581,7 +581,7 @@ Fixpoint type_checking_input_glue (ltype_global_fields ltype_controller_fields :
   | _, _ => false
   end.
 
-Lemma type_checking_input_glue_sound:
+Theorem type_checking_input_glue_sound:
   forall l1 l2, type_checking_input_glue l1 l2 = true -> l1 = l2.
 Proof.
   induction l1 as [|t1 l1 IH]; intros [|t2 l2]; simpl; try congruence.
@@ -590,7 +590,7 @@ Qed.
 
 (** The generator emits [input_glue] only for models where the check
     succeeds. *)
-Lemma type_checking_input_glue_generated:
+Theorem type_checking_input_glue_generated:
   forall m, wf m = true ->
   type_checking_input_glue (map typeof (gen_list_global_expr_input_glue m (nm_inrels m)))
                            (map typeof (gen_list_controller_expr_input_glue m (nm_inrels m))) = true.
@@ -606,7 +606,7 @@ Qed.
 (** The same check on each published topic's copies. *)
 Definition type_checking_output_glue := type_checking_input_glue.
 
-Lemma type_checking_output_glue_generated:
+Theorem type_checking_output_glue_generated:
   forall m tp, wf m = true -> In tp (nm_topics m) ->
   type_checking_output_glue
     (map typeof (gen_list_controller_expr_output_glue m (topic_outrels (make_tables m) (tp_cname tp))))

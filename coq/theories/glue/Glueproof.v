@@ -247,7 +247,7 @@ End CALLBACK.
 
 (** Every callback of a subscribed topic copies the whole message it is
     given into the topic's global, and changes nothing else. *)
-Theorem generate_callback_ddc_aux:
+Lemma generate_callback_ddc_aux:
   forall tp, In tp (subscribed m) -> callback_ddc m p tp.
 Proof.
   intros tp Htp.
@@ -378,7 +378,7 @@ Qed.
 
 End INPUT.
 
-Theorem generate_input_glue_ddc_aux: input_glue_ddc m p.
+Lemma generate_input_glue_ddc_aux: input_glue_ddc m p.
 Proof.
   destruct (generate_input_glue m p GEN) as (f & Ff & Fret & Fpar & Fvars & Fbody & _ & _).
   exists f. split; [apply gen_funct; auto|].
@@ -598,7 +598,7 @@ Qed.
 
 End OUTPUT.
 
-Theorem generate_output_glue_ddc_aux:
+Lemma generate_output_glue_ddc_aux:
   forall tp, In tp (published m) -> output_glue_ddc m p tp.
 Proof.
   intros tp Htp.

@@ -959,7 +959,7 @@ Qed.
 
 (** [main] runs to completion, and its trace is a run of [n] correct
     cycles. *)
-Theorem main_run:
+Lemma main_run:
   forall n, exists t, program_behaves p ctx n t /\ run_ok m ctx n t.
 Proof.
   intros n.

@@ -75,7 +75,7 @@ Proof.
   intros A B C f g z; destruct f as [[x y]|m]; simpl; [eauto | discriminate].
 Qed.
 
-Lemma mmap_length:
+Theorem mmap_length:
   forall (A B : Type) (f : A -> res B) l l', mmap f l = OK l' -> length l' = length l.
 Proof.
   induction l as [|x l IH]; simpl; intros l' H.

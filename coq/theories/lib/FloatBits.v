@@ -195,7 +195,7 @@ Proof.
 Qed.
 
 (** Every bit pattern in range is the encoding of its decoding. *)
-Theorem bits_of_float_of_bits:
+Lemma bits_of_float_of_bits:
   forall x, 0 <= x < 2 ^ (mw + ew + 1) ->
   bits_of_binary_float mw ew (float_of_bits x) = x.
 Proof.
@@ -229,7 +229,7 @@ Proof.
 Qed.
 
 (** Every float is the decoding of its encoding. *)
-Theorem float_of_bits_of_float:
+Lemma float_of_bits_of_float:
   forall f, float_of_bits (bits_of_binary_float mw ew f) = f.
 Proof.
   intros f. unfold float_of_bits.

@@ -1,0 +1,525 @@
+(** * The main theorems of the ROSGen library *)
+
+(** Every main result of the library, restated in one place with its
+    hypotheses and its meaning in plain English, and proved by applying
+    the library lemma of the same name (the module is named in each
+    proof).  A reader who trusts Coq, the definitions these statements
+    mention, and the environment model ([Environment]: what [ros_spinOnce],
+    the message queues, [ros_publish], [ros_ok] and [Controller_step]
+    mean) can take these statements as what the project proves, without
+    reading the proofs.
+
+    [make -C coq check-assumptions] runs [Print Assumptions] on every
+    [Theorem] of this file ([coq/checks/assumptions.sh]) and fails, naming
+    the theorem and its axioms, unless every one prints "Closed under the
+    global context": no main result depends on an axiom (the classical
+    axioms of Coq's real numbers, which Flocq loads, included).  [coqchk]
+    re-checks this module with the others ([make -C coq check-proof]).
+
+    The theorems are grouped as in DESIGN.md section 6: T1 (the generated
+    functions meet their data delivery specifications), T2 (the whole
+    node does, over whole runs), T3 (the paper's Section 6 properties of
+    the generated code), T4 (the generator accepts exactly the well-formed
+    models), T5 (the interpreter is sound); then the supporting results
+    that the tests and the per-node files rely on.  The specifications
+    ([callback_ddc], [input_glue_ddc], [output_glue_ddc], [node_ddc]) are
+    in [DDC], where each is explained. *)
+
+From Coq Require Import String List ZArith Bool.
+From Flocq Require Import IEEE754.Binary IEEE754.Bits.
+From ROSGen Require Import Errors Maps FloatBits.
+From ROSGen Require Import Syntax Values Memory Environment Semantics Typing Interp.
+From ROSGen Require Import NodeModel Wellformed Generator Generatorspec Generatorproof DDC.
+From ROSGen Require Loopproof Glueproof Interpproof.
+Import ListNotations.
+
+(** ** T1: every generated function meets its specification *)
+
+(** Callbacks (the paper's Figure 10, for every model).  Hypotheses: the
+    generator accepted model [m] and returned program [p]; [tp] is a
+    subscribed topic of [m].  Meaning ([DDC.callback_ddc]): [p] has an
+    internal function [c_callback] (where [c] is the topic's C name) such
+    that, called with a pointer to a block (not a global) that holds a
+    well-typed message [mv] of the topic's type, from any memory where the
+    globals hold values of their types, every run terminates, emits no
+    event, leaves the ROS world unchanged, and ends with the global
+    [c_msg] holding exactly [mv] and every other block unchanged; and such
+    a run exists in every environment. *)
+Theorem generate_callback_ddc:
+  forall m p, generate m = OK p ->
+  forall tp, In tp (subscribed m) -> callback_ddc m p tp.
+Proof. exact Glueproof.generate_callback_ddc. Qed.
+
+(** [input_glue] (the paper's Figure 12, for every model).  Hypothesis:
+    [generate m = OK p].  Meaning ([DDC.input_glue_ddc]): [input_glue]
+    terminates from any memory whose globals hold values of their types,
+    emits nothing, changes only [Controller_U], and leaves there a value
+    of the inputs' struct type in which every input field named by an
+    input relation holds the scalar found at the relation's path in the
+    global message of the relation's topic. *)
+Theorem generate_input_glue_ddc:
+  forall m p, generate m = OK p -> input_glue_ddc m p.
+Proof. exact Glueproof.generate_input_glue_ddc. Qed.
+
+(** The output glue of every published topic.  Hypotheses:
+    [generate m = OK p]; [tp] is a published topic of [m].  Meaning
+    ([DDC.output_glue_ddc]): [output_glue_c], called with a pointer to a
+    block (not a global) that holds an object of the topic's message type,
+    initialised or not, terminates, emits nothing, changes only that
+    block, and leaves there the message [published_value] prescribes for
+    the outputs [y] held by [Controller_Y]: every field named by an output
+    relation of the topic holds the related field of [y], every other
+    scalar field is zero. *)
+Theorem generate_output_glue_ddc:
+  forall m p, generate m = OK p ->
+  forall tp, In tp (published m) -> output_glue_ddc m p tp.
+Proof. exact Glueproof.generate_output_glue_ddc. Qed.
+
+(** ** T2: data delivery correctness of every generated node *)
+
+(** Hypothesis: [generate m = OK p].  Meaning ([DDC.node_ddc]): for every
+    environment [ctx] (any schedule of message arrivals, any controller
+    with any state type and step function) in which the messages arriving
+    on subscribed topics are well typed and the controller's outputs are
+    well typed, and for every number [n] of [true] answers of [ros_ok]:
+    the program runs to completion ([program_behaves p ctx n t] for some
+    trace [t]), and every such trace is a run of [n] correct cycles
+    ([DDC.run_ok]): in cycle [i], the controller is stepped once on inputs
+    whose related fields are those of the newest message received on each
+    relation's topic up to the [i]-th [ros_spinOnce] (zero if none), then
+    each published topic, in model order, publishes the message whose
+    related fields are the outputs of that step, then the cycle ends. *)
+Theorem generate_node_ddc:
+  forall m p, generate m = OK p -> node_ddc m p.
+Proof. exact Loopproof.generate_node_ddc. Qed.
+
+(** ** T3: the paper's Section 6 properties *)
+
+(** Relation consistency for [input_glue] (the paper's Figure 15): for any
+    list of input relations [lir], the list [lg] of source expressions
+    (fields of the topics' global messages) and the list [lc] of
+    destination expressions (fields of [Controller_U]) that the generator
+    builds from [lir] are related element by element to the relations of
+    [lir], in order ([relation_consistency_input]). *)
+Theorem relation_consistency_input_glue:
+  forall m lir lg lc,
+  lg = gen_list_global_expr_input_glue m lir ->
+  lc = gen_list_controller_expr_input_glue m lir ->
+  relation_consistency_input m lir lg lc.
+Proof. exact Generatorproof.relation_consistency_input_glue. Qed.
+
+(** Relation consistency for the output glue of the topic with C name [c]
+    (the paper's Figure 15): the output relations [lor] of the topic, the
+    source expressions [ls] (fields of [Controller_Y]) and the destination
+    expressions [ld] (fields of [*command], a message of type [M]) that
+    the generator builds are related element by element, in order. *)
+Theorem relation_consistency_output_glue:
+  forall m c M lor ls ld,
+  lor = topic_outrels (make_tables m) c ->
+  ls = gen_list_controller_expr_output_glue m lor ->
+  ld = gen_list_message_expr_output_glue m M lor ->
+  relation_consistency_output m c lor ls ld.
+Proof. exact Generatorproof.relation_consistency_output_glue. Qed.
+
+(** Valid assignment via type checking (the paper's Figure 16): when the
+    check [type_checking_input_glue] accepts two lists of types, they are
+    equal, i.e. the source and the destination of every copy have the same
+    type. *)
+Theorem type_checking_input_glue_sound:
+  forall l1 l2, type_checking_input_glue l1 l2 = true -> l1 = l2.
+Proof. exact Generatorproof.type_checking_input_glue_sound. Qed.
+
+(** For every well-formed model, the check of Figure 16 succeeds on the
+    sources and destinations of the copies of [input_glue]. *)
+Theorem type_checking_input_glue_generated:
+  forall m, wf m = true ->
+  type_checking_input_glue (map typeof (gen_list_global_expr_input_glue m (nm_inrels m)))
+                           (map typeof (gen_list_controller_expr_input_glue m (nm_inrels m))) = true.
+Proof. exact Generatorproof.type_checking_input_glue_generated. Qed.
+
+(** For every well-formed model and every topic, the same check succeeds
+    on the sources and destinations of the copies of its output glue. *)
+Theorem type_checking_output_glue_generated:
+  forall m tp, wf m = true -> In tp (nm_topics m) ->
+  type_checking_output_glue
+    (map typeof (gen_list_controller_expr_output_glue m (topic_outrels (make_tables m) (tp_cname tp))))
+    (map typeof (gen_list_message_expr_output_glue m (tp_msg tp) (topic_outrels (make_tables m) (tp_cname tp))))
+  = true.
+Proof. exact Generatorproof.type_checking_output_glue_generated. Qed.
+
+(** Hypotheses: [generate m = OK p]; [f] is any internal function of [p].
+    Meaning: every assignment in the body of [f] is valid
+    ([valid_assignments]): a scalar assigned to a place of the same
+    scalar type, through a temporary of that type. *)
+Theorem generate_valid_assignments:
+  forall m p id f, generate m = OK p -> find_def p id = Some (Gfun (Internal f)) ->
+  valid_assignments (prog_types p) (fn_temps f) (fn_body f).
+Proof. exact Generatorproof.generate_valid_assignments. Qed.
+
+(** Preservation, first part: in the body of [loop], the call of the
+    controller's step function comes right after the call of
+    [input_glue], so nothing can change the inputs in between.
+    Hypothesis: [generate m = OK p]. *)
+Theorem loop_input_glue_then_step:
+  forall m p, generate m = OK p ->
+  exists f rest,
+     find_def p loop_name = Some (Gfun (Internal f))
+  /\ fn_body f = Sloop (seq_of ([Scall (Some ok_temp) (Evar ros_ok_name (Tfunction [] tint)) [];
+                                 Sifthenelse (Etempvar ok_temp tint) Sskip Sbreak;
+                                 call0 ros_spinOnce_name]
+                                ++ call0 input_glue_name :: call0 (step_name m) :: rest)).
+Proof. exact Generatorproof.loop_input_glue_then_step. Qed.
+
+(** Preservation: no generated function other than [input_glue] assigns
+    (a part of) [Controller_U].  Hypotheses: [generate m = OK p]; [f] is
+    the internal function [id] of [p], [id] is not [input_glue]; [pl] is
+    a place that the body of [f] assigns. *)
+Theorem generate_inputs_written_only_by_input_glue:
+  forall m p id f, generate m = OK p -> find_def p id = Some (Gfun (Internal f)) ->
+  id <> input_glue_name ->
+  forall pl, In pl (assigned_places (fn_body f)) ->
+  exists r path, pl = Some (r, path) /\ r <> Rvar (nm_in_var m).
+Proof. exact Generatorproof.generate_inputs_written_only_by_input_glue. Qed.
+
+(** Preservation: no generated function assigns (a part of)
+    [Controller_Y]; only the controller writes its outputs. *)
+Theorem generate_outputs_not_written:
+  forall m p id f, generate m = OK p -> find_def p id = Some (Gfun (Internal f)) ->
+  forall pl, In pl (assigned_places (fn_body f)) ->
+  exists r path, pl = Some (r, path) /\ r <> Rvar (nm_out_var m).
+Proof. exact Generatorproof.generate_outputs_not_written. Qed.
+
+(** Preservation: no generated function takes the address of
+    [Controller_U] or [Controller_Y], so no write through a pointer can
+    reach them. *)
+Theorem generate_inputs_address_not_taken:
+  forall m p id f, generate m = OK p -> find_def p id = Some (Gfun (Internal f)) ->
+  stmt_takes_addr (nm_in_var m) (fn_body f) = false
+  /\ stmt_takes_addr (nm_out_var m) (fn_body f) = false.
+Proof. exact Generatorproof.generate_inputs_address_not_taken. Qed.
+
+(** ** T4: the generator accepts exactly the well-formed models *)
+
+(** Completeness: every model that satisfies the rules of DESIGN.md
+    section 4 ([Wellformed.wf]) is accepted by the generator. *)
+Theorem generate_complete: forall m, wf m = true -> exists p, generate m = OK p.
+Proof. exact Generatorproof.generate_complete. Qed.
+
+(** Soundness: every model the generator accepts satisfies the rules. *)
+Theorem generate_sound: forall m p, generate m = OK p -> wf m = true.
+Proof. exact Generatorproof.generate_sound. Qed.
+
+(** A model that breaks a rule is refused, with an error message. *)
+Theorem generate_refuses: forall m, wf m = false -> exists msg, generate m = Error msg.
+Proof. exact Generatorproof.generate_refuses. Qed.
+
+(** The checker that names the culprit ([wf_check], which [generate] and
+    the per-node files run) accepts exactly the models that satisfy the
+    boolean rules [wf]. *)
+Theorem wf_check_wf: forall m, wf_check m = OK tt <-> wf m = true.
+Proof. exact Generatorproof.wf_check_wf. Qed.
+
+(** ** T5: the interpreter is sound *)
+
+(** For every environment [ctx], global environment [ge] and amount of
+    fuel: whatever the interpreter's functions return for a statement
+    ([exec_stmt_fuel]), a function call ([call_fuel]) or the deliveries
+    of a [ros_spinOnce] ([deliver_fuel]) is a result of the corresponding
+    big-step judgement of [Semantics]. *)
+Theorem interp_sound:
+  forall (CS : Type) (ctx : ros_context CS) (ge : genv) fuel,
+  (forall e le m w s t le' m' w' out,
+     exec_stmt_fuel ctx ge fuel e le m w s = Some (t, le', m', w', out) ->
+     exec_stmt ctx ge e le m w s t le' m' w' out)
+  /\ (forall m w fd vargs t m' w' v,
+     call_fuel ctx ge fuel m w fd vargs = Some (t, m', w', v) ->
+     eval_funcall ctx ge m w fd vargs t m' w' v)
+  /\ (forall m w msgs t m' w',
+     deliver_fuel ctx ge fuel m w msgs = Some (t, m', w') ->
+     deliver ctx ge m w msgs t m' w').
+Proof. intros CS ctx ge; exact (Interpproof.interp_sound ctx ge). Qed.
+
+(** A whole run computed by the interpreter ([run_program], what the
+    differential tests extract and compare with the compiled C) is a
+    behaviour of the program: [main] terminates with that trace when
+    [ros_ok] answers true [n] times. *)
+Theorem run_program_sound:
+  forall (CS : Type) (ctx : ros_context CS) fuel p n t v m' w',
+  run_program fuel p ctx n = Some (t, v, m', w') ->
+  program_behaves p ctx n t.
+Proof. exact Interpproof.run_program_sound. Qed.
+
+(** The same for the trace alone ([run_trace]). *)
+Theorem run_trace_sound:
+  forall (CS : Type) (ctx : ros_context CS) fuel p n t,
+  run_trace fuel p ctx n = Some t -> program_behaves p ctx n t.
+Proof. exact Interpproof.run_trace_sound. Qed.
+
+(** With determinism: the trace the interpreter computes is the only
+    behaviour of the program in that environment. *)
+Theorem run_trace_exact:
+  forall (CS : Type) (ctx : ros_context CS) fuel p n t t',
+  run_trace fuel p ctx n = Some t -> program_behaves p ctx n t' -> t' = t.
+Proof. exact Interpproof.run_trace_exact. Qed.
+
+(** ** The semantics *)
+
+(** The big-step semantics is deterministic: in a given environment, a
+    statement, a function call or a delivery of messages started in the
+    same state has at most one result (trace, final state, outcome). *)
+Theorem semantics_determ:
+  forall (CS : Type) (ctx : ros_context CS) (ge : genv),
+  (forall e le m w s t1 le1 m1 w1 out1, exec_stmt ctx ge e le m w s t1 le1 m1 w1 out1 ->
+     forall t2 le2 m2 w2 out2, exec_stmt ctx ge e le m w s t2 le2 m2 w2 out2 ->
+     t1 = t2 /\ le1 = le2 /\ m1 = m2 /\ w1 = w2 /\ out1 = out2)
+  /\ (forall m w fd vargs t1 m1 w1 v1, eval_funcall ctx ge m w fd vargs t1 m1 w1 v1 ->
+     forall t2 m2 w2 v2, eval_funcall ctx ge m w fd vargs t2 m2 w2 v2 ->
+     t1 = t2 /\ m1 = m2 /\ w1 = w2 /\ v1 = v2)
+  /\ (forall m w msgs t1 m1 w1, deliver ctx ge m w msgs t1 m1 w1 ->
+     forall t2 m2 w2, deliver ctx ge m w msgs t2 m2 w2 ->
+     t1 = t2 /\ m1 = m2 /\ w1 = w2).
+Proof. intros CS ctx ge; exact (Semantics.semantics_determ ctx ge). Qed.
+
+(** A program has at most one behaviour in a given environment: the run
+    that T2 describes is the run of the node. *)
+Theorem program_behaves_determ:
+  forall (CS : Type) p (ctx : ros_context CS) n t1 t2,
+  program_behaves p ctx n t1 -> program_behaves p ctx n t2 -> t1 = t2.
+Proof. exact Semantics.program_behaves_determ. Qed.
+
+(** The executable type checker is sound: a program it accepts is well
+    typed ([Typing.wt_program]). *)
+Theorem check_program_correct: forall p, check_program p = true -> wt_program p.
+Proof. exact Typing.check_program_correct. Qed.
+
+(** The queue model of the environment keeps the newest message: for a
+    subscription [s] with a queue of size at least 1, the last message
+    that one [ros_spinOnce] delivers to [s] ([Environment.deliverable])
+    is the last message that arrived on its topic. *)
+Theorem last_delivered_deliverable:
+  forall subs s msgs, In s subs -> (1 <= sub_queue s)%nat ->
+  Loopproof.last_delivered s (deliverable subs msgs) = last_on (sub_topic s) msgs.
+Proof. exact Loopproof.last_delivered_deliverable. Qed.
+
+(** ** The shape of the generated program (used by T1 and T2) *)
+
+(** Hypothesis everywhere: [generate m = OK p]. *)
+
+(** All global names of [p] are distinct. *)
+Theorem generate_names_distinct:
+  forall m p, generate m = OK p -> NoDup (map fst (prog_defs p)).
+Proof. exact Generatorproof.generate_names_distinct. Qed.
+
+(** No parameter, temporary or local variable of a generated function has
+    the name of a global. *)
+Theorem generate_locals_fresh:
+  forall m p x, generate m = OK p -> In x (local_names m) -> ~ In x (map fst (prog_defs p)).
+Proof. exact Generatorproof.generate_locals_fresh. Qed.
+
+(** For each subscribed topic [tp] (C name [c], message type [M]): [p]
+    has the global [c_msg] of type [struct M] and the function
+    [c_callback], whose body copies every leaf of [*msg] into [c_msg], in
+    the order of [leaves], through temporaries of the leaves' types. *)
+Theorem generate_callback:
+  forall m p tp, generate m = OK p -> In tp (subscribed m) ->
+  let c := tp_cname tp in
+  let M := tp_msg tp in
+  find_def p (msg_var c) = Some (Gvar (Tstruct M))
+  /\ exists f,
+     find_def p (callback_name c) = Some (Gfun (Internal f))
+  /\ fn_return f = Tvoid
+  /\ fn_params f = [(msg_param, tptr (Tstruct M))]
+  /\ fn_vars f = []
+  /\ fn_body f = seq_of (map (leaf_copy (prog_types p) (Evar (msg_var c) (Tstruct M))
+                                                     (deref_param msg_param M))
+                             (leaves (nm_msgs m) M))
+  /\ NoDup (map fst (fn_temps f))
+  /\ (forall l, In l (leaves (nm_msgs m) M) ->
+        find_assoc (temp_name (snd l)) (fn_temps f) = Some (ctype_of_prim (snd l))).
+Proof. exact Generatorproof.generate_callback. Qed.
+
+(** [input_glue] is the sequence of the copies of the input relations,
+    in model order. *)
+Theorem generate_input_glue:
+  forall m p, generate m = OK p ->
+  exists f,
+     find_def p input_glue_name = Some (Gfun (Internal f))
+  /\ fn_return f = Tvoid /\ fn_params f = [] /\ fn_vars f = []
+  /\ fn_body f = seq_of (copies (map (fun ir => input_prim (make_tables m) (ir_input ir)) (nm_inrels m))
+                                (gen_list_controller_expr_input_glue m (nm_inrels m))
+                                (gen_list_global_expr_input_glue m (nm_inrels m)))
+  /\ NoDup (map fst (fn_temps f))
+  /\ (forall ir, In ir (nm_inrels m) ->
+        find_assoc (temp_name (input_prim (make_tables m) (ir_input ir))) (fn_temps f)
+        = Some (ctype_of_prim (input_prim (make_tables m) (ir_input ir)))).
+Proof. exact Generatorproof.generate_input_glue. Qed.
+
+(** For each published topic [tp], [output_glue_c] zeroes every leaf of
+    [*command], then performs the copies of the topic's output relations,
+    in model order. *)
+Theorem generate_output_glue:
+  forall m p tp, generate m = OK p -> In tp (published m) ->
+  let c := tp_cname tp in
+  let M := tp_msg tp in
+  let lor := topic_outrels (make_tables m) c in
+  exists f,
+     find_def p (output_glue_name c) = Some (Gfun (Internal f))
+  /\ fn_return f = Tvoid
+  /\ fn_params f = [(command_param, tptr (Tstruct M))]
+  /\ fn_vars f = []
+  /\ fn_body f
+     = Ssequence
+         (seq_of (map (leaf_zero (prog_types p) (deref_param command_param M)) (leaves (nm_msgs m) M)))
+         (seq_of (copies (map (fun o => output_prim (make_tables m) (or_output o)) lor)
+                         (gen_list_message_expr_output_glue m M lor)
+                         (gen_list_controller_expr_output_glue m lor)))
+  /\ NoDup (map fst (fn_temps f))
+  /\ (forall o, In o lor ->
+        find_assoc (temp_name (output_prim (make_tables m) (or_output o))) (fn_temps f)
+        = Some (ctype_of_prim (output_prim (make_tables m) (or_output o)))).
+Proof. exact Generatorproof.generate_output_glue. Qed.
+
+(** [loop]: one local message [c_cmd] per published topic, and a cycle
+    [_ok = ros_ok(); if (_ok) ; else break; ros_spinOnce(); input_glue();
+    Controller_step();], then for each published topic
+    [output_glue_c(&c_cmd); ros_publish_c(&c_cmd);], then
+    [ros_rate_sleep();]. *)
+Theorem generate_loop:
+  forall m p, generate m = OK p ->
+  exists f,
+     find_def p loop_name = Some (Gfun (Internal f))
+  /\ fn_return f = Tvoid /\ fn_params f = []
+  /\ fn_vars f = map (fun tp => (cmd_var (tp_cname tp), Tstruct (tp_msg tp))) (published m)
+  /\ NoDup (map fst (fn_vars f))
+  /\ fn_temps f = [(ok_temp, tint)]
+  /\ fn_body f
+     = Sloop (Ssequence (Scall (Some ok_temp) (Evar ros_ok_name (Tfunction [] tint)) [])
+             (Ssequence (Sifthenelse (Etempvar ok_temp tint) Sskip Sbreak)
+             (Ssequence (call0 ros_spinOnce_name)
+             (Ssequence (call0 input_glue_name)
+             (Ssequence (call0 (step_name m))
+                        (seq_of (flat_map publish_stmts (published m)
+                                 ++ [call0 ros_rate_sleep_name]))))))).
+Proof. exact Generatorproof.generate_loop. Qed.
+
+(** [main] initialises ROS and the controller, subscribes every
+    subscribed topic with its callback, advertises every published topic,
+    runs [loop] and returns 0. *)
+Theorem generate_main:
+  forall m p, generate m = OK p ->
+  prog_main p = main_name
+  /\ exists f,
+     find_def p main_name = Some (Gfun (Internal f))
+  /\ fn_return f = tint /\ fn_params f = [] /\ fn_vars f = [] /\ fn_temps f = []
+  /\ fn_body f = seq_of ([call0 ros_init_name; call0 (init_name m)]
+                         ++ map subscribe_stmt (subscribed m)
+                         ++ map advertise_stmt (published m)
+                         ++ [call0 loop_name; Sreturn (Some (Econst_int 0 tint))]).
+Proof. exact Generatorproof.generate_main. Qed.
+
+(** The ROS API functions that do not depend on the model, the
+    controller's two functions and its two global structs, under their
+    names, with their meanings ([external_function] tags). *)
+Theorem generate_externals:
+  forall m p, generate m = OK p ->
+     find_def p ros_init_name = Some (Gfun (External EF_ros_init [] Tvoid))
+  /\ find_def p ros_ok_name = Some (Gfun (External EF_ros_ok [] tint))
+  /\ find_def p ros_spinOnce_name = Some (Gfun (External EF_ros_spinOnce [] Tvoid))
+  /\ find_def p ros_rate_sleep_name = Some (Gfun (External EF_ros_rate_sleep [] Tvoid))
+  /\ find_def p (init_name m)
+     = Some (Gfun (External (EF_controller_initialize (nm_in_var m) (nm_out_var m)) [] Tvoid))
+  /\ find_def p (step_name m)
+     = Some (Gfun (External (EF_controller_step (nm_in_var m) (nm_out_var m)) [] Tvoid))
+  /\ find_def p (nm_in_var m) = Some (Gvar (Tstruct (nm_in_struct m)))
+  /\ find_def p (nm_out_var m) = Some (Gvar (Tstruct (nm_out_struct m))).
+Proof. exact Generatorproof.generate_externals. Qed.
+
+(** The ROS API functions of each topic: [ros_subscribe_c] for a
+    subscribed topic (its ROS name, message type and queue size), and
+    [ros_advertise_c], [ros_publish_c] for a published one. *)
+Theorem generate_topic_externals:
+  forall m p tp, generate m = OK p -> In tp (nm_topics m) ->
+  match tp_dir tp with
+  | Subscribe =>
+      find_def p (subscribe_name (tp_cname tp))
+      = Some (Gfun (External (EF_ros_subscribe (tp_name tp) (tp_msg tp) (tp_queue tp))
+                             [tptr (callback_type (tp_msg tp))] Tvoid))
+  | Publish =>
+      find_def p (advertise_name (tp_cname tp))
+      = Some (Gfun (External (EF_ros_advertise (tp_name tp) (tp_msg tp) (tp_queue tp)) [] Tvoid))
+   /\ find_def p (publish_name (tp_cname tp))
+      = Some (Gfun (External (EF_ros_publish (tp_name tp) (tp_msg tp))
+                             [tptr (Tstruct (tp_msg tp))] Tvoid))
+  end.
+Proof. exact Generatorproof.generate_topic_externals. Qed.
+
+(** Which generated function assigns what: a callback assigns only its
+    topic's global message, [input_glue] only fields of [Controller_U],
+    [output_glue_c] only through its pointer parameter [command]; [loop]
+    and [main] assign nothing. *)
+Theorem generate_assigned_places:
+  forall m p id f, generate m = OK p -> find_def p id = Some (Gfun (Internal f)) ->
+  forall pl, In pl (assigned_places (fn_body f)) ->
+     (exists tp path, In tp (subscribed m) /\ id = callback_name (tp_cname tp)
+                      /\ pl = Some (Rvar (msg_var (tp_cname tp)), path))
+  \/ (exists x, id = input_glue_name /\ pl = Some (Rvar (nm_in_var m), [PField x]))
+  \/ (exists tp path, In tp (published m) /\ id = output_glue_name (tp_cname tp)
+                      /\ pl = Some (Rderef command_param, path)).
+Proof. exact Generatorproof.generate_assigned_places. Qed.
+
+(** The only addresses the generated code takes are those of the loop's
+    local messages [c_cmd] (in [loop]) and of the callbacks (in [main]). *)
+Theorem generate_addresses_taken:
+  forall m p id f x, generate m = OK p -> find_def p id = Some (Gfun (Internal f)) ->
+  stmt_takes_addr x (fn_body f) = true ->
+     (exists tp, In tp (published m) /\ id = loop_name /\ x = cmd_var (tp_cname tp))
+  \/ (exists tp, In tp (subscribed m) /\ id = main_name /\ x = callback_name (tp_cname tp)).
+Proof. exact Generatorproof.generate_addresses_taken. Qed.
+
+(** ** Messages *)
+
+(** For a model that satisfies the rules ([wf_facts], which
+    [Wellformed.wf] gives): the leaves of a message, which the callbacks
+    copy and the output glue zeroes, are exactly its paths to a primitive
+    (every field, every array element), with their primitive types. *)
+Theorem leaves_spec:
+  forall m id p q, wf_facts m ->
+  In (p, q) (leaves (nm_msgs m) id) <-> resolve (nm_msgs m) (FTmsg id) p = Some (FTprim q).
+Proof. exact Generatorspec.leaves_spec. Qed.
+
+(** Each leaf appears once: a callback copies every leaf exactly once. *)
+Theorem leaves_nodup:
+  forall m id, wf_facts m -> NoDup (map fst (leaves (nm_msgs m) id)).
+Proof. exact Generatorspec.leaves_nodup. Qed.
+
+(** ** Floats *)
+
+(** Decoding a 64-bit pattern into a float ([float64_of_bits], written
+    without axioms, unlike Flocq's [b64_of_bits]) and encoding it back
+    ([bits_of_b64]) gives the pattern, for every pattern, NaN payloads
+    included. *)
+Theorem bits_of_float64_of_bits:
+  forall z, (0 <= z < 2 ^ 64)%Z -> bits_of_b64 (float64_of_bits z) = z.
+Proof. exact FloatBits.bits_of_float64_of_bits. Qed.
+
+(** Encoding a [double] to its pattern and decoding it gives it back. *)
+Theorem float64_of_bits_of_float64:
+  forall f : float64, float64_of_bits (bits_of_b64 f) = f.
+Proof. exact FloatBits.float64_of_bits_of_float64. Qed.
+
+(** The same two facts for [float] (binary32). *)
+Theorem bits_of_float32_of_bits:
+  forall z, (0 <= z < 2 ^ 32)%Z -> bits_of_b32 (float32_of_bits z) = z.
+Proof. exact FloatBits.bits_of_float32_of_bits. Qed.
+
+Theorem float32_of_bits_of_float32:
+  forall f : float32, float32_of_bits (bits_of_b32 f) = f.
+Proof. exact FloatBits.float32_of_bits_of_float32. Qed.
+
+(** ** The error monad *)
+
+(** Mapping a function over a list in the error monad ([mmap]) preserves
+    the length of the list. *)
+Theorem mmap_length:
+  forall (A B : Type) (f : A -> res B) l l', mmap f l = OK l' -> length l' = length l.
+Proof. exact Errors.mmap_length. Qed.
