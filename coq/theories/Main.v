@@ -30,7 +30,7 @@ From Flocq Require Import IEEE754.Binary IEEE754.Bits.
 From ROSGen Require Import Errors Maps FloatBits.
 From ROSGen Require Import Syntax Values Memory Environment Semantics Typing Interp.
 From ROSGen Require Import NodeModel Wellformed Generator Generatorspec Generatorproof DDC.
-From ROSGen Require Loopproof Glueproof Interpproof.
+From ROSGen Require FloatOps Loopproof Glueproof Interpproof.
 Import ListNotations.
 
 (** ** T1: every generated function meets its specification *)
@@ -515,6 +515,68 @@ Proof. exact FloatBits.bits_of_float32_of_bits. Qed.
 Theorem float32_of_bits_of_float32:
   forall f : float32, float32_of_bits (bits_of_b32 f) = f.
 Proof. exact FloatBits.float32_of_bits_of_float32. Qed.
+
+(** ** Float arithmetic without axioms ([FloatOps]) *)
+
+(** IEEE 754 multiplication and addition of [double]s and [float]s,
+    rounded to nearest even, computed with Coq's [SpecFloat] rather than
+    Flocq's real-number-based [Bmult]/[Bplus] (which would make any
+    theorem that computes with them depend on the classical axioms of the
+    reals), commute when at most one operand is a NaN. *)
+Theorem mul64_comm:
+  forall x y : float64, is_nan 53 1024 x = false \/ is_nan 53 1024 y = false ->
+  FloatOps.mul64 x y = FloatOps.mul64 y x.
+Proof. exact FloatOps.mul64_comm. Qed.
+
+Theorem add64_comm:
+  forall x y : float64, is_nan 53 1024 x = false \/ is_nan 53 1024 y = false ->
+  FloatOps.add64 x y = FloatOps.add64 y x.
+Proof. exact FloatOps.add64_comm. Qed.
+
+Theorem mul32_comm:
+  forall x y : float32, is_nan 24 128 x = false \/ is_nan 24 128 y = false ->
+  FloatOps.mul32 x y = FloatOps.mul32 y x.
+Proof. exact FloatOps.mul32_comm. Qed.
+
+Theorem add32_comm:
+  forall x y : float32, is_nan 24 128 x = false \/ is_nan 24 128 y = false ->
+  FloatOps.add32 x y = FloatOps.add32 y x.
+Proof. exact FloatOps.add32_comm. Qed.
+
+(** Worked examples, on bit patterns (the results gcc computes):
+    [0.1 * 3] and [0.1 + 0.2] are [0.30000000000000004]; [0.1f * 3.0f];
+    a tie rounded to even (1.5 times the least subnormal); [1 / 3];
+    overflow to infinity; [inf * 0] is the default NaN; a NaN operand is
+    propagated, quieted. *)
+Theorem mul64_example:
+  FloatOps.on_bits64 FloatOps.mul64 0x3FB999999999999A 0x4008000000000000 = 0x3FD3333333333334%Z.
+Proof. exact FloatOps.mul64_example. Qed.
+
+Theorem add64_example:
+  FloatOps.on_bits64 FloatOps.add64 0x3FB999999999999A 0x3FC999999999999A = 0x3FD3333333333334%Z.
+Proof. exact FloatOps.add64_example. Qed.
+
+Theorem mul32_example: FloatOps.on_bits32 FloatOps.mul32 0x3DCCCCCD 0x40400000 = 0x3E99999A%Z.
+Proof. exact FloatOps.mul32_example. Qed.
+
+Theorem mul64_tie_even: FloatOps.on_bits64 FloatOps.mul64 0x1 0x3FF8000000000000 = 0x2%Z.
+Proof. exact FloatOps.mul64_tie_even. Qed.
+
+Theorem div64_example:
+  FloatOps.on_bits64 FloatOps.div64 0x3FF0000000000000 0x4008000000000000 = 0x3FD5555555555555%Z.
+Proof. exact FloatOps.div64_example. Qed.
+
+Theorem mul64_overflow:
+  FloatOps.on_bits64 FloatOps.mul64 0x7FE1CCF385EBC8A0 0x4024000000000000 = 0x7FF0000000000000%Z.
+Proof. exact FloatOps.mul64_overflow. Qed.
+
+Theorem mul64_inf_zero:
+  FloatOps.on_bits64 FloatOps.mul64 0x7FF0000000000000 0x0 = 0xFFF8000000000000%Z.
+Proof. exact FloatOps.mul64_inf_zero. Qed.
+
+Theorem mul64_nan_payload:
+  FloatOps.on_bits64 FloatOps.mul64 0x7FF0000000000001 0x3FF0000000000000 = 0x7FF8000000000001%Z.
+Proof. exact FloatOps.mul64_nan_payload. Qed.
 
 (** ** The error monad *)
 
