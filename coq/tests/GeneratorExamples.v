@@ -1,81 +1,21 @@
 (** * The generator on the paper's LandShark node (Table 1) *)
 
-(** The LandShark controller node as Coq terms (as the front end emits
-    them), the program [generate] computes for it, and well-formedness
+(** The LandShark controller node ([LandShark]: the model as Coq terms),
+    the program [generate] computes for it, and well-formedness
     violations that [generate] must refuse with a message naming the
     culprit.  Every [Example] is checked by [vm_compute]. *)
 
 From Coq Require Import String List ZArith.
 From ROSGen Require Import Errors Syntax NodeModel Wellformed Generator Generatorspec Generatorproof.
+From ROSGenTests Require Import LandShark.
 Import ListNotations.
 Local Open Scope string_scope.
 Local Open Scope list_scope.
-
-(** ** Message definitions (carried fields only: [frame_id] is a string) *)
-
-Definition ros_time : msgdef :=
-  mkmsgdef "ros_time" [("sec", FTprim Puint32); ("nsec", FTprim Puint32)].
-Definition std_msgs_Header : msgdef :=
-  mkmsgdef "std_msgs_Header" [("seq", FTprim Puint32); ("stamp", FTmsg "ros_time")].
-Definition geometry_msgs_Vector3 : msgdef :=
-  mkmsgdef "geometry_msgs_Vector3"
-    [("x", FTprim Pfloat64); ("y", FTprim Pfloat64); ("z", FTprim Pfloat64)].
-Definition geometry_msgs_Twist : msgdef :=
-  mkmsgdef "geometry_msgs_Twist"
-    [("linear", FTmsg "geometry_msgs_Vector3"); ("angular", FTmsg "geometry_msgs_Vector3")].
-Definition geometry_msgs_TwistStamped : msgdef :=
-  mkmsgdef "geometry_msgs_TwistStamped"
-    [("header", FTmsg "std_msgs_Header"); ("twist", FTmsg "geometry_msgs_Twist")].
-
-Definition landshark_msgs : list msgdef :=
-  [ros_time; std_msgs_Header; geometry_msgs_Vector3; geometry_msgs_Twist;
-   geometry_msgs_TwistStamped].
-
-(** ** The node model of Table 1 *)
-
-Definition twist_x : path := [PField "twist"; PField "linear"; PField "x"].
-
-Definition left_wheel : topic :=
-  mktopic "/landshark/left_wheel_velocity" "landshark_left_wheel_velocity" Subscribe
-          "geometry_msgs_TwistStamped" 1.
-Definition right_wheel : topic :=
-  mktopic "/landshark/right_wheel_velocity" "landshark_right_wheel_velocity" Subscribe
-          "geometry_msgs_TwistStamped" 1.
-Definition gps : topic :=
-  mktopic "/landshark/gps_velocity" "landshark_gps_velocity" Subscribe
-          "geometry_msgs_TwistStamped" 1.
-Definition base : topic :=
-  mktopic "/landshark_control/base_velocity" "landshark_control_base_velocity" Publish
-          "geometry_msgs_TwistStamped" 1.
-
-Definition landshark : node_model := {|
-  nm_name := "landshark_controller";
-  nm_period_ms := 20;
-  nm_ctrl := "Controller";
-  nm_in_var := "Controller_U";
-  nm_in_struct := "ExtU_Controller_T";
-  nm_inputs := [("In1", Pfloat64); ("In2", Pfloat64); ("In3", Pfloat64)];
-  nm_out_var := "Controller_Y";
-  nm_out_struct := "ExtY_Controller_T";
-  nm_outputs := [("Out1", Pfloat64)];
-  nm_msgs := landshark_msgs;
-  nm_topics := [left_wheel; right_wheel; gps; base];
-  nm_inrels :=
-    [mkinrel "landshark_left_wheel_velocity" twist_x "In1";
-     mkinrel "landshark_right_wheel_velocity" twist_x "In2";
-     mkinrel "landshark_gps_velocity" twist_x "In3"];
-  nm_outrels := [mkoutrel "Out1" "landshark_control_base_velocity" twist_x]
-|}.
 
 (** ** The generated program *)
 
 Example landshark_wf: wf landshark = true.
 Proof. vm_compute. reflexivity. Qed.
-
-Definition landshark_result : res program := Eval vm_compute in generate landshark.
-
-Definition landshark_prog : program :=
-  match landshark_result with OK p => p | Error _ => mkprogram [] [] "" end.
 
 Example landshark_generates: landshark_result = OK landshark_prog.
 Proof. vm_compute. reflexivity. Qed.
