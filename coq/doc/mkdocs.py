@@ -7,13 +7,17 @@ Writes, into ``--out`` (default ``build/docs``):
   order, with links between identifiers (from the ``.glob`` files of the
   build), a table of contents (``coq/toc.html``) and coqdoc's index of
   identifiers (``coq/index.html``); each page gets a navigation bar;
-- ``index.html``: the library's front page: its layout (one paragraph per
-  module, taken from the module's header comment) and its main theorems
-  (``theorems.yaml``), each linked to its coqdoc anchor
-  (``coq/ROSGen.Module.html#name``) when, and only when, the module is in
-  ``_CoqProject``, the statement is in the module's source (outside
+- ``index.html``: the library's front page: its layout (the modules by
+  layer folder, one paragraph per module, taken from the module's header
+  comment) and its main theorems (``theorems.yaml``: ``Main.name``, the
+  restatement in ``theories/Main.v``, and optionally ``proof``, the library
+  lemma it applies), each linked to its coqdoc anchor
+  (``coq/ROSGen.layer.Module.html#name``) when, and only when, the module is
+  in ``_CoqProject``, the statement is in the module's source (outside
   comments) and coqdoc made that anchor; otherwise the theorem is listed as
-  "not yet in the library";
+  "not yet in the library".  A module is named in ``theorems.yaml`` by its
+  base name (``Glueproof``) or its path under the library (``glue.Glueproof``);
+  base names are unique in the library;
 - with ``--example MODEL``, the data-flow diagram of that node
   (``pyrosgen diagram``), shown on the front page.
 
@@ -69,20 +73,44 @@ class Project:
     phys: str                  #: physical folder of the library (theories)
     logical: str               #: its logical name (ROSGen)
     files: tuple[str, ...]     #: .v files, in order, relative to root
+    layers: tuple[tuple[str, str], ...] = ()  #: (folder, description) from "# folder: ..." comments
 
     def module(self, vfile: str) -> str:
-        """``theories/Foo.v`` -> ``ROSGen.Foo``."""
+        """``theories/lib/Foo.v`` -> ``ROSGen.lib.Foo``."""
         rel = Path(vfile).relative_to(self.phys).with_suffix("")
         return ".".join((self.logical, *rel.parts))
+
+    def layer(self, vfile: str) -> str:
+        """``theories/lib/Foo.v`` -> ``lib``; ``theories/Foo.v`` -> ``""``."""
+        return "/".join(Path(vfile).relative_to(self.phys).parent.parts)
+
+    def resolve(self, name: str) -> str | None:
+        """The module of ``_CoqProject`` that ``name`` designates: the path
+        under the library (``glue.Glueproof``) or a unique base name
+        (``Glueproof``); ``None`` if there is none or several."""
+        modules = [self.module(v) for v in self.files]
+        full = f"{self.logical}.{name}"
+        if full in modules:
+            return full
+        found = [m for m in modules if m.endswith("." + name)]
+        return found[0] if len(found) == 1 else None
 
 
 def read_project(root: Path) -> Project:
     """Parse ``root/_CoqProject`` (``-R`` mapping and ordered file list)."""
     path = root / "_CoqProject"
     try:
-        words = [w for line in path.read_text().splitlines() if not line.lstrip().startswith("#") for w in line.split()]
+        lines = path.read_text().splitlines()
     except OSError as exc:
         raise DocsError(f"cannot read {path}: {exc.strerror}") from exc
+    words = [w for line in lines if not line.lstrip().startswith("#") for w in line.split()]
+    # "# lib: general-purpose definitions" describes the folder theories/lib;
+    # "# top: ..." the files directly in theories.
+    layers = tuple(
+        ("" if m.group(1) == "top" else m.group(1), m.group(2).strip())
+        for m in (re.match(r"^#\s*([A-Za-z0-9_]+):\s*(.+)$", line.strip()) for line in lines)
+        if m
+    )
     phys = logical = None
     files: list[str] = []
     i = 0
@@ -100,7 +128,8 @@ def read_project(root: Path) -> Project:
             i += 1
     if phys is None or not files:
         raise DocsError(f"{path}: no -R mapping or no .v file")
-    return Project(root, phys.rstrip("/"), logical, tuple(f for f in files if f.startswith(phys.rstrip("/") + "/")))
+    return Project(root, phys.rstrip("/"), logical,
+                   tuple(f for f in files if f.startswith(phys.rstrip("/") + "/")), layers)
 
 
 # --------------------------------------------------------------------------
@@ -439,44 +468,62 @@ def unlink_dangling(outdir: Path) -> int:
     return removed
 
 
-def assumptions_checked(coqdir: Path) -> set[str]:
-    """Theorems whose axioms ``make proofs`` checks (checks/Assumptions.v)."""
-    path = coqdir / "checks" / "Assumptions.v"
+def assumptions_checked(project: Project) -> set[str]:
+    """Theorems whose axioms ``make proofs`` checks: every ``Theorem`` of
+    ``Main.v`` (``make -C coq check-assumptions``), as ``Main.name``."""
+    mains = [v for v in project.files if Path(v).name == "Main.v"]
+    if not mains:
+        return set()
     try:
-        code, _ = scan(path.read_text(encoding="utf-8"))
+        code, _ = scan((project.root / mains[0]).read_text(encoding="utf-8"))
     except OSError:
         return set()
-    return set(re.findall(r"^\s*Print\s+Assumptions\s+([A-Za-z0-9_.']+)\s*\.", code, re.M))
+    return {f"Main.{n}" for n in re.findall(r"^Theorem\s+([A-Za-z_][A-Za-z0-9_']*)", code, re.M)}
+
+
+def _link(project: Project, sources: dict[str, Source], coqhtml: Path,
+          page_anchors: dict[str, set[str]], full: str) -> dict:
+    """Where ``Module.name`` is: its link, or why it has none."""
+    mod, _, name = full.rpartition(".")
+    module = project.resolve(mod)
+    src = sources.get(module) if module else None
+    out = {"name": name, "module": mod, "full": full, "href": None, "reason": None, "src": src}
+    if src is None:
+        out["reason"] = f"no module {mod} in _CoqProject"
+        return out
+    page = f"{module}.html"
+    if page not in page_anchors:
+        page_anchors[page] = anchors(coqhtml / page)
+    if name not in src.statements:
+        out["reason"] = f"not stated in {src.vfile}"
+    elif name not in page_anchors[page]:
+        out["reason"] = f"coqdoc made no anchor {name} in {page}"
+    else:
+        out["href"] = f"coq/{page}#{name}"
+    return out
 
 
 def theorem_table(project: Project, sources: dict[str, Source], coqhtml: Path, spec: dict) -> list[dict]:
     """The groups of ``theorems.yaml`` with, for each theorem, its link or
-    the reason why it has none."""
-    checked = assumptions_checked(project.root)
+    the reason why it has none, and the link of the library lemma that
+    proves it (``proof``), if given."""
+    checked = assumptions_checked(project)
     page_anchors: dict[str, set[str]] = {}
     groups = []
     for g in spec.get("groups", []):
         rows = []
         for t in g.get("theorems", []):
             full = t["name"]
-            mod, _, name = full.rpartition(".")
-            module = f"{project.logical}.{mod}"
-            src = sources.get(module)
-            page = f"{module}.html"
-            if page not in page_anchors:
-                page_anchors[page] = anchors(coqhtml / page)
-            row = {"name": name, "module": mod, "full": full, "href": None, "reason": None,
-                   "closed": full in checked, "blocks": []}
-            if src is None:
-                row["reason"] = f"no module {mod} in _CoqProject"
-            elif name not in src.statements:
-                row["reason"] = f"not stated in {src.vfile}"
-            elif name not in page_anchors[page]:
-                row["reason"] = f"coqdoc made no anchor {name} in {page}"
-            else:
-                row["href"] = f"coq/{page}#{name}"
+            row = _link(project, sources, coqhtml, page_anchors, full)
+            src = row.pop("src")
+            row["closed"] = full in checked
+            row["proof"] = None
+            if t.get("proof"):
+                proof = _link(project, sources, coqhtml, page_anchors, t["proof"])
+                proof.pop("src")
+                row["proof"] = proof
             note = t.get("note")
-            row["blocks"] = blocks(note) if note else (src.doc_before(name) if src else [])
+            row["blocks"] = blocks(note) if note else (src.doc_before(row["name"]) if src else [])
             rows.append(row)
         groups.append(
             {
@@ -529,6 +576,7 @@ def build(coqdir: Path, out: Path, theorems: Path, example: Path | None) -> dict
         modules = [
             {
                 "module": s.module,
+                "layer": project.layer(s.vfile),
                 "vfile": s.vfile,
                 "href": f"coq/{s.module}.html" if (coqhtml / f"{s.module}.html").is_file() else None,
                 "title": s.title,
@@ -536,6 +584,20 @@ def build(coqdir: Path, out: Path, theorems: Path, example: Path | None) -> dict
             }
             for s in sources.values()
         ]
+        # The modules by layer folder, in the order of _CoqProject.
+        described = dict(project.layers)
+        layers: list[dict] = []
+        for m in modules:
+            if not layers or layers[-1]["key"] != m["layer"]:
+                folder = m["layer"]
+                layers.append({
+                    "key": folder,
+                    "id": "layer-" + (folder.replace("/", "-") or "top"),
+                    "folder": f"{project.phys}/{folder}" if folder else project.phys,
+                    "description": described.get(folder, ""),
+                    "modules": [],
+                })
+            layers[-1]["modules"].append(m)
         ex = render_example(example, tmp) if example else None
         rows = [t for g in groups for t in g["theorems"]]
         page = _env().get_template("index.html.j2").render(
@@ -543,6 +605,7 @@ def build(coqdir: Path, out: Path, theorems: Path, example: Path | None) -> dict
             logical=project.logical,
             phys=project.phys,
             modules=modules,
+            layers=layers,
             groups=groups,
             example=ex,
             linked=sum(1 for t in rows if t["href"]),

@@ -98,7 +98,7 @@ def states(vfile: Path, name: str) -> bool:
 
 
 def project_modules(coq: Path = COQ) -> list[tuple[str, Path]]:
-    """(``ROSGen.M``, path) for every module of ``_CoqProject``, in order."""
+    """(``ROSGen.layer.M``, path) for every module of ``_CoqProject``, in order."""
     out = []
     for line in (coq / "_CoqProject").read_text().splitlines():
         line = line.strip()
@@ -113,3 +113,12 @@ def load_mkdocs():
     sys.modules[spec.name] = mod  # dataclasses look their module up there
     spec.loader.exec_module(mod)
     return mod
+
+
+def resolve_module(modules: dict[str, Path], name: str, logical: str = "ROSGen") -> str | None:
+    """The module that ``name`` designates in theorems.yaml: a path under the
+    library (``glue.Glueproof``) or a base name found once (``Glueproof``)."""
+    if f"{logical}.{name}" in modules:
+        return f"{logical}.{name}"
+    found = [m for m in modules if m.endswith("." + name)]
+    return found[0] if len(found) == 1 else None

@@ -10,7 +10,7 @@ import subprocess
 import pytest
 import yaml
 
-from .helpers import COQ, DOCS, REPO, Page, bad_links, project_modules, states
+from .helpers import COQ, DOCS, REPO, Page, bad_links, project_modules, resolve_module, states, strip_comments
 
 
 @pytest.fixture(scope="module")
@@ -56,11 +56,15 @@ def test_every_local_link_of_every_page_resolves(docs):
 
 
 def test_globalization_links(docs):
-    page = Page(docs / "coq" / "ROSGen.Generatorproof.html")
+    page = Page(docs / "coq" / "ROSGen.glue.Generatorproof.html")
     # Identifiers of other modules link to their definitions (needs the .glob files).
-    assert any(link.startswith("ROSGen.Generator.html#generate") for link in page.links)
-    assert any(link.startswith("ROSGen.NodeModel.html#") for link in page.links)
+    assert any(link.startswith("ROSGen.glue.Generator.html#generate") for link in page.links)
+    assert any(link.startswith("ROSGen.glue.NodeModel.html#") for link in page.links)
     assert "generate_complete" in page.ids
+    # Main.v's restatements link to the library lemmas they apply.
+    main = Page(docs / "coq" / "ROSGen.Main.html")
+    assert "ROSGen.glue.Loopproof.html#generate_node_ddc" in main.links
+    assert "generate_node_ddc" in main.ids
 
 
 def test_main_theorems_are_linked_iff_in_the_library(docs):
@@ -68,13 +72,14 @@ def test_main_theorems_are_linked_iff_in_the_library(docs):
     modules = dict(project_modules())
     index = Page(docs / "index.html")
     text = (docs / "index.html").read_text(encoding="utf-8")
-    rows = [t["name"] for g in spec["groups"] for t in g["theorems"]]
+    rows = [t for g in spec["groups"] for t in g["theorems"]]
     assert len(rows) >= 20
-    for full in rows:
+    names = [t["name"] for t in rows] + [t["proof"] for t in rows if t.get("proof")]
+    for full in names:
         mod, name = full.rsplit(".", 1)
-        vfile = modules.get(f"ROSGen.{mod}")
-        in_library = vfile is not None and states(vfile, name)
-        href = f"coq/ROSGen.{mod}.html#{name}"
+        module = resolve_module(modules, mod)
+        in_library = module is not None and states(modules[module], name)
+        href = f"coq/{module}.html#{name}"
         assert (href in index.links) == in_library, full
         assert f"<code>{full}</code>" in text
         if in_library:
@@ -84,14 +89,36 @@ def test_main_theorems_are_linked_iff_in_the_library(docs):
             assert "not yet in the library" in after, full
 
 
+def test_every_listed_theorem_is_a_closed_main_theorem(docs):
+    """The front page lists restatements of Main.v (each checked closed by
+    make -C coq check-assumptions) and the library lemmas that prove them."""
+    spec = yaml.safe_load((COQ / "doc" / "theorems.yaml").read_text())
+    main = strip_comments((COQ / "theories" / "Main.v").read_text(encoding="utf-8"))
+    theorems = set(re.findall(r"^Theorem ([A-Za-z0-9_']+)", main, re.M))
+    text = (docs / "index.html").read_text(encoding="utf-8")
+    for g in spec["groups"]:
+        for t in g["theorems"]:
+            mod, name = t["name"].rsplit(".", 1)
+            assert mod == "Main" and name in theorems, t["name"]
+            assert t.get("proof"), t["name"]
+            cell = text[text.index(f"<code>{t['name']}</code>") :][:400]
+            assert '<span class="closed">closed</span>' in cell, t["name"]
+            assert f"<code>{t['proof']}</code>" in cell, t["name"]
+    # Each group T1-T5 lists a restatement of Main.v.
+    ids = {g["id"] for g in spec["groups"]}
+    assert {"T1", "T2", "T3", "T4", "T5"} <= ids
+
+
 def test_existing_main_theorems_are_linked(docs):
     index = Page(docs / "index.html")
     for href in [
-        "coq/ROSGen.Generatorproof.html#generate_complete",     # T4
-        "coq/ROSGen.Generatorproof.html#generate_sound",        # T4
-        "coq/ROSGen.Generatorproof.html#relation_consistency_input_glue",  # T3
-        "coq/ROSGen.Interpproof.html#interp_sound",             # T5
-        "coq/ROSGen.Interpproof.html#run_program_sound",        # T5
+        "coq/ROSGen.Main.html#generate_node_ddc",                            # T2
+        "coq/ROSGen.glue.Loopproof.html#generate_node_ddc",                  # T2, proof
+        "coq/ROSGen.Main.html#generate_complete",                            # T4
+        "coq/ROSGen.glue.Generatorproof.html#generate_sound",                # T4, proof
+        "coq/ROSGen.Main.html#relation_consistency_input_glue",              # T3
+        "coq/ROSGen.clight.Interpproof.html#interp_sound",                   # T5, proof
+        "coq/ROSGen.Main.html#run_program_sound",                            # T5
     ]:
         assert href in index.links, href
     for group in ("T1", "T2", "T3", "T4", "T5"):
@@ -104,8 +131,15 @@ def test_layout_has_one_entry_per_module_in_order(docs):
     found = re.findall(r'<dt id="([^"]+)">', layout)
     assert found == [m for m, _ in project_modules()]
     # Each entry carries the module's title from its header comment.
-    assert "ROSGen.Errors</a>: The error monad" in layout
-    assert "ROSGen.Interpproof</a>: Soundness of the interpreter" in layout
+    assert "ROSGen.lib.Errors</a>: The error monad" in layout
+    assert "ROSGen.clight.Interpproof</a>: Soundness of the interpreter" in layout
+    assert "ROSGen.clight.Environment</a>: The ROS environment model" in layout
+    # One heading per layer folder, in order, with the description that
+    # _CoqProject gives it.
+    layers = re.findall(r'<h3 id="layer-([a-z]+)"><code>([^<]+)</code>', layout)
+    assert layers == [("lib", "theories/lib"), ("clight", "theories/clight"),
+                      ("glue", "theories/glue"), ("top", "theories")]
+    assert "<code>theories/glue</code>: the node model, the generator" in layout
 
 
 def test_coqdoc_pages_lead_back_to_the_index(docs):

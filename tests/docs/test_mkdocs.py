@@ -163,3 +163,62 @@ def test_scan_blanks_comments_not_strings(mkdocs):
     assert '"(* s *)"' in code
     assert [d.body for d in docs] == [" d [e] "]
     assert len(code) == len('a (* x (* y *) z *) "(* s *)" (** d [e] *) b')
+
+
+NESTED_THEOREMS = """\
+groups:
+  - id: G1
+    title: Group one
+    theorems:
+      - name: A.real
+        proof: lib.A.in_section
+      - name: B.b_uses
+        proof: A.nothing
+"""
+
+
+@pytest.fixture(scope="module")
+def nested(tmp_path_factory):
+    """A library in layer folders, as coq/theories is (lib/A.v, B.v)."""
+    root = tmp_path_factory.mktemp("nested") / "coq"
+    (root / "theories" / "lib").mkdir(parents=True)
+    (root / "_CoqProject").write_text(
+        "# A test library in folders\n-R theories Fake\n"
+        "# lib: the first layer\ntheories/lib/A.v\n# top: the rest\ntheories/B.v\n"
+    )
+    (root / "theories" / "lib" / "A.v").write_text(A_V)
+    (root / "theories" / "B.v").write_text(B_V)
+    (root / "theorems.yaml").write_text(NESTED_THEOREMS)
+    for v in ("theories/lib/A.v", "theories/B.v"):
+        subprocess.run(["coqc", "-R", "theories", "Fake", v], cwd=root, check=True, capture_output=True)
+    return root
+
+
+def test_layer_folders(mkdocs, nested, tmp_path, capsys):
+    out = tmp_path / "docs"
+    assert mkdocs.main(["--coq-dir", str(nested), "--out", str(out),
+                        "--theorems", str(nested / "theorems.yaml")]) == 0
+    stdout = capsys.readouterr().out
+    assert "docs: 2 modules, 2 main theorems linked" in stdout
+    index = Page(out / "index.html")
+    # Base names and paths under the library both find the module.
+    assert "coq/Fake.lib.A.html#real" in index.links
+    assert "coq/Fake.B.html#b_uses" in index.links
+    assert "coq/Fake.lib.A.html#in_section" in index.links  # the proof of A.real
+    text = (out / "index.html").read_text()
+    assert 'title="not stated in theories/lib/A.v">(not yet in the library)' in text  # A.nothing
+    assert '<h3 id="layer-lib"><code>theories/lib</code>: the first layer</h3>' in text
+    assert '<h3 id="layer-top"><code>theories</code>: the rest</h3>' in text
+    assert (out / "coq" / "Fake.lib.A.html").is_file()
+    checked, bad = bad_links([out / "index.html", *sorted((out / "coq").glob("*.html"))])
+    assert bad == [] and checked > 10
+
+
+def test_module_resolution(mkdocs, nested):
+    project = mkdocs.read_project(nested)
+    assert project.resolve("A") == "Fake.lib.A"
+    assert project.resolve("lib.A") == "Fake.lib.A"
+    assert project.resolve("B") == "Fake.B"
+    assert project.resolve("C") is None
+    assert project.layer("theories/lib/A.v") == "lib" and project.layer("theories/B.v") == ""
+    assert dict(project.layers) == {"lib": "the first layer", "": "the rest"}

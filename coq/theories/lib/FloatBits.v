@@ -14,7 +14,7 @@
 
     Main results, both closed under the global context:
     - [bits_of_float64_of_bits]: [bits_of_b64 (float64_of_bits z) = z] for
-      every [z] in [[0, 2^64)] (NaN payloads included, no caveat);
+      every [z] with [0 <= z < 2^64] (NaN payloads included, no caveat);
     - [float64_of_bits_of_float64]: [float64_of_bits (bits_of_b64 f) = f]
       for every [f];
     and the same for binary32. *)
