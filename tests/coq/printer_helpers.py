@@ -2,9 +2,9 @@
 
 - run the fast printing path (coq/extraction/print_program.sh);
 - evaluate Coq string expressions with coqc + vm_compute;
-- parse the S-expression dump (grammar in coq/theories/Printer.v);
+- parse the S-expression dump (grammar in coq/theories/clight/Printer.v);
 - generate a C harness that prints every global of a printed program in the
-  format of the Coq side's renderer (tests/PrinterExamples.v, [render_mval]):
+  format of the Coq side's renderer (coq/tests/PrinterExamples.v, [render_mval]):
   one line ``path = value`` per scalar leaf, integers in decimal, floats as
   their IEEE bit pattern in hex.
 """
