@@ -267,10 +267,10 @@ class CoqDriver:
                 if line.endswith(".v") and not line.startswith("-"):
                     # normalised, not resolved: the library may be made of links
                     p = Path(os.path.normpath(self.coqproject.parent / line))
-                    if p.parent == Path(os.path.normpath(self.theories)):
+                    if Path(os.path.normpath(self.theories)) in p.parents:
                         out.append(p)
             return out
-        return sorted(self.theories.glob("*.v"))
+        return sorted(self.theories.rglob("*.v"))
 
     def check_library(self) -> None:
         """Require the library to be built: each ``X.v`` has an ``X.vo``
@@ -284,18 +284,26 @@ class CoqDriver:
         for v in sources:
             vo = v.with_suffix(".vo")
             if not vo.is_file():
-                stale.append(f"{LIBRARY}/{vo.name} is missing")
+                stale.append(f"{self._rel(vo)} is missing")
             elif v.is_file() and vo.stat().st_mtime < v.stat().st_mtime:
-                stale.append(f"{LIBRARY}/{vo.name} is older than {v.name}")
+                stale.append(f"{self._rel(vo)} is older than {v.name}")
         if stale:
             raise CoqError("the Coq library is not built: run make proofs", [f"  {s}" for s in stale])
 
+    def _rel(self, p: Path) -> str:
+        """``ROSGen/<layer>/<File>.vo``: a library file as messages name it."""
+        try:
+            return f"{LIBRARY}/{p.relative_to(self.theories).as_posix()}"
+        except ValueError:
+            return str(p)
+
     def has_module(self, name: str) -> bool:
-        """Whether ``theories/<name>.v`` is part of the library (listed in
-        ``_CoqProject``, or present as ``<name>.vo`` if there is none)."""
+        """Whether a module of base name ``name`` (``theories/<layer>/<name>.v``)
+        is part of the library (listed in ``_CoqProject``, or present as
+        ``<name>.vo`` if there is none)."""
         if self.coqproject.is_file():
             return any(p.name == f"{name}.v" for p in self.library_sources())
-        return (self.theories / f"{name}.vo").is_file()
+        return any(self.theories.rglob(f"{name}.vo"))
 
     def ddc_available(self) -> bool:
         """Whether the node DDC theorem T2 (``ROSGen.DDC.node_ddc``,

@@ -1,5 +1,5 @@
 """The Coq emitter: a :class:`~pyrosgen.model.NodeModel` as terms of
-``ROSGen.NodeModel`` (``coq/theories/NodeModel.v``), and the per-node Coq
+``ROSGen.NodeModel`` (``coq/theories/glue/NodeModel.v``), and the per-node Coq
 file rendered from ``coq/templates/node.v.j2``.
 
 The layers are kept apart as in rosidl: this module turns model values into

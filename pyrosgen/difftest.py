@@ -1,6 +1,6 @@
 """Differential testing: the Coq semantics against the gcc-compiled C.
 
-The semantics of ``coq/theories/Semantics.v`` is trusted to describe what
+The semantics of ``coq/theories/clight/Semantics.v`` and ``coq/theories/clight/Environment.v`` is trusted to describe what
 the C glue does once compiled.  This module checks it on concrete runs:
 the same message schedule is run
 

@@ -191,7 +191,7 @@ def generate_model(
     kind = (
         "node data delivery correctness, T2 (DDC.node_ddc)"
         if ddc
-        else "well-formedness, T4 (Generator.wf); fallback: the node DDC theorem T2 "
+        else "well-formedness, T4 (Wellformed.wf); fallback: the node DDC theorem T2 "
         "(Loopproof.generate_node_ddc) is not in the ROSGen library"
     )
     times["front end"] = time.monotonic() - t_start

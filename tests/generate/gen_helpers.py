@@ -31,7 +31,8 @@ OK_MODELS = sorted(
 def ddc_in_coqproject() -> bool:
     """Whether ``coq/_CoqProject`` lists the node DDC theorem's files."""
     lines = [ln.split("#", 1)[0].strip() for ln in COQPROJECT.read_text().splitlines()]
-    return "theories/Loopproof.v" in lines and "theories/DDC.v" in lines
+    names = {Path(ln).name for ln in lines if ln.startswith("theories/")}
+    return "Loopproof.v" in names and "DDC.v" in names
 
 
 def run(cmd: list[str], cwd: Path | None = None, timeout: int = 900, env=None) -> subprocess.CompletedProcess:
@@ -70,19 +71,24 @@ def make_standin_library(dest: Path, *, drop: tuple[str, ...] = (), extra: dict[
     """A copy of the ROSGen library in ``dest/theories`` made of symbolic
     links to the real compiled files, whose ``_CoqProject`` omits the
     modules in ``drop``; each ``extra`` module (name -> Coq source) is
-    written and compiled there instead.  Returns the theories directory."""
+    written and compiled there instead.  The layer folders are kept (the
+    compiled files are ``ROSGen.<layer>.<Name>``); ``Main``, which depends on
+    every module, is left out too when anything is dropped.  Returns the
+    theories directory."""
     theories = dest / "theories"
     theories.mkdir(parents=True)
     listed = []
     for line in COQPROJECT.read_text().splitlines():
         entry = line.split("#", 1)[0].strip()
         if entry.startswith("theories/") and entry.endswith(".v"):
-            name = Path(entry).stem
-            if name in drop or (extra and name in extra):
+            rel = Path(entry).relative_to("theories")
+            name = rel.stem
+            if name in drop or (extra and name in extra) or (drop and name == "Main"):
                 continue
             listed.append(entry)
+            (theories / rel.parent).mkdir(parents=True, exist_ok=True)
             for suffix in (".v", ".vo"):
-                os.symlink(DEFAULT_THEORIES / f"{name}{suffix}", theories / f"{name}{suffix}")
+                os.symlink(DEFAULT_THEORIES / rel.with_suffix(suffix), theories / rel.with_suffix(suffix))
     for name, text in (extra or {}).items():
         (theories / f"{name}.v").write_text(text)
         run(["coqc", "-R", str(theories), "ROSGen", f"{name}.v"], cwd=theories)

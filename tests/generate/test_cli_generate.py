@@ -192,18 +192,19 @@ def test_library_stale_exit_2(capsys, tmp_path, outdir, monkeypatch):
     lib = tmp_path / "lib" / "theories"
     lib.mkdir(parents=True)
     shutil.copy(DEFAULT_THEORIES.parent / "_CoqProject", lib.parent / "_CoqProject")
-    for p in DEFAULT_THEORIES.iterdir():
+    for p in DEFAULT_THEORIES.rglob("*"):
         if p.suffix in (".v", ".vo"):
-            os.symlink(p, lib / p.name)
-    (lib / "NodeModel.v").unlink()
-    shutil.copy(DEFAULT_THEORIES / "NodeModel.v", lib / "NodeModel.v")
-    later = (DEFAULT_THEORIES / "NodeModel.vo").stat().st_mtime + 10
-    os.utime(lib / "NodeModel.v", (later, later))
+            (lib / p.relative_to(DEFAULT_THEORIES)).parent.mkdir(parents=True, exist_ok=True)
+            os.symlink(p, lib / p.relative_to(DEFAULT_THEORIES))
+    (lib / "glue" / "NodeModel.v").unlink()
+    shutil.copy(DEFAULT_THEORIES / "glue" / "NodeModel.v", lib / "glue" / "NodeModel.v")
+    later = (DEFAULT_THEORIES / "glue" / "NodeModel.vo").stat().st_mtime + 10
+    os.utime(lib / "glue" / "NodeModel.v", (later, later))
     monkeypatch.setenv("PYROSGEN_COQLIB", str(lib))
     code, out, err = run(capsys, "generate", LANDSHARK, "-o", outdir)
     assert code == 2
     assert "the Coq library is not built: run make proofs" in err
-    assert "ROSGen/NodeModel.vo is older than NodeModel.v" in err
+    assert "ROSGen/glue/NodeModel.vo is older than NodeModel.v" in err
     assert len(list(outdir.iterdir())) == 1
 
 
@@ -213,11 +214,14 @@ def test_corrupt_library_exit_2(capsys, tmp_path, outdir, monkeypatch):
     lib = tmp_path / "lib" / "theories"
     lib.mkdir(parents=True)
     shutil.copy(DEFAULT_THEORIES.parent / "_CoqProject", lib.parent / "_CoqProject")
-    for p in DEFAULT_THEORIES.iterdir():
+    for p in DEFAULT_THEORIES.rglob("*"):
+        dest = lib / p.relative_to(DEFAULT_THEORIES)
+        if p.suffix in (".v", ".vo"):
+            dest.parent.mkdir(parents=True, exist_ok=True)
         if p.suffix == ".v":
-            os.symlink(p, lib / p.name)
+            os.symlink(p, dest)
         elif p.suffix == ".vo":
-            (lib / p.name).write_bytes(b"not a Coq library\n")
+            dest.write_bytes(b"not a Coq library\n")
     monkeypatch.setenv("PYROSGEN_COQLIB", str(lib))
     code, out, err = run(capsys, "generate", MULTI, "-o", outdir, "-q")
     assert code == 2

@@ -57,7 +57,7 @@ def test_fallback_without_the_ddc_theorem(capsys, tmp_path, monkeypatch):
     out_dir = tmp_path / "out"
     code, out, err = run(capsys, "generate", LANDSHARK, "-o", out_dir)
     assert code == 0, err
-    assert f"  theorem   {NODE}_wf: well-formedness, T4 (Generator.wf); fallback: the node DDC theorem T2" in out
+    assert f"  theorem   {NODE}_wf: well-formedness, T4 (Wellformed.wf); fallback: the node DDC theorem T2" in out
     assert f"proving {NODE}_wf ..." in err
     assert CLOSED in out
     v = (out_dir / f"{NODE}.v").read_text()

@@ -204,7 +204,7 @@ def test_render_node_file(ddc):
         "(* generated from coq/templates/node.v.j2 with input from landshark_controller.yaml *)")
     assert ("From ROSGen Require DDC Loopproof." in text) == ddc
     assert ("Theorem landshark_controller_ddc" in text) == ddc
-    assert "Theorem landshark_controller_wf : Generator.wf model = true." in text
+    assert "Theorem landshark_controller_wf : Wellformed.wf model = true." in text
     assert 'Definition types_guard : string := "PYROSGEN_LANDSHARK_CONTROLLER_TYPES_H".' in text
     assert text.endswith("\n") and "\t" not in text
     assert "{{" not in text and "{%" not in text

@@ -99,7 +99,7 @@ def test_v_file(generated, key):
     assert first == f"(* generated from coq/templates/node.v.j2 with input from {NODES[key][0].name} *)"
     assert "Lemma generate_ok : Generator.generate model = OK the_program." in text
     assert "Definition the_program : program := program_of program_result." in text
-    assert f"Theorem {node}_wf : Generator.wf model = true." in text
+    assert f"Theorem {node}_wf : Wellformed.wf model = true." in text
     if ddc_in_coqproject():
         assert f"Theorem {node}_ddc : DDC.node_ddc model the_program." in text
         assert f"exact (Loopproof.generate_node_ddc model the_program generate_ok)" in text
