@@ -11,7 +11,7 @@ For each model (LandShark, and ``bench/synth.py`` nodes with N relations):
   memory (coqc on the per-node file, coqchk, the extraction's coqc,
   ocamlopt, the printer), and the phase times the pipeline reports
   (front end, coqc, checking, printing);
-- ``validation``: the printer validation (:mod:`pyrosgen.validate_c`) on
+- ``validation``: the printer validation (:mod:`pyrosgen.verify.validate_c`) on
   the printed files, timed on its own;
 - ``gcc``: ``gcc -O2 -c`` of the printed glue;
 - with ``--profile``: ``coqc -time`` on the per-node file, the slowest
@@ -34,7 +34,7 @@ from common import PYROSGEN, REPO, WORK, Proc, loadavg, median, read_time_file, 
 
 sys.path.insert(0, str(REPO))
 
-from pyrosgen.coqdriver import CoqcResult, CoqDriver  # noqa: E402
+from pyrosgen.proof.coqdriver import CoqcResult, CoqDriver  # noqa: E402
 
 LANDSHARK = REPO / "examples" / "landshark" / "landshark_controller.yaml"
 
@@ -112,7 +112,7 @@ def one_run(model: Path, out: Path, env: dict, *, profile: bool) -> dict:
     rec["glue_lines"] = glue.read_text().count("\n")
     # printer validation, timed on its own
     try:
-        from pyrosgen.validate_c import validate_glue
+        from pyrosgen.verify.validate_c import validate_glue
     except ImportError:
         rec["validation"] = None
     else:
@@ -251,7 +251,7 @@ def ab(model: Path, label: str, env: dict, runs: int, log) -> dict:
     them (:func:`before_fixes`, and ocamlopt always) and as it is,
     alternated, in-process; wall time and CPU time (this process and its
     children)."""
-    import pyrosgen.coqdriver as cd
+    import pyrosgen.proof.coqdriver as cd
     import pyrosgen.generate as gen
 
     orig_render, orig_max = gen.render_node_file, cd.BYTECODE_MAX_BYTES

@@ -242,7 +242,7 @@ def whole_nodes(nodes: dict, *, window: float, rounds: int, log) -> dict:
     import glob
     import os
 
-    from pyrosgen.rosmaster import ros_master, stop_process
+    from pyrosgen.ros.rosmaster import ros_master, stop_process
 
     argv = {"generated": [str(nodes["generated_20ms"])], "handwritten": [str(nodes["handwritten"])]}
     main_fn = {"generated": r"loop", "handwritten": r"main"}
@@ -333,7 +333,7 @@ def latency(nodes: dict, *, rounds: int, edges: int, log) -> dict:
     """Both nodes side by side (topics remapped under /gen and /hw), the
     driver alternating edges between them in a random order: both are
     measured under the same load.  ``rounds`` rounds with fresh nodes."""
-    from pyrosgen.rosmaster import ros_master, stop_process
+    from pyrosgen.ros.rosmaster import ros_master, stop_process
 
     which = ("generated", "handwritten")
     prefix = {"generated": "/gen", "handwritten": "/hw"}

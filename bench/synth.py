@@ -42,7 +42,7 @@ MSG = "nav_msgs/Odometry"
 def odometry_leaves() -> list[tuple[str, str]]:
     """The carried leaves of nav_msgs/Odometry as ``(path, prim)``, in
     declaration order (computed by pyrosgen's own message registry)."""
-    from pyrosgen.msgtypes import MsgRegistry, leaf_paths
+    from pyrosgen.frontend.msgtypes import MsgRegistry, leaf_paths
 
     reg = MsgRegistry()
     reg.carried(MSG)

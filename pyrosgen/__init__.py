@@ -8,8 +8,8 @@ against the rules of DESIGN.md section 4 and returns a typed, immutable
     model = load_model("examples/landshark/landshark_controller.yaml")
 """
 
-from .errors import Diagnostic, InvalidNodeModel, PyrosgenError
-from .model import (
+from pyrosgen.errors import Diagnostic, InvalidNodeModel, PyrosgenError
+from pyrosgen.frontend.model import (
     Controller,
     ControllerField,
     InputRelation,
@@ -18,9 +18,9 @@ from .model import (
     OutputRelation,
     Pos,
     Topic,
-    load_model,
 )
-from .msgtypes import C_TYPES, PRIMITIVES, FieldPath, MsgField, MsgType, leaf_paths
+from pyrosgen.frontend.validate import load_model
+from pyrosgen.frontend.msgtypes import C_TYPES, PRIMITIVES, FieldPath, MsgField, MsgType, leaf_paths
 
 __version__ = "0.1.0"
 

@@ -17,8 +17,8 @@ import os
 import sys
 from collections.abc import Callable, Sequence
 
-from . import console
-from .errors import InvalidNodeModel, PyrosgenError
+from pyrosgen import console
+from pyrosgen.errors import Context, PyrosgenError
 
 __all__ = ["main", "build_parser", "EXIT_OK", "EXIT_USER", "EXIT_TOOL"]
 
@@ -44,7 +44,7 @@ def _plural(n: int, word: str) -> str:
 
 def cmd_check(args: argparse.Namespace) -> int:
     """``pyrosgen check MODEL.yaml``: validate only."""
-    from .model import load_model
+    from pyrosgen.frontend.validate import load_model
 
     model = load_model(args.model)
     print(
@@ -59,8 +59,8 @@ def cmd_diagram(args: argparse.Namespace) -> int:
     """``pyrosgen diagram MODEL.yaml -o FILE``: draw the node's data flow."""
     from pathlib import Path
 
-    from . import diagram
-    from .model import load_model
+    from pyrosgen import diagram
+    from pyrosgen.frontend.validate import load_model
 
     try:
         fmt = diagram.output_format(args.output, args.format)
@@ -93,8 +93,7 @@ def _progress(args: argparse.Namespace) -> Callable[[str], None] | None:
 def cmd_generate(args: argparse.Namespace) -> int:
     """``pyrosgen generate MODEL.yaml -o DIR``: emit the Coq file, check the
     proof, write the C (see :mod:`pyrosgen.generate`)."""
-    from .coqdriver import CoqError, ModelRefused
-    from .generate import OutputDirError, generate
+    from pyrosgen.generate import generate
 
     import signal
 
@@ -108,21 +107,6 @@ def cmd_generate(args: argparse.Namespace) -> int:
     try:
         res = generate(args.model, args.output, progress=_progress(args), keep_work=args.keep_work,
                        wp=args.wp)
-    except OutputDirError as exc:
-        _print_err(f"pyrosgen: error: {exc}")
-        return EXIT_USER
-    except ModelRefused as exc:
-        # The model is invalid (a user error), but the front end missed it.
-        _print_err(
-            f"{args.model}: error: Coq's generate refused the model: {exc.message} "
-            f"(the front end accepted it: please report this); nothing written to {args.output}"
-        )
-        return EXIT_USER
-    except CoqError as exc:
-        _print_err(f"pyrosgen: error: {exc.summary}; nothing written to {args.output}")
-        for line in exc.lines:
-            _print_err(line)
-        return EXIT_TOOL
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
@@ -144,13 +128,10 @@ def cmd_generate(args: argparse.Namespace) -> int:
 def cmd_build(args: argparse.Namespace) -> int:
     """``pyrosgen build MODEL.yaml --controller DIR -o OUT``: generate and
     prove the glue, then compile and link a runnable ROS node (see
-    :mod:`pyrosgen.build`)."""
+    :mod:`pyrosgen.ros.build`)."""
     import signal
 
-    from .build import BuildError, BuildToolError, ControllerError, build
-    from .coqdriver import CoqError, ModelRefused
-    from .generate import OutputDirError
-    from .layout import LayoutMismatch, LayoutToolError
+    from pyrosgen.ros.build import build
 
     def _terminated(signum, frame):  # clean up the work directory on SIGTERM too
         raise KeyboardInterrupt
@@ -159,37 +140,8 @@ def cmd_build(args: argparse.Namespace) -> int:
         previous = signal.signal(signal.SIGTERM, _terminated)
     except ValueError:  # not in the main thread
         previous = None
-    nothing = f"nothing written to {args.output}"
     try:
         res = build(args.model, args.controller, args.output, progress=_progress(args), keep_work=args.keep_work)
-    except (OutputDirError, BuildError) as exc:
-        if isinstance(exc, ControllerError):
-            _print_err(f"{exc.summary}; {nothing}")
-            for line in exc.lines:
-                _print_err(line)
-        else:
-            _print_err(f"pyrosgen: error: {exc}; {nothing}")
-        return EXIT_USER
-    except LayoutMismatch as exc:
-        _print_err(f"{exc.header}: error: the controller header does not match the node model "
-                   f"(layout check); {nothing}")
-        for problem in exc.problems:
-            _print_err(f"{exc.header}: error: {problem}")
-        return EXIT_USER
-    except ModelRefused as exc:
-        _print_err(
-            f"{args.model}: error: Coq's generate refused the model: {exc.message} "
-            f"(the front end accepted it: please report this); {nothing}"
-        )
-        return EXIT_USER
-    except (CoqError, BuildToolError) as exc:
-        _print_err(f"pyrosgen: error: {exc.summary}; {nothing}")
-        for line in exc.lines:
-            _print_err(line)
-        return EXIT_TOOL
-    except LayoutToolError as exc:
-        _print_err(f"pyrosgen: error: {exc}; {nothing}")
-        return EXIT_TOOL
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
@@ -331,6 +283,7 @@ def _print_err(text: str) -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
+    ctx = Context()
     try:
         parser = build_parser()
         try:
@@ -342,13 +295,17 @@ def main(argv: Sequence[str] | None = None) -> int:
             return int(exc.code or 0) if not isinstance(exc.code, str) else EXIT_USER
         console.VERBOSE = bool(getattr(args, "verbose", False))
         func: Callable[[argparse.Namespace], int] = args.func
+        writes = func in (cmd_generate, cmd_build)
+        ctx = Context(command=func.__name__.removeprefix("cmd_"), model=str(getattr(args, "model", "")),
+                      output=str(args.output) if writes else "")
         return func(args)
-    except InvalidNodeModel as exc:
-        _print_err(str(exc))
-        return EXIT_USER
     except PyrosgenError as exc:
-        _print_err(f"pyrosgen: error: {' '.join(str(exc).split())}")
-        return EXIT_TOOL
+        # The one handler of the error family (pyrosgen.errors): the
+        # exception's report, and the exit code of its base (1 for a user
+        # error, 2 for a proof or tool failure).
+        for line in exc.report(ctx):
+            _print_err(line)
+        return exc.exit_code
     except KeyboardInterrupt:
         _print_err("pyrosgen: interrupted")
         return 130

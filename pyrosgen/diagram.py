@@ -29,10 +29,10 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-import jinja2
 
-from .errors import PyrosgenError, escape
-from .model import NodeModel
+from pyrosgen.errors import ToolFailure, escape
+from pyrosgen.render import render
+from pyrosgen.frontend.model import NodeModel
 
 __all__ = [
     "FORMATS",
@@ -47,7 +47,6 @@ __all__ = [
     "write_diagram",
 ]
 
-_TEMPLATES = Path(__file__).parent / "templates"
 TEMPLATE = "diagram.dot.j2"
 
 #: Output formats, and the file suffixes that select them.
@@ -58,7 +57,7 @@ _SUFFIXES = {".svg": "svg", ".png": "png", ".pdf": "pdf", ".dot": "dot", ".gv": 
 DOT_TIMEOUT = 600
 
 
-class DiagramError(PyrosgenError):
+class DiagramError(ToolFailure):
     """Graphviz is missing or failed (exit code 2)."""
 
 
@@ -74,20 +73,6 @@ def dot_html(value: object) -> str:
     """
     text = escape(str(value), keep_quotes=True).replace("\\", "\\\\")
     return html.escape(text, quote=True)
-
-
-def _env() -> jinja2.Environment:
-    # finalize escapes every {{ expression }}: nothing from the model can be
-    # printed raw, and the identifiers generated below pass through unchanged.
-    return jinja2.Environment(
-        loader=jinja2.FileSystemLoader(str(_TEMPLATES)),
-        undefined=jinja2.StrictUndefined,
-        trim_blocks=True,
-        lstrip_blocks=True,
-        keep_trailing_newline=True,
-        autoescape=False,
-        finalize=dot_html,
-    )
 
 
 def _leaf_count(model: NodeModel, msg_type: str) -> int | None:
@@ -198,7 +183,9 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
 
 def render_dot(model: NodeModel) -> str:
     """The DOT text of the diagram of ``model``."""
-    return _env().get_template(TEMPLATE).render(**diagram_context(model))
+    # finalize escapes every {{ expression }}: nothing from the model can be
+    # printed raw, and the identifiers generated here pass through unchanged.
+    return render(TEMPLATE, finalize=dot_html, **diagram_context(model))
 
 
 def output_format(output: str | os.PathLike[str], override: str | None = None) -> str:

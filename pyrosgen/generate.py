@@ -1,7 +1,7 @@
 """``pyrosgen generate MODEL.yaml -o DIR``: the pipeline of DESIGN.md section 1.
 
-1. front end: read and validate the model (:func:`pyrosgen.model.load_model`),
-   render the per-node Coq file (:func:`pyrosgen.coqmodel.render_node_file`);
+1. front end: read and validate the model (:func:`pyrosgen.frontend.model.load_model`),
+   render the per-node Coq file (:func:`pyrosgen.proof.coqmodel.render_node_file`);
 2. coqc: Coq computes ``generate model``, checks that it is ``OK``, and proves
    the node's theorem (``<node>_ddc``, or ``<node>_wf`` while the node DDC
    theorem is not in the library);
@@ -9,11 +9,11 @@
    context" for every theorem of the file, and ``coqchk`` re-checks the
    compiled file;
 4. printing: the C texts and the AST dump are printed from ``the_program``
-   through extraction (:meth:`pyrosgen.coqdriver.CoqDriver.print_texts`),
+   through extraction (:meth:`pyrosgen.proof.coqdriver.CoqDriver.print_texts`),
    and the printed C is validated against the dump with pycparser
-   (:mod:`pyrosgen.validate_c`); with ``wp=True`` (``--wp``), Frama-C WP
+   (:mod:`pyrosgen.verify.validate_c`); with ``wp=True`` (``--wp``), Frama-C WP
    also proves ACSL contracts generated from the model on the printed C
-   (:mod:`pyrosgen.acsl`);
+   (:mod:`pyrosgen.verify.acsl`);
 5. writing: ``<node>.v``, ``<node>_types.h``, ``<node>_glue.c`` and
    ``<node>.sexp`` go into ``DIR``.
 
@@ -33,22 +33,23 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .coqdriver import CLOSED, CoqDriver, CoqError
-from .coqmodel import node_file_names, render_node_file
-from .errors import PyrosgenError
-from .certificate import render_certificate
-from .model import NodeModel, load_model
+from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
+from pyrosgen.proof.coqmodel import node_file_names, render_node_file
+from pyrosgen.errors import ToolFailure, UserError
+from pyrosgen.verify.certificate import render_certificate
+from pyrosgen.frontend.model import NodeModel
+from pyrosgen.frontend.validate import load_model
 
 __all__ = ["OutputDirError", "GenerateResult", "generate", "generate_model", "STEPS"]
 
-#: The certificate written next to the glue (:mod:`pyrosgen.certificate`).
+#: The certificate written next to the glue (:mod:`pyrosgen.verify.certificate`).
 CERTIFICATE = "CERTIFICATE.md"
 
 #: Number of progress steps.
 STEPS = 5
 
 
-class OutputDirError(PyrosgenError):
+class OutputDirError(UserError):
     """The output directory cannot be used (a user error: exit code 1)."""
 
 
@@ -65,8 +66,8 @@ class GenerateResult:
     ddc: bool                          #: whether it is the node DDC theorem (T2)
     assumptions: str = CLOSED
     times: dict[str, float] = field(default_factory=dict)
-    validation: object = None          #: :class:`pyrosgen.validate_c.ValidationReport`
-    wp: object = None                  #: :class:`pyrosgen.acsl.WPResult` (``--wp`` only)
+    validation: object = None          #: :class:`pyrosgen.verify.validate_c.ValidationReport`
+    wp: object = None                  #: :class:`pyrosgen.verify.acsl.WPResult` (``--wp`` only)
 
     @property
     def written(self) -> list[Path]:
@@ -94,7 +95,7 @@ def _install(staged: list[tuple[Path, str]], out_dir: Path) -> list[tuple[Path, 
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise PyrosgenError(f"cannot create {out_dir}: {exc.strerror or exc}") from None
+        raise ToolFailure(f"cannot create {out_dir}: {exc.strerror or exc}") from None
     done: list[tuple[Path, Path | None]] = []  # (target, backup of the old file)
     result: list[tuple[Path, bool]] = []
     try:
@@ -121,7 +122,7 @@ def _install(staged: list[tuple[Path, str]], out_dir: Path) -> list[tuple[Path, 
                 pass
         if created:
             shutil.rmtree(out_dir, ignore_errors=True)
-        raise PyrosgenError(f"cannot write into {out_dir}: {exc.strerror or exc}") from None
+        raise ToolFailure(f"cannot write into {out_dir}: {exc.strerror or exc}") from None
     return result
 
 
@@ -141,8 +142,8 @@ def generate(
     ``progress`` receives one line per step.  ``ddc_available`` forces the
     choice of the main theorem (default: whether the library has it).
     Raises :class:`~pyrosgen.errors.InvalidNodeModel` (exit 1),
-    :class:`OutputDirError` (exit 1), :class:`~pyrosgen.coqdriver.CoqError`
-    and other :class:`~pyrosgen.errors.PyrosgenError` (exit 2).
+    :class:`OutputDirError` (exit 1), :class:`~pyrosgen.proof.coqdriver.CoqError`
+    and other :class:`~pyrosgen.errors.ToolFailure` (exit 2).
     """
     say = progress or (lambda _line: None)
     t_start = time.monotonic()
@@ -170,7 +171,7 @@ def generate_model(
     ``model`` is trusted for printability only (the emitter re-checks every
     name lexically); whether it is well formed is decided by Coq's
     ``generate``, so a model that bypassed the front end's checks is
-    refused at the coqc step (:class:`~pyrosgen.coqdriver.CoqError`).
+    refused at the coqc step (:class:`~pyrosgen.proof.coqdriver.CoqError`).
     """
     say = progress or (lambda _line: None)
     times: dict[str, float] = {}
@@ -200,7 +201,7 @@ def generate_model(
     try:
         work = Path(tempfile.mkdtemp(prefix=f".pyrosgen-{model.name}-", dir=str(base)))
     except OSError as exc:
-        raise PyrosgenError(f"cannot create a work directory in {base}: {exc.strerror or exc}") from None
+        raise ToolFailure(f"cannot create a work directory in {base}: {exc.strerror or exc}") from None
     try:
         coq_dir = work / "coq"
         stage = work / "out"
@@ -229,7 +230,7 @@ def generate_model(
         t0 = time.monotonic()
         out_h, out_c, out_s = stage / names.types_header, stage / names.glue_c, stage / names.sexp
         drv.print_texts(module, lib, (out_h, out_c, out_s))
-        from .validate_c import validate_glue  # raises PrinterValidationError (a CoqError)
+        from pyrosgen.verify.validate_c import validate_glue  # raises PrinterValidationError (a CoqError)
 
         validation = validate_glue(
             out_c.read_text(encoding="utf-8"), out_h.read_text(encoding="utf-8"),
@@ -237,7 +238,7 @@ def generate_model(
         times["printing"] = time.monotonic() - t0
         wp_result = None
         if wp:
-            from .acsl import run_wp  # raises WPError (a CoqError) unless every goal is proved
+            from pyrosgen.verify.acsl import run_wp  # raises WPError (a CoqError) unless every goal is proved
 
             say(f"[4/{STEPS}] Frama-C WP: proving the ACSL contracts of the model on the printed C ...")
             t0 = time.monotonic()

@@ -12,4 +12,4 @@ OUT=build/landshark
 echo "demo: pyrosgen build $MODEL --controller $CONTROLLER -o $OUT"
 .venv/bin/pyrosgen build "$MODEL" --controller "$CONTROLLER" -o "$OUT"
 echo "demo: running $OUT/bin/landshark_controller against a simulated LandShark"
-exec .venv/bin/python -m pyrosgen.demo "$OUT"
+exec .venv/bin/python -m pyrosgen.ros.demo "$OUT"

@@ -13,9 +13,63 @@ ROOT = Path(__file__).resolve().parent.parent
 # editable install (it is installed editable by `make venv`).
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
+# Shared helpers are imported as support.<module> (tests/support).
+if str(ROOT / "tests") not in sys.path:
+    sys.path.insert(0, str(ROOT / "tests"))
 
 
 @pytest.fixture(scope="session")
 def repo_root() -> Path:
     """The repository root."""
     return ROOT
+
+
+# --------------------------------------------------------------------------
+# Markers: `ros` (a real master or a roscpp build), `wp` (Frama-C), `slow`.
+# `pytest -m "not ros"` runs the fast part.  They are given by folder and
+# file here, in one place, and registered in pyproject.toml
+# (--strict-markers refuses an unknown one).
+
+_BY_PATH = {
+    ("ros",): ("ros",),
+    ("build",): ("ros",),
+    ("validation", "test_wp.py"): ("wp", "slow"),
+    ("validation", "test_difftest.py"): ("slow",),
+}
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        try:
+            rel = Path(str(item.fspath)).resolve().relative_to(ROOT / "tests").parts
+        except ValueError:
+            continue
+        for key, marks in _BY_PATH.items():
+            if rel[: len(key)] == key:
+                for mark in marks:
+                    item.add_marker(getattr(pytest.mark, mark))
+
+
+# --------------------------------------------------------------------------
+# No process left behind, checked once at the end of the session, whatever
+# the order of the tests: every process the real-ROS tests started (their
+# PIDs are recorded by tests/support/ros.py) must be gone.
+
+
+def _survivors() -> list[tuple[int, str]]:
+    out = []
+    for mod in list(sys.modules.values()):
+        started = getattr(mod, "STARTED", None)
+        alive = getattr(mod, "alive", None)
+        if getattr(mod, "__name__", "") == "support.ros" and started is not None and alive is not None:
+            out += [(pid, what) for pid, what in started if alive(pid)]
+    return out
+
+
+def pytest_sessionfinish(session, exitstatus):
+    survivors = _survivors()
+    if survivors:
+        session.config.pluginmanager.get_plugin("terminalreporter").write_line(
+            f"error: processes started by the tests still running: {survivors}", red=True
+        )
+        session.exitstatus = pytest.ExitCode.TESTS_FAILED

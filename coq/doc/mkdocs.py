@@ -540,7 +540,7 @@ def render_example(model: Path, outdir: Path) -> dict | None:
     """The data-flow diagram of ``model`` (pyrosgen diagram) as SVG."""
     try:
         from pyrosgen.diagram import write_diagram
-        from pyrosgen.model import load_model
+        from pyrosgen.frontend.validate import load_model
 
         m = load_model(model)
         name = f"{m.name}.svg"

@@ -11,7 +11,7 @@ import stat
 import subprocess
 from pathlib import Path
 
-from pyrosgen.build import STAMP
+from pyrosgen.ros.build import STAMP
 
 from .conftest import LANDSHARK, LANDSHARK_CTL, MULTI, ROOT, pyrosgen, snapshot
 

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from pyrosgen import layout
-from pyrosgen.model import load_model
+from pyrosgen.ros import layout
+from pyrosgen.frontend.validate import load_model
 
 from .conftest import LANDSHARK, LANDSHARK_CTL
 

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from printer_helpers import COQ_DIR, THEORIES, build_coq_library, run
+from support.printer import COQ_DIR, THEORIES, build_coq_library, run
 
 SCRIPT = COQ_DIR / "checks" / "assumptions.sh"
 MAIN_V = THEORIES / "Main.v"

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from printer_helpers import (
+from support.printer import (
     EXAMPLES_V, GCC_STRICT, build_coq_library, coq_eval_strings, compile_and_run,
     harness_source, parse_sexp, print_via_extraction, program_items, run, SString)
 

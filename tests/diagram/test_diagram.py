@@ -14,9 +14,10 @@ import pytest
 from pyrosgen import cli
 from pyrosgen.diagram import dot_html, output_format, render_dot, write_atomic
 from pyrosgen.errors import escape
-from pyrosgen.model import ControllerField, load_model
+from pyrosgen.frontend.model import ControllerField
+from pyrosgen.frontend.validate import load_model
 
-from .helpers import KO_MODEL, LANDSHARK, MULTI, parse_with_dot
+from support.diagram import KO_MODEL, LANDSHARK, MULTI, parse_with_dot
 
 LANDSHARK_SUBS = [
     "/landshark/left_wheel_velocity",

@@ -10,7 +10,7 @@ import subprocess
 import pytest
 import yaml
 
-from .helpers import COQ, DOCS, REPO, Page, bad_links, project_modules, resolve_module, states, strip_comments
+from support.docs import COQ, DOCS, REPO, Page, bad_links, project_modules, resolve_module, states, strip_comments
 
 
 @pytest.fixture(scope="module")

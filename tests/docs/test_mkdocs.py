@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from .helpers import Page, bad_links, load_mkdocs
+from support.docs import Page, bad_links, load_mkdocs
 
 A_V = """\
 (** * Module A: a title *)

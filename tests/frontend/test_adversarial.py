@@ -12,9 +12,9 @@ import yaml
 
 from pyrosgen import InvalidNodeModel, load_model
 from pyrosgen.cli import main
-from pyrosgen.yamlsrc import MAX_DEPTH, MAX_FILE_SIZE
+from pyrosgen.frontend.yamlsrc import MAX_DEPTH, MAX_FILE_SIZE
 
-from .helpers import LANDSHARK
+from support.frontend import LANDSHARK
 
 LS_TEXT = LANDSHARK.read_text(encoding="utf-8")
 

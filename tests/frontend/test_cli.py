@@ -12,7 +12,7 @@ import pytest
 
 from pyrosgen import cli
 
-from .helpers import LANDSHARK, MODELS, MULTI, REPO
+from support.frontend import LANDSHARK, MODELS, MULTI, REPO
 
 DIAG = re.compile(r"^(?P<file>.+?):(?P<line>\d+):(?P<col>\d+): error: (?P<msg>.+)$")
 
@@ -100,12 +100,12 @@ def test_help_exits_0(capsys):
 
 
 def test_internal_error_exits_2_without_traceback(capsys, monkeypatch):
-    import pyrosgen.model
+    import pyrosgen.frontend.validate
 
     def boom(path):
         raise RuntimeError("boom\nsecond line")
 
-    monkeypatch.setattr(pyrosgen.model, "load_model", boom)
+    monkeypatch.setattr(pyrosgen.frontend.validate, "load_model", boom)
     monkeypatch.delenv("PYROSGEN_DEBUG", raising=False)
     code, out, err = run(capsys, "check", str(LANDSHARK))
     assert code == 2
@@ -116,12 +116,12 @@ def test_internal_error_exits_2_without_traceback(capsys, monkeypatch):
 
 
 def test_internal_error_traceback_with_debug(monkeypatch):
-    import pyrosgen.model
+    import pyrosgen.frontend.validate
 
     def boom(path):
         raise RuntimeError("boom")
 
-    monkeypatch.setattr(pyrosgen.model, "load_model", boom)
+    monkeypatch.setattr(pyrosgen.frontend.validate, "load_model", boom)
     monkeypatch.setenv("PYROSGEN_DEBUG", "1")
     with pytest.raises(RuntimeError, match="boom"):
         cli.main(["check", str(LANDSHARK)])

@@ -25,10 +25,10 @@ from hypothesis import strategies as st
 
 from pyrosgen import InvalidNodeModel, NodeModel, load_model
 from pyrosgen.cli import main
-from pyrosgen.msgtypes import PRIMITIVES
-from pyrosgen.names import identifier_problem, topic_name_problem
+from pyrosgen.frontend.msgtypes import PRIMITIVES
+from pyrosgen.frontend.names import identifier_problem, topic_name_problem
 
-from .helpers import LANDSHARK, MULTI
+from support.frontend import LANDSHARK, MULTI
 
 LS_TEXT = LANDSHARK.read_text(encoding="utf-8")
 LS_DATA = yaml.safe_load(LS_TEXT)

@@ -18,7 +18,7 @@ from pyrosgen import (
     load_model,
 )
 
-from .helpers import LANDSHARK, MULTI, REPO
+from support.frontend import LANDSHARK, MULTI, REPO
 
 
 @pytest.fixture(scope="module")

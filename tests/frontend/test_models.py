@@ -7,7 +7,7 @@ import pytest
 
 from pyrosgen import InvalidNodeModel, NodeModel, load_model
 
-from .helpers import LANDSHARK, MODELS, expectations
+from support.frontend import LANDSHARK, MODELS, expectations
 
 OK = sorted(MODELS.glob("ok_*.yaml")) + [LANDSHARK]
 KO = sorted(MODELS.glob("ko_*.yaml"))

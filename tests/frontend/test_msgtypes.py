@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from pyrosgen.errors import InvalidNodeModel
-from pyrosgen.msgtypes import (
+from pyrosgen.frontend.msgtypes import (
     C_TYPES,
     DURATION,
     PRIMITIVES,
@@ -21,7 +21,7 @@ from pyrosgen.msgtypes import (
     msg_c_name,
 )
 
-from .helpers import HERE
+from support.frontend import HERE
 
 CUSTOM = HERE / "msgs"
 
@@ -341,7 +341,7 @@ def test_custom_errors_name_the_msg_file(tmp_path):
 
 
 def test_too_many_msg_files(tmp_path, monkeypatch):
-    import pyrosgen.msgtypes as mt
+    import pyrosgen.frontend.msgtypes as mt
 
     monkeypatch.setattr(mt, "MAX_MSG_FILES", 2)
     root = write_msgs(tmp_path, {f"p/msg/T{i}.msg": "float64 x\n" for i in range(3)})
@@ -410,7 +410,7 @@ def test_type_name_checks(reg):
 
 @pytest.mark.parametrize("depth", [31, 40, 1100])
 def test_deeply_nested_custom_messages(tmp_path, depth):
-    from pyrosgen.msgtypes import MAX_MSG_DEPTH
+    from pyrosgen.frontend.msgtypes import MAX_MSG_DEPTH
 
     files = {f"p/msg/M{i}.msg": f"M{i + 1} next\nfloat64 v\n" for i in range(depth - 1)}
     files[f"p/msg/M{depth - 1}.msg"] = "float64 v\n"

@@ -11,9 +11,9 @@ from pathlib import Path
 import pytest
 
 from pyrosgen import cli
-from pyrosgen.coqdriver import CLOSED, DEFAULT_THEORIES
+from pyrosgen.proof.coqdriver import CLOSED, DEFAULT_THEORIES
 
-from .gen_helpers import LANDSHARK, MULTI, ddc_in_coqproject, require_library
+from support.generate import LANDSHARK, MULTI, ddc_in_coqproject, require_library
 
 NODE = "landshark_controller"
 OUTPUTS = [f"{NODE}.v", f"{NODE}_types.h", f"{NODE}_glue.c", f"{NODE}.sexp", "CERTIFICATE.md"]
@@ -119,7 +119,7 @@ def test_coq_refusal_exit_1_nothing_written(capsys, tmp_path, outdir, monkeypatc
 
     import pyrosgen.generate as gen
     from pyrosgen.errors import InvalidNodeModel
-    from pyrosgen.model import load_model
+    from pyrosgen.frontend.validate import load_model
 
     m = tmp_path / "mod.yaml"
     m.write_text(LANDSHARK.read_text().replace("name: landshark_controller", "name: mod"))

@@ -20,14 +20,15 @@ from pathlib import Path
 
 import pytest
 
-from pyrosgen.coqdriver import ModelRefused
-from pyrosgen.coqmodel import render_model_definitions
+from pyrosgen.proof.coqdriver import ModelRefused
+from pyrosgen.proof.coqmodel import render_model_definitions
 from pyrosgen.errors import InvalidNodeModel
 from pyrosgen.generate import generate_model
-from pyrosgen.model import ControllerField, InputRelation, OutputRelation, load_model
-from pyrosgen.msgtypes import FieldPath
+from pyrosgen.frontend.model import ControllerField, InputRelation, OutputRelation
+from pyrosgen.frontend.validate import load_model
+from pyrosgen.frontend.msgtypes import FieldPath
 
-from .gen_helpers import LANDSHARK, MULTI, OK_MODELS, coqc, printed_strings, require_library
+from support.generate import LANDSHARK, MULTI, OK_MODELS, coqc, printed_strings, require_library
 
 PREAMBLE = """\
 From Coq Require Import String List ZArith.

@@ -16,9 +16,9 @@ from __future__ import annotations
 
 
 from pyrosgen import cli
-from pyrosgen.coqdriver import CLOSED, CoqDriver
+from pyrosgen.proof.coqdriver import CLOSED, CoqDriver
 
-from .gen_helpers import GOLDEN, LANDSHARK, make_standin_library, require_library
+from support.generate import GOLDEN, LANDSHARK, make_standin_library, require_library
 
 NODE = "landshark_controller"
 DDC_MODULES = ("DDC", "Copyproof", "Glueproof", "Loopproof")

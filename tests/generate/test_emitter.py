@@ -1,5 +1,5 @@
-"""Unit tests of the Coq emitter (pyrosgen/coqmodel.py) and of the driver's
-parsing of Coq's output (pyrosgen/coqdriver.py).  No Coq run here except
+"""Unit tests of the Coq emitter (pyrosgen/proof/coqmodel.py) and of the driver's
+parsing of Coq's output (pyrosgen/proof/coqdriver.py).  No Coq run here except
 one that checks the string escape against Coq itself."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ from dataclasses import replace
 import jinja2
 import pytest
 
-from pyrosgen.coqdriver import REFUSAL_MARKER, CoqDriver, CoqError, coq_messages, refusal_message
-from pyrosgen.coqmodel import (
+from pyrosgen.proof.coqdriver import REFUSAL_MARKER, CoqDriver, CoqError, coq_messages, refusal_message
+from pyrosgen.proof.coqmodel import (
     NODE_TEMPLATE,
     TEMPLATE_DIR,
     EmitError,
@@ -27,10 +27,11 @@ from pyrosgen.coqmodel import (
     render_node_file,
     template_env,
 )
-from pyrosgen.model import ControllerField, load_model
-from pyrosgen.msgtypes import FieldPath
+from pyrosgen.frontend.model import ControllerField
+from pyrosgen.frontend.validate import load_model
+from pyrosgen.frontend.msgtypes import FieldPath
 
-from .gen_helpers import LANDSHARK, MULTI, coqc, printed_strings, require_library
+from support.generate import LANDSHARK, MULTI, coqc, printed_strings, require_library
 
 
 # ---------------------------------------------------------------------------

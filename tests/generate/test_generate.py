@@ -10,13 +10,13 @@ import shutil
 
 import pytest
 
-from pyrosgen.coqdriver import CLOSED
+from pyrosgen.proof.coqdriver import CLOSED
 from pyrosgen.generate import generate
-from pyrosgen.model import load_model
-from pyrosgen.ros import render_wrapper, wrapper_files
-from pyrosgen.sexp import parse_sexp, program_items
+from pyrosgen.frontend.validate import load_model
+from pyrosgen.ros.wrapper import render_wrapper, wrapper_files
+from pyrosgen.proof.sexp import parse_sexp, program_items
 
-from .gen_helpers import (
+from support.generate import (
     GCC_STRICT,
     GOLDEN,
     LANDSHARK,

@@ -1,9 +1,9 @@
 """Fixtures for the real-ROS tests: a private rosmaster per test on
 127.0.0.1 at a free port, stopped (with every process the test spawned
 through it) even when the test fails; the PID of each is recorded in
-``rosutil.STARTED`` (checked by ``test_zz_leftovers.py``).
+``rosutil.STARTED`` (checked by ``test_leftovers.py`` and at the end of the session by ``tests/conftest.py``).
 
-Nodes are built once per session (``pyrosgen.build``) and shared."""
+Nodes are built once per session (``pyrosgen.ros.build``) and shared."""
 
 from __future__ import annotations
 
@@ -13,14 +13,14 @@ from pathlib import Path
 
 import pytest
 
-from pyrosgen.build import build, pkg_config
+from pyrosgen.ros.build import build, pkg_config
 from pyrosgen.generate import generate_model
-from pyrosgen.model import load_model
-from pyrosgen.rosmaster import free_port
-from pyrosgen import ros as rosgen
+from pyrosgen.frontend.validate import load_model
+from pyrosgen.ros.rosmaster import free_port
+from pyrosgen.ros import wrapper as rosgen
 
-from . import rosutil
-from .rosutil import ROUNDTRIP_TYPES, RecordingRosEnv
+from support import ros as rosutil
+from support.ros import ROUNDTRIP_TYPES, RecordingRosEnv
 
 
 @pytest.fixture

@@ -1,4 +1,4 @@
-"""The run phase of ``make demo`` (``python -m pyrosgen.demo``) on the
+"""The run phase of ``make demo`` (``python -m pyrosgen.ros.demo``) on the
 LandShark node built with the example controller: no terminal, the spoofed
 GPS is rejected, everything it started is stopped."""
 
@@ -8,12 +8,12 @@ import re
 import subprocess
 import sys
 
-from . import rosutil
+from support import ros as rosutil
 
 
 def test_demo_runs_without_a_terminal(landshark_real, tmp_path):
     env = {"CI": "true", "PATH": "/usr/bin:/bin", "HOME": str(tmp_path)}
-    r = subprocess.run([sys.executable, "-m", "pyrosgen.demo", str(landshark_real), "--duration", "7", "--spoof", "3:6"],
+    r = subprocess.run([sys.executable, "-m", "pyrosgen.ros.demo", str(landshark_real), "--duration", "7", "--spoof", "3:6"],
                        cwd=rosutil.ROOT, env=env, stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stdout + r.stderr
     out = r.stdout

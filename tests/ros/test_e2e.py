@@ -9,10 +9,11 @@ import random
 import struct
 import subprocess
 
-from pyrosgen.model import load_model
+from pyrosgen.frontend.validate import load_model
 
-from . import expect, rosutil
-from .rosutil import dbits, received, run_driver, start_node
+from support import expect
+from support import ros as rosutil
+from support.ros import dbits, received, run_driver, start_node
 
 LEFT, RIGHT, GPS = "/landshark/left_wheel_velocity", "/landshark/right_wheel_velocity", "/landshark/gps_velocity"
 BASE = "/landshark_control/base_velocity"
@@ -93,7 +94,7 @@ def test_multi_end_to_end_bit_exact(ros, multi_echo, tmp_path):
 def _controller_lib(tmp_path):
     """examples/landshark/controller/Controller.c as a shared library,
     compiled with the flags pyrosgen build uses for controller code."""
-    from pyrosgen.build import CONTROLLER_CFLAGS
+    from pyrosgen.ros.build import CONTROLLER_CFLAGS
 
     lib = tmp_path / "libcontroller.so"
     subprocess.run(["gcc", *CONTROLLER_CFLAGS, "-fPIC", "-shared", "-I", str(rosutil.LANDSHARK_CTL),

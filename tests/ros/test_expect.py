@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import random
 
-from pyrosgen.model import load_model
+from pyrosgen.frontend.validate import load_model
 
-from . import expect, rosutil
+from support import expect
+from support import ros as rosutil
 
 
 def _published(model, topic, y):

@@ -7,10 +7,11 @@ import random
 import time
 import xmlrpc.client
 
-from pyrosgen.model import load_model
+from pyrosgen.frontend.validate import load_model
 
-from . import expect, rosutil
-from .rosutil import finish_driver, received, run_driver, start_driver, start_node
+from support import expect
+from support import ros as rosutil
+from support.ros import finish_driver, received, run_driver, start_driver, start_node
 
 LEFT, RIGHT, GPS = "/landshark/left_wheel_velocity", "/landshark/right_wheel_velocity", "/landshark/gps_velocity"
 BASE = "/landshark_control/base_velocity"

@@ -4,7 +4,7 @@ import os
 import subprocess
 import xmlrpc.client
 
-from pyrosgen.rosmaster import ros_master
+from pyrosgen.ros.rosmaster import ros_master
 
 
 def _alive(pid: int) -> bool:

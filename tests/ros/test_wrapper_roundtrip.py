@@ -14,8 +14,9 @@ from __future__ import annotations
 
 import random
 
-from . import expect, rosutil
-from .rosutil import ROUNDTRIP_TYPES, received, run_driver, same_leaf, start_node
+from support import expect
+from support import ros as rosutil
+from support.ros import ROUNDTRIP_TYPES, received, run_driver, same_leaf, start_node
 
 #: Messages per type: one each of the fixed modes, then random ones.
 MODES = ["zero", "min", "max", "special", "special", "special"] + ["random"] * 14

@@ -9,7 +9,7 @@ import pytest
 
 from pyrosgen.generate import generate
 
-from .helpers import EXAMPLES, GeneratedNode
+from support.validation import EXAMPLES, GeneratedNode
 
 
 @pytest.fixture(scope="session")

@@ -1,4 +1,4 @@
-"""Differential tests (pyrosgen/difftest.py): the Coq interpreter
+"""Differential tests (pyrosgen/verify/difftest.py): the Coq interpreter
 (``Interp.run_program``, extracted to OCaml) and the printed glue compiled by
 gcc (with a fake ROS C API and a table-driven test controller) run the same
 random message schedules and must print the same trace, byte for byte.
@@ -25,11 +25,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from pyrosgen.difftest import (
+from pyrosgen.verify.difftest import (
     GCC_STRICT, Message, NodeDump, Schedule, build_c_harness, build_coq_runner, leaf_token, run_side)
-from pyrosgen.model import load_model
+from pyrosgen.frontend.validate import load_model
 
-from .helpers import EXAMPLES
+from support.validation import EXAMPLES
 
 EXAMPLES_PER_MODEL = 100
 NOBODY = "/difftest/nobody"

@@ -1,4 +1,4 @@
-"""Printer validation (pyrosgen/validate_c.py): the printed C is parsed with
+"""Printer validation (pyrosgen/verify/validate_c.py): the printed C is parsed with
 pycparser and compared with the AST dump on every ``pyrosgen generate``.
 
 - it passes on the generated LandShark and multi nodes, and on the
@@ -21,11 +21,11 @@ import subprocess
 import pytest
 
 from pyrosgen import cli
-from pyrosgen.coqdriver import CoqDriver
-from pyrosgen.sexp import parse_sexp, program_items
-from pyrosgen.validate_c import PrinterValidationError, validate_glue, validate_program
+from pyrosgen.proof.coqdriver import CoqDriver
+from pyrosgen.proof.sexp import parse_sexp, program_items
+from pyrosgen.verify.validate_c import PrinterValidationError, validate_glue, validate_program
 
-from .helpers import EXAMPLES, LANDSHARK, REPO
+from support.validation import EXAMPLES, LANDSHARK, REPO
 
 
 def _validate(node, glue=None, header=None, sexp=None):

@@ -1,4 +1,4 @@
-"""Frama-C WP on the printed C (pyrosgen/acsl.py, ``pyrosgen generate --wp``).
+"""Frama-C WP on the printed C (pyrosgen/verify/acsl.py, ``pyrosgen generate --wp``).
 
 - the ACSL contracts generated from the model (callbacks, input_glue,
   output glues) are proved on LandShark and multi, every goal, and WP's
@@ -16,10 +16,10 @@ import shutil
 import pytest
 
 from pyrosgen import cli
-from pyrosgen.acsl import WPError, contracts, memory_hypotheses, run_wp
-from pyrosgen.model import load_model
+from pyrosgen.verify.acsl import WPError, contracts, memory_hypotheses, run_wp
+from pyrosgen.frontend.validate import load_model
 
-from .helpers import EXAMPLES, LANDSHARK
+from support.validation import EXAMPLES, LANDSHARK
 
 
 @pytest.mark.parametrize("key", list(EXAMPLES))
@@ -94,7 +94,7 @@ def test_generate_wp_failure_is_exit_2(monkeypatch, capsys, tmp_path):
     count and the unproved goal, and writes nothing."""
     import dataclasses
 
-    from pyrosgen import acsl
+    from pyrosgen.verify import acsl
 
     original = acsl.contracts
 

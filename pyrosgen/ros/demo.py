@@ -1,9 +1,9 @@
 """The run phase of ``make demo``: the LandShark node on a real master.
 
-    python -m pyrosgen.demo OUT [--duration S]
+    python -m pyrosgen.ros.demo OUT [--duration S]
 
 ``OUT`` is a ``pyrosgen build`` output of examples/landshark.  Starts a
-private rosmaster on 127.0.0.1 at a free port (:mod:`pyrosgen.rosmaster`),
+private rosmaster on 127.0.0.1 at a free port (:mod:`pyrosgen.ros.rosmaster`),
 the node ``OUT/bin/landshark_controller``, and the simulated robot
 (``demo_sim.py``, run by Debian's /usr/bin/python3), forwards the
 simulator's live table, and stops everything it started, by PID, whatever
@@ -21,7 +21,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from .rosmaster import ros_master, stop_process
+from pyrosgen.ros.rosmaster import ros_master, stop_process
 
 SIM = Path(__file__).resolve().parent / "demo_sim.py"
 NODE = "landshark_controller"
@@ -70,7 +70,7 @@ def run(out_dir: Path, duration: float = 12.0, spoof: str = "5:10") -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m pyrosgen.demo", description="Run the LandShark demo node.")
+    ap = argparse.ArgumentParser(prog="python -m pyrosgen.ros.demo", description="Run the LandShark demo node.")
     ap.add_argument("out", type=Path, help="pyrosgen build output folder of examples/landshark")
     ap.add_argument("--duration", type=float, default=12.0, help="simulated seconds (default 12)")
     ap.add_argument("--spoof", default="5:10", help="GPS spoofing window FROM:TO in seconds")

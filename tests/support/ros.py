@@ -12,9 +12,9 @@ import subprocess
 import time
 from pathlib import Path
 
-from pyrosgen.rosmaster import RosEnv, stop_process
+from pyrosgen.ros.rosmaster import RosEnv, stop_process
 
-HERE = Path(__file__).resolve().parent
+HERE = Path(__file__).resolve().parents[1] / "ros"
 ROOT = HERE.parent.parent
 DRIVER = HERE / "helpers" / "rosdriver.py"
 PYTHON = "/usr/bin/python3"
@@ -255,7 +255,7 @@ def echo_harness(model, pairs: list[tuple[str, str]]) -> str:
     ``out`` topic of each pair, through the generated C API: each callback
     copies the struct into a global ring, the loop publishes what arrived."""
     lines = [
-        "/* Echo harness of the wrapper round-trip test (tests/ros/rosutil.py). */",
+        "/* Echo harness of the wrapper round-trip test (tests/support/ros.py). */",
         f'#include "{model.name}_ros.h"',
         "",
         "#define RING 512u",

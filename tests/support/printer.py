@@ -69,10 +69,10 @@ def coq_eval_strings(v_file: Path, exprs: list[str], workdir: Path) -> list[str]
 
 
 # ---------------------------------------------------------------------------
-# S-expressions: the parser lives in pyrosgen.sexp (shared with the printer
+# S-expressions: the parser lives in pyrosgen.proof.sexp (shared with the printer
 # validation and the differential tests); re-exported here.
 
-from pyrosgen.sexp import SString, parse_sexp, program_items  # noqa: E402,F401
+from pyrosgen.proof.sexp import SString, parse_sexp, program_items  # noqa: E402,F401
 
 
 # ---------------------------------------------------------------------------

@@ -31,13 +31,14 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import console
-from .errors import PyrosgenError, escape
+from pyrosgen import console, resources
+from pyrosgen.errors import Context, DetailedFailure, UserError, escape
 
 __all__ = [
     "CoqError",
@@ -46,17 +47,16 @@ __all__ = [
     "refusal_message",
     "CoqcResult",
     "CoqDriver",
-    "REPO_ROOT",
     "DEFAULT_THEORIES",
     "COQLIB_ENV",
     "CLOSED",
     "coq_messages",
 ]
 
-#: The repository (pyrosgen is installed editable from it).
-REPO_ROOT = Path(__file__).resolve().parent.parent
-#: The ROSGen library's sources and compiled files.
-DEFAULT_THEORIES = REPO_ROOT / "coq" / "theories"
+#: The ROSGen library's sources and compiled files: ``coq/theories`` of a
+#: checkout, or the cache folder of an installed package
+#: (:func:`pyrosgen.resources.coq_theories`).
+DEFAULT_THEORIES = resources.coq_theories(build=False)
 #: Environment variable naming another directory holding the compiled
 #: ROSGen library (its ``_CoqProject`` is looked up in the parent).
 COQLIB_ENV = "PYROSGEN_COQLIB"
@@ -76,26 +76,27 @@ _MAX_MESSAGE = 2000
 BYTECODE_MAX_BYTES = 256 * 1024
 
 
-class CoqError(PyrosgenError):
-    """A Coq tool failed, or its output was not what was required.
+class CoqError(DetailedFailure):
+    """A Coq tool failed, or its output was not what was required (exit 2).
 
     ``summary`` is one line; ``lines`` are compiler-style diagnostics
     (``file:line:col: error: ...``) or tool output, shown after it.
     """
 
-    def __init__(self, summary: str, lines: Sequence[str] = ()):
-        self.summary = summary
-        self.lines = tuple(lines)
-        super().__init__(summary if not self.lines else summary + "\n" + "\n".join(self.lines))
 
-
-class ModelRefused(CoqError):
+class ModelRefused(UserError):
     """Coq's ``generate`` refused the model (its message in ``message``):
-    the model is invalid although the front end accepted it."""
+    the model is invalid although the front end accepted it (exit 1)."""
 
     def __init__(self, message: str, lines: Sequence[str] = ()):
         self.message = message
-        super().__init__(f"Coq's generate refused the model: {message}", lines)
+        self.summary = f"Coq's generate refused the model: {message}"
+        self.lines = tuple(lines)
+        super().__init__(self.summary)
+
+    def report(self, ctx: Context) -> list[str]:
+        return [f"{ctx.model}: error: {self.summary} (the front end accepted it: please report this); "
+                f"{ctx.nothing}"]
 
 
 #: What the per-node file's proof of [generate_accepts] fails with.
@@ -179,7 +180,7 @@ def coq_messages(text: str, display: Callable[[str], str] = lambda f: f) -> list
 
 
 _DRIVER_ML = """\
-(* Driver of pyrosgen's printing path (pyrosgen/coqdriver.py, after
+(* Driver of pyrosgen's printing path (pyrosgen/proof/coqdriver.py, after
    coq/extraction/print_program.sh).  [Job] is the OCaml extraction of the
    per-node module's [types_h], [glue_c] and [ast_sexp]: ROSGen.Printer
    applied to [the_program], as native OCaml strings
@@ -206,17 +207,27 @@ class CoqDriver:
     """Runs the Coq tool chain against the ROSGen library.
 
     ``theories`` is the directory of the compiled library (default:
-    ``$PYROSGEN_COQLIB`` if set, else ``coq/theories`` of the repository).
+    ``$PYROSGEN_COQLIB`` if set, else ``coq/theories`` of the checkout, or,
+    for an installed package, the library built once into the cache).
     Tools are looked up in ``PATH`` when first needed.
     """
 
     def __init__(self, theories: str | Path | None = None, *, timeout: float | None = None):
         if theories is None:
             env = os.environ.get(COQLIB_ENV)
-            theories = Path(env) if env else DEFAULT_THEORIES
+            theories = Path(env) if env else self._default_theories()
         self.theories = Path(theories).absolute()
         self.timeout = timeout
         self._tools: dict[str, str] = {}
+
+    @staticmethod
+    def _default_theories() -> Path:
+        try:
+            return resources.coq_theories(
+                progress=lambda line: print(f"pyrosgen: {line}", file=sys.stderr, flush=True)
+            )
+        except (resources.LibraryBuildError, OSError) as exc:
+            raise CoqError(str(exc)) from None
 
     # -- tools ---------------------------------------------------------------
 

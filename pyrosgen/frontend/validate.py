@@ -1,9 +1,9 @@
 """Validation of a node model file against every rule of DESIGN.md section 4.
 
-:func:`load_model` reads the YAML (:mod:`pyrosgen.yamlsrc`), checks the
-structure, resolves message types and field paths (:mod:`pyrosgen.msgtypes`),
+:func:`load_model` reads the YAML (:mod:`pyrosgen.frontend.yamlsrc`), checks the
+structure, resolves message types and field paths (:mod:`pyrosgen.frontend.msgtypes`),
 checks relations and the C names the generators will derive, and builds a
-:class:`pyrosgen.model.NodeModel`.  Every problem is collected; if there is
+:class:`pyrosgen.frontend.model.NodeModel`.  Every problem is collected; if there is
 any, :class:`pyrosgen.errors.InvalidNodeModel` is raised with all of them.
 """
 
@@ -12,8 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .errors import Diagnostic, InvalidNodeModel, show
-from .model import (
+from pyrosgen.errors import Diagnostic, InvalidNodeModel, show
+from pyrosgen.frontend.model import (
     PUBLISH,
     SUBSCRIBE,
     Controller,
@@ -25,7 +25,7 @@ from .model import (
     Pos,
     Topic,
 )
-from .msgtypes import (
+from pyrosgen.frontend.msgtypes import (
     MAX_LEAVES,
     PRIMITIVES,
     ROS1_ALIASES,
@@ -34,14 +34,14 @@ from .msgtypes import (
     PathError,
     leaf_count,
 )
-from .names import (
+from pyrosgen.frontend.names import (
     MAX_NAME_LEN,
     did_you_mean,
     identifier_problem,
     topic_c_name,
     topic_name_problem,
 )
-from .yamlsrc import YBad, YMap, YNode, YScalar, YSeq, load_yaml
+from pyrosgen.frontend.yamlsrc import YBad, YMap, YNode, YScalar, YSeq, load_yaml
 
 __all__ = ["load_model", "MAX_PERIOD_MS", "MAX_QUEUE_SIZE", "FIXED_C_NAMES"]
 

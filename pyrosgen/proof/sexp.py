@@ -4,8 +4,8 @@ The grammar is in ``coq/theories/clight/Printer.v`` (and ``coq/README.md``):
 ``(program (externs IDENT...) (main IDENT) item...)`` with struct, global
 variable, external function and internal function items.  This module
 parses it (:func:`parse_sexp`) and indexes its items
-(:func:`program_items`); the printer validation (:mod:`pyrosgen.validate_c`)
-and the differential tests (:mod:`pyrosgen.difftest`) read the dump through
+(:func:`program_items`); the printer validation (:mod:`pyrosgen.verify.validate_c`)
+and the differential tests (:mod:`pyrosgen.verify.difftest`) read the dump through
 it.
 
 Lists are Python lists, atoms ``str``, double-quoted strings

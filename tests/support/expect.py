@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import random
 
-from pyrosgen.model import NodeModel
+from pyrosgen.frontend.model import NodeModel
 
-from .rosutil import bits_of, random_value, rotl64
+from support.ros import bits_of, random_value, rotl64
 
 M64 = 0xFFFFFFFFFFFFFFFF
 

@@ -34,7 +34,7 @@ predicate is exactly ``a = b`` on WP's IEEE values (Why3's ``ieee_float``:
 of any value including NaN, and strictly stronger than ``==`` elsewhere.
 What the model cannot see is the payload of a NaN (it has one NaN): payload
 preservation is checked bit for bit by the differential tests
-(:mod:`pyrosgen.difftest`).  Integer leaves are compared with ``==``
+(:mod:`pyrosgen.verify.difftest`).  Integer leaves are compared with ``==``
 (mathematical integers: exact).
 
 Memory-model hypotheses.  WP's typed model may assume that pointers are
@@ -43,7 +43,7 @@ hypotheses".  The contracts state the separation of each pointer argument
 from every global themselves, and :func:`run_wp` fails if WP reports a
 hypothesis that the contract does not state, so nothing is assumed silently.
 
-The run fails (:class:`WPError`, a :class:`~pyrosgen.coqdriver.CoqError`:
+The run fails (:class:`WPError`, a :class:`~pyrosgen.proof.coqdriver.CoqError`:
 exit code 2) unless every goal is proved.
 """
 
@@ -57,10 +57,10 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import jinja2
+from pyrosgen.render import render
 
-from .coqdriver import CoqError
-from .model import NodeModel
+from pyrosgen.proof.coqdriver import CoqError
+from pyrosgen.frontend.model import NodeModel
 
 __all__ = [
     "WPError",
@@ -76,7 +76,6 @@ __all__ = [
 
 #: The wrapper template, relative to the repository root.
 WRAPPER_TEMPLATE = "pyrosgen/templates/wp_contracts.c.j2"
-_TEMPLATE_DIR = Path(__file__).resolve().parent / "templates"
 
 #: Provers tried, in order, among those that Why3 detects.
 PROVERS = ("alt-ergo", "z3", "cvc4", "cvc5")
@@ -211,17 +210,11 @@ def contracts(model: NodeModel) -> list[Contract]:
     return out
 
 
-def _env() -> jinja2.Environment:
-    return jinja2.Environment(
-        loader=jinja2.FileSystemLoader(str(_TEMPLATE_DIR)), undefined=jinja2.StrictUndefined,
-        trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True, autoescape=False)
-
-
 def render_wrapper(model: NodeModel, glue_name: str, header_name: str,
                    contract_list: list[Contract] | None = None) -> str:
     """The WP wrapper: the contracts, then ``#include`` of the glue."""
     cs = contracts(model) if contract_list is None else contract_list
-    return _env().get_template("wp_contracts.c.j2").render(
+    return render("wp_contracts.c.j2",
         template=WRAPPER_TEMPLATE, source=Path(model.source).name, header=header_name,
         glue=glue_name, externs=_globals(model), boxes=list(_BOXES.values()), functions=cs)
 

@@ -32,10 +32,10 @@ import subprocess
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import jinja2
+from pyrosgen.render import render
 
-from .coqdriver import CoqDriver, CoqError
-from .sexp import parse_sexp, program_items
+from pyrosgen.proof.coqdriver import CoqDriver, CoqError
+from pyrosgen.proof.sexp import parse_sexp, program_items
 
 __all__ = [
     "Leaf",
@@ -58,8 +58,6 @@ GCC_STRICT = ("-std=c11", "-Wall", "-Wextra", "-Werror", "-pedantic")
 #: Sanitizers for the sanitized build of the C side.
 SANITIZE = ("-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer", "-g")
 
-_PYROSGEN_TEMPLATES = Path(__file__).resolve().parent / "templates"
-_COQ_TEMPLATES = Path(__file__).resolve().parent.parent / "coq" / "templates"
 HARNESS_TEMPLATE = "pyrosgen/templates/difftest_ros.c.j2"
 RUNNER_TEMPLATE = "pyrosgen/templates/difftest_runner.ml.j2"
 EXTRACT_TEMPLATE = "coq/templates/difftest.v.j2"
@@ -67,12 +65,6 @@ EXTRACT_TEMPLATE = "coq/templates/difftest.v.j2"
 
 class DifftestError(CoqError):
     """Building or running a side of the differential test failed."""
-
-
-def _env(folder: Path) -> jinja2.Environment:
-    return jinja2.Environment(
-        loader=jinja2.FileSystemLoader(str(folder)), undefined=jinja2.StrictUndefined,
-        trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True, autoescape=False)
 
 
 # ---------------------------------------------------------------------------
@@ -196,7 +188,7 @@ def harness_source(sexp_text: str, header_name: str, source: str = "the AST dump
     shown = {st for _, _, st in d.pubs} | {d.u[1], d.y[1]}
     structs = [Struct(s, d.leaves(s), s in filled, s in shown) for s in d.root_structs()]
     kinds = sorted({leaf.kind for s in structs if s.fill for leaf in s.leaves})
-    return _env(_PYROSGEN_TEMPLATES).get_template("difftest_ros.c.j2").render(
+    return render("difftest_ros.c.j2",
         template=HARNESS_TEMPLATE, source=source, header=header_name, structs=structs, kinds=kinds,
         fns=d.fns, subs=d.subs, advs=d.advs, pubs=d.pubs, u=d.u, y=d.y)
 
@@ -244,12 +236,12 @@ def build_coq_runner(out_dir: str | Path, node: str, work: str | Path,
     lib = (coq, "RosgenNode")
     drv.coqc(vfile, lib)
     module = f"RosgenNode.{node}"
-    (coq / "Extract.v").write_text(_env(_COQ_TEMPLATES).get_template("difftest.v.j2").render(
+    (coq / "Extract.v").write_text(render("difftest.v.j2",
         template=EXTRACT_TEMPLATE, module=module, output="difftest.ml"), encoding="ascii")
     res = drv.run([drv.tool("coqc"), "-q", *drv.load_path([lib]), "Extract.v"], coq)
     if not res.ok:
         raise DifftestError("extraction of the interpreter failed", res.output.splitlines()[-20:])
-    (coq / "runner.ml").write_text(_env(_PYROSGEN_TEMPLATES).get_template("difftest_runner.ml.j2").render(
+    (coq / "runner.ml").write_text(render("difftest_runner.ml.j2",
         template=RUNNER_TEMPLATE, module="Difftest"), encoding="ascii")
     exe = work / f"{node}_coq"
     res = drv.run([*drv.ocamlopt(), "-w", "-a", "difftest.mli", "difftest.ml", "runner.ml",

@@ -16,17 +16,12 @@ import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 
-import jinja2
+from pyrosgen.render import render
 
-from .errors import PyrosgenError
-from .model import NodeModel, Topic
-from .msgtypes import MsgType
+from pyrosgen.errors import ToolFailure
+from pyrosgen.frontend.model import NodeModel, Topic
+from pyrosgen.frontend.msgtypes import MsgType
 
-_TEMPLATES = Path(__file__).parent / "templates"
-
-#: What may appear inside a C/C++ string literal in generated code: a
-#: validated ROS graph name.  Checked again here (defence in depth).
-_ROS_NAME = re.compile(r"^/?[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*$")
 _C_IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 GENCPP = Path("/usr/lib/gencpp/gen_cpp.py")
@@ -35,27 +30,8 @@ GENCPP_TEMPLATES = Path("/usr/share/gencpp")
 STANDARD_MSG_DIRS = Path("/usr/share")
 
 
-class ToolError(PyrosgenError):
+class ToolError(ToolFailure):
     """An external tool (gencpp, a compiler, ...) failed: exit code 2."""
-
-
-def _ros_name(value: str) -> str:
-    if not isinstance(value, str) or not _ROS_NAME.match(value):
-        raise ValueError(f"refusing to print {value!r} as a ROS name")
-    return value
-
-
-def _env() -> jinja2.Environment:
-    env = jinja2.Environment(
-        loader=jinja2.FileSystemLoader(str(_TEMPLATES)),
-        undefined=jinja2.StrictUndefined,
-        trim_blocks=True,
-        lstrip_blocks=True,
-        keep_trailing_newline=True,
-        autoescape=False,
-    )
-    env.filters["ros_name"] = _ros_name
-    return env
 
 
 def _check_ident(name: str) -> str:
@@ -113,12 +89,11 @@ def _context(model: NodeModel) -> dict:
 
 def render_wrapper(model: NodeModel) -> dict[str, str]:
     """The C API header and its roscpp implementation, by file name."""
-    env = _env()
     ctx = _context(model)
     files = wrapper_files(model)
     return {
-        files.api_header: env.get_template("ros_api.h.j2").render(ctx),
-        files.api_source: env.get_template("ros_api.cpp.j2").render(ctx),
+        files.api_header: render("ros_api.h.j2", **ctx),
+        files.api_source: render("ros_api.cpp.j2", **ctx),
     }
 
 
@@ -215,8 +190,7 @@ def render_catkin(model: NodeModel, c_sources: list[str], cpp_sources: list[str]
         "cpp_sources": cpp_sources,
         "include_dirs": include_dirs,
     }
-    env = _env()
     return {
-        "package.xml": env.get_template("package.xml.j2").render(ctx),
-        "CMakeLists.txt": env.get_template("CMakeLists.txt.j2").render(ctx),
+        "package.xml": render("package.xml.j2", **ctx),
+        "CMakeLists.txt": render("CMakeLists.txt.j2", **ctx),
     }

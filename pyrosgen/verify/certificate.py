@@ -18,11 +18,10 @@ import shutil
 import subprocess
 from pathlib import Path
 
-import jinja2
+from pyrosgen.render import render
 
-from .model import NodeModel
+from pyrosgen.frontend.model import NodeModel
 
-_TEMPLATES = Path(__file__).parent / "templates"
 
 
 def sha256_file(path: Path) -> str:
@@ -129,15 +128,7 @@ def render_certificate(model: NodeModel, *, node_v: Path, glue_c: Path, types_h:
         (types_h.name, sha256_file(types_h)),
         (glue_c.name, sha256_file(glue_c)),
     ]
-    env = jinja2.Environment(
-        loader=jinja2.FileSystemLoader(str(_TEMPLATES)),
-        undefined=jinja2.StrictUndefined,
-        trim_blocks=True,
-        lstrip_blocks=True,
-        keep_trailing_newline=True,
-        autoescape=False,
-    )
-    return env.get_template("CERTIFICATE.md.j2").render(
+    return render("CERTIFICATE.md.j2",
         source=model.source.name,
         model=model,
         node_v=node_v.name,

@@ -58,7 +58,7 @@ conversions other than an exact integer constant, declarations after
 statements, other preprocessor directives, K&R definitions, qualifiers,
 ``long``, plain ``char``, ...) is a difference too.  The first difference
 is reported with the function, the statement and the C line, and raises
-:class:`PrinterValidationError` (a :class:`~pyrosgen.coqdriver.CoqError`:
+:class:`PrinterValidationError` (a :class:`~pyrosgen.proof.coqdriver.CoqError`:
 exit code 2, nothing written).
 
 What the C text cannot show is not compared: the meaning tags of the
@@ -74,8 +74,8 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
 
-from .coqdriver import CoqError
-from .sexp import SexpError, parse_sexp, program_items
+from pyrosgen.proof.coqdriver import CoqError
+from pyrosgen.proof.sexp import SexpError, parse_sexp, program_items
 
 __all__ = [
     "PrinterValidationError",

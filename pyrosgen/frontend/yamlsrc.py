@@ -27,7 +27,7 @@ from pathlib import Path
 
 import yaml
 
-from .errors import Diagnostic, InvalidNodeModel, escape, show
+from pyrosgen.errors import Diagnostic, InvalidNodeModel, escape, show
 
 __all__ = [
     "MAX_FILE_SIZE",

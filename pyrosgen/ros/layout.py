@@ -31,8 +31,9 @@ import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import PyrosgenError
-from .model import IOStruct, NodeModel
+from pyrosgen.errors import Context, ToolFailure, UserError
+from pyrosgen.render import render
+from pyrosgen.frontend.model import IOStruct, NodeModel
 
 __all__ = [
     "LayoutMismatch",
@@ -57,7 +58,7 @@ _ASSERT = re.compile(r'static assertion failed: "' + re.escape(MARKER) + r'([^"]
 _GCC_DIAG = re.compile(r"^(?P<file>[^:\n]+):(?P<line>\d+):(?P<col>\d+): (?P<sev>error|fatal error): (?P<msg>.*)$")
 
 
-class LayoutMismatch(PyrosgenError):
+class LayoutMismatch(UserError):
     """The user's controller header does not agree with the glue (a user
     error: exit 1).  ``problems`` are one line each, naming the field."""
 
@@ -66,8 +67,13 @@ class LayoutMismatch(PyrosgenError):
         self.problems = problems
         super().__init__(f"{header}: the controller header does not match the model: " + "; ".join(problems))
 
+    def report(self, ctx: Context) -> list[str]:
+        return [f"{self.header}: error: the controller header does not match the node model "
+                f"(layout check); {ctx.nothing}",
+                *(f"{self.header}: error: {problem}" for problem in self.problems)]
 
-class LayoutToolError(PyrosgenError):
+
+class LayoutToolError(ToolFailure):
     """The layout check could not be run, or is wrong (exit 2)."""
 
 
@@ -131,9 +137,7 @@ def controller_header_name(model: NodeModel) -> str:
 
 def render_layout_check(model: NodeModel, types_h: str, types_header_name: str) -> str:
     """The text of ``<node>_layout_check.c`` (see the module documentation)."""
-    from .ros import _env  # the project's jinja2 environment
-
-    return _env().get_template("layout_check.c.j2").render(
+    return render("layout_check.c.j2",
         source=model.source.name,
         node=model,
         types_header=types_header_name,
@@ -149,9 +153,7 @@ def render_layout_check(model: NodeModel, types_h: str, types_header_name: str) 
 def render_reference_header(model: NodeModel, types_h: str) -> str:
     """A ``<Controller>.h`` that agrees with the glue by construction: the
     layout check must compile against it."""
-    from .ros import _env
-
-    return _env().get_template("controller_ref.h.j2").render(
+    return render("controller_ref.h.j2",
         source=model.source.name,
         node=model,
         controller=model.controller,

@@ -1,4 +1,4 @@
-"""The Coq emitter: a :class:`~pyrosgen.model.NodeModel` as terms of
+"""The Coq emitter: a :class:`~pyrosgen.frontend.model.NodeModel` as terms of
 ``ROSGen.NodeModel`` (``coq/theories/glue/NodeModel.v``), and the per-node Coq
 file rendered from ``coq/templates/node.v.j2``.
 
@@ -26,9 +26,11 @@ from pathlib import Path
 
 import jinja2
 
-from .errors import PyrosgenError
-from .model import NodeModel
-from .msgtypes import PRIMITIVES, FieldPath, MsgField, MsgType, msg_c_name
+from pyrosgen.errors import ToolFailure
+from pyrosgen.render import environment
+from pyrosgen.resources import coq_templates_dir
+from pyrosgen.frontend.model import NodeModel
+from pyrosgen.frontend.msgtypes import PRIMITIVES, FieldPath, MsgField, MsgType, msg_c_name
 
 __all__ = [
     "EmitError",
@@ -55,8 +57,8 @@ __all__ = [
     "template_env",
 ]
 
-#: ``coq/templates`` of the repository (pyrosgen is installed editable).
-TEMPLATE_DIR = Path(__file__).resolve().parent.parent / "coq" / "templates"
+#: ``coq/templates``: the Coq library's templates (:mod:`pyrosgen.resources`).
+TEMPLATE_DIR = coq_templates_dir()
 
 #: The per-node template, relative to the repository root (for the
 #: "generated from" line).
@@ -93,7 +95,7 @@ _COMMENT_UNSAFE = frozenset('"()*\\')
 _MAX_IDENT = 63
 
 
-class EmitError(PyrosgenError):
+class EmitError(ToolFailure):
     """A value the emitter refuses to print into Coq text (it should have
     been refused by the front end: this is a tool failure, exit code 2)."""
 
@@ -303,18 +305,11 @@ def _direction(d: str) -> str:
 
 
 def template_env() -> jinja2.Environment:
-    """The jinja2 environment over ``coq/templates`` (StrictUndefined,
-    trim_blocks, lstrip_blocks)."""
+    """The project's jinja2 environment (:mod:`pyrosgen.render`), which
+    also finds ``coq/templates``."""
     if not TEMPLATE_DIR.is_dir():
         raise EmitError(f"the Coq templates are missing: {TEMPLATE_DIR}")
-    return jinja2.Environment(
-        loader=jinja2.FileSystemLoader(str(TEMPLATE_DIR)),
-        undefined=jinja2.StrictUndefined,
-        trim_blocks=True,
-        lstrip_blocks=True,
-        keep_trailing_newline=True,
-        autoescape=False,
-    )
+    return environment()
 
 
 @dataclass(frozen=True)

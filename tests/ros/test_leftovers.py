@@ -1,16 +1,17 @@
-"""No process left behind: every rosmaster, node and driver started by the
-real-ROS tests (recorded by PID in ``rosutil.STARTED``) is gone.  Runs last
-in this folder (file name order); it also starts and stops a master and a
-node itself, so that it checks something when run alone."""
+"""No process left behind: a master and a node started and stopped by this
+test are gone, with every process the real-ROS tests started so far
+(recorded by PID in ``rosutil.STARTED``).  The same check runs once more at
+the very end of the session, whatever the order of the tests
+(``pytest_sessionfinish`` in ``tests/conftest.py``)."""
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
 
-from . import rosutil
-from .rosutil import RecordingRosEnv
-from pyrosgen.rosmaster import free_port
+from support import ros as rosutil
+from support.ros import RecordingRosEnv
+from pyrosgen.ros.rosmaster import free_port
 
 
 def _cmdlines() -> dict[int, str]:

@@ -26,8 +26,8 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .errors import Diagnostic, InvalidNodeModel, show
-from .names import did_you_mean, identifier_problem
+from pyrosgen.errors import Diagnostic, InvalidNodeModel, show
+from pyrosgen.frontend.names import did_you_mean, identifier_problem
 
 __all__ = [
     "PRIMITIVES",
@@ -473,7 +473,7 @@ class MsgRegistry:
         self.diagnostics.append(Diagnostic(_display(file), line, col, message))
 
     def _add_msg_file(self, path: Path) -> None:
-        from .yamlsrc import read_text
+        from pyrosgen.frontend.yamlsrc import read_text
 
         pkg, typ = path.parent.parent.name, path.stem
         if not _PKG_RE.fullmatch(pkg) or "__" in pkg:

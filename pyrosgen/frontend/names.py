@@ -82,7 +82,7 @@ COQ_KEYWORDS = frozenset(
 
 def did_you_mean(word: str, candidates) -> str:
     """`` (did you mean 'x'?)`` when a candidate is close to ``word``, else ``''``."""
-    from .errors import show
+    from pyrosgen.errors import show
 
     if not isinstance(word, str):
         return ""
@@ -150,7 +150,7 @@ def topic_name_problem(name: str) -> str | None:
 
 
 def _q(s: str) -> str:
-    from .errors import show
+    from pyrosgen.errors import show
 
     return show(s)
 

@@ -1,7 +1,7 @@
 """The validated node model: small immutable classes the emitters consume.
 
-A :class:`NodeModel` is only ever built by :func:`load_model` (see
-:mod:`pyrosgen.validate`), after every rule of DESIGN.md section 4 has been
+A :class:`NodeModel` is only ever built by :func:`pyrosgen.frontend.validate.load_model` (see
+:mod:`pyrosgen.frontend.validate`), after every rule of DESIGN.md section 4 has been
 checked, so emitters may rely on it: names are safe C/Coq identifiers, every
 controller input is fed by exactly one relation, relation types match, field
 paths name carried scalar leaves, and all derived C names are distinct.
@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NamedTuple
 
-from .msgtypes import C_TYPES, SIMULINK_TYPES, FieldPath, MsgType, leaf_paths, msg_c_name
+from pyrosgen.frontend.msgtypes import C_TYPES, SIMULINK_TYPES, FieldPath, MsgType, leaf_paths, msg_c_name
 
 __all__ = [
     "Pos",
@@ -24,7 +24,6 @@ __all__ = [
     "InputRelation",
     "OutputRelation",
     "NodeModel",
-    "load_model",
 ]
 
 SUBSCRIBE = "subscribe"
@@ -264,13 +263,3 @@ class NodeModel:
         """The output relations writing into ``topic`` (a Topic or its name)."""
         name = topic if isinstance(topic, str) else topic.name
         return tuple(r for r in self.output_relations if r.topic.name == name)
-
-
-def load_model(path: str | Path) -> NodeModel:
-    """Read, parse and validate the node model at ``path``.
-
-    Raises :class:`pyrosgen.errors.InvalidNodeModel` listing every problem.
-    """
-    from .validate import load_model as _load
-
-    return _load(path)

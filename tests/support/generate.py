@@ -8,9 +8,9 @@ import re
 import subprocess
 from pathlib import Path
 
-from pyrosgen.coqdriver import DEFAULT_THEORIES, CoqDriver
+from pyrosgen.proof.coqdriver import DEFAULT_THEORIES, CoqDriver
 
-HERE = Path(__file__).resolve().parent
+HERE = Path(__file__).resolve().parents[1] / "generate"
 REPO = HERE.parents[1]
 GOLDEN = HERE / "golden"
 MODELS = HERE / "models"

@@ -6,11 +6,11 @@ The steps (each one progress line):
    its header ``<Controller>.h`` and its ``*.c`` sources;
 2. generate: the pipeline of :mod:`pyrosgen.generate` (coqc proves the
    node's DDC theorem, Coq prints the C), into the staging folder;
-3. wrapper: the C API over roscpp (:func:`pyrosgen.ros.render_wrapper`),
+3. wrapper: the C API over roscpp (:func:`pyrosgen.ros.wrapper.render_wrapper`),
    gencpp headers for custom messages (``include/``), a copy of the
    controller (``controller/``), the catkin package (``package.xml``,
    ``CMakeLists.txt``);
-4. layout check: ``<node>_layout_check.c`` (:mod:`pyrosgen.layout`);
+4. layout check: ``<node>_layout_check.c`` (:mod:`pyrosgen.ros.layout`);
 5. compile the glue: ``gcc -std=c11 -Wall -Wextra -Werror -pedantic``;
 6. compile the controller: every ``DIR/*.c`` with ``-std=c11 -Wall
    -Wextra -I DIR`` (user code: warnings are shown, not errors);
@@ -52,11 +52,13 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import console
-from . import layout, ros
-from .errors import PyrosgenError
-from .generate import GenerateResult, OutputDirError, generate_model
-from .model import NodeModel, load_model
+from pyrosgen import console
+from pyrosgen.ros import layout
+from pyrosgen.ros import wrapper as ros
+from pyrosgen.errors import Context, DetailedFailure, UserError
+from pyrosgen.generate import GenerateResult, OutputDirError, generate_model
+from pyrosgen.frontend.model import NodeModel
+from pyrosgen.frontend.validate import load_model
 
 __all__ = [
     "BuildError",
@@ -85,7 +87,7 @@ _FILE_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]*$")
 _MAX_OUTPUT = 12000
 
 
-class BuildError(PyrosgenError):
+class BuildError(UserError):
     """A user error found by ``build`` (exit 1): the controller folder, a
     controller source that does not compile, the output folder."""
 
@@ -99,14 +101,12 @@ class ControllerError(BuildError):
         self.lines = tuple(lines)
         super().__init__(summary + ("\n" + "\n".join(self.lines) if self.lines else ""))
 
+    def report(self, ctx: Context) -> list[str]:
+        return [f"{self.summary}; {ctx.nothing}", *self.lines]
 
-class BuildToolError(PyrosgenError):
+
+class BuildToolError(DetailedFailure):
     """A tool failed on generated code, or could not be run (exit 2)."""
-
-    def __init__(self, summary: str, lines: Sequence[str] = ()):
-        self.summary = summary
-        self.lines = tuple(lines)
-        super().__init__(summary + ("\n" + "\n".join(self.lines) if self.lines else ""))
 
 
 @dataclass
@@ -356,10 +356,10 @@ def build(model_path: str | Path, controller_dir: str | Path, out_dir: str | Pat
     in ``controller_dir`` into ``out_dir``; see the module documentation.
 
     Raises :class:`~pyrosgen.errors.InvalidNodeModel`, :class:`BuildError`,
-    :class:`~pyrosgen.layout.LayoutMismatch`,
+    :class:`~pyrosgen.ros.layout.LayoutMismatch`,
     :class:`~pyrosgen.generate.OutputDirError` (exit 1), and
-    :class:`BuildToolError`, :class:`~pyrosgen.layout.LayoutToolError`,
-    :class:`~pyrosgen.coqdriver.CoqError` (exit 2).
+    :class:`BuildToolError`, :class:`~pyrosgen.ros.layout.LayoutToolError`,
+    :class:`~pyrosgen.proof.coqdriver.CoqError` (exit 2).
     """
     say = progress or (lambda _line: None)
     t0 = time.monotonic()

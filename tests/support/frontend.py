@@ -5,7 +5,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
+HERE = Path(__file__).resolve().parents[1] / "frontend"
 MODELS = HERE / "models"
 REPO = HERE.parent.parent
 LANDSHARK = REPO / "examples" / "landshark" / "landshark_controller.yaml"

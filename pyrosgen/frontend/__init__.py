@@ -1,0 +1,12 @@
+"""The front end: YAML with positions (:mod:`yamlsrc`), the rules for names
+(:mod:`names`), message types (:mod:`msgtypes`), the node model
+(:mod:`model`) and its rules (:mod:`validate`, DESIGN.md section 4).
+
+:func:`load_model` reads, parses and validates a model file.  The model
+module imports nothing from validation: the validator builds the model,
+never the reverse.
+"""
+
+from pyrosgen.frontend.validate import load_model
+
+__all__ = ["load_model"]
