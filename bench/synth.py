@@ -42,7 +42,8 @@ MSG = "nav_msgs/Odometry"
 def odometry_leaves() -> list[tuple[str, str]]:
     """The carried leaves of nav_msgs/Odometry as ``(path, prim)``, in
     declaration order (computed by pyrosgen's own message registry)."""
-    from pyrosgen.frontend.msgtypes import MsgRegistry, leaf_paths
+    from pyrosgen.frontend.msgmodel import leaf_paths
+    from pyrosgen.frontend.msgload import MsgRegistry
 
     reg = MsgRegistry()
     reg.carried(MSG)

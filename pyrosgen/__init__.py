@@ -20,7 +20,7 @@ from pyrosgen.frontend.model import (
     Topic,
 )
 from pyrosgen.frontend.validate import load_model
-from pyrosgen.frontend.msgtypes import C_TYPES, PRIMITIVES, FieldPath, MsgField, MsgType, leaf_paths
+from pyrosgen.frontend.msgmodel import C_TYPES, PRIMITIVES, FieldPath, MsgField, MsgType, leaf_paths
 
 __version__ = "0.1.0"
 

@@ -1,5 +1,5 @@
 """The front end: YAML with positions (:mod:`yamlsrc`), the rules for names
-(:mod:`names`), message types (:mod:`msgtypes`), the node model
+(:mod:`names`), message types (the model :mod:`msgmodel`, the loader :mod:`msgload`), the node model
 (:mod:`model`) and its rules (:mod:`validate`, DESIGN.md section 4).
 
 :func:`load_model` reads, parses and validates a model file.  The model

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NamedTuple
 
-from pyrosgen.frontend.msgtypes import C_TYPES, SIMULINK_TYPES, FieldPath, MsgType, leaf_paths, msg_c_name
+from pyrosgen.frontend.msgmodel import C_TYPES, SIMULINK_TYPES, FieldPath, MsgType, leaf_paths, msg_c_name
 
 __all__ = [
     "Pos",

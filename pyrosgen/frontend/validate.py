@@ -1,7 +1,7 @@
 """Validation of a node model file against every rule of DESIGN.md section 4.
 
 :func:`load_model` reads the YAML (:mod:`pyrosgen.frontend.yamlsrc`), checks the
-structure, resolves message types and field paths (:mod:`pyrosgen.frontend.msgtypes`),
+structure, resolves message types and field paths (:mod:`pyrosgen.frontend.msgmodel`),
 checks relations and the C names the generators will derive, and builds a
 :class:`pyrosgen.frontend.model.NodeModel`.  Every problem is collected; if there is
 any, :class:`pyrosgen.errors.InvalidNodeModel` is raised with all of them.
@@ -25,15 +25,8 @@ from pyrosgen.frontend.model import (
     Pos,
     Topic,
 )
-from pyrosgen.frontend.msgtypes import (
-    MAX_LEAVES,
-    PRIMITIVES,
-    ROS1_ALIASES,
-    FieldPath,
-    MsgRegistry,
-    PathError,
-    leaf_count,
-)
+from pyrosgen.frontend.msgmodel import MAX_LEAVES, PRIMITIVES, ROS1_ALIASES, FieldPath, leaf_count
+from pyrosgen.frontend.msgload import MsgRegistry, PathError
 from pyrosgen.frontend.names import (
     MAX_NAME_LEN,
     did_you_mean,

@@ -30,7 +30,7 @@ from pyrosgen.errors import ToolFailure
 from pyrosgen.render import environment
 from pyrosgen.resources import coq_templates_dir
 from pyrosgen.frontend.model import NodeModel
-from pyrosgen.frontend.msgtypes import PRIMITIVES, FieldPath, MsgField, MsgType, msg_c_name
+from pyrosgen.frontend.msgmodel import PRIMITIVES, FieldPath, MsgField, MsgType, msg_c_name
 
 __all__ = [
     "EmitError",

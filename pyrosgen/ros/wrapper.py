@@ -20,7 +20,7 @@ from pyrosgen.render import render
 
 from pyrosgen.errors import ToolFailure
 from pyrosgen.frontend.model import NodeModel, Topic
-from pyrosgen.frontend.msgtypes import MsgType
+from pyrosgen.frontend.msgmodel import MsgType
 
 _C_IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 

@@ -25,7 +25,7 @@ from hypothesis import strategies as st
 
 from pyrosgen import InvalidNodeModel, NodeModel, load_model
 from pyrosgen.cli import main
-from pyrosgen.frontend.msgtypes import PRIMITIVES
+from pyrosgen.frontend.msgmodel import PRIMITIVES
 from pyrosgen.frontend.names import identifier_problem, topic_name_problem
 
 from support.frontend import LANDSHARK, MULTI

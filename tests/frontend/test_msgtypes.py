@@ -7,19 +7,8 @@ from pathlib import Path
 import pytest
 
 from pyrosgen.errors import InvalidNodeModel
-from pyrosgen.frontend.msgtypes import (
-    C_TYPES,
-    DURATION,
-    PRIMITIVES,
-    SIMULINK_TYPES,
-    TIME,
-    FieldPath,
-    MsgRegistry,
-    PathError,
-    leaf_count,
-    leaf_paths,
-    msg_c_name,
-)
+from pyrosgen.frontend.msgmodel import C_TYPES, DURATION, PRIMITIVES, SIMULINK_TYPES, TIME, FieldPath, leaf_count, leaf_paths, msg_c_name
+from pyrosgen.frontend.msgload import MsgRegistry, PathError
 
 from support.frontend import HERE
 
@@ -341,7 +330,7 @@ def test_custom_errors_name_the_msg_file(tmp_path):
 
 
 def test_too_many_msg_files(tmp_path, monkeypatch):
-    import pyrosgen.frontend.msgtypes as mt
+    import pyrosgen.frontend.msgload as mt  # where the limit is applied
 
     monkeypatch.setattr(mt, "MAX_MSG_FILES", 2)
     root = write_msgs(tmp_path, {f"p/msg/T{i}.msg": "float64 x\n" for i in range(3)})
@@ -410,7 +399,7 @@ def test_type_name_checks(reg):
 
 @pytest.mark.parametrize("depth", [31, 40, 1100])
 def test_deeply_nested_custom_messages(tmp_path, depth):
-    from pyrosgen.frontend.msgtypes import MAX_MSG_DEPTH
+    from pyrosgen.frontend.msgmodel import MAX_MSG_DEPTH
 
     files = {f"p/msg/M{i}.msg": f"M{i + 1} next\nfloat64 v\n" for i in range(depth - 1)}
     files[f"p/msg/M{depth - 1}.msg"] = "float64 v\n"

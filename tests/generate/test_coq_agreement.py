@@ -26,7 +26,7 @@ from pyrosgen.errors import InvalidNodeModel
 from pyrosgen.generate import generate_model
 from pyrosgen.frontend.model import ControllerField, InputRelation, OutputRelation
 from pyrosgen.frontend.validate import load_model
-from pyrosgen.frontend.msgtypes import FieldPath
+from pyrosgen.frontend.msgmodel import FieldPath
 
 from support.generate import LANDSHARK, MULTI, OK_MODELS, coqc, printed_strings, require_library
 

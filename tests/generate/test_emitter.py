@@ -29,7 +29,7 @@ from pyrosgen.proof.coqmodel import (
 )
 from pyrosgen.frontend.model import ControllerField
 from pyrosgen.frontend.validate import load_model
-from pyrosgen.frontend.msgtypes import FieldPath
+from pyrosgen.frontend.msgmodel import FieldPath
 
 from support.generate import LANDSHARK, MULTI, coqc, printed_strings, require_library
 

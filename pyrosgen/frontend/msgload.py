@@ -1,4 +1,4 @@
-"""ROS 1 message types, as far as the glue code carries them.
+"""Loading ROS 1 message types: the message LOADER.
 
 Definitions come from ``rosbags`` (its ROS 1 Noetic store) and from custom
 ``<pkg>/msg/<Type>.msg`` files in the model's ``msg_paths``.  This module
@@ -22,294 +22,29 @@ reason it is not carried.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from pyrosgen.errors import Diagnostic, InvalidNodeModel, show
 from pyrosgen.frontend.names import did_you_mean, identifier_problem
+from pyrosgen.frontend.msgmodel import (
+    FieldPath,
+    MAX_MSG_DEPTH,
+    MAX_MSG_FILES,
+    MsgField,
+    MsgType,
+    PRIMITIVES,
+    ROS1_ALIASES,
+    _PSEUDO,
+    leaf_paths,
+    msg_c_name,
+)
 
 __all__ = [
-    "PRIMITIVES",
-    "ROS1_ALIASES",
-    "C_TYPES",
-    "SIMULINK_TYPES",
-    "PRIM_SIZES",
-    "MAX_LEAVES",
-    "MAX_MSG_FILES",
-    "MAX_MSG_DEPTH",
-    "MsgField",
-    "MsgType",
-    "FieldPath",
-    "TIME",
-    "DURATION",
-    "msg_c_name",
-    "leaf_paths",
-    "leaf_count",
     "MsgRegistry",
     "PathError",
 ]
-
-# --------------------------------------------------------------------------
-# Primitive types
-
-#: The ROS primitive types the glue carries, in the order of DESIGN.md 4.
-PRIMITIVES: tuple[str, ...] = (
-    "bool",
-    "int8",
-    "uint8",
-    "int16",
-    "uint16",
-    "int32",
-    "uint32",
-    "int64",
-    "uint64",
-    "float32",
-    "float64",
-)
-
-#: ROS 1's deprecated aliases (``char`` is unsigned, ``byte`` signed).
-ROS1_ALIASES: dict[str, str] = {"char": "uint8", "byte": "int8"}
-
-#: The C type of each primitive.
-C_TYPES: dict[str, str] = {
-    "bool": "unsigned char",
-    "int8": "signed char",
-    "uint8": "unsigned char",
-    "int16": "short",
-    "uint16": "unsigned short",
-    "int32": "int",
-    "uint32": "unsigned int",
-    "int64": "long long",
-    "uint64": "unsigned long long",
-    "float32": "float",
-    "float64": "double",
-}
-
-#: The Simulink (``rtwtypes.h``) name of each primitive's C type.
-SIMULINK_TYPES: dict[str, str] = {
-    "bool": "boolean_T",
-    "int8": "int8_T",
-    "uint8": "uint8_T",
-    "int16": "int16_T",
-    "uint16": "uint16_T",
-    "int32": "int32_T",
-    "uint32": "uint32_T",
-    "int64": "int64_T",
-    "uint64": "uint64_T",
-    "float32": "real32_T",
-    "float64": "real_T",
-}
-
-#: Size in bytes of each primitive's C type (LP64 and ILP32 alike).
-PRIM_SIZES: dict[str, int] = {
-    "bool": 1,
-    "int8": 1,
-    "uint8": 1,
-    "int16": 2,
-    "uint16": 2,
-    "int32": 4,
-    "uint32": 4,
-    "int64": 8,
-    "uint64": 8,
-    "float32": 4,
-    "float64": 8,
-}
-
-#: Largest number of carried scalar leaves in one topic's message type (each
-#: leaf is one copy statement in a callback, and one proof obligation).
-MAX_LEAVES = 10000
-
-#: Largest number of ``.msg`` files read from the ``msg_paths`` of one model.
-MAX_MSG_FILES = 2000
-
-#: Deepest nesting of message types (the standard ones nest at most 6 deep).
-MAX_MSG_DEPTH = 32
-
-# --------------------------------------------------------------------------
-# The carried view
-
-
-@dataclass(frozen=True)
-class MsgField:
-    """A carried field of a message type.
-
-    ``kind`` is ``'prim'`` (then ``prim`` is the ROS primitive name, aliases
-    already resolved) or ``'msg'`` (then ``msg`` is the full type name, e.g.
-    ``'std_msgs/Header'``, or ``'time'``/``'duration'``).  ``array_len`` is the
-    length of a fixed-size array, ``None`` for a scalar field.
-    """
-
-    name: str
-    kind: str
-    prim: str | None = None
-    msg: str | None = None
-    array_len: int | None = None
-
-    @property
-    def is_array(self) -> bool:
-        """Whether the field is a fixed-size array."""
-        return self.array_len is not None
-
-    @property
-    def c_type(self) -> str:
-        """The C type of one element: a primitive's C type or ``struct <c_name>``."""
-        if self.kind == "prim":
-            return C_TYPES[self.prim]
-        return f"struct {msg_c_name(self.msg)}"
-
-
-@dataclass(frozen=True)
-class MsgType:
-    """A message type as carried by the glue: ``fields`` are the carried
-    fields in definition order (never empty)."""
-
-    name: str
-    c_name: str
-    fields: tuple[MsgField, ...]
-
-    @property
-    def is_pseudo(self) -> bool:
-        """Whether this is the ``time`` or ``duration`` pseudo type."""
-        return "/" not in self.name
-
-    @property
-    def package(self) -> str | None:
-        """The ROS package (``None`` for ``time``/``duration``)."""
-        return self.name.split("/")[0] if "/" in self.name else None
-
-    @property
-    def short_name(self) -> str:
-        """The type name without its package."""
-        return self.name.split("/")[-1]
-
-    @property
-    def cpp_name(self) -> str:
-        """The roscpp C++ type: ``geometry_msgs::TwistStamped``, ``ros::Time``."""
-        if self.name == "time":
-            return "ros::Time"
-        if self.name == "duration":
-            return "ros::Duration"
-        return self.name.replace("/", "::")
-
-    def field(self, name: str) -> MsgField | None:
-        """The carried field ``name``, or ``None``."""
-        for f in self.fields:
-            if f.name == name:
-                return f
-        return None
-
-
-#: ROS 1 ``time``: ``{sec: uint32, nsec: uint32}``.
-TIME = MsgType(
-    "time",
-    "ros_time",
-    (MsgField("sec", "prim", prim="uint32"), MsgField("nsec", "prim", prim="uint32")),
-)
-
-#: ROS 1 ``duration``: ``{sec: int32, nsec: int32}``.
-DURATION = MsgType(
-    "duration",
-    "ros_duration",
-    (MsgField("sec", "prim", prim="int32"), MsgField("nsec", "prim", prim="int32")),
-)
-
-_PSEUDO = {"time": TIME, "duration": DURATION}
-
-
-def msg_c_name(name: str) -> str:
-    """The C struct name of a message type: ``pkg/Type`` gives ``pkg_Type``,
-    ``time`` gives ``ros_time`` and ``duration`` gives ``ros_duration``."""
-    if name in _PSEUDO:
-        return _PSEUDO[name].c_name
-    return name.replace("/", "_")
-
-
-@dataclass(frozen=True)
-class FieldPath:
-    """A path from a message to one scalar leaf: field names and constant
-    array indices, e.g. ``('pose', 'covariance', 35)``; ``prim`` is the
-    leaf's primitive type."""
-
-    steps: tuple[str | int, ...]
-    prim: str
-
-    def __str__(self) -> str:
-        out = ""
-        for s in self.steps:
-            if isinstance(s, int):
-                out += f"[{s}]"
-            else:
-                out += ("." if out else "") + s
-        return out
-
-    @property
-    def c_type(self) -> str:
-        """The C type of the leaf."""
-        return C_TYPES[self.prim]
-
-    def c_access(self, base: str, arrow: bool = False) -> str:
-        """C text selecting the leaf from ``base`` (``base->`` when ``arrow``)."""
-        out = base
-        first = True
-        for s in self.steps:
-            if isinstance(s, int):
-                out += f"[{s}]"
-            else:
-                out += ("->" if (first and arrow) else ".") + s
-            first = False
-        return out
-
-
-def leaf_paths(msg: str | MsgType, messages: Mapping[str, MsgType]) -> tuple[FieldPath, ...]:
-    """Every carried scalar leaf of ``msg``, in definition order, arrays
-    expanded element by element: what a callback copies.
-
-    ``messages`` maps type names to carried types (``time``/``duration`` need
-    not be in it).
-    """
-    root = msg if isinstance(msg, MsgType) else _get(messages, msg)
-    out: list[FieldPath] = []
-
-    def go(t: MsgType, prefix: tuple[str | int, ...]) -> None:
-        for f in t.fields:
-            indices: Iterable[tuple[str | int, ...]]
-            if f.array_len is None:
-                indices = [(f.name,)]
-            else:
-                indices = [(f.name, i) for i in range(f.array_len)]
-            for steps in indices:
-                if f.kind == "prim":
-                    out.append(FieldPath(prefix + steps, f.prim))
-                else:
-                    go(_get(messages, f.msg), prefix + steps)
-
-    go(root, ())
-    return tuple(out)
-
-
-def leaf_count(msg: str | MsgType, messages: Mapping[str, MsgType]) -> int:
-    """The number of carried scalar leaves of ``msg`` (without listing them)."""
-    memo: dict[str, int] = {}
-
-    def count(t: MsgType) -> int:
-        if t.name in memo:
-            return memo[t.name]
-        n = 0
-        for f in t.fields:
-            k = 1 if f.kind == "prim" else count(_get(messages, f.msg))
-            n += k * (f.array_len if f.array_len is not None else 1)
-        memo[t.name] = n
-        return n
-
-    return count(msg if isinstance(msg, MsgType) else _get(messages, msg))
-
-
-def _get(messages: Mapping[str, MsgType], name: str) -> MsgType:
-    if name in _PSEUDO and name not in messages:
-        return _PSEUDO[name]
-    return messages[name]
-
 
 # --------------------------------------------------------------------------
 # Original definitions (before dropping)
