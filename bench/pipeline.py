@@ -11,7 +11,7 @@ For each model (LandShark, and ``bench/synth.py`` nodes with N relations):
   memory (coqc on the per-node file, coqchk, the extraction's coqc,
   ocamlopt, the printer), and the phase times the pipeline reports
   (front end, coqc, checking, printing);
-- ``validation``: the printer validation (:mod:`pyrosgen.verify.validate_c`) on
+- ``validation``: the printer validation (:mod:`pyrosgen.verify.printer_validation`) on
   the printed files, timed on its own;
 - ``gcc``: ``gcc -O2 -c`` of the printed glue;
 - with ``--profile``: ``coqc -time`` on the per-node file, the slowest
@@ -112,7 +112,7 @@ def one_run(model: Path, out: Path, env: dict, *, profile: bool) -> dict:
     rec["glue_lines"] = glue.read_text().count("\n")
     # printer validation, timed on its own
     try:
-        from pyrosgen.verify.validate_c import validate_glue
+        from pyrosgen.verify.printer_validation import validate_glue
     except ImportError:
         rec["validation"] = None
     else:

@@ -11,7 +11,7 @@
 4. printing: the C texts and the AST dump are printed from ``the_program``
    through extraction (:meth:`pyrosgen.proof.coqdriver.CoqDriver.print_texts`),
    and the printed C is validated against the dump with pycparser
-   (:mod:`pyrosgen.verify.validate_c`); with ``wp=True`` (``--wp``), Frama-C WP
+   (:mod:`pyrosgen.verify.printer_validation`); with ``wp=True`` (``--wp``), Frama-C WP
    also proves ACSL contracts generated from the model on the printed C
    (:mod:`pyrosgen.verify.acsl`);
 5. writing: ``<node>.v``, ``<node>_types.h``, ``<node>_glue.c`` and
@@ -66,7 +66,7 @@ class GenerateResult:
     ddc: bool                          #: whether it is the node DDC theorem (T2)
     assumptions: str = CLOSED
     times: dict[str, float] = field(default_factory=dict)
-    validation: object = None          #: :class:`pyrosgen.verify.validate_c.ValidationReport`
+    validation: object = None          #: :class:`pyrosgen.verify.printer_validation.ValidationReport`
     wp: object = None                  #: :class:`pyrosgen.verify.acsl.WPResult` (``--wp`` only)
 
     @property
@@ -230,7 +230,7 @@ def generate_model(
         t0 = time.monotonic()
         out_h, out_c, out_s = stage / names.types_header, stage / names.glue_c, stage / names.sexp
         drv.print_texts(module, lib, (out_h, out_c, out_s))
-        from pyrosgen.verify.validate_c import validate_glue  # raises PrinterValidationError (a CoqError)
+        from pyrosgen.verify.printer_validation import validate_glue  # raises PrinterValidationError (a CoqError)
 
         validation = validate_glue(
             out_c.read_text(encoding="utf-8"), out_h.read_text(encoding="utf-8"),

@@ -4,7 +4,7 @@ The grammar is in ``coq/theories/clight/Printer.v`` (and ``coq/README.md``):
 ``(program (externs IDENT...) (main IDENT) item...)`` with struct, global
 variable, external function and internal function items.  This module
 parses it (:func:`parse_sexp`) and indexes its items
-(:func:`program_items`); the printer validation (:mod:`pyrosgen.verify.validate_c`)
+(:func:`program_items`); the printer validation (:mod:`pyrosgen.verify.printer_validation`)
 and the differential tests (:mod:`pyrosgen.verify.difftest`) read the dump through
 it.
 

@@ -1,4 +1,4 @@
-"""Printer validation (pyrosgen/verify/validate_c.py): the printed C is parsed with
+"""Printer validation (pyrosgen/verify/printer_validation.py): the printed C is parsed with
 pycparser and compared with the AST dump on every ``pyrosgen generate``.
 
 - it passes on the generated LandShark and multi nodes, and on the
@@ -23,7 +23,7 @@ import pytest
 from pyrosgen import cli
 from pyrosgen.proof.coqdriver import CoqDriver
 from pyrosgen.proof.sexp import parse_sexp, program_items
-from pyrosgen.verify.validate_c import PrinterValidationError, validate_glue, validate_program
+from pyrosgen.verify.printer_validation import PrinterValidationError, validate_glue, validate_program
 
 from support.validation import EXAMPLES, LANDSHARK, REPO
 
