@@ -41,11 +41,16 @@ class Diagnostic:
     col: int | None
     message: str
     severity: str = "error"
+    #: The rule of DESIGN.md section 4 that the problem breaks (``"4.6"``),
+    #: shown at the end of the message as ``[rule 4.6]``.
+    rule: str | None = None
 
     def __str__(self) -> str:
         # Messages quote user text with show(); escape() is a safety net so
         # that a rendered diagnostic is always one printable ASCII line.
         message = escape(self.message, keep_quotes=True)
+        if self.rule:
+            message += f" [rule {self.rule}]"
         if self.line is None:
             return f"{self.file}: {self.severity}: {message}"
         col = self.col if self.col is not None else 1

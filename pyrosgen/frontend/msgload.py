@@ -198,14 +198,14 @@ class MsgRegistry:
         files = sorted(folder.glob("*/msg/*.msg"))
         if len(files) + len(self.custom) > MAX_MSG_FILES:
             raise InvalidNodeModel(
-                [Diagnostic(str(folder), None, None, f"more than {MAX_MSG_FILES} .msg files")]
+                [Diagnostic(str(folder), None, None, f"more than {MAX_MSG_FILES} .msg files", rule="4.5")]
             )
         for f in files:
             self._add_msg_file(f)
         return len(files)
 
     def _diag(self, file, line, col, message) -> None:
-        self.diagnostics.append(Diagnostic(_display(file), line, col, message))
+        self.diagnostics.append(Diagnostic(_display(file), line, col, message, rule="4.5"))
 
     def _add_msg_file(self, path: Path) -> None:
         from pyrosgen.frontend.yamlsrc import read_text
@@ -219,7 +219,7 @@ class MsgRegistry:
             return
         name = f"{pkg}/{typ}"
         try:
-            text = read_text(path, what="message definition")
+            text = read_text(path, what="message definition", rule="4.5")
         except InvalidNodeModel as exc:
             for d in exc.diagnostics:
                 self._diag(path, d.line, d.col, d.message)
@@ -403,7 +403,7 @@ class MsgRegistry:
 
     def _report(self, raw: _RawMsg, f: _RawField, message: str) -> None:
         if raw.file is not None:
-            d = Diagnostic(raw.file, f.line, f.col, message)
+            d = Diagnostic(raw.file, f.line, f.col, message, rule="4.5")
             if d not in self.diagnostics:
                 self.diagnostics.append(d)
 

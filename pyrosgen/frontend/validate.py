@@ -93,6 +93,26 @@ class _Rel:
     ok: bool = True
 
 
+#: The rule of DESIGN.md section 4 that governs each section of the model,
+#: by the prefix that messages about it start with.
+_SECTION_RULES = (
+    ("the node model", "4.1"),
+    ("node", "4.2"),
+    ("type of controller", "4.3"),
+    ("controller", "4.3"),
+    ("topics", "4.4"),
+    ("msg_paths", "4.5"),
+    ("relations", "4.7"),
+)
+
+
+def _rule_of(message: str) -> str | None:
+    for prefix, rule in _SECTION_RULES:
+        if message.startswith(prefix):
+            return rule
+    return None
+
+
 @dataclass
 class _Checker:
     file: str
@@ -103,13 +123,21 @@ class _Checker:
 
     # -- reporting ----------------------------------------------------------
 
-    def err(self, where: YNode | tuple[int, int] | None, message: str) -> None:
+    def err(self, where: YNode | tuple[int, int] | None, message: str, rule: str | None = None) -> None:
+        """Report ``message`` at ``where``, citing ``rule`` (DESIGN.md
+        section 4), by default the rule of the model section the message
+        names (:func:`_rule_of`)."""
+        rule = rule or _rule_of(message)
         if where is None:
-            self.diags.append(Diagnostic(self.file, None, None, message))
+            self.diags.append(Diagnostic(self.file, None, None, message, rule=rule))
         elif isinstance(where, tuple):
-            self.diags.append(Diagnostic(self.file, where[0], where[1], message))
+            self.diags.append(Diagnostic(self.file, where[0], where[1], message, rule=rule))
         else:
-            self.diags.append(Diagnostic(self.file, where.line, where.col, message))
+            self.diags.append(Diagnostic(self.file, where.line, where.col, message, rule=rule))
+
+    def err_rule(self, rule: str, where: YNode | tuple[int, int] | None, message: str) -> None:
+        """:meth:`err` citing a given rule."""
+        self.err(where, message, rule)
 
     # -- structure helpers ----------------------------------------------------
 
@@ -168,7 +196,7 @@ class _Checker:
             return None
         problem = identifier_problem(name, global_scope=global_scope)
         if problem:
-            self.err(node, f"{what} {show(name)} cannot be used: {problem}")
+            self.err_rule("4.9", node, f"{what} {show(name)} cannot be used: {problem}")
             return None
         return name
 
@@ -199,7 +227,7 @@ class _Checker:
             fname = knode.text
             problem = identifier_problem(fname)
             if problem:
-                self.err(knode, f"{what}.fields: field name {show(fname)} cannot be used: {problem}")
+                self.err_rule("4.9", knode, f"{what}.fields: field name {show(fname)} cannot be used: {problem}")
                 ok = False
                 continue
             prim = self.prim_type(vnode, f"{what}.fields.{fname}")
@@ -217,11 +245,11 @@ class _Checker:
             return t
         expected = f"expected one of {', '.join(PRIMITIVES)}"
         if t in ROS1_ALIASES:
-            self.err(node, f"{what}: type {show(t)} is a deprecated ROS alias; write {ROS1_ALIASES[t]}")
+            self.err_rule("4.3", node, f"{what}: type {show(t)} is a deprecated ROS alias; write {ROS1_ALIASES[t]}")
         elif t in ("string", "time", "duration") or "/" in t or "[" in t:
-            self.err(node, f"{what}: type {show(t)} is not allowed: controller fields have primitive types ({expected})")
+            self.err_rule("4.3", node, f"{what}: type {show(t)} is not allowed: controller fields have primitive types ({expected})")
         else:
-            self.err(node, f"{what}: unknown type {show(t)}{did_you_mean(t, PRIMITIVES)}; {expected}")
+            self.err_rule("4.3", node, f"{what}: unknown type {show(t)}{did_you_mean(t, PRIMITIVES)}; {expected}")
         return None
 
     def controller_section(self, m: YMap | None):
@@ -302,11 +330,11 @@ class _Checker:
             if name is not None:
                 problem = topic_name_problem(name)
                 if problem:
-                    self.err(name_node, f"{what}.name: topic name {show(name)} is not a valid ROS topic name: {problem}")
+                    self.err_rule("4.4", name_node, f"{what}.name: topic name {show(name)} is not a valid ROS topic name: {problem}")
                     usable = False
                 if name in by_name:
                     first = by_name[name]
-                    self.err(name_node, f"{what}.name: topic {show(name)} is declared twice (first at line {first.name_node.line})")
+                    self.err_rule("4.4", name_node, f"{what}.name: topic {show(name)} is declared twice (first at line {first.name_node.line})")
                     continue
             d = _TopicDecl(name if name is not None else f"<topics[{i}]>", m, name_node or m)
             if name is not None:
@@ -332,14 +360,15 @@ class _Checker:
                 if t in registry.failed:
                     pass  # its .msg file could not be read: reported there
                 elif problem:
-                    self.err(tnode, f"{what}.type: {problem}")
+                    self.err_rule("4.5", tnode, f"{what}.type: {problem}")
                 else:
                     d.msg_type = t
                     carried = registry.carried(t)
                     if registry.is_broken(t):
                         pass  # reported in the .msg file
                     elif carried is None:
-                        self.err(
+                        self.err_rule(
+                            "4.5",
                             tnode,
                             f"{what}.type: message type {t} carries no field "
                             "(strings and variable-length arrays are not carried by the glue)",
@@ -347,7 +376,8 @@ class _Checker:
                     else:
                         n = leaf_count(carried, registry.messages())
                         if n > MAX_LEAVES:
-                            self.err(
+                            self.err_rule(
+                                "4.5",
                                 tnode,
                                 f"{what}.type: message type {t} has {n} scalar leaves; "
                                 f"the glue carries at most {MAX_LEAVES} per message",
@@ -436,7 +466,8 @@ class _Checker:
                         hint = f" ({show(cname)} is a controller {otherkind})"
                     else:
                         hint = did_you_mean(cname, list(ctrl))
-                    self.err(
+                    self.err_rule(
+                        "4.7",
                         cnode,
                         f"{w}.{kind}: {show(cname)} is not a controller {kind}{hint}; "
                         f"controller {kind}s are {_list(ctrl)}",
@@ -456,7 +487,7 @@ class _Checker:
                 try:
                     rel.path = registry.walk_path(rel.topic.msg_type, ptext)
                 except PathError as exc:
-                    self.err(pnode, f"{w}.field: {exc.args[0]} (topic {show(rel.topic.name)}, {rel.topic.msg_type})")
+                    self.err_rule("4.6", pnode, f"{w}.field: {exc.args[0]} (topic {show(rel.topic.name)}, {rel.topic.msg_type})")
                     rel.ok = False
             # types
             if rel.path is not None and rel.ctrl_field is not None:
@@ -474,7 +505,7 @@ class _Checker:
                             f"{cprim} but field {show(str(rel.path))} of topic "
                             f"{show(rel.topic.name)} is {rel.path.prim} (relations never convert)"
                         )
-                    self.err(m, msg)
+                    self.err_rule("4.7", m, msg)
                     rel.ok = False
         return out
 
@@ -524,7 +555,8 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
             continue
         if r.ctrl_field in fed:
             first = fed[r.ctrl_field]
-            ck.err(
+            ck.err_rule(
+                "4.8",
                 r.ctrl_node,
                 f"controller input {show(r.ctrl_field)} is fed twice (first by the relation at line {first.node.line})",
             )
@@ -534,7 +566,7 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
     if ufields is not None and ck.inputs_listed:
         for knode, f in ufields:
             if f.name not in fed:
-                ck.err(knode, f"controller input {show(f.name)} is not fed by any input relation")
+                ck.err_rule("4.8", knode, f"controller input {show(f.name)} is not fed by any input relation")
 
     # A published field is fed at most once.
     written: dict[tuple[str, str], _Rel] = {}
@@ -544,7 +576,8 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
         key = (r.topic.name, str(r.path))
         if key in written:
             first = written[key]
-            ck.err(
+            ck.err_rule(
+                "4.8",
                 r.path_node,
                 f"field {show(str(r.path))} of topic {show(r.topic.name)} is fed twice "
                 f"(first by the relation at line {first.node.line})",
@@ -608,10 +641,10 @@ def check_c_names(ck: _Checker, decls, ctrl_name, cm, uvar, yvar, registry: MsgR
     def claim(name: str, origin: str, where) -> None:
         problem = identifier_problem(name, global_scope=True)
         if problem:
-            ck.err(where, f"the C name {show(name)} derived from {origin} cannot be used: {problem}")
+            ck.err_rule("4.9", where, f"the C name {show(name)} derived from {origin} cannot be used: {problem}")
             return
         if name in seen:
-            ck.err(where, f"the C name {show(name)} derived from {origin} collides with the one derived from {seen[name]}")
+            ck.err_rule("4.9", where, f"the C name {show(name)} derived from {origin} collides with the one derived from {seen[name]}")
             return
         seen[name] = origin
 
@@ -635,7 +668,8 @@ def check_c_names(ck: _Checker, decls, ctrl_name, cm, uvar, yvar, registry: MsgR
             continue
         c = topic_c_name(d.name)
         if c in c_names:
-            ck.err(
+            ck.err_rule(
+                "4.9",
                 d.name_node,
                 f"topics {show(c_names[c].name)} (line {c_names[c].name_node.line}) and "
                 f"{show(d.name)} have the same C name {show(c)}",
@@ -644,14 +678,15 @@ def check_c_names(ck: _Checker, decls, ctrl_name, cm, uvar, yvar, registry: MsgR
         c_names[c] = d
         problem = identifier_problem(c, global_scope=True)
         if problem and not problem.startswith("it is longer"):
-            ck.err(d.name_node, f"topic {show(d.name)}: its C name {show(c)} cannot be used: {problem}")
+            ck.err_rule("4.9", d.name_node, f"topic {show(d.name)}: its C name {show(c)} cannot be used: {problem}")
             continue
         longest = max(
             (f"ros_subscribe_{c}", f"ros_advertise_{c}", f"output_glue_{c}", f"{c}_callback"),
             key=len,
         )
         if len(longest) > MAX_NAME_LEN:
-            ck.err(
+            ck.err_rule(
+                "4.9",
                 d.name_node,
                 f"topic {show(d.name)}: the derived C name {show(longest)} is longer than "
                 f"{MAX_NAME_LEN} characters; use a shorter topic name",

@@ -204,7 +204,7 @@ def _line_col_of_char(text: str, index: int) -> tuple[int, int]:
     return line, index - (before.rfind("\n") + 1) + 1
 
 
-def read_text(path: str | Path, what: str = "file", limit: int = MAX_FILE_SIZE) -> str:
+def read_text(path: str | Path, what: str = "file", limit: int = MAX_FILE_SIZE, rule: str = "4.1") -> str:
     """Read a UTF-8 text file of at most ``limit`` bytes.
 
     Raises :class:`InvalidNodeModel` (one diagnostic) when the file cannot be
@@ -213,7 +213,7 @@ def read_text(path: str | Path, what: str = "file", limit: int = MAX_FILE_SIZE) 
     name = str(path)
 
     def fail(message: str, line: int | None = None, col: int | None = None):
-        raise InvalidNodeModel([Diagnostic(name, line, col, message)])
+        raise InvalidNodeModel([Diagnostic(name, line, col, message, rule=rule)])
 
     try:
         with open(path, "rb") as fh:
@@ -233,14 +233,14 @@ def read_text(path: str | Path, what: str = "file", limit: int = MAX_FILE_SIZE) 
         fail(f"cannot read {what}: invalid file name")
     if len(data) > limit:
         fail(f"{what} too large (more than {limit} bytes)")
-    return decode_text(data, name, what)
+    return decode_text(data, name, what, rule)
 
 
-def decode_text(data: bytes, name: str, what: str = "file") -> str:
+def decode_text(data: bytes, name: str, what: str = "file", rule: str = "4.1") -> str:
     """Decode UTF-8 bytes, refusing NUL bytes, other encodings and binary data."""
 
     def fail(message: str, line: int | None = None, col: int | None = None):
-        raise InvalidNodeModel([Diagnostic(name, line, col, message)])
+        raise InvalidNodeModel([Diagnostic(name, line, col, message, rule=rule)])
 
     if data.startswith((b"\xff\xfe", b"\xfe\xff")):
         fail(f"{what} is not UTF-8 (it starts with a UTF-16 byte-order mark)", 1, 1)
@@ -353,23 +353,23 @@ def parse_yaml(text: str, name: str) -> YamlDoc:
         finally:
             loader.dispose()
     except _Fatal as exc:
-        raise InvalidNodeModel([Diagnostic(name, exc.line, exc.col, exc.message)]) from None
+        raise InvalidNodeModel([Diagnostic(name, exc.line, exc.col, exc.message, rule="4.1")]) from None
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line, col = _mark_pos(mark)
         raise InvalidNodeModel(
-            [Diagnostic(name, line, col, _yaml_error_message(exc))]
+            [Diagnostic(name, line, col, _yaml_error_message(exc), rule="4.1")]
         ) from None
     except yaml.reader.ReaderError as exc:
         line, col = _line_col_of_char(text, exc.position)
         raise InvalidNodeModel(
-            [Diagnostic(name, line, col, f"unreadable character: {' '.join(str(exc).split())}")]
+            [Diagnostic(name, line, col, f"unreadable character: {' '.join(str(exc).split())}", rule="4.1")]
         ) from None
     except yaml.YAMLError as exc:
-        raise InvalidNodeModel([Diagnostic(name, 1, 1, _yaml_error_message(exc))]) from None
+        raise InvalidNodeModel([Diagnostic(name, 1, 1, _yaml_error_message(exc), rule="4.1")]) from None
     except RecursionError:
         raise InvalidNodeModel(
-            [Diagnostic(name, 1, 1, "YAML nesting too deep")]
+            [Diagnostic(name, 1, 1, "YAML nesting too deep", rule="4.1")]
         ) from None
 
     if node is None:
@@ -381,6 +381,7 @@ def parse_yaml(text: str, name: str) -> YamlDoc:
                     1,
                     "empty document: a node model is a mapping with the keys "
                     "node, controller, topics and relations",
+                    rule="4.1",
                 )
             ]
         )
@@ -397,6 +398,7 @@ def parse_yaml(text: str, name: str) -> YamlDoc:
                     root.line,
                     root.col,
                     f"the top level of a node model must be a mapping, not {root.describe()}",
+                    rule="4.1",
                 )
             ]
         )
@@ -418,7 +420,7 @@ class _Walker:
 
     def error(self, node: yaml.Node, message: str) -> None:
         line, col = _mark_pos(node.start_mark)
-        self.diagnostics.append(Diagnostic(self.name, line, col, message))
+        self.diagnostics.append(Diagnostic(self.name, line, col, message, rule="4.1"))
 
     def walk(self, node: yaml.Node, owner: tuple[int, int] | None = None) -> YNode:
         # Depth was bounded by the composer, so recursion here is shallow.

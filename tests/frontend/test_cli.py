@@ -72,13 +72,13 @@ def test_missing_file(capsys, tmp_path):
     code, out, err = run(capsys, "check", str(missing))
     assert code == 1
     assert out == ""
-    assert err == f"{missing}: error: cannot read file: No such file or directory\n"
+    assert err == f"{missing}: error: cannot read file: No such file or directory [rule 4.1]\n"
 
 
 def test_directory(capsys, tmp_path):
     code, out, err = run(capsys, "check", str(tmp_path))
     assert code == 1
-    assert err == f"{tmp_path}: error: cannot read file: it is a directory\n"
+    assert err == f"{tmp_path}: error: cannot read file: it is a directory [rule 4.1]\n"
 
 
 def test_usage_errors_exit_1(capsys):
@@ -172,7 +172,7 @@ def test_python_m_pyrosgen_ko_relative_paths():
     # The .msg file is named relative to the working directory, like the model.
     assert p.stderr == (
         "tests/frontend/badmsgs/cycle/bad_msgs/msg/B.msg:2:1: error: message type "
-        "bad_msgs/B contains itself (bad_msgs/A -> bad_msgs/B -> bad_msgs/A)\n"
+        "bad_msgs/B contains itself (bad_msgs/A -> bad_msgs/B -> bad_msgs/A) [rule 4.5]\n"
     )
 
 
@@ -226,4 +226,4 @@ def test_model_from_a_pipe():
         timeout=120,
     )
     assert p.returncode == 1
-    assert p.stderr == "/dev/stdin: error: file too large (more than 1048576 bytes)\n"
+    assert p.stderr == "/dev/stdin: error: file too large (more than 1048576 bytes) [rule 4.1]\n"

@@ -3,11 +3,13 @@ diagnostics its ``# expect:`` comments announce (line and message fragment)."""
 
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from pyrosgen import InvalidNodeModel, NodeModel, load_model
 
-from support.frontend import LANDSHARK, MODELS, expectations
+from support.frontend import LANDSHARK, MODELS, REPO, expectations
 
 OK = sorted(MODELS.glob("ok_*.yaml")) + [LANDSHARK]
 KO = sorted(MODELS.glob("ko_*.yaml"))
@@ -47,3 +49,30 @@ def test_ko_model_fails_as_expected(path):
     for d in diags:
         assert "\n" not in str(d)
         assert d.message
+
+
+_RULES = set(re.findall(r"^- \*\*(4\.\d+) ", (REPO / "DESIGN.md").read_text(), flags=re.M))
+
+
+@pytest.mark.parametrize("path", KO, ids=lambda p: p.name)
+def test_ko_diagnostics_cite_their_rule(path):
+    """Every diagnostic names the rule of DESIGN.md section 4 it enforces,
+    and the rule exists; the rendered line ends with it."""
+    with pytest.raises(InvalidNodeModel) as info:
+        load_model(path)
+    for d in info.value.diagnostics:
+        assert d.rule in _RULES, f"{d} cites no rule of DESIGN.md section 4"
+        assert str(d).endswith(f" [rule {d.rule}]")
+
+
+@pytest.mark.parametrize("path, rule", [
+    ("ko_period_zero.yaml", "4.2"),
+    ("ko_rel_type_mismatch_in.yaml", "4.7"),
+    ("ko_rel_input_not_fed.yaml", "4.8"),
+])
+def test_some_rules_by_name(path, rule):
+    if not (MODELS / path).is_file():
+        pytest.fail(f"{path} is gone from the corpus: pick another example of rule {rule}")
+    with pytest.raises(InvalidNodeModel) as info:
+        load_model(MODELS / path)
+    assert rule in {d.rule for d in info.value.diagnostics}
