@@ -165,3 +165,36 @@ def test_the_checks_have_teeth(text, kind):
         assert m and not (REPO / m.group(1)).exists()
     else:
         assert OUTSIDE_RE.search(text)
+
+
+def _layout_rows(marker: str) -> list[tuple[str, set[str]]]:
+    """Rows ``| `folder/` | `a`, `b` | ... |`` of the README table that
+    follows the line starting with ``marker``."""
+    text = (REPO / "README.md").read_text()
+    start = text.index(marker)
+    rows = []
+    for line in text[start:].splitlines()[1:]:
+        if rows and not line.startswith("|"):
+            break
+        m = re.match(r"\| (`[^`]+`|\(top\)) \| ([^|]+) \|", line)
+        if m and not line.startswith("|---"):
+            rows.append((m.group(1).strip("`"), set(re.findall(r"`([A-Za-z_]+)`", m.group(2)))))
+    return rows
+
+
+@pytest.mark.parametrize("marker, root, suffix", [
+    ("Python side (`pyrosgen/`", REPO / "pyrosgen", ".py"),
+    ("The library (`coq/theories`", REPO / "coq" / "theories", ".v"),
+])
+def test_readme_layout_matches_the_tree(marker, root, suffix):
+    """The README's layout tables list exactly the modules of each folder."""
+    rows = _layout_rows(marker)
+    assert rows, f"no layout table after {marker!r}"
+    for folder, listed in rows:
+        where = root if folder == "(top)" else root / folder
+        actual = {p.stem for p in where.glob(f"*{suffix}") if p.stem not in ("__init__", "__main__")}
+        assert listed == actual, f"README {folder}: listed {sorted(listed)}, tree has {sorted(actual)}"
+    folders = {f.rstrip("/") for f, _ in rows if f != "(top)"}
+    actual_folders = {p.name for p in root.iterdir() if p.is_dir() and not p.name.startswith(("_", "."))
+                      and p.name != "templates"}
+    assert folders == actual_folders
