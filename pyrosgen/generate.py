@@ -36,6 +36,7 @@ from pathlib import Path
 from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
 from pyrosgen.proof.coqmodel import node_file_names, render_node_file
 from pyrosgen.errors import ToolFailure, UserError
+from pyrosgen.proof.modeltext import compare_model_texts, model_text
 from pyrosgen.verify.certificate import render_certificate
 from pyrosgen.frontend.model import NodeModel
 from pyrosgen.frontend.validate import load_model
@@ -229,7 +230,11 @@ def generate_model(
         say(f"[4/{STEPS}] printing: extraction, ocamlopt, run; validation against the AST dump")
         t0 = time.monotonic()
         out_h, out_c, out_s = stage / names.types_header, stage / names.glue_c, stage / names.sexp
-        drv.print_texts(module, lib, (out_h, out_c, out_s))
+        out_m = work / f"{model.name}.model"
+        drv.print_texts(module, lib, (out_h, out_c, out_s, out_m))
+        # The model the theorems are about is the model of the YAML file
+        # (raises ModelMismatch, exit 2, naming the differing items).
+        compare_model_texts(model_text(model), out_m.read_text(encoding="utf-8"), vfile=names.v_file)
         from pyrosgen.verify.printer_validation import validate_glue  # raises PrinterValidationError (a CoqError)
 
         validation = validate_glue(

@@ -182,9 +182,10 @@ def coq_messages(text: str, display: Callable[[str], str] = lambda f: f) -> list
 _DRIVER_ML = """\
 (* Driver of pyrosgen's printing path (pyrosgen/proof/coqdriver.py, after
    coq/extraction/print_program.sh).  [Job] is the OCaml extraction of the
-   per-node module's [types_h], [glue_c] and [ast_sexp]: ROSGen.Printer
-   applied to [the_program], as native OCaml strings
-   (ExtrOcamlNativeString).  This driver only writes them. *)
+   per-node module's [types_h], [glue_c] and [ast_sexp] (ROSGen.Printer
+   applied to [the_program]) and [model_text] (ROSGen.ModelText applied to
+   [model]), as native OCaml strings (ExtrOcamlNativeString).  This
+   driver only writes them. *)
 
 let write path text =
   let oc = open_out_bin path in
@@ -197,8 +198,13 @@ let () =
       write out_h (Job.types_h ());
       write out_c (Job.glue_c ());
       write out_sexp (Job.ast_sexp ())
+  | [| _; out_h; out_c; out_sexp; out_model |] ->
+      write out_h (Job.types_h ());
+      write out_c (Job.glue_c ());
+      write out_sexp (Job.ast_sexp ());
+      write out_model (Job.model_text ())
   | _ ->
-      prerr_endline "usage: print_job OUT.h OUT.c OUT.sexp";
+      prerr_endline "usage: print_job OUT.h OUT.c OUT.sexp [OUT.model]";
       exit 2
 """
 
@@ -400,10 +406,11 @@ class CoqDriver:
             )
         return res
 
-    def print_texts(self, module: str, lib: tuple[Path, str], outputs: tuple[Path, Path, Path]) -> dict[str, float]:
+    def print_texts(self, module: str, lib: tuple[Path, str], outputs: tuple[Path, ...]) -> dict[str, float]:
         """Print the compiled per-node ``module`` through extraction: write
-        its ``types_h``, ``glue_c`` and ``ast_sexp`` texts to ``outputs``.
-        Returns the time of each step."""
+        its ``types_h``, ``glue_c`` and ``ast_sexp`` texts, and with a fourth
+        output its ``model_text`` (the model its theorem is about), to
+        ``outputs``.  Returns the time of each step."""
         work = lib[0]
         times: dict[str, float] = {}
         if (work / "job.ml").is_file() and (work / "job.mli").is_file():
@@ -438,7 +445,7 @@ class CoqDriver:
             f"   texts of {module}, after coq/extraction/print_program.sh. *)\n"
             "From Coq Require Import extraction.ExtrOcamlBasic extraction.ExtrOcamlNativeString.\n"
             f"Require {module}.\n"
-            f'Extraction "job.ml" {module}.types_h {module}.glue_c {module}.ast_sexp.\n',
+            f'Extraction "job.ml" {module}.types_h {module}.glue_c {module}.ast_sexp {module}.model_text.\n',
             encoding="ascii",
         )
         res = self.run([self.tool("coqc"), "-q", *self.load_path([lib]), "Extract.v"], work)
