@@ -69,6 +69,8 @@ class GenerateResult:
     times: dict[str, float] = field(default_factory=dict)
     validation: object = None          #: :class:`pyrosgen.verify.printer_validation.ValidationReport`
     wp: object = None                  #: :class:`pyrosgen.verify.acsl.WPResult` (``--wp`` only)
+    #: The model the theorems are about, as Coq printed it (``ModelText``).
+    proved_model: str = ""
 
     @property
     def written(self) -> list[Path]:
@@ -234,7 +236,8 @@ def generate_model(
         drv.print_texts(module, lib, (out_h, out_c, out_s, out_m))
         # The model the theorems are about is the model of the YAML file
         # (raises ModelMismatch, exit 2, naming the differing items).
-        compare_model_texts(model_text(model), out_m.read_text(encoding="utf-8"), vfile=names.v_file)
+        proved_model = out_m.read_text(encoding="utf-8")
+        compare_model_texts(model_text(model), proved_model, vfile=names.v_file)
         from pyrosgen.verify.printer_validation import validate_glue  # raises PrinterValidationError (a CoqError)
 
         validation = validate_glue(
@@ -283,4 +286,5 @@ def generate_model(
         times=times,
         validation=validation,
         wp=wp_result,
+        proved_model=proved_model,
     )

@@ -56,6 +56,7 @@ from pyrosgen import console
 from pyrosgen.ros import layout
 from pyrosgen.ros import wrapper as ros
 from pyrosgen.errors import Context, DetailedFailure, UserError
+from pyrosgen.verify.wrapper_check import check_wrapper
 from pyrosgen.generate import GenerateResult, OutputDirError, generate_model
 from pyrosgen.frontend.model import NodeModel
 from pyrosgen.frontend.validate import load_model
@@ -416,6 +417,9 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         say(f"[3/{STEPS}] wrapper: C API over roscpp, gencpp, catkin package")
         t = time.monotonic()
         for fname, text in ros.render_wrapper(model).items():
+            if fname == names.api_source:
+                # The node registers and sleeps as the proved model says.
+                check_wrapper(text, gen.proved_model, wrapper_name=fname)
             (stage / fname).write_text(text, encoding="ascii")
         include = stage / "include"
         try:

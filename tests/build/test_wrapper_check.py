@@ -1,0 +1,76 @@
+"""The running node is the proved one: the rendered C++ wrapper must
+register exactly the proved model's topics (names, message structs, queue
+sizes) and sleep with its period; ``pyrosgen build`` refuses (exit 2,
+nothing written) a wrapper that does otherwise."""
+
+from __future__ import annotations
+
+import pytest
+
+import pyrosgen.ros.wrapper as wrapper
+from pyrosgen import cli
+from pyrosgen.frontend.validate import load_model
+from pyrosgen.proof.modeltext import model_text
+from pyrosgen.verify.wrapper_check import WrapperMismatch, check_wrapper
+
+from .conftest import LANDSHARK, LANDSHARK_CTL, MULTI
+
+MUTATIONS = {
+    "subscribe queue q+1": ('"/landshark/gps_velocity", 1, f);', '"/landshark/gps_velocity", 2, f);'),
+    "advertise queue q+1": ('ops.init<geometry_msgs::TwistStamped>("/landshark_control/base_velocity", 1);',
+                            'ops.init<geometry_msgs::TwistStamped>("/landshark_control/base_velocity", 2);'),
+    "wrong topic name": ('"/landshark/right_wheel_velocity", 1, f);', '"/landshark/right_wheel", 1, f);'),
+    "wrong period": ("ros::Rate(ros::Duration(0.02))", "ros::Rate(ros::Duration(0.025))"),
+    "extra subscription": ("    std::lock_guard<std::mutex> lock(g_subs_mutex);\n    g_sub_landshark_gps_velocity = s;",
+                           "    std::lock_guard<std::mutex> lock(g_subs_mutex);\n    g_sub_landshark_gps_velocity = s;\n"
+                           '    g_nh->subscribe<geometry_msgs::TwistStamped>("/other", 1, f);'),
+}
+
+
+def _landshark():
+    m = load_model(LANDSHARK)
+    return m, wrapper.render_wrapper(m)[wrapper.wrapper_files(m).api_source]
+
+
+@pytest.mark.parametrize("path", [LANDSHARK, MULTI], ids=["landshark", "multi"])
+def test_rendered_wrappers_pass(path):
+    m = load_model(path)
+    check_wrapper(wrapper.render_wrapper(m)[wrapper.wrapper_files(m).api_source], model_text(m), wrapper_name="w")
+
+
+@pytest.mark.parametrize("name", sorted(MUTATIONS))
+def test_mutated_wrapper_is_refused(name):
+    m, cpp = _landshark()
+    old, new = MUTATIONS[name]
+    assert old in cpp, f"the wrapper template changed shape: {old!r}"
+    with pytest.raises(WrapperMismatch) as info:
+        check_wrapper(cpp.replace(old, new, 1), model_text(m), wrapper_name="w.cpp")
+    assert "does not implement the proved model's interface" in info.value.summary
+    assert info.value.lines
+
+
+def test_proved_model_differs_from_wrapper():
+    """Same wrapper, another proved model (queue 3 on a topic): refused."""
+    m, cpp = _landshark()
+    proved = model_text(m).replace("landshark_gps_velocity subscribe geometry_msgs_TwistStamped 1",
+                                   "landshark_gps_velocity subscribe geometry_msgs_TwistStamped 3")
+    with pytest.raises(WrapperMismatch):
+        check_wrapper(cpp, proved, wrapper_name="w.cpp")
+
+
+def test_build_refuses_a_wrapper_that_is_not_the_proved_node(monkeypatch, capsys, tmp_path):
+    original = wrapper.render_wrapper
+
+    def mutated(model):
+        out = original(model)
+        src = wrapper.wrapper_files(model).api_source
+        out[src] = out[src].replace("ros::Rate(ros::Duration(0.02))", "ros::Rate(ros::Duration(0.01))")
+        return out
+
+    monkeypatch.setattr(wrapper, "render_wrapper", mutated)
+    out = tmp_path / "out"
+    code = cli.main(["build", str(LANDSHARK), "--controller", str(LANDSHARK_CTL), "-o", str(out), "-q"])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert "does not implement the proved model's interface" in err and "proved period is 20 ms" in err
+    assert not out.exists()
