@@ -199,7 +199,7 @@ Proof. vm_compute. split; reflexivity. Qed.
 (** [bool] into a [uint8] input: the same C type, but not the same model
     type.  The same model with a [bool] input is accepted. *)
 Definition std_msgs_Bool : msgdef := mkmsgdef "std_msgs_Bool" [("data", FTprim Pbool)].
-Definition estop : topic := mktopic "/landshark/estop" "landshark_estop" Subscribe "std_msgs_Bool" 1.
+Definition estop : topic := mktopic "/landshark/estop" "landshark_estop" "std_msgs/Bool" Subscribe "std_msgs_Bool" 1.
 
 Definition with_estop (q : prim) : node_model :=
   with_inrels
@@ -237,7 +237,7 @@ Definition geometry_msgs_TwistWithCovariance : msgdef :=
   mkmsgdef "geometry_msgs_TwistWithCovariance"
     [("twist", FTmsg "geometry_msgs_Twist"); ("covariance", FTarray (FTprim Pfloat64) 36)].
 Definition odom : topic :=
-  mktopic "/landshark/odom_twist" "landshark_odom_twist" Subscribe "geometry_msgs_TwistWithCovariance" 2.
+  mktopic "/landshark/odom_twist" "landshark_odom_twist" "geometry_msgs/TwistWithCovariance" Subscribe "geometry_msgs_TwistWithCovariance" 2.
 
 Definition with_covariance (i : Z) : node_model :=
   with_inrels
@@ -304,7 +304,7 @@ Proof. vm_compute. split; reflexivity. Qed.
 Example refuse_bad_chars:
   refused (with_topics_msgs landshark
              [left_wheel; right_wheel; gps;
-              mktopic "/landshark_control/base_velocity" "base-velocity" Publish
+              mktopic "/landshark_control/base_velocity" "base-velocity" "geometry_msgs/TwistStamped" Publish
                       "geometry_msgs_TwistStamped" 1] landshark_msgs)
     "Generator: name is not a valid C identifier: 'ros_advertise_base-velocity'".
 Proof. vm_compute. split; reflexivity. Qed.
@@ -313,7 +313,7 @@ Proof. vm_compute. split; reflexivity. Qed.
 Example refuse_duplicate_cname:
   refused (with_topics_msgs landshark
              [left_wheel; right_wheel;
-              mktopic "/landshark/gps" "landshark_left_wheel_velocity" Subscribe
+              mktopic "/landshark/gps" "landshark_left_wheel_velocity" "geometry_msgs/TwistStamped" Subscribe
                       "geometry_msgs_TwistStamped" 1; base] landshark_msgs)
     "Generator: two topics with the C name 'landshark_left_wheel_velocity'".
 Proof. vm_compute. split; reflexivity. Qed.
@@ -355,7 +355,7 @@ Proof. vm_compute. reflexivity. Qed.
 Example refuse_queue_0:
   refused (with_topics_msgs landshark
              [left_wheel; right_wheel; gps;
-              mktopic "/landshark_control/base_velocity" "landshark_control_base_velocity" Publish
+              mktopic "/landshark_control/base_velocity" "landshark_control_base_velocity" "geometry_msgs/TwistStamped" Publish
                       "geometry_msgs_TwistStamped" 0] landshark_msgs)
     "Generator: queue size must be at least 1 for topic '/landshark_control/base_velocity'".
 Proof. vm_compute. split; reflexivity. Qed.

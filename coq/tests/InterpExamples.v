@@ -159,7 +159,8 @@ Example break_result: run_and_read prog_break quiet_ctx 0 ["g"] = Some (Vint 5, 
 Proof. vm_compute. reflexivity. Qed.
 
 (** [int main(void) { int ok; for (;;) { ok = ros_ok(); if (ok) ; else break;
-       ros_rate_sleep(); } return 0; }]: one [Ecycle] per [true] answer. *)
+       ros_rate_sleep(); } return 0; }], with a period of 10 ms: one
+    [Esleep 10] per [true] answer. *)
 Definition tvoidfun := Tfunction [] Tvoid.
 Definition call0 (f : ident) := Scall None (Evar f tvoidfun) [].
 
@@ -167,7 +168,7 @@ Definition prog_okloop : program := {|
   prog_types := [];
   prog_defs := [
     ("ros_ok", Gfun (External EF_ros_ok [] tint));
-    ("ros_rate_sleep", Gfun (External EF_ros_rate_sleep [] Tvoid));
+    ("ros_rate_sleep", Gfun (External (EF_ros_rate_sleep 10) [] Tvoid));
     ("main", fn tint [] [] [("ok", tint)] (seq [
        Sloop (seq [Scall (Some "ok") (Evar "ros_ok" (Tfunction [] tint)) [];
                    Sifthenelse (Etempvar "ok" tint) Sskip Sbreak;
@@ -175,7 +176,7 @@ Definition prog_okloop : program := {|
        ret0]))];
   prog_main := "main" |}.
 
-Example okloop_4: run_trace 100 prog_okloop quiet_ctx 4 = Some [Ecycle; Ecycle; Ecycle; Ecycle].
+Example okloop_4: run_trace 100 prog_okloop quiet_ctx 4 = Some [Esleep 10; Esleep 10; Esleep 10; Esleep 10].
 Proof. vm_compute. reflexivity. Qed.
 
 Example okloop_0: run_trace 100 prog_okloop quiet_ctx 0 = Some [].
@@ -264,7 +265,7 @@ Definition node (queue : nat) : program := {|
     ("ros_init", Gfun (External EF_ros_init [] Tvoid));
     ("ros_ok", Gfun (External EF_ros_ok [] tint));
     ("ros_spinOnce", Gfun (External EF_ros_spinOnce [] Tvoid));
-    ("ros_rate_sleep", Gfun (External EF_ros_rate_sleep [] Tvoid));
+    ("ros_rate_sleep", Gfun (External (EF_ros_rate_sleep 10) [] Tvoid));
     ("ros_subscribe_sensor",
        Gfun (External (EF_ros_subscribe "sensor" "In" queue) [tptr sensor_cb_type] Tvoid));
     ("ros_advertise_cmd", Gfun (External (EF_ros_advertise "cmd" "Out" 1) [] Tvoid));
@@ -339,22 +340,54 @@ Definition U (in1 : Z) : mval := MVstruct [("In1", sc (Vint in1)); ("In2", sc (V
 Definition Y (out1 : Z) : mval := MVstruct [("Out1", sc (Vint out1))].
 Definition Out (cmd : Z) : mval := MVstruct [("cmd", sc (Vint cmd))].
 
+(** Before the loop: the controller's initialisation, the subscription
+    (with its queue size) and the advertisement. *)
+Definition node_start (queue : nat) : trace :=
+  [Einit; Esubscribe "sensor" "In" queue; Eadvertise "cmd" "Out" 1].
+
 (** Three cycles; in the second, the newest message (8) is the one the
     controller sees; in the third, it is still 8. *)
-Definition node_trace : trace :=
-  [Estep (U 5) (Y 5); Epublish "cmd" (Out 5); Ecycle;
-   Estep (U 8) (Y 9); Epublish "cmd" (Out 9); Ecycle;
-   Estep (U 8) (Y 10); Epublish "cmd" (Out 10); Ecycle].
+Definition node_cycles : trace :=
+  [Estep (U 5) (Y 5); Epublish "cmd" (Out 5); Esleep 10;
+   Estep (U 8) (Y 9); Epublish "cmd" (Out 9); Esleep 10;
+   Estep (U 8) (Y 10); Epublish "cmd" (Out 10); Esleep 10].
 
-Example node_run: run_trace 1000 (node 1) node_ctx 3 = Some node_trace.
+Example node_run: run_trace 1000 (node 1) node_ctx 3 = Some (node_start 1 ++ node_cycles)%list.
 Proof. vm_compute. reflexivity. Qed.
 
 (** With a larger queue the callback runs for each of 6, 7, 8: the
-    result is the same, since the last one wins. *)
-Example node_run_queue3: run_trace 1000 (node 3) node_ctx 3 = Some node_trace.
+    cycles are the same, since the last one wins; the subscription shows
+    the queue size. *)
+Example node_run_queue3: run_trace 1000 (node 3) node_ctx 3 = Some (node_start 3 ++ node_cycles)%list.
 Proof. vm_compute. reflexivity. Qed.
 
-Example node_run_0: run_trace 1000 (node 1) node_ctx 0 = Some [].
+Example node_run_0: run_trace 1000 (node 1) node_ctx 0 = Some (node_start 1).
+Proof. vm_compute. reflexivity. Qed.
+
+(** Without [Controller_initialize()] in [main], the controller has no
+    state: its first step is undefined (no result), and a run without
+    cycles shows no [Einit]. *)
+Definition drop_init (s : statement) : statement :=
+  match s with
+  | Ssequence i (Ssequence _ rest) => Ssequence i rest
+  | _ => s
+  end.
+
+Definition node_no_init : program :=
+  {| prog_types := prog_types (node 1);
+     prog_defs := map (fun d => match d with
+                                | ("main", Gfun (Internal f)) =>
+                                    ("main", Gfun (Internal (mkfunction (fn_return f) (fn_params f)
+                                      (fn_vars f) (fn_temps f) (drop_init (fn_body f)))))
+                                | _ => d
+                                end) (prog_defs (node 1));
+     prog_main := "main" |}.
+
+Example node_no_init_stuck: run_trace 1000 node_no_init node_ctx 1 = None.
+Proof. vm_compute. reflexivity. Qed.
+
+Example node_no_init_0:
+  run_trace 1000 node_no_init node_ctx 0 = Some [Esubscribe "sensor" "In" 1; Eadvertise "cmd" "Out" 1].
 Proof. vm_compute. reflexivity. Qed.
 
 (** A controller whose output does not have the type of [Controller_Y]
@@ -392,7 +425,7 @@ Definition echo (queue : nat) : program := {|
   prog_defs := [
     ("ros_ok", Gfun (External EF_ros_ok [] tint));
     ("ros_spinOnce", Gfun (External EF_ros_spinOnce [] Tvoid));
-    ("ros_rate_sleep", Gfun (External EF_ros_rate_sleep [] Tvoid));
+    ("ros_rate_sleep", Gfun (External (EF_ros_rate_sleep 10) [] Tvoid));
     ("ros_subscribe_sensor",
        Gfun (External (EF_ros_subscribe "sensor" "In" queue) [tptr sensor_cb_type] Tvoid));
     ("ros_advertise_echo", Gfun (External (EF_ros_advertise "echo" "In" 1) [] Tvoid));
@@ -414,9 +447,10 @@ Definition echo (queue : nat) : program := {|
 
 Example echo_run:
   run_trace 1000 (echo 2) node_ctx 3
-  = Some [Epublish "echo" (msg_In 5); Ecycle;
-          Epublish "echo" (msg_In 7); Epublish "echo" (msg_In 8); Ecycle;
-          Ecycle].
+  = Some [Esubscribe "sensor" "In" 2; Eadvertise "echo" "In" 1;
+          Epublish "echo" (msg_In 5); Esleep 10;
+          Epublish "echo" (msg_In 7); Epublish "echo" (msg_In 8); Esleep 10;
+          Esleep 10].
 Proof. vm_compute. reflexivity. Qed.
 
 (** ** Typing *)
@@ -494,14 +528,14 @@ Proof. vm_compute. split; reflexivity. Qed.
 
 (** The mini-node's run is a behaviour of the program in the sense of the
     big-step semantics. *)
-Lemma node_behaves: program_behaves (node 1) node_ctx 3 node_trace.
+Lemma node_behaves: program_behaves (node 1) node_ctx 3 (node_start 1 ++ node_cycles)%list.
 Proof.
   apply run_trace_sound with (fuel := 1000%nat). vm_compute. reflexivity.
 Qed.
 
 (** And it is its only behaviour (determinism). *)
 Lemma node_only_behaviour:
-  forall t, program_behaves (node 1) node_ctx 3 t -> t = node_trace.
+  forall t, program_behaves (node 1) node_ctx 3 t -> t = (node_start 1 ++ node_cycles)%list.
 Proof.
   intros t B. apply (run_trace_exact Z node_ctx 1000 (node 1) 3); [vm_compute; reflexivity | exact B].
 Qed.

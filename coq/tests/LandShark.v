@@ -37,17 +37,17 @@ Definition landshark_msgs : list msgdef :=
 Definition twist_x : path := [PField "twist"; PField "linear"; PField "x"].
 
 Definition left_wheel : topic :=
-  mktopic "/landshark/left_wheel_velocity" "landshark_left_wheel_velocity" Subscribe
-          "geometry_msgs_TwistStamped" 1.
+  mktopic "/landshark/left_wheel_velocity" "landshark_left_wheel_velocity"
+          "geometry_msgs/TwistStamped" Subscribe "geometry_msgs_TwistStamped" 1.
 Definition right_wheel : topic :=
-  mktopic "/landshark/right_wheel_velocity" "landshark_right_wheel_velocity" Subscribe
-          "geometry_msgs_TwistStamped" 1.
+  mktopic "/landshark/right_wheel_velocity" "landshark_right_wheel_velocity"
+          "geometry_msgs/TwistStamped" Subscribe "geometry_msgs_TwistStamped" 1.
 Definition gps : topic :=
-  mktopic "/landshark/gps_velocity" "landshark_gps_velocity" Subscribe
-          "geometry_msgs_TwistStamped" 1.
+  mktopic "/landshark/gps_velocity" "landshark_gps_velocity"
+          "geometry_msgs/TwistStamped" Subscribe "geometry_msgs_TwistStamped" 1.
 Definition base : topic :=
-  mktopic "/landshark_control/base_velocity" "landshark_control_base_velocity" Publish
-          "geometry_msgs_TwistStamped" 1.
+  mktopic "/landshark_control/base_velocity" "landshark_control_base_velocity"
+          "geometry_msgs/TwistStamped" Publish "geometry_msgs_TwistStamped" 1.
 
 Definition landshark : node_model := {|
   nm_name := "landshark_controller";

@@ -5,8 +5,9 @@
     the library lemma of the same name (the module is named in each
     proof).  A reader who trusts Coq, the definitions these statements
     mention, and the environment model ([Environment]: what [ros_spinOnce],
-    the message queues, [ros_publish], [ros_ok] and [Controller_step]
-    mean) can take these statements as what the project proves, without
+    the message queues, [ros_subscribe], [ros_advertise], [ros_publish],
+    [ros_ok], [ros_rate_sleep], [Controller_initialize] and
+    [Controller_step] mean) can take these statements as what the project proves, without
     reading the proofs.
 
     [make -C coq check-assumptions] runs [Print Assumptions] on every
@@ -83,12 +84,21 @@ Proof. exact Glueproof.generate_output_glue_ddc. Qed.
     on subscribed topics are well typed and the controller's outputs are
     well typed, and for every number [n] of [true] answers of [ros_ok]:
     the program runs to completion ([program_behaves p ctx n t] for some
-    trace [t]), and every such trace is a run of [n] correct cycles
-    ([DDC.run_ok]): in cycle [i], the controller is stepped once on inputs
-    whose related fields are those of the newest message received on each
-    relation's topic up to the [i]-th [ros_spinOnce] (zero if none), then
-    each published topic, in model order, publishes the message whose
-    related fields are the outputs of that step, then the cycle ends. *)
+    trace [t]), and every such trace is the node's start followed by a
+    run of [n] correct cycles ([DDC.run_ok]).  The start
+    ([DDC.start_events]) is exactly: the controller is initialised
+    ([Einit]; before it, the environment has no controller state and a
+    step would be undefined), then every subscribed topic of the model,
+    in model order, is subscribed to under its ROS name, with its message
+    struct and its queue size ([Esubscribe]), then every published topic,
+    in model order, is advertised likewise ([Eadvertise]).  In cycle [i],
+    the controller is stepped once on inputs whose related fields are
+    those of the newest message received on each relation's topic up to
+    the [i]-th [ros_spinOnce] (zero if none), then each published topic,
+    in model order, publishes the message whose related fields are the
+    outputs of that step, then the cycle ends by sleeping with the
+    model's period [nm_period_ms m] ([Esleep]).  Nothing else happens:
+    the trace has no other event. *)
 Theorem generate_node_ddc:
   forall m p, generate m = OK p -> node_ddc m p.
 Proof. exact Loopproof.generate_node_ddc. Qed.
@@ -417,15 +427,16 @@ Theorem generate_main:
                          ++ [call0 loop_name; Sreturn (Some (Econst_int 0 tint))]).
 Proof. exact Generatorproof.generate_main. Qed.
 
-(** The ROS API functions that do not depend on the model, the
-    controller's two functions and its two global structs, under their
-    names, with their meanings ([external_function] tags). *)
+(** The ROS API functions that do not depend on the topics
+    ([ros_rate_sleep] carries the model's period), the controller's two
+    functions and its two global structs, under their names, with their
+    meanings ([external_function] tags). *)
 Theorem generate_externals:
   forall m p, generate m = OK p ->
      find_def p ros_init_name = Some (Gfun (External EF_ros_init [] Tvoid))
   /\ find_def p ros_ok_name = Some (Gfun (External EF_ros_ok [] tint))
   /\ find_def p ros_spinOnce_name = Some (Gfun (External EF_ros_spinOnce [] Tvoid))
-  /\ find_def p ros_rate_sleep_name = Some (Gfun (External EF_ros_rate_sleep [] Tvoid))
+  /\ find_def p ros_rate_sleep_name = Some (Gfun (External (EF_ros_rate_sleep (nm_period_ms m)) [] Tvoid))
   /\ find_def p (init_name m)
      = Some (Gfun (External (EF_controller_initialize (nm_in_var m) (nm_out_var m)) [] Tvoid))
   /\ find_def p (step_name m)

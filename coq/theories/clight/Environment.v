@@ -31,14 +31,17 @@
     memory: the subscriptions registered so far (topic, message struct,
     queue size, callback), the advertised topics, the number of spins so
     far, the remaining [true] answers of [ros_ok], and the controller's
-    state.  The external functions act as follows:
+    state.  The controller's state is [None] until [Controller_initialize]
+    is called: the world of [initial_world] has no controller state at
+    all, not [ctx_init].  The external functions act as follows:
     - [ros_init()]: nothing.
     - [ros_ok()]: returns 1 and consumes one [true] answer if one is left,
       otherwise returns 0.
     - [ros_subscribe_T(cb)] ([EF_ros_subscribe topic msgty q]), with
       argument the function pointer [Vfptr cb]: registers the subscription
-      [(topic, msgty, q, cb)].
-    - [ros_advertise_T()]: registers the topic as advertised.
+      [(topic, msgty, q, cb)] and emits [Esubscribe topic msgty q].
+    - [ros_advertise_T()] ([EF_ros_advertise topic msgty q]): registers the
+      topic as advertised and emits [Eadvertise topic msgty q].
     - [ros_spinOnce()]: takes the messages [ctx_arrivals k] ([k] the spin
       counter) and computes [deliverable subs msgs]: for each
       subscription, the messages of its topic, of which a queue of size
@@ -47,21 +50,45 @@
       is kept.  Then, for each kept message in order, a fresh block
       holding the message value (of type [struct msgty]) is allocated,
       the callback is called with a pointer to it, and the block is freed
-      ([deliver]).  Finally the spin counter is incremented.
+      ([deliver]).  Finally the spin counter is incremented.  It emits
+      nothing itself (the callbacks may).
     - [ros_publish_T(&msg)] ([EF_ros_publish topic msgty]), with argument a
       pointer: the topic must have been advertised; the value at the
       pointer is emitted as the event [Epublish topic value].
-    - [ros_rate_sleep()]: emits [Ecycle], which marks the end of a cycle.
+    - [ros_rate_sleep()] ([EF_ros_rate_sleep period_ms]): emits
+      [Esleep period_ms], which marks the end of a cycle of [period_ms]
+      milliseconds.
     - [Controller_initialize()] ([EF_controller_initialize u y]): sets the
-      controller state to [ctx_init].
-    - [Controller_step()] ([EF_controller_step u y]): reads the whole value
-      [uv] of the global [u], computes [(s', yv) := ctx_step s uv], stores
-      [yv] into the global [y] and emits [Estep uv yv].  If [yv] does not
+      controller state to [Some ctx_init] and emits [Einit].
+    - [Controller_step()] ([EF_controller_step u y]): only defined once the
+      controller is initialised (state [Some s]; on [None] the semantics is
+      stuck); reads the whole value [uv] of the global [u], computes
+      [(s', yv) := ctx_step s uv], stores [yv] into the global [y], sets
+      the state to [Some s'] and emits [Estep uv yv].  If [yv] does not
       have the type of [y], the step is undefined (the semantics is
       stuck): the controller may only write its outputs, at their type.
 
     The trace of a run is the list of its events in the order they
-    happen. *)
+    happen.
+
+    What the program does to the world is observable in its trace: the
+    controller's initialisation ([Einit]), every registration with its
+    topic, message struct and queue size ([Esubscribe], [Eadvertise]),
+    every step ([Estep]), every publication ([Epublish]) and every end of
+    cycle with its period ([Esleep]).  Only [ros_init], [ros_ok] and
+    [ros_spinOnce] emit nothing: [ros_ok]'s answers and what
+    [ros_spinOnce] delivers are fixed by the context, and their effect on
+    the program is seen through the steps and publications.
+
+    Why the controller's state is absent before [Controller_initialize]
+    (rather than starting at [ctx_init]): the Simulink-generated
+    [Controller_step] reads state that only [Controller_initialize] sets
+    up (in general, non-zero initial conditions of delays and
+    integrators), so stepping an uninitialised controller has no meaning,
+    and the model gives it none.  A program that steps the controller
+    without initialising it first has no behaviour in which it does so,
+    and the [Einit] event makes the initialisation visible even in runs
+    that never step (zero cycles). *)
 
 From Coq Require Import String List ZArith Bool.
 From ROSGen Require Import Syntax Values Memory.
@@ -70,9 +97,17 @@ Import ListNotations.
 (** ** Events and traces *)
 
 Inductive event : Type :=
+  | Einit                              (**r [Controller_initialize] *)
+  | Esubscribe (topic : string) (msgty : ident) (queue : nat)
+      (**r [ros_subscribe_T]: subscription to [topic], messages [struct msgty],
+           queue size [queue] *)
+  | Eadvertise (topic : string) (msgty : ident) (queue : nat)
+      (**r [ros_advertise_T]: advertisement of [topic], messages [struct msgty],
+           queue size [queue] *)
   | Estep (u y : mval)                 (**r [Controller_step] read [u] and wrote [y] *)
   | Epublish (topic : string) (m : mval)  (**r message [m] published on [topic] *)
-  | Ecycle.                            (**r [ros_rate_sleep]: end of a cycle *)
+  | Esleep (period_ms : Z).            (**r [ros_rate_sleep]: end of a cycle of
+                                            [period_ms] milliseconds *)
 
 Definition trace := list event.
 
@@ -122,7 +157,7 @@ Record world (CS : Type) : Type := mkworld {
   w_advertised : list string;   (**r advertised topics *)
   w_spins : nat;                (**r calls of [ros_spinOnce] so far *)
   w_ok : nat;                   (**r remaining [true] answers of [ros_ok] *)
-  w_ctrl : CS                   (**r the controller's state *)
+  w_ctrl : option CS            (**r the controller's state; [None]: not initialised *)
 }.
 
 Arguments mkworld {CS} w_subs w_advertised w_spins w_ok w_ctrl.
@@ -134,7 +169,7 @@ Arguments w_ctrl {CS} w.
 
 (** The world at the start of [main]. *)
 Definition initial_world {CS : Type} (ctx : ros_context CS) (n : nat) : world CS :=
-  mkworld [] [] O n (ctx_init ctx).
+  mkworld [] [] O n None.
 
 Definition add_subscription {CS} (w : world CS) (s : subscription) : world CS :=
   mkworld (w_subs w ++ [s]) (w_advertised w) (w_spins w) (w_ok w) (w_ctrl w).
@@ -144,7 +179,7 @@ Definition set_ok {CS} (w : world CS) (k : nat) : world CS :=
   mkworld (w_subs w) (w_advertised w) (w_spins w) k (w_ctrl w).
 Definition next_spin {CS} (w : world CS) : world CS :=
   mkworld (w_subs w) (w_advertised w) (S (w_spins w)) (w_ok w) (w_ctrl w).
-Definition set_ctrl {CS} (w : world CS) (s : CS) : world CS :=
+Definition set_ctrl {CS} (w : world CS) (s : option CS) : world CS :=
   mkworld (w_subs w) (w_advertised w) (w_spins w) (w_ok w) s.
 
 Definition topic_eqb (a b : string) : bool := if string_dec a b then true else false.
@@ -197,10 +232,11 @@ Definition external_call (ef : external_function) (vargs : list val) (m : mem) (
       | S k => Some (Vint 1, [], m, set_ok w k)
       | O => Some (Vint 0, [], m, w)
       end
-  | EF_ros_rate_sleep, [] => Some (Vundef, [Ecycle], m, w)
+  | EF_ros_rate_sleep period, [] => Some (Vundef, [Esleep period], m, w)
   | EF_ros_subscribe topic msgty q, [Vfptr cb] =>
-      Some (Vundef, [], m, add_subscription w (mksub topic msgty q cb))
-  | EF_ros_advertise topic _ _, [] => Some (Vundef, [], m, add_advertised w topic)
+      Some (Vundef, [Esubscribe topic msgty q], m, add_subscription w (mksub topic msgty q cb))
+  | EF_ros_advertise topic msgty q, [] =>
+      Some (Vundef, [Eadvertise topic msgty q], m, add_advertised w topic)
   | EF_ros_publish topic _, [Vptr b p] =>
       if existsb (topic_eqb topic) (w_advertised w) then
         match load_path m b p with
@@ -208,22 +244,22 @@ Definition external_call (ef : external_function) (vargs : list val) (m : mem) (
         | None => None
         end
       else None
-  | EF_controller_initialize _ _, [] => Some (Vundef, [], m, set_ctrl w (ctx_init ctx))
+  | EF_controller_initialize _ _, [] => Some (Vundef, [Einit], m, set_ctrl w (Some (ctx_init ctx)))
   | EF_controller_step u y, [] =>
-      match find_var ge u, find_var ge y with
-      | Some (bu, _), Some (by_, ty) =>
+      match w_ctrl w, find_var ge u, find_var ge y with
+      | Some s, Some (bu, _), Some (by_, ty) =>
           match load_path m bu [] with
           | Some uv =>
-              let (s', yv) := ctx_step ctx (w_ctrl w) uv in
+              let (s', yv) := ctx_step ctx s uv in
               if mval_typecheck (ge_comp ge) ty yv then
                 match store_path m by_ [] yv with
-                | Some m' => Some (Vundef, [Estep uv yv], m', set_ctrl w s')
+                | Some m' => Some (Vundef, [Estep uv yv], m', set_ctrl w (Some s'))
                 | None => None
                 end
               else None
           | None => None
           end
-      | _, _ => None
+      | _, _, _ => None
       end
   | _, _ => None
   end.

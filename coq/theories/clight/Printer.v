@@ -587,7 +587,7 @@ stmt    ::= (skip) | (assign expr expr) | (set IDENT expr)
           | (call () expr (expr...)) | (call (IDENT) expr (expr...))
           | (seq stmt...) | (if expr stmt stmt) | (loop stmt) | (break)
           | (return) | (return expr)
-ef      ::= (ros_init) | (ros_ok) | (ros_spinOnce) | (ros_rate_sleep)
+ef      ::= (ros_init) | (ros_ok) | (ros_spinOnce) | (ros_rate_sleep INT)
           | (ros_subscribe STRING IDENT INT) | (ros_advertise STRING IDENT INT)
           | (ros_publish STRING IDENT)
           | (controller_initialize IDENT IDENT) | (controller_step IDENT IDENT)
@@ -666,7 +666,7 @@ Definition sexp_ef (ef : external_function) : string :=
   | EF_ros_init => "(ros_init)"
   | EF_ros_ok => "(ros_ok)"
   | EF_ros_spinOnce => "(ros_spinOnce)"
-  | EF_ros_rate_sleep => "(ros_rate_sleep)"
+  | EF_ros_rate_sleep p => sexp_list ["ros_rate_sleep"; string_of_Z p]
   | EF_ros_subscribe t m q => sexp_list ["ros_subscribe"; sexp_string t; m; sexp_nat q]
   | EF_ros_advertise t m q => sexp_list ["ros_advertise"; sexp_string t; m; sexp_nat q]
   | EF_ros_publish t m => sexp_list ["ros_publish"; sexp_string t; m]

@@ -143,7 +143,10 @@ Inductive external_function : Type :=
   | EF_ros_init                      (**r [void ros_init(void)] *)
   | EF_ros_ok                        (**r [int ros_ok(void)] *)
   | EF_ros_spinOnce                  (**r [void ros_spinOnce(void)]: runs callbacks *)
-  | EF_ros_rate_sleep                (**r [void ros_rate_sleep(void)] *)
+  | EF_ros_rate_sleep (period_ms : Z)
+      (**r [void ros_rate_sleep(void)]: sleeps until the end of the cycle
+           of [period_ms] milliseconds (the period is part of the
+           declaration's meaning, like the topic of [ros_subscribe_T]) *)
   | EF_ros_subscribe (topic : string) (msgty : ident) (queue : nat)
       (**r [void ros_subscribe_T(void ( *cb)(struct M * ))] *)
   | EF_ros_advertise (topic : string) (msgty : ident) (queue : nat)

@@ -300,7 +300,7 @@ End TYPING.
 (** The signature that the meaning of each external function requires. *)
 Definition ef_signature (ef : external_function) : list type * type :=
   match ef with
-  | EF_ros_init | EF_ros_spinOnce | EF_ros_rate_sleep => ([], Tvoid)
+  | EF_ros_init | EF_ros_spinOnce | EF_ros_rate_sleep _ => ([], Tvoid)
   | EF_ros_ok => ([], tint)
   | EF_ros_subscribe _ msgty _ => ([tptr (Tfunction [tptr (Tstruct msgty)] Tvoid)], Tvoid)
   | EF_ros_advertise _ _ _ => ([], Tvoid)

@@ -11,11 +11,14 @@
       generated program in [Glueproof] (theorem T1).
     - Section "Nodes" gives the whole-node property [node_ddc]: in every
       environment, the node runs to completion for any number [n] of
-      cycles, and every cycle of its trace hands to the controller the
-      related fields of the newest messages received so far and
-      publishes the related fields of the controller's outputs
-      ([cycle_ok], [run_ok]).  It is proved for every generated program
-      in [Loopproof] (theorem T2).
+      cycles; its trace starts with the initialisation of the controller
+      and the registrations of the model's topics (names, message
+      structs, queue sizes, in model order: [start_events]), and every
+      cycle of its trace hands to the controller the related fields of
+      the newest messages received so far, publishes the related fields
+      of the controller's outputs and ends with a sleep of the model's
+      period ([cycle_ok], [run_ok]).  It is proved for every generated
+      program in [Loopproof] (theorem T2).
 
     The names of the generated functions and globals ([c_callback],
     [c_msg], [input_glue], [output_glue_c], [Controller_U],
@@ -240,31 +243,49 @@ Definition publish_events (tps : list topic) (mvs : list mval) : trace :=
     is stepped once, from [s] to [s'], on the inputs [u] that
     [input_values] prescribes, giving outputs [y]; then each published
     topic of the model, in model order, publishes the message that
-    [published_value] prescribes for [y]; then the cycle ends. *)
+    [published_value] prescribes for [y]; then the cycle ends with a
+    sleep of the model's period [nm_period_ms m]. *)
 Definition cycle_ok {CS : Type} (m : node_model) (ctx : ros_context CS) (i : nat)
                     (s : CS) (evs : trace) (s' : CS) : Prop :=
   exists u y mvs,
-     evs = Estep u y :: publish_events (published m) mvs ++ [Ecycle]
+     evs = Estep u y :: publish_events (published m) mvs ++ [Esleep (nm_period_ms m)]
   /\ input_values m ctx i u
   /\ ctx_step ctx s u = (s', y)
   /\ Forall2 (published_value m y) (published m) mvs.
 
+(** *** Before the first cycle *)
+
+(** The registration of a subscribed topic: its ROS name, its message
+    struct and its queue size. *)
+Definition subscribe_event (tp : topic) : event := Esubscribe (tp_name tp) (tp_msg tp) (tp_queue tp).
+
+(** The registration of a published topic, likewise. *)
+Definition advertise_event (tp : topic) : event := Eadvertise (tp_name tp) (tp_msg tp) (tp_queue tp).
+
+(** What a node does before its first cycle: it initialises the
+    controller, then subscribes to each subscribed topic of the model, in
+    model order, then advertises each published topic, in model order. *)
+Definition start_events (m : node_model) : trace :=
+  Einit :: map subscribe_event (subscribed m) ++ map advertise_event (published m).
+
 (** *** Whole runs *)
 
-(** The trace [t] of a run of [n] cycles is the concatenation of [n]
-    traces of correct cycles, the controller's states chained from its
-    initial state. *)
+(** The trace [t] of a run of [n] cycles is the start of the node
+    ([start_events]: the controller's initialisation, the subscriptions
+    and the advertisements) followed by the concatenation of [n] traces
+    of correct cycles, the controller's states chained from its initial
+    state. *)
 Definition run_ok {CS : Type} (m : node_model) (ctx : ros_context CS) (n : nat) (t : trace) : Prop :=
   exists (s : nat -> CS) (evs : nat -> trace),
      s O = ctx_init ctx
-  /\ t = concat (map evs (seq 0 n))
+  /\ t = start_events m ++ concat (map evs (seq 0 n))
   /\ forall i, (i < n)%nat -> cycle_ok m ctx i (s i) (evs i) (s (S i)).
 
 (** Data delivery correctness of a node: in every environment with
     well-typed messages and controller outputs, and for every number [n]
     of cycles that [ros_ok] allows, the program terminates, and each of
     its behaviours (there is only one: the semantics is deterministic)
-    is a run of [n] correct cycles. *)
+    is the node's start followed by a run of [n] correct cycles. *)
 Definition node_ddc (m : node_model) (p : program) : Prop :=
   forall (CS : Type) (ctx : ros_context CS) (n : nat),
   arrivals_wt m ctx -> controller_wt m ctx ->

@@ -17,7 +17,7 @@
     struct ExtU_Controller_T { ... };      the controller's inputs
     struct ExtY_Controller_T { ... };      the controller's outputs
     extern void ros_init(void); int ros_ok(void); void ros_spinOnce(void);
-    void ros_rate_sleep(void);
+    void ros_rate_sleep(void);              period: EF_ros_rate_sleep nm_period_ms
     void ros_subscribe_si(void ( *cb)(struct M * ));      per subscribed topic
     void ros_advertise_pj(void); void ros_publish_pj(struct M * );  per published topic
     void Controller_initialize(void); void Controller_step(void);
@@ -282,12 +282,13 @@ Definition main_function : function :=
 
 (** ** Global definitions *)
 
-(** The ROS API functions that do not depend on the model. *)
+(** The ROS API functions that do not depend on the topics ([ros_rate_sleep]
+    carries the node's period). *)
 Definition ros_externals : list (ident * globdef) :=
   [(ros_init_name, Gfun (External EF_ros_init [] Tvoid));
    (ros_ok_name, Gfun (External EF_ros_ok [] tint));
    (ros_spinOnce_name, Gfun (External EF_ros_spinOnce [] Tvoid));
-   (ros_rate_sleep_name, Gfun (External EF_ros_rate_sleep [] Tvoid))].
+   (ros_rate_sleep_name, Gfun (External (EF_ros_rate_sleep (nm_period_ms m)) [] Tvoid))].
 
 (** The ROS API functions of a topic. *)
 Definition topic_externals (tp : topic) : list (ident * globdef) :=

@@ -201,7 +201,7 @@ Proof.
 Qed.
 
 Lemma in_build_defs_externals:
-  forall m id d, In (id, d) (ros_externals ++ flat_map topic_externals (nm_topics m) ++ controller_defs m) ->
+  forall m id d, In (id, d) (ros_externals m ++ flat_map topic_externals (nm_topics m) ++ controller_defs m) ->
   In (id, d) (build_defs m (make_tables m)).
 Proof.
   intros m id d H; unfold build_defs. rewrite !in_app_iff in *; tauto.
@@ -225,7 +225,7 @@ Theorem generate_externals:
      find_def p ros_init_name = Some (Gfun (External EF_ros_init [] Tvoid))
   /\ find_def p ros_ok_name = Some (Gfun (External EF_ros_ok [] tint))
   /\ find_def p ros_spinOnce_name = Some (Gfun (External EF_ros_spinOnce [] Tvoid))
-  /\ find_def p ros_rate_sleep_name = Some (Gfun (External EF_ros_rate_sleep [] Tvoid))
+  /\ find_def p ros_rate_sleep_name = Some (Gfun (External (EF_ros_rate_sleep (nm_period_ms m)) [] Tvoid))
   /\ find_def p (init_name m)
      = Some (Gfun (External (EF_controller_initialize (nm_in_var m) (nm_out_var m)) [] Tvoid))
   /\ find_def p (step_name m)

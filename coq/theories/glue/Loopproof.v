@@ -5,8 +5,11 @@
     [main] terminates after [n] cycles and its trace is a run of [n]
     correct cycles ([DDC.run_ok]).
 
-    The proof follows [main]: registration of the subscriptions and
-    advertisements, then the loop, with the invariant [loop_inv]: after
+    The proof follows [main]: initialisation of the controller
+    ([Einit]: from then on the world holds the controller state
+    [Some s]), registration of the subscriptions and advertisements (one
+    [Esubscribe] / [Eadvertise] event each, [start_events]), then the
+    loop, with the invariant [loop_inv]: after
     [k] cycles, the global of every subscribed topic holds the newest
     message received in those cycles (zero if none), every local
     [c_cmd] holds an object of its type, and the world has the model's
@@ -258,10 +261,12 @@ Proof.
 Qed.
 
 Lemma run_ok_of_cycles:
-  forall n t, cycles_ok O n (ctx_init ctx) t -> run_ok m ctx n t.
+  forall n t, cycles_ok O n (ctx_init ctx) t -> run_ok m ctx n (start_events m ++ t).
 Proof.
   intros n t C. destruct (cycles_ok_fun _ _ _ _ C) as (sf & evf & E0 & Et & Hc).
-  exists sf, evf. repeat split; auto. intros i Hi; apply Hc; lia.
+  exists sf, evf. repeat split; auto.
+  - rewrite Et. auto.
+  - intros i Hi; apply Hc; lia.
 Qed.
 
 End CYCLES.
@@ -333,7 +338,7 @@ Definition advs_of : list string := map tp_name (published m).
 
 (** The world after [k] cycles, with [r] answers of [ros_ok] left and
     controller state [s]. *)
-Definition wld (k r : nat) (s : CS) : world CS := mkworld subs_of advs_of k r s.
+Definition wld (k r : nat) (s : CS) : world CS := mkworld subs_of advs_of k r (Some s).
 
 (** *** Facts on the program *)
 
@@ -693,14 +698,15 @@ Lemma publishes_run:
   exists mm' mvs,
      exec_stmt ctx ge e le mm (wld (S k) r s)
        (seq_of (flat_map publish_stmts tps ++ [call0 ros_rate_sleep_name]))
-       (publish_events tps mvs ++ [Ecycle]) le mm' (wld (S k) r s) Out_normal
+       (publish_events tps mvs ++ [Esleep (nm_period_ms m)]) le mm' (wld (S k) r s) Out_normal
   /\ Forall2 (published_value m y) tps mvs
   /\ loop_inv (S k) e mm'.
 Proof.
   intros k r s e y tps; induction tps as [|tp tps IH]; intros le mm Inc I GY.
   - exists mm, []. split; [|split; [constructor|auto]].
     destruct (generate_externals m p GEN) as (_ & _ & _ & Frs & _).
-    simpl. change [Ecycle] with ([Ecycle] ++ []). eapply exec_Sseq_1; [|apply exec_Sskip].
+    simpl. change [Esleep (nm_period_ms m)] with ([Esleep (nm_period_ms m)] ++ []).
+    eapply exec_Sseq_1; [|apply exec_Sskip].
     eapply call0_exec.
     + apply (li_funs I). eapply def_name; eauto.
     + eapply fun_not_var; eauto.
@@ -731,8 +737,8 @@ Proof.
       with (Ssequence (Scall None (Evar (output_glue_name (tp_cname tp)) (callback_type (tp_msg tp))) [cmd_addr tp])
            (Ssequence (Scall None (Evar (publish_name (tp_cname tp)) (callback_type (tp_msg tp))) [cmd_addr tp])
                       (seq_of (flat_map publish_stmts tps ++ [call0 ros_rate_sleep_name])))).
-    change (publish_events (tp :: tps) (mv :: mvs) ++ [Ecycle])
-      with ([] ++ ([Epublish (tp_name tp) mv] ++ (publish_events tps mvs ++ [Ecycle]))).
+    change (publish_events (tp :: tps) (mv :: mvs) ++ [Esleep (nm_period_ms m)])
+      with ([] ++ ([Epublish (tp_name tp) mv] ++ (publish_events tps mvs ++ [Esleep (nm_period_ms m)]))).
     eapply exec_Sseq_1; [|eapply exec_Sseq_1; [|exact X']].
     + unfold callback_type. eapply exec_call_none; eauto.
       * apply (li_funs I). eapply def_name; eauto.
@@ -797,11 +803,12 @@ Proof.
   destruct (step_run k r s e le1 mm3 u I3 GU) as (mm4 & y & s' & Xst & CSt & GY & I4).
   destruct (publishes_run k r s' e y (published m) le1 mm4 (incl_refl _) I4 GY)
     as (mm5 & mvs & Xp & PV & I5).
-  exists (Estep u y :: publish_events (published m) mvs ++ [Ecycle]), le1, mm5, s'.
+  exists (Estep u y :: publish_events (published m) mvs ++ [Esleep (nm_period_ms m)]), le1, mm5, s'.
   split; [|split; [exists u, y, mvs; auto|auto]].
   unfold loop_body.
-  change (Estep u y :: publish_events (published m) mvs ++ [Ecycle])
-    with ([] ++ ([] ++ ([] ++ ([] ++ ([Estep u y] ++ (publish_events (published m) mvs ++ [Ecycle])))))).
+  change (Estep u y :: publish_events (published m) mvs ++ [Esleep (nm_period_ms m)])
+    with ([] ++ ([] ++ ([] ++ ([] ++ ([Estep u y] ++ (publish_events (published m) mvs
+                                                     ++ [Esleep (nm_period_ms m)])))))).
   eapply exec_Sseq_1.
   { apply ros_ok_exec; auto. reflexivity. }
   eapply exec_Sseq_1.
@@ -908,7 +915,8 @@ Qed.
 
 Lemma subs_run:
   forall tps l le mm s0 n, incl tps (subscribed m) ->
-  exec_stmt ctx ge [] le mm (mkworld l [] O n s0) (seq_of (map subscribe_stmt tps)) [] le mm
+  exec_stmt ctx ge [] le mm (mkworld l [] O n s0) (seq_of (map subscribe_stmt tps))
+            (map subscribe_event tps) le mm
             (mkworld (l ++ map sub_of tps) [] O n s0) Out_normal.
 Proof.
   induction tps as [|tp tps IH]; intros l le mm s0 n Inc.
@@ -920,8 +928,10 @@ Proof.
     destruct (generate_callback m p tp GEN Htp) as [_ (f & Fcb & _)].
     simpl map.
     change (l ++ sub_of tp :: map sub_of tps) with (l ++ [sub_of tp] ++ map sub_of tps).
-    rewrite app_assoc.
-    apply exec_seq_cons with (le1 := le) (mm1 := mm) (w1 := mkworld (l ++ [sub_of tp]) [] O n s0).
+    change (subscribe_event tp :: map subscribe_event tps)
+      with ([subscribe_event tp] ++ map subscribe_event tps).
+    rewrite app_assoc. simpl seq_of.
+    apply exec_Sseq_1 with (le1 := le) (m1 := mm) (w1 := mkworld (l ++ [sub_of tp]) [] O n s0).
     + unfold subscribe_stmt. eapply exec_call_none.
       * reflexivity.
       * eapply fun_not_var; eauto.
@@ -935,7 +945,8 @@ Qed.
 
 Lemma advs_run:
   forall tps l l' le mm s0 n, incl tps (published m) ->
-  exec_stmt ctx ge [] le mm (mkworld l l' O n s0) (seq_of (map advertise_stmt tps)) [] le mm
+  exec_stmt ctx ge [] le mm (mkworld l l' O n s0) (seq_of (map advertise_stmt tps))
+            (map advertise_event tps) le mm
             (mkworld l (l' ++ map tp_name tps) O n s0) Out_normal.
 Proof.
   induction tps as [|tp tps IH]; intros l l' le mm s0 n Inc.
@@ -946,8 +957,10 @@ Proof.
     generalize (generate_topic_externals m p tp GEN Htop). rewrite Pub. intros [Fa _].
     simpl map.
     change (l' ++ tp_name tp :: map tp_name tps) with (l' ++ [tp_name tp] ++ map tp_name tps).
-    rewrite app_assoc.
-    apply exec_seq_cons with (le1 := le) (mm1 := mm) (w1 := mkworld l (l' ++ [tp_name tp]) O n s0).
+    change (advertise_event tp :: map advertise_event tps)
+      with ([advertise_event tp] ++ map advertise_event tps).
+    rewrite app_assoc. simpl seq_of.
+    apply exec_Sseq_1 with (le1 := le) (m1 := mm) (w1 := mkworld l (l' ++ [tp_name tp]) O n s0).
     + unfold advertise_stmt. eapply call0_exec.
       * reflexivity.
       * eapply fun_not_var; eauto.
@@ -969,29 +982,33 @@ Proof.
   destruct (alloc_vars ce [] (init_mem p) (fn_vars fl)) as [e m1] eqn:AV.
   assert (I0: loop_inv O e m1) by (eapply loop_entry; eauto).
   destruct (loop_run n O (ctx_init ctx) e [(ok_temp, Vundef)] m1 I0) as (t & le' & mm' & w' & X & C).
-  exists t. split; [|apply run_ok_of_cycles; auto].
+  exists (start_events m ++ t). split; [|apply run_ok_of_cycles; auto].
   econstructor.
   - rewrite Pm. apply (gen_funct m p GEN _ _ Fm).
   - eapply eval_funcall_internal.
     + unfold function_entry. rewrite Vm, Pm', Tm. reflexivity.
     + rewrite Bm.
-      rewrite <- (app_nil_r t). change (t ++ []) with ([] ++ [] ++ [] ++ (t ++ [])).
+      replace (start_events m ++ t)
+        with ([Einit] ++ (map subscribe_event (subscribed m) ++ (map advertise_event (published m)
+              ++ (t ++ []))))
+        by (unfold start_events; simpl; rewrite app_nil_r, app_assoc; reflexivity).
       eapply exec_seq_of_app.
       { eapply exec_seq_cons.
         - eapply call0_exec; [reflexivity | eapply fun_not_var; eauto | apply (gen_funct m p GEN _ _ Fi)
                              | reflexivity | apply eval_funcall_external; reflexivity].
-        - eapply exec_seq_cons; [|apply exec_Sskip].
+        - simpl seq_of. change [Einit] with ([Einit] ++ []). eapply exec_Sseq_1; [|apply exec_Sskip].
           eapply call0_exec; [reflexivity | eapply fun_not_var; eauto | apply (gen_funct m p GEN _ _ Fci)
                              | reflexivity | apply eval_funcall_external; reflexivity]. }
       eapply exec_seq_of_app.
-      { apply (subs_run (subscribed m) [] [] (init_mem p) (ctx_init ctx) n (incl_refl _)). }
+      { apply (subs_run (subscribed m) [] [] (init_mem p) (Some (ctx_init ctx)) n (incl_refl _)). }
       eapply exec_seq_of_app.
-      { apply (advs_run (published m) _ [] [] (init_mem p) (ctx_init ctx) n (incl_refl _)). }
+      { apply (advs_run (published m) _ [] [] (init_mem p) (Some (ctx_init ctx)) n (incl_refl _)). }
       simpl seq_of. eapply exec_Sseq_1.
       * eapply call0_exec; [reflexivity | eapply fun_not_var; eauto | apply (gen_funct m p GEN _ _ Fl)
                            | simpl; unfold type_of_function; rewrite Pl, Rl; reflexivity |].
         change (wld O n (ctx_init ctx)) with
-          (mkworld ([] ++ map sub_of (subscribed m)) ([] ++ map tp_name (published m)) O n (ctx_init ctx)) in X.
+          (mkworld ([] ++ map sub_of (subscribed m)) ([] ++ map tp_name (published m)) O n
+                   (Some (ctx_init ctx))) in X.
         eapply eval_funcall_internal.
         -- unfold function_entry. rewrite (gen_comp m p GEN), AV, Pl, Tl. reflexivity.
         -- rewrite Bl. exact X.
@@ -1011,15 +1028,19 @@ End NODE.
     sensor messages arrive at any times and in any order on any topics
     (each of the right type), and the controller is any function with
     outputs of the right type.  Let [ros_ok] allow [n] cycles.  Then the
-    node runs exactly [n] cycles and stops, and in every cycle [i]: the
+    node first initialises the controller, subscribes to exactly the
+    model's subscribed topics (names, message types, queue sizes, in
+    model order) and advertises exactly its published topics (likewise);
+    then it runs exactly [n] cycles and stops, and in every cycle [i]: the
     controller is called once, and each of its inputs is the field that
     the model relates to it, of the newest message received on that
     topic up to this cycle (zero if none has arrived yet), even when
     older messages were dropped by the queues; then every published
     topic, in model order, publishes one message whose related fields
     are the controller's outputs of this very step and whose other
-    fields are zero.  Nothing else is observable.  This is the paper's
-    DDC property plus its preservation property, over whole runs. *)
+    fields are zero; then it sleeps with the model's period.  Nothing
+    else is observable.  This is the paper's DDC property plus its
+    preservation property, over whole runs. *)
 Theorem generate_node_ddc:
   forall m p, generate m = OK p -> node_ddc m p.
 Proof.

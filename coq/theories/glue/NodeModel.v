@@ -103,10 +103,16 @@ Definition direction_eqb (a b : direction) : bool :=
 (** A topic: [tp_name] is the ROS graph name (used only by the environment
     model and the C++ wrapper), [tp_cname] the C-safe base name from which
     the generated C names are derived (e.g. ["landshark_left_wheel_velocity"]),
-    [tp_msg] the [md_name] of its message type. *)
+    [tp_type] the ROS type name of its messages, [pkg/Type] (e.g.
+    ["geometry_msgs/TwistStamped"]: what the C++ wrapper subscribes or
+    advertises with; the generated C never sees it), [tp_msg] the [md_name]
+    of its message type (the C struct, ["geometry_msgs_TwistStamped"]:
+    [Wellformed.topic_ok] requires it to be [ros_type_struct tp_type]), and
+    [tp_queue] the queue size of its subscription or advertisement. *)
 Record topic : Type := mktopic {
   tp_name : string;
   tp_cname : ident;
+  tp_type : string;
   tp_dir : direction;
   tp_msg : ident;
   tp_queue : nat

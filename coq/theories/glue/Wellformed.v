@@ -225,6 +225,26 @@ Definition valid_ros_name (s : string) : bool :=
       && all_chars (fun c => is_letter c || is_digit c || is_underscore c || Ascii.eqb c "/"%char) s'
   end.
 
+(** A ROS message type name [pkg/Type]: letters, digits and [_], exactly
+    one [/], both parts non-empty. *)
+Fixpoint ros_type_rest (seen_slash : bool) (nonempty : bool) (s : string) : bool :=
+  match s with
+  | EmptyString => seen_slash && nonempty
+  | String c s' =>
+      if Ascii.eqb c "/"%char then negb seen_slash && nonempty && ros_type_rest true false s'
+      else (is_letter c || is_digit c || is_underscore c) && ros_type_rest seen_slash true s'
+  end.
+
+Definition valid_ros_type (s : string) : bool := ros_type_rest false false s.
+
+(** The C struct of a ROS message type: [pkg/Type] gives [pkg_Type] (the
+    front end's naming of message structs). *)
+Fixpoint ros_type_struct (s : string) : string :=
+  match s with
+  | EmptyString => EmptyString
+  | String c s' => String (if Ascii.eqb c "/"%char then "_"%char else c) (ros_type_struct s')
+  end.
+
 (** ** Auxiliary checks *)
 
 Definition null {A : Type} (l : list A) : bool :=
@@ -320,9 +340,13 @@ Fixpoint msgs_ok (seen : list ident) (msgs : list msgdef) : bool :=
   | md :: msgs' => msgdef_ok seen md && msgs_ok (md_name md :: seen) msgs'
   end.
 
-(** Rule: a topic has a ROS name, a queue, and a defined message type. *)
+(** Rule: a topic has a ROS name, a ROS message type [pkg/Type] whose
+    struct is the topic's message struct, a queue, and a defined message
+    type. *)
 Definition topic_ok (msgs : list msgdef) (tp : topic) : bool :=
   valid_ros_name (tp_name tp)
+  && valid_ros_type (tp_type tp)
+  && String.eqb (tp_msg tp) (ros_type_struct (tp_type tp))
   && (1 <=? tp_queue tp)%nat
   && match find_msg msgs (tp_msg tp) with Some _ => true | None => false end.
 
@@ -424,6 +448,12 @@ Fixpoint msgs_check (seen : list ident) (msgs : list msgdef) : res unit :=
 
 Definition topic_check (msgs : list msgdef) (tp : topic) : res unit :=
   do _ <- assertion (valid_ros_name (tp_name tp)) (gen_error "not a valid ROS graph name: " (tp_name tp));
+  do _ <- assertion (valid_ros_type (tp_type tp))
+            [MSG "Generator: not a ROS message type of the form package/Type: "; CTX (tp_type tp);
+             MSG " (topic "; CTX (tp_name tp); MSG ")"];
+  do _ <- assertion (String.eqb (tp_msg tp) (ros_type_struct (tp_type tp)))
+            [MSG "Generator: the message struct "; CTX (tp_msg tp); MSG " of topic "; CTX (tp_name tp);
+             MSG " is not the struct of its type "; CTX (tp_type tp)];
   do _ <- assertion (1 <=? tp_queue tp)%nat (gen_error "queue size must be at least 1 for topic " (tp_name tp));
   match find_msg msgs (tp_msg tp) with
   | Some _ => OK tt
