@@ -207,6 +207,7 @@ class CoqTopic:
     comment: str
     name: str
     c_name: str
+    ros_type: str   #: the ROS message type ``pkg/Type`` (``NodeModel.tp_type``)
     direction: str
     msg: str
     queue: str
@@ -267,6 +268,7 @@ def emit_model(model: NodeModel) -> CoqNodeModel:
                 comment=coq_comment(_msg_name(t.msg_type)),
                 name=coq_ros_name(t.name),
                 c_name=coq_ident(t.c_name, "topic C name"),
+                ros_type=coq_string(_msg_name(t.msg_type), "message type name"),
                 direction={"subscribe": "Subscribe", "publish": "Publish"}[_direction(t.direction)],
                 msg=coq_ident(msg_c_name(_msg_name(t.msg_type)), "message struct name"),
                 queue=coq_nat(t.queue_size),
