@@ -9,7 +9,9 @@
     edited [.v]) is refused before anything is written.
 
     The grammar (every name was checked by [Wellformed]: no spaces, no
-    line breaks):
+    line breaks; a topic's message struct is not printed, since
+    [Wellformed.topic_ok] makes it the struct of its ROS type,
+    [ros_type_struct]: [pkg/Type] gives [pkg_Type]):
 <<
     pyrosgen-model 1
     node NAME
@@ -21,7 +23,7 @@
     output FIELD PRIM
     message STRUCT                        (one per message definition)
     field NAME FTYPE                      (FTYPE: PRIM | msg STRUCT | array N FTYPE)
-    topic ROSNAME CNAME subscribe|publish STRUCT QUEUE
+    topic ROSNAME CNAME subscribe|publish TYPE QUEUE   (TYPE: the ROS type pkg/Type)
     input_relation TOPIC PATH INPUT       (PATH: twist.linear.x, covariance[35])
     output_relation OUTPUT TOPIC PATH
 >>
@@ -62,7 +64,7 @@ Definition msg_lines (md : msgdef) : list string :=
 
 Definition topic_line (t : topic) : string :=
   "topic " ++ tp_name t ++ " " ++ tp_cname t ++ " " ++ direction_text (tp_dir t)
-  ++ " " ++ tp_msg t ++ " " ++ string_of_Z (Z.of_nat (tp_queue t)).
+  ++ " " ++ tp_type t ++ " " ++ string_of_Z (Z.of_nat (tp_queue t)).
 
 Definition inrel_line (r : inrel) : string :=
   "input_relation " ++ ir_topic r ++ " " ++ path_text (ir_path r) ++ " " ++ ir_input r.
