@@ -63,7 +63,7 @@ def model_text(model: NodeModel) -> str:
         lines.append(f"message {m.c_name}")
         lines += [f"field {f.name} {_ftype(f)}" for f in m.fields]
     lines += [
-        f"topic {t.name} {t.c_name} {t.direction} {msg_c_name(t.msg_type)} {t.queue_size}" for t in model.topics
+        f"topic {t.name} {t.c_name} {t.direction} {t.msg_type} {t.queue_size}" for t in model.topics
     ]
     lines += [f"input_relation {r.topic.c_name} {_path(r.path.steps)} {r.input_field}"
               for r in model.input_relations]
