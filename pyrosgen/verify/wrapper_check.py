@@ -41,7 +41,9 @@ def proved_interface(text: str) -> tuple[list[ProvedTopic], int]:
     for line in text.splitlines():
         parts = line.split(" ")
         if parts[0] == "topic" and len(parts) == 6:
-            topics.append(ProvedTopic(parts[1], parts[2], parts[3], parts[4], int(parts[5])))
+            # parts[4] is the ROS type pkg/Type; the proved struct is pkg_Type
+            # (Wellformed.topic_ok: tp_msg = ros_type_struct tp_type)
+            topics.append(ProvedTopic(parts[1], parts[2], parts[3], parts[4].replace("/", "_"), int(parts[5])))
         elif parts[0] == "period_ms" and len(parts) == 2:
             period = int(parts[1])
     if period is None:

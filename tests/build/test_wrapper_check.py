@@ -52,8 +52,9 @@ def test_mutated_wrapper_is_refused(name):
 def test_proved_model_differs_from_wrapper():
     """Same wrapper, another proved model (queue 3 on a topic): refused."""
     m, cpp = _landshark()
-    proved = model_text(m).replace("landshark_gps_velocity subscribe geometry_msgs_TwistStamped 1",
-                                   "landshark_gps_velocity subscribe geometry_msgs_TwistStamped 3")
+    proved = model_text(m).replace("landshark_gps_velocity subscribe geometry_msgs/TwistStamped 1",
+                                   "landshark_gps_velocity subscribe geometry_msgs/TwistStamped 3")
+    assert proved != model_text(m)
     with pytest.raises(WrapperMismatch):
         check_wrapper(cpp, proved, wrapper_name="w.cpp")
 
