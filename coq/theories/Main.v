@@ -30,7 +30,7 @@ From Coq Require Import String List ZArith Bool.
 From Flocq Require Import IEEE754.Binary IEEE754.Bits.
 From ROSGen Require Import Errors Maps FloatBits.
 From ROSGen Require Import Syntax Values Memory Environment Semantics Typing Interp.
-From ROSGen Require Import NodeModel Wellformed Generator Generatorspec Generatorproof DDC.
+From ROSGen Require Import NodeModel ModelText Wellformed Generator Generatorspec Generatorproof DDC.
 From ROSGen Require FloatOps Loopproof Glueproof Interpproof.
 Import ListNotations.
 
@@ -502,6 +502,25 @@ Proof. exact Generatorspec.leaves_spec. Qed.
 Theorem leaves_nodup:
   forall m id, wf_facts m -> NoDup (map fst (leaves (nm_msgs m) id)).
 Proof. exact Generatorspec.leaves_nodup. Qed.
+
+(** ** The model text ([ModelText]) *)
+
+(** The per-node file prints the model its theorems are about
+    ([print_model]), and [pyrosgen generate] compares that text with its
+    own reading of the YAML file.  The comparison is meaningful because
+    the text determines the model's items: for two models whose lines
+    contain no line feed ([lines_ok], which the names [Wellformed]
+    accepts guarantee), the same text means the same lines, and in
+    particular the same topic lines (ROS name, C name, direction, ROS
+    type, queue size), the same input relation lines and the same output
+    relation lines, in the same order. *)
+Theorem print_model_items:
+  forall m1 m2, lines_ok m1 = true -> lines_ok m2 = true -> print_model m1 = print_model m2 ->
+     model_lines m1 = model_lines m2
+  /\ map topic_line (nm_topics m1) = map topic_line (nm_topics m2)
+  /\ map inrel_line (nm_inrels m1) = map inrel_line (nm_inrels m2)
+  /\ map outrel_line (nm_outrels m1) = map outrel_line (nm_outrels m2).
+Proof. exact ModelText.print_model_items. Qed.
 
 (** ** Floats *)
 

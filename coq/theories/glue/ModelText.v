@@ -29,7 +29,7 @@
 >>
 *)
 
-From Coq Require Import String List ZArith.
+From Coq Require Import String Ascii List ZArith Bool.
 From ROSGen Require Import Syntax Printer NodeModel.
 Import ListNotations.
 Local Open Scope string_scope.
@@ -90,7 +90,134 @@ Definition model_lines (m : node_model) : list string :=
 (** The text: every line followed by a newline. *)
 Definition print_model (m : node_model) : string := concat_lines (model_lines m).
 
-(** Every relation, topic and field of the model has its own line: the
-    text determines the lists of relations and topics, in order.  (The
-    number of lines is the number of items; a dropped or added relation
-    changes it.) *)
+(** ** The text determines the lines, and the topic and relation lines *)
+
+(** Every item of the model has its own line.  When no line contains a
+    line feed ([lines_ok]; the names that [Wellformed] accepts contain
+    none, and the LandShark text is checked in
+    tests/ModelTextExamples.v), the text determines its lines, in order
+    ([print_model_lines]), and so the lines of the topics, of the input
+    relations and of the output relations, in model order
+    ([print_model_items]): a model with a topic or relation dropped,
+    added, reordered or with another line has another text. *)
+
+Definition newline_char : ascii := ascii_of_byte Byte.x0a.
+
+Fixpoint no_newline (s : string) : bool :=
+  match s with
+  | EmptyString => true
+  | String c s' => negb (Ascii.eqb c newline_char) && no_newline s'
+  end.
+
+Definition lines_ok (m : node_model) : bool := forallb no_newline (model_lines m).
+
+Lemma str_app_nil: forall s, (s ++ "")%string = s.
+Proof. induction s as [|c s IH]; simpl; [|rewrite IH]; reflexivity. Qed.
+
+Lemma str_app_assoc: forall a b c, ((a ++ b) ++ c)%string = (a ++ (b ++ c))%string.
+Proof. induction a as [|x a IH]; intros b c; simpl; [|rewrite IH]; reflexivity. Qed.
+
+Lemma concat_lines_cons:
+  forall s l, concat_lines (s :: l) = (s ++ newline ++ concat_lines l)%string.
+Proof.
+  intros s l. unfold concat_lines. destruct l as [|s' l]; cbn [map String.concat append].
+  - rewrite str_app_nil. reflexivity.
+  - rewrite str_app_assoc. reflexivity.
+Qed.
+
+Lemma split_newline:
+  forall s1 s2 r1 r2, no_newline s1 = true -> no_newline s2 = true ->
+  (s1 ++ newline ++ r1 = s2 ++ newline ++ r2)%string -> s1 = s2 /\ r1 = r2.
+Proof.
+  induction s1 as [|c1 s1 IH]; intros s2 r1 r2 N1 N2 E; destruct s2 as [|c2 s2]; simpl in *.
+  - inversion E; auto.
+  - inversion E; subst. apply andb_true_iff in N2. destruct N2 as [N2 _].
+    rewrite Ascii.eqb_refl in N2. discriminate.
+  - inversion E; subst. apply andb_true_iff in N1. destruct N1 as [N1 _].
+    rewrite Ascii.eqb_refl in N1. discriminate.
+  - inversion E; subst. apply andb_true_iff in N1, N2.
+    destruct (IH s2 r1 r2 (proj2 N1) (proj2 N2) H1) as [-> ->]; auto.
+Qed.
+
+Lemma concat_lines_inj:
+  forall l1 l2, forallb no_newline l1 = true -> forallb no_newline l2 = true ->
+  concat_lines l1 = concat_lines l2 -> l1 = l2.
+Proof.
+  induction l1 as [|s1 l1 IH]; intros l2 N1 N2 E; destruct l2 as [|s2 l2]; auto.
+  - rewrite concat_lines_cons in E. destruct s2; discriminate E.
+  - rewrite concat_lines_cons in E. destruct s1; discriminate E.
+  - rewrite !concat_lines_cons in E. simpl in N1, N2. apply andb_true_iff in N1, N2.
+    destruct (split_newline _ _ _ _ (proj1 N1) (proj1 N2) E) as [-> E'].
+    f_equal. apply IH; tauto.
+Qed.
+
+Theorem print_model_lines:
+  forall m1 m2, lines_ok m1 = true -> lines_ok m2 = true ->
+  print_model m1 = print_model m2 -> model_lines m1 = model_lines m2.
+Proof. intros m1 m2 N1 N2 E. apply concat_lines_inj; auto. Qed.
+
+(** The lines of one kind, recognised by their keyword. *)
+Definition lines_of (kw : string) (m : node_model) : list string :=
+  filter (prefix (kw ++ " ")) (model_lines m).
+
+Lemma prefix_app: forall p s, prefix p (p ++ s) = true.
+Proof.
+  induction p as [|c p IH]; intros s; simpl; [destruct s; auto|].
+  destruct (ascii_dec c c); [apply IH|congruence].
+Qed.
+
+Lemma filter_map_all:
+  forall (A : Type) (f : A -> string) (P : string -> bool) l,
+  (forall x, P (f x) = true) -> filter P (map f l) = map f l.
+Proof. induction l as [|x l IH]; intros H; simpl; auto. rewrite H, IH; auto. Qed.
+
+Lemma filter_map_none:
+  forall (A : Type) (f : A -> string) (P : string -> bool) l,
+  (forall x, P (f x) = false) -> filter P (map f l) = [].
+Proof. induction l as [|x l IH]; intros H; simpl; auto. rewrite H, IH; auto. Qed.
+
+Lemma filter_none:
+  forall (P : string -> bool) l, (forall s, In s l -> P s = false) -> filter P l = [].
+Proof.
+  induction l as [|s l IH]; intros H; simpl; auto.
+  rewrite H by (simpl; auto). apply IH. intros; apply H; simpl; auto.
+Qed.
+
+(** A line of another kind does not start with [kw ]. *)
+Local Ltac other_kind :=
+  intros ? H; unfold field_lines, msg_lines in *;
+  repeat match goal with
+  | H : In _ (map _ _) |- _ => apply in_map_iff in H; destruct H as (? & <- & _)
+  | H : In _ (flat_map _ _) |- _ => apply in_flat_map in H; destruct H as (? & _ & H)
+  | H : In _ (_ :: _) |- _ => destruct H as [<-|H]
+  | H : In _ [] |- _ => destruct H
+  end; reflexivity.
+
+Local Ltac lines_kind f :=
+  intros m; unfold lines_of, model_lines; rewrite !filter_app;
+  rewrite (filter_map_all _ f) by (intros; apply prefix_app);
+  repeat (rewrite filter_none by other_kind);
+  rewrite ?app_nil_l, ?app_nil_r; reflexivity.
+
+Lemma lines_topic: forall m, lines_of "topic" m = map topic_line (nm_topics m).
+Proof. lines_kind topic_line. Qed.
+
+Lemma lines_inrel: forall m, lines_of "input_relation" m = map inrel_line (nm_inrels m).
+Proof. lines_kind inrel_line. Qed.
+
+Lemma lines_outrel: forall m, lines_of "output_relation" m = map outrel_line (nm_outrels m).
+Proof. lines_kind outrel_line. Qed.
+
+(** Two models without line feeds in their lines and with the same text
+    have the same lines, the same topic lines, input relation lines and
+    output relation lines, in order (so as many topics and relations). *)
+Theorem print_model_items:
+  forall m1 m2, lines_ok m1 = true -> lines_ok m2 = true -> print_model m1 = print_model m2 ->
+     model_lines m1 = model_lines m2
+  /\ map topic_line (nm_topics m1) = map topic_line (nm_topics m2)
+  /\ map inrel_line (nm_inrels m1) = map inrel_line (nm_inrels m2)
+  /\ map outrel_line (nm_outrels m1) = map outrel_line (nm_outrels m2).
+Proof.
+  intros m1 m2 N1 N2 E. assert (L: model_lines m1 = model_lines m2) by (apply print_model_lines; auto).
+  rewrite <- !lines_topic, <- !lines_inrel, <- !lines_outrel. unfold lines_of. rewrite L. auto.
+Qed.
