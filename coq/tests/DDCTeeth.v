@@ -7,11 +7,13 @@
     wheel reports [0.0] and the right wheel [+inf] before the first spin,
     and the controller outputs [+inf].  The interpreter computes the run
     of [p'] (T5 makes it a behaviour, determinism the only one), and its
-    first event hands [In1 = +inf] to the controller instead of the left
-    wheel's [0.0].
+    step (after the start: [Einit], the subscriptions, the advertisement)
+    hands [In1 = +inf] to the controller instead of the left wheel's
+    [0.0].
 
     For the generated [p], the same run satisfies [run_ok], both by T2
-    and by a direct check. *)
+    and by a direct check.  [Mutants] extends this to a catalogue of
+    generator bugs, with a generic refutation. *)
 
 From Coq Require Import String List ZArith.
 From Flocq Require Import IEEE754.Binary.
