@@ -14,8 +14,12 @@
    (:mod:`pyrosgen.verify.printer_validation`); with ``wp=True`` (``--wp``), Frama-C WP
    also proves ACSL contracts generated from the model on the printed C
    (:mod:`pyrosgen.verify.acsl`);
-5. writing: ``<node>.v``, ``<node>_types.h``, ``<node>_glue.c`` and
-   ``<node>.sexp`` go into ``DIR``.
+5. writing: ``<node>.v``, ``<node>_types.h``, ``<node>_glue.c``,
+   ``<node>.sexp``, ``<node>.model`` (the model Coq printed), with ``--wp``
+   ``<node>_wp.c`` (the ACSL contracts), and the certificate
+   (:mod:`pyrosgen.verify.certificate`: ``<node>.certificate.md``,
+   ``<node>.manifest.json``, ``<node>.sha256``), rendered from the proved
+   model text and the printed C, go into ``DIR``.
 
 Everything is produced in a temporary directory next to ``DIR`` and moved
 into ``DIR`` only when every step succeeded: on failure, ``DIR`` gets
@@ -37,14 +41,11 @@ from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
 from pyrosgen.proof.coqmodel import node_file_names, render_node_file
 from pyrosgen.errors import ToolFailure, UserError
 from pyrosgen.proof.modeltext import compare_model_texts, model_text
-from pyrosgen.verify.certificate import render_certificate
+from pyrosgen.verify.certificate import ProofRecord, sha256_file, tool_versions, write_certificate
 from pyrosgen.frontend.model import NodeModel
 from pyrosgen.frontend.validate import load_model
 
 __all__ = ["OutputDirError", "GenerateResult", "generate", "generate_model", "STEPS"]
-
-#: The certificate written next to the glue (:mod:`pyrosgen.verify.certificate`).
-CERTIFICATE = "CERTIFICATE.md"
 
 #: Number of progress steps.
 STEPS = 5
@@ -71,6 +72,10 @@ class GenerateResult:
     wp: object = None                  #: :class:`pyrosgen.verify.acsl.WPResult` (``--wp`` only)
     #: The model the theorems are about, as Coq printed it (``ModelText``).
     proved_model: str = ""
+    #: What the certificate says (``build`` re-renders it with its own files).
+    record: ProofRecord | None = None
+    #: The files of the output folder the certificate covers.
+    covered: list[str] = field(default_factory=list)
 
     @property
     def written(self) -> list[Path]:
@@ -254,17 +259,31 @@ def generate_model(
             times["wp"] = time.monotonic() - t0
         out_v = stage / names.v_file
         shutil.copyfile(vfile, out_v)
-        out_cert = stage / CERTIFICATE
-        out_cert.write_text(render_certificate(
-            model, node_v=out_v, glue_c=out_c, types_h=out_h, theorem=main_thm,
-            theorems=theorems, ddc=ddc, wp=wp_result,
+        model_file = f"{model.name}.model"
+        shutil.copyfile(out_m, stage / model_file)
+        covered = [names.v_file, names.types_header, names.glue_c, names.sexp, model_file]
+        wp_record = None
+        if wp_result is not None:
+            contracts = f"{model.name}_wp.c"
+            shutil.copyfile(wp_result.wrapper, stage / contracts)
+            covered.append(contracts)
+            wp_record = {"proved": wp_result.proved, "total": wp_result.total,
+                         "prover": wp_result.prover, "contracts": contracts}
+        from pyrosgen import __version__
+
+        record = ProofRecord(
+            node=model.name, model_file=model_file, node_v=names.v_file, types_h=names.types_header,
+            glue_c=names.glue_c, sexp=names.sexp, theorem=main_thm, theorems=theorems, ddc=ddc,
             assumptions="\n".join(f"Print Assumptions {t}.\n{CLOSED}" for t in theorems),
-        ), encoding="utf-8")
+            library_sha256=drv.library_digest(), pyrosgen_version=__version__,
+            source_name=Path(model.source).name, source_sha256=sha256_file(Path(model.source)) if Path(model.source).is_file() else "",
+            wp=wp_record, tools=tool_versions(wp=wp_result is not None),
+        )
+        cert_files = write_certificate(record, stage, covered)
 
         # 5. writing
         say(f"[5/{STEPS}] writing into {out_dir}")
-        staged = [(out_v, names.v_file), (out_h, names.types_header), (out_c, names.glue_c), (out_s, names.sexp),
-                  (out_cert, CERTIFICATE)]
+        staged = [(stage / name, name) for name in covered + cert_files]
         for p, _ in staged:
             if not p.is_file():
                 raise CoqError(f"the printer did not write {p.name}")
@@ -287,4 +306,6 @@ def generate_model(
         validation=validation,
         wp=wp_result,
         proved_model=proved_model,
+        record=record,
+        covered=covered,
     )

@@ -27,6 +27,7 @@ Every failure raises :class:`CoqError` (exit code 2 in the command line).
 
 from __future__ import annotations
 
+import hashlib
 import os
 import re
 import shutil
@@ -288,6 +289,18 @@ class CoqDriver:
                         out.append(p)
             return out
         return sorted(self.theories.rglob("*.v"))
+
+    def library_digest(self) -> str:
+        """SHA-256 of the library's sources (each ``.v`` file's path under
+        ``theories`` and content, in path order): the identity of the
+        library a node was proved with.  The per-node ``.v`` recomputes
+        ``generate model`` against it when it is checked, so a certificate
+        records it and ``pyrosgen verify`` refuses another library."""
+        h = hashlib.sha256()
+        for v in sorted(self.library_sources(), key=lambda p: p.relative_to(self.theories).as_posix()):
+            h.update(v.relative_to(self.theories).as_posix().encode() + b"\0")
+            h.update(v.read_bytes() + b"\0")
+        return h.hexdigest()
 
     def check_library(self) -> None:
         """Require the library to be built: each ``X.v`` has an ``X.vo``

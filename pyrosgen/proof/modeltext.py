@@ -15,11 +15,16 @@ Coq literals, so that an emitter bug cannot hide itself.
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+
 from pyrosgen.errors import DetailedFailure
 from pyrosgen.frontend.model import NodeModel
 from pyrosgen.frontend.msgmodel import MsgField, msg_c_name
 
-__all__ = ["HEADER", "model_text", "ModelMismatch", "compare_model_texts"]
+__all__ = [
+    "HEADER", "model_text", "ModelMismatch", "compare_model_texts",
+    "ProvedTopic", "ProvedModel", "parse_model_text", "MalformedModelText",
+]
 
 #: First line of the text (its format version).
 HEADER = "pyrosgen-model 1"
@@ -89,3 +94,116 @@ def compare_model_texts(expected: str, proved: str, *, vfile: str, limit: int = 
         f"the model proved in {vfile} is not the model of the YAML file ({len(diffs)} differing items)",
         shown,
     )
+
+
+class MalformedModelText(DetailedFailure):
+    """A model text that does not follow the grammar of ``print_model``
+    (exit code 2: Coq's printer and this reader disagree, or the file was
+    edited)."""
+
+
+@dataclass(frozen=True)
+class ProvedTopic:
+    """A ``topic`` line of the proved model."""
+
+    name: str        #: ROS name
+    c_name: str      #: C identifier of the topic
+    direction: str   #: ``subscribe`` or ``publish``
+    ros_type: str    #: ``pkg/Type``
+    queue: int
+
+    @property
+    def struct(self) -> str:
+        """The message struct: ``pkg_Type`` (``Wellformed.topic_ok``)."""
+        return self.ros_type.replace("/", "_")
+
+    @property
+    def callback(self) -> str:
+        """The subscription callback of the generated glue."""
+        return f"{self.c_name}_callback"
+
+    @property
+    def output_glue(self) -> str:
+        """The output glue function of a published topic."""
+        return f"output_glue_{self.c_name}"
+
+
+@dataclass
+class ProvedModel:
+    """A model text printed by Coq (``ROSGen.glue.ModelText.print_model``),
+    read back: what the per-node theorem is about."""
+
+    name: str = ""
+    period_ms: int = 0
+    controller: str = ""
+    inputs_var: str = ""
+    inputs_struct: str = ""
+    inputs: list[tuple[str, str]] = field(default_factory=list)    #: (field, prim)
+    outputs_var: str = ""
+    outputs_struct: str = ""
+    outputs: list[tuple[str, str]] = field(default_factory=list)
+    messages: dict[str, list[tuple[str, str]]] = field(default_factory=dict)  #: struct -> (field, ftype)
+    topics: list[ProvedTopic] = field(default_factory=list)
+    #: (topic C name, path, controller input)
+    input_relations: list[tuple[str, str, str]] = field(default_factory=list)
+    #: (controller output, topic C name, path)
+    output_relations: list[tuple[str, str, str]] = field(default_factory=list)
+
+    def topic(self, c_name: str) -> ProvedTopic:
+        for t in self.topics:
+            if t.c_name == c_name:
+                return t
+        raise MalformedModelText(f"the proved model has no topic {c_name!r}")
+
+
+def parse_model_text(text: str, *, origin: str = "the proved model text") -> ProvedModel:
+    """Read a model text printed by Coq; raise :class:`MalformedModelText`
+    on anything outside the grammar of ``print_model``."""
+    lines = text.splitlines()
+    if not lines or lines[0] != HEADER:
+        raise MalformedModelText(f"{origin} does not start with {HEADER!r}")
+    pm = ProvedModel()
+    arity = {"node": 2, "period_ms": 2, "controller": 2, "inputs": 3, "input": 3, "outputs": 3,
+             "output": 3, "message": 2, "topic": 6, "input_relation": 4, "output_relation": 4}
+    message: list[tuple[str, str]] | None = None
+    seen: set[str] = set()
+    for n, line in enumerate(lines[1:], start=2):
+        parts = line.split(" ")
+        kw = parts[0]
+        if kw == "field" and len(parts) >= 3 and message is not None:
+            message.append((parts[1], " ".join(parts[2:])))
+            continue
+        if arity.get(kw) != len(parts) or any(not p for p in parts):
+            raise MalformedModelText(f"{origin}, line {n}: not an item of the grammar: {line!r}")
+        seen.add(kw)
+        try:
+            if kw == "node":
+                pm.name = parts[1]
+            elif kw == "period_ms":
+                pm.period_ms = int(parts[1])
+            elif kw == "controller":
+                pm.controller = parts[1]
+            elif kw == "inputs":
+                pm.inputs_var, pm.inputs_struct = parts[1], parts[2]
+            elif kw == "input":
+                pm.inputs.append((parts[1], parts[2]))
+            elif kw == "outputs":
+                pm.outputs_var, pm.outputs_struct = parts[1], parts[2]
+            elif kw == "output":
+                pm.outputs.append((parts[1], parts[2]))
+            elif kw == "message":
+                message = pm.messages.setdefault(parts[1], [])
+            elif kw == "topic":
+                if parts[3] not in ("subscribe", "publish"):
+                    raise ValueError(parts[3])
+                pm.topics.append(ProvedTopic(parts[1], parts[2], parts[3], parts[4], int(parts[5])))
+            elif kw == "input_relation":
+                pm.input_relations.append((parts[1], parts[2], parts[3]))
+            else:
+                pm.output_relations.append((parts[1], parts[2], parts[3]))
+        except ValueError:
+            raise MalformedModelText(f"{origin}, line {n}: not an item of the grammar: {line!r}") from None
+    missing = [k for k in ("node", "period_ms", "controller", "inputs", "outputs") if k not in seen]
+    if missing:
+        raise MalformedModelText(f"{origin} has no {', '.join(missing)} line")
+    return pm

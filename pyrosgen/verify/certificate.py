@@ -1,27 +1,84 @@
-"""The DDC certificate written next to the generated glue (``CERTIFICATE.md``).
+"""The DDC certificate of a node and its machine-readable manifest.
 
-It lists, for an auditor: the node, each relation (source field, destination
-field, type), the C lines that implement it, the Coq theorem that covers it
-and that it was checked, the printed assumptions, the Frama-C result when
-``--wp`` ran, tool versions, and SHA-256 digests of the model, the ``.v``
-file and the C files.  Rendered from ``templates/CERTIFICATE.md.j2``.
+``pyrosgen generate`` (and ``build``) write three files next to the glue:
 
-The certificate is deterministic (no dates, no timings), so regenerating an
-unchanged node leaves it untouched.
+- ``<node>.certificate.md``: for an auditor, what was proved and how to
+  re-check it.  It is rendered from *proved data only*: the model Coq
+  printed from the model term its theorem is about (``<node>.model``, read
+  back with :func:`pyrosgen.proof.modeltext.parse_model_text`) and the C
+  Coq printed (validated against the AST dump); never from the front end's
+  model.  It names the theorems and their printed assumptions, the Coq
+  library that checked them (a digest of its sources and the pyrosgen
+  version, since the ``.v`` recomputes ``generate model`` against that
+  library), each relation with the C lines that implement it, the trusted
+  parts and how each is checked, the tools, and the SHA-256 of every file
+  that matters (after ``build``: the wrapper, the layout check, the
+  controller sources, the catkin files and the binary too);
+- ``<node>.manifest.json``: the same facts for ``pyrosgen verify``;
+- ``<node>.sha256``: the digests in ``sha256sum`` format, so that
+  ``sha256sum -c <node>.sha256`` runs as written in the output folder.
+
+The files are per node (two nodes can share an output folder) and
+deterministic (no dates, no timings): regenerating an unchanged node leaves
+them untouched.  Names that came from the user (the model file's name) are
+shown through :func:`md_code`, never raw.
 """
 
 from __future__ import annotations
 
 import hashlib
+import json
 import re
 import shutil
 import subprocess
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
+from pyrosgen.errors import DetailedFailure
+from pyrosgen.proof.modeltext import ProvedModel, parse_model_text
 from pyrosgen.render import render
 
-from pyrosgen.frontend.model import NodeModel
+__all__ = [
+    "MANIFEST_FORMAT", "ProofRecord", "certificate_files", "sha256_file", "tool_versions",
+    "md_code", "write_certificate", "read_manifest", "CertificateError",
+]
 
+#: Version of the manifest's format.
+MANIFEST_FORMAT = 1
+
+
+class CertificateError(DetailedFailure):
+    """The printed C does not contain what the proved model says it should
+    (a relation's copy is missing): pyrosgen's own chain is broken."""
+
+
+def certificate_files(node: str) -> tuple[str, str, str]:
+    """The certificate, manifest and digest file names of ``node``."""
+    return f"{node}.certificate.md", f"{node}.manifest.json", f"{node}.sha256"
+
+
+@dataclass
+class ProofRecord:
+    """What was checked about a node, gathered by :mod:`pyrosgen.generate`
+    from the proof run (nothing here comes from the front end's model but
+    the model file's own name and digest)."""
+
+    node: str
+    model_file: str          #: the proved model text's file name (``<node>.model``)
+    node_v: str
+    types_h: str
+    glue_c: str
+    sexp: str
+    theorem: str
+    theorems: list[str]
+    ddc: bool
+    assumptions: str         #: what ``Print Assumptions`` printed, per theorem
+    library_sha256: str      #: :meth:`pyrosgen.proof.coqdriver.CoqDriver.library_digest`
+    pyrosgen_version: str
+    source_name: str         #: the YAML file's name (user input: shown escaped)
+    source_sha256: str
+    wp: dict | None = None   #: proved, total, prover, contracts (file name)
+    tools: list[tuple[str, str]] = field(default_factory=list)
 
 
 def sha256_file(path: Path) -> str:
@@ -44,13 +101,33 @@ def tool_version(argv: list[str]) -> str:
     return text[0].strip() if text else "unknown"
 
 
-def tool_versions() -> list[tuple[str, str]]:
-    return [
+def tool_versions(wp: bool = False) -> list[tuple[str, str]]:
+    out = [
         ("coqc", tool_version(["coqc", "--version"]).replace("The Coq Proof Assistant, ", "")),
-        ("ocamlopt", tool_version(["ocamlopt", "-version"])),
+        ("ocamlfind ocamlopt", tool_version(["ocamlfind", "ocamlopt", "-version"])),
         ("gcc", tool_version(["gcc", "--version"])),
-        ("frama-c", tool_version(["frama-c", "-version"])),
     ]
+    if wp:
+        out.append(("frama-c", tool_version(["frama-c", "-version"])))
+    return out
+
+
+_PLAIN = re.compile(r"[A-Za-z0-9._+/-]+(?: [A-Za-z0-9._+/-]+)*")
+
+
+def md_code(text: str) -> str:
+    """``text`` as inline Markdown code: as is when it is made of plain
+    characters, otherwise as a JSON string literal with every character
+    outside printable ASCII, the backtick, the bar, ``<``, ``>`` and ``&``
+    escaped (a file
+    name with a newline, a backtick or ``|`` cannot leave its table cell
+    or code span)."""
+    if _PLAIN.fullmatch(text):
+        return f"`{text}`"
+    lit = json.dumps(text, ensure_ascii=True)
+    for ch in "`|<>&":
+        lit = lit.replace(ch, f"\\u{ord(ch):04x}")
+    return f"`{lit}`"
 
 
 def _function_spans(c_text: str) -> dict[str, tuple[int, int]]:
@@ -72,6 +149,13 @@ def _function_spans(c_text: str) -> dict[str, tuple[int, int]]:
     return spans
 
 
+def _span(spans: dict[str, tuple[int, int]], fn: str) -> tuple[int, int]:
+    try:
+        return spans[fn]
+    except KeyError:
+        raise CertificateError(f"certificate: the printed C has no function {fn}") from None
+
+
 def _copy_lines(lines: list[str], span: tuple[int, int], dst: str) -> list[tuple[int, str]]:
     """The two lines of the relation's copy into ``dst`` inside ``span``:
     ``_t = src;`` then ``dst = _t;`` (the last such assignment: an output
@@ -82,65 +166,81 @@ def _copy_lines(lines: list[str], span: tuple[int, int], dst: str) -> list[tuple
         if text.startswith(dst + " = _t_"):
             prev = lines[n - 2].strip()
             return [(n - 1, prev), (n, text)]
-    raise ValueError(f"certificate: no copy into {dst} in lines {first}-{last}")
+    raise CertificateError(f"certificate: no copy into {dst} in lines {first}-{last}")
 
 
-def render_certificate(model: NodeModel, *, node_v: Path, glue_c: Path, types_h: Path,
-                       theorem: str, theorems: list[str], ddc: bool, assumptions: str,
-                       wp: object = None) -> str:
-    """The text of ``CERTIFICATE.md`` for the files just printed."""
-    c_text = glue_c.read_text(encoding="utf-8")
+def _relations(pm: ProvedModel, c_text: str) -> tuple[list[dict], list[dict]]:
+    """The rows of the relation sections, from the proved model and the
+    printed C."""
     lines = c_text.splitlines()
     spans = _function_spans(c_text)
-    uvar = model.controller.inputs.var_name
-    yvar = model.controller.outputs.var_name
+    in_prim, out_prim = dict(pm.inputs), dict(pm.outputs)
     inputs = []
-    for r in model.input_relations:
-        cb = spans[r.topic.callback]
+    for topic_c, path, fld in pm.input_relations:
+        t = pm.topic(topic_c)
+        cb = _span(spans, t.callback)
+        dst = f"{pm.inputs_var}.{fld}"
         inputs.append({
-            "src": f"{r.topic.name} {r.path}",
-            "dst": f"{uvar}.{r.input_field}",
-            "type": r.path.prim,
-            "callback": r.topic.callback,
-            "cb_first": cb[0],
-            "cb_last": cb[1],
-            "lines": _copy_lines(lines, spans["input_glue"], f"{uvar}.{r.input_field}"),
+            "src": f"{t.name} {path}", "dst": dst, "type": in_prim.get(fld, "?"),
+            "callback": t.callback, "cb_first": cb[0], "cb_last": cb[1],
+            "lines": _copy_lines(lines, _span(spans, "input_glue"), dst),
         })
     outputs = []
-    for r in model.output_relations:
-        dst = r.path.c_access("(*command)")
+    for fld, topic_c, path in pm.output_relations:
+        t = pm.topic(topic_c)
         outputs.append({
-            "src": f"{yvar}.{r.output_field}",
-            "dst": f"{r.topic.name} {r.path}",
-            "type": r.path.prim,
-            "lines": _copy_lines(lines, spans[r.topic.output_glue], dst),
+            "src": f"{pm.outputs_var}.{fld}", "dst": f"{t.name} {path}", "type": out_prim.get(fld, "?"),
+            "function": t.output_glue,
+            "lines": _copy_lines(lines, _span(spans, t.output_glue), f"(*command).{path}"),
         })
-    wp_ctx = None
-    if wp is not None:
-        wp_ctx = {
-            "proved": getattr(wp, "proved", "?"),
-            "total": getattr(wp, "total", "?"),
-            "prover": getattr(wp, "prover", "") or "",
-        }
-    hashes = [
-        (model.source.name, sha256_file(model.source)),
-        (node_v.name, sha256_file(node_v)),
-        (types_h.name, sha256_file(types_h)),
-        (glue_c.name, sha256_file(glue_c)),
-    ]
-    return render("CERTIFICATE.md.j2",
-        source=model.source.name,
-        model=model,
-        node_v=node_v.name,
-        glue_c=glue_c.name,
-        types_h=types_h.name,
-        theorem=theorem,
-        theorems=theorems,
-        ddc=ddc,
-        assumptions=assumptions.strip(),
-        inputs=inputs,
-        outputs=outputs,
-        wp=wp_ctx,
-        tools=tool_versions(),
-        hashes=hashes,
+    return inputs, outputs
+
+
+def _hashes(folder: Path, files: list[str]) -> list[tuple[str, str]]:
+    return [(name, sha256_file(folder / name)) for name in sorted(set(files))]
+
+
+def write_certificate(rec: ProofRecord, folder: Path, files: list[str]) -> list[str]:
+    """Write the certificate, the manifest and the digest file of ``rec``
+    into ``folder``, covering ``files`` (paths relative to ``folder``, each
+    present); return the three names."""
+    cert_name, manifest_name, sums_name = certificate_files(rec.node)
+    proved = (folder / rec.model_file).read_text(encoding="utf-8")
+    pm = parse_model_text(proved, origin=rec.model_file)
+    inputs, outputs = _relations(pm, (folder / rec.glue_c).read_text(encoding="utf-8"))
+    hashes = _hashes(folder, files)
+    built = any(name.startswith("bin/") for name, _ in hashes)
+    text = render(
+        "CERTIFICATE.md.j2",
+        rec=rec, pm=pm, md=md_code, source=md_code(rec.source_name),
+        inputs=inputs, outputs=outputs, hashes=hashes, built=built,
+        manifest=manifest_name, sums=sums_name, certificate=cert_name,
     )
+    manifest = {
+        "format": MANIFEST_FORMAT,
+        **{k: v for k, v in asdict(rec).items() if k != "tools"},
+        "tools": [list(t) for t in rec.tools],
+        "files": dict(hashes),
+    }
+    (folder / cert_name).write_text(text, encoding="utf-8")
+    (folder / manifest_name).write_text(json.dumps(manifest, indent=2, sort_keys=True) + "\n", encoding="utf-8")
+    (folder / sums_name).write_text("".join(f"{d}  {n}\n" for n, d in hashes), encoding="utf-8")
+    return [cert_name, manifest_name, sums_name]
+
+
+def read_manifest(path: Path) -> tuple[ProofRecord, dict[str, str]]:
+    """The record and the file digests of a manifest written by
+    :func:`write_certificate`; ``ValueError`` if it is not one."""
+    data = json.loads(path.read_text(encoding="utf-8"))
+    if not isinstance(data, dict) or data.get("format") != MANIFEST_FORMAT:
+        raise ValueError(f"{path.name}: not a pyrosgen manifest of format {MANIFEST_FORMAT}")
+    files = data.pop("files")
+    data.pop("format")
+    tools = data.pop("tools", [])
+    if not isinstance(files, dict) or not all(isinstance(k, str) and isinstance(v, str) for k, v in files.items()):
+        raise ValueError(f"{path.name}: malformed file table")
+    try:
+        rec = ProofRecord(**data, tools=[tuple(t) for t in tools])
+    except TypeError as exc:
+        raise ValueError(f"{path.name}: {exc}") from None
+    return rec, files

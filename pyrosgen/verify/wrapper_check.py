@@ -14,10 +14,10 @@ section 7).
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 from fractions import Fraction
 
 from pyrosgen.errors import DetailedFailure
+from pyrosgen.proof.modeltext import MalformedModelText, ProvedTopic, parse_model_text
 
 __all__ = ["ProvedTopic", "proved_interface", "check_wrapper", "WrapperMismatch"]
 
@@ -26,29 +26,13 @@ class WrapperMismatch(DetailedFailure):
     """The rendered wrapper does not implement the proved model's interface."""
 
 
-@dataclass(frozen=True)
-class ProvedTopic:
-    name: str
-    c_name: str
-    direction: str
-    struct: str
-    queue: int
-
-
 def proved_interface(text: str) -> tuple[list[ProvedTopic], int]:
     """The topics and the period (ms) of a model text printed by Coq."""
-    topics, period = [], None
-    for line in text.splitlines():
-        parts = line.split(" ")
-        if parts[0] == "topic" and len(parts) == 6:
-            # parts[4] is the ROS type pkg/Type; the proved struct is pkg_Type
-            # (Wellformed.topic_ok: tp_msg = ros_type_struct tp_type)
-            topics.append(ProvedTopic(parts[1], parts[2], parts[3], parts[4].replace("/", "_"), int(parts[5])))
-        elif parts[0] == "period_ms" and len(parts) == 2:
-            period = int(parts[1])
-    if period is None:
-        raise WrapperMismatch("the proved model text has no period_ms line")
-    return topics, period
+    try:
+        pm = parse_model_text(text)
+    except MalformedModelText as exc:
+        raise WrapperMismatch(str(exc)) from None
+    return pm.topics, pm.period_ms
 
 
 _SUB = re.compile(

@@ -16,7 +16,8 @@ from pyrosgen.proof.coqdriver import CLOSED, DEFAULT_THEORIES
 from support.generate import LANDSHARK, MULTI, ddc_in_coqproject, require_library
 
 NODE = "landshark_controller"
-OUTPUTS = [f"{NODE}.v", f"{NODE}_types.h", f"{NODE}_glue.c", f"{NODE}.sexp", "CERTIFICATE.md"]
+OUTPUTS = [f"{NODE}.v", f"{NODE}_types.h", f"{NODE}_glue.c", f"{NODE}.sexp", f"{NODE}.model",
+           f"{NODE}.certificate.md", f"{NODE}.manifest.json", f"{NODE}.sha256"]
 
 
 def run(capsys, *argv):

@@ -51,7 +51,10 @@ def _files(generated, key):
         "h": d / f"{node}_types.h",
         "c": d / f"{node}_glue.c",
         "sexp": d / f"{node}.sexp",
-        "cert": d / "CERTIFICATE.md",
+        "model": d / f"{node}.model",
+        "cert": d / f"{node}.certificate.md",
+        "manifest": d / f"{node}.manifest.json",
+        "sums": d / f"{node}.sha256",
     }
 
 
@@ -74,7 +77,8 @@ def test_files_written_and_theorem(generated, key):
     node = NODES[key][1]
     files = _files(generated, key)
     assert sorted(p.name for p in d.iterdir()) == sorted(p.name for p in files.values())
-    assert [p for p, _ in res.files] == [files["v"], files["h"], files["c"], files["sexp"], files["cert"]]
+    assert [p for p, _ in res.files] == [files[k] for k in
+                                         ("v", "h", "c", "sexp", "model", "cert", "manifest", "sums")]
     assert all(rewritten for _, rewritten in res.files)
     # the main theorem: T2 when the library has it, else the T4 fallback
     if ddc_in_coqproject():
@@ -359,7 +363,15 @@ def test_certificate_claims_match_the_files(generated, key):
         dst = r.path.c_access("(*command)")
         assert re.search(rf"\*/ (_t_\w+) = {re.escape(yvar)}\.{r.output_field};\n/\* \S+ \*/ {re.escape(dst)} = \1;", block)
     digests = dict(re.findall(r"^\| `([^`]+)` \| `([0-9a-f]{64})` \|$", cert, re.M))
-    expected = {p.name: p for p in (files["v"], files["h"], files["c"], model.source)}
+    expected = {p.name: p for p in (files["v"], files["h"], files["c"], files["sexp"], files["model"])}
     assert set(digests) == set(expected)
     for name, path in expected.items():
         assert digests[name] == hashlib.sha256(path.read_bytes()).hexdigest()
+    assert hashlib.sha256(model.source.read_bytes()).hexdigest() in cert
+    # the digest file is sha256sum's format and agrees with the table
+    sums = dict(reversed(line.split("  ", 1)) for line in files["sums"].read_text().splitlines())
+    assert sums == digests
+    # the proved model as Coq printed it is the one shown: period and topics
+    assert f"| period | {model.period_ms} ms |" in cert
+    for t in model.topics:
+        assert f"| {t.direction} | `{t.name}` (`{t.msg_type}`, queue {t.queue_size}) |" in cert

@@ -1,0 +1,123 @@
+"""The certificate is rendered from proved data (the model Coq printed and
+the C Coq printed), never from the front end's model; user strings in it
+are escaped; the manifest and the digest file agree with the folder."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import shutil
+import subprocess
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+
+from pyrosgen.errors import DetailedFailure
+from pyrosgen.generate import generate
+from pyrosgen.verify.certificate import md_code, read_manifest, write_certificate
+
+from support.generate import LANDSHARK, require_library
+
+NODE = "landshark_controller"
+
+
+@pytest.fixture(scope="module")
+def landshark(tmp_path_factory):
+    require_library()
+    d = tmp_path_factory.mktemp("cert") / "out"
+    res = generate(LANDSHARK, d)
+    return res, d
+
+
+def _copy(d: Path, tmp_path: Path) -> Path:
+    c = tmp_path / "copy"
+    shutil.copytree(d, c)
+    return c
+
+
+def test_certificate_follows_the_proved_model_text(landshark, tmp_path):
+    """Rendered again from a folder whose proved model text says another
+    period and another queue size, the certificate says what that text says
+    (so it is drawn from it, not from the YAML's model)."""
+    res, d = landshark
+    c = _copy(d, tmp_path)
+    model = c / f"{NODE}.model"
+    text = model.read_text()
+    assert "period_ms 20\n" in text and " geometry_msgs/TwistStamped 1\n" in text
+    model.write_text(text.replace("period_ms 20\n", "period_ms 35\n")
+                     .replace("/landshark/gps_velocity landshark_gps_velocity subscribe geometry_msgs/TwistStamped 1",
+                              "/landshark/gps_velocity landshark_gps_velocity subscribe geometry_msgs/TwistStamped 7"))
+    write_certificate(res.record, c, res.covered)
+    cert = (c / f"{NODE}.certificate.md").read_text()
+    assert "| period | 35 ms |" in cert and "sleep of 35 ms" in cert
+    assert "(`geometry_msgs/TwistStamped`, queue 7)" in cert
+    original = (d / f"{NODE}.certificate.md").read_text()
+    assert "| period | 20 ms |" in original and "queue 7" not in original
+
+
+def test_certificate_refuses_a_relation_the_c_does_not_implement(landshark, tmp_path):
+    """A proved model text whose relation the printed C does not copy
+    (two inputs swapped) cannot be certified: the C lines are looked up
+    from the C, and the lookup fails instead of citing a wrong line."""
+    res, d = landshark
+    c = _copy(d, tmp_path)
+    model = c / f"{NODE}.model"
+    text = model.read_text()
+    swapped = (text.replace("landshark_left_wheel_velocity twist.linear.x In1", "@L")
+               .replace("landshark_right_wheel_velocity twist.linear.x In2",
+                        "landshark_right_wheel_velocity twist.linear.x In1")
+               .replace("@L", "landshark_left_wheel_velocity twist.linear.x In2"))
+    assert swapped != text
+    model.write_text(swapped)
+    # the C copies In1 from the left wheel: the certificate's lookup of the
+    # right wheel's copy into In1 finds the left wheel's line, and the
+    # test of test_generate.py checks the quoted line; here the quoted
+    # line must name the left wheel's global, exposing the swap
+    write_certificate(res.record, c, res.covered)
+    cert = (c / f"{NODE}.certificate.md").read_text()
+    block = cert.split("### `/landshark/right_wheel_velocity twist.linear.x` → `Controller_U.In1`", 1)[1]
+    block = block.split("###", 1)[0]
+    assert "landshark_left_wheel_velocity_msg.twist.linear.x" in block
+    # a relation whose copy is not in the C at all is refused
+    model.write_text(text.replace("input_relation landshark_gps_velocity twist.linear.x In3",
+                                  "input_relation landshark_gps_velocity twist.linear.x In9"))
+    with pytest.raises(DetailedFailure, match="no copy into Controller_U.In9"):
+        write_certificate(res.record, c, res.covered)
+
+
+def test_manifest_and_digest_file(landshark):
+    res, d = landshark
+    rec, files = read_manifest(d / f"{NODE}.manifest.json")
+    assert rec == res.record
+    assert set(files) == {f"{NODE}.v", f"{NODE}_types.h", f"{NODE}_glue.c", f"{NODE}.sexp", f"{NODE}.model"}
+    for name, digest in files.items():
+        assert hashlib.sha256((d / name).read_bytes()).hexdigest() == digest
+    assert len(rec.library_sha256) == 64 and rec.library_sha256 in (d / f"{NODE}.certificate.md").read_text()
+    # runs as written in the folder
+    ok = subprocess.run(["sha256sum", "-c", f"{NODE}.sha256"], cwd=d, capture_output=True, text=True)
+    assert ok.returncode == 0, ok.stdout + ok.stderr
+    assert ok.stdout.count(": OK") == len(files)
+
+
+def test_manifest_rejects_other_json(tmp_path):
+    p = tmp_path / "x.manifest.json"
+    p.write_text(json.dumps({"format": 99}))
+    with pytest.raises(ValueError, match="not a pyrosgen manifest"):
+        read_manifest(p)
+
+
+@pytest.mark.parametrize("name", [
+    "a\nb.yaml", "x`$(touch pwned)`.yaml", "a|b.yaml", "évil.yaml", "<script>.yaml", "a\u202eb.yaml",
+])
+def test_user_strings_are_escaped(landshark, tmp_path, name):
+    """A model file name with a newline, a backtick, a bar or non-ASCII
+    text stays inside its code span, on one line."""
+    res, d = landshark
+    shown = md_code(name)
+    assert "\n" not in shown and shown.count("`") == 2 and "|" not in shown
+    assert shown.isascii()
+    c = _copy(d, tmp_path)
+    write_certificate(replace(res.record, source_name=name), c, res.covered)
+    cert = (c / f"{NODE}.certificate.md").read_text()
+    assert shown in cert and name not in cert
