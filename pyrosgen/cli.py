@@ -141,7 +141,8 @@ def cmd_build(args: argparse.Namespace) -> int:
     except ValueError:  # not in the main thread
         previous = None
     try:
-        res = build(args.model, args.controller, args.output, progress=_progress(args), keep_work=args.keep_work)
+        res = build(args.model, args.controller, args.output, progress=_progress(args), keep_work=args.keep_work,
+                    wp=args.wp)
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
@@ -160,6 +161,8 @@ def cmd_build(args: argparse.Namespace) -> int:
     print(f"  generated {', '.join(p.name for p, _ in g.files)}")
     print(f"  theorem   {g.theorem}: {g.theorem_kind}")
     print(f"            checked by coqc and coqchk; Print Assumptions: {g.assumptions}")
+    if g.wp is not None:
+        print(f"  WP        {g.wp.summary()}")
     print(f"  layout    {res.model.controller.name}.h agrees with the glue (sizes, offsets, types)")
     t = res.times
     phases = ", ".join(f"{k} {t[k]:.2f} s" for k in (
@@ -169,12 +172,54 @@ def cmd_build(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _print_checks(report) -> None:
+    for c in report.checks:
+        print(f"  {'ok' if c.ok else 'FAILED':<8}{c.name:<10}{c.summary}")
+        for line in c.details:
+            print(f"          {line.strip()}")
+
+
+def cmd_verify(args: argparse.Namespace) -> int:
+    """``pyrosgen verify OUT``: re-check an output folder on its own (see
+    :mod:`pyrosgen.verify.recheck`)."""
+    from pyrosgen.verify.recheck import VerifyFailed, verify_folder
+
+    try:
+        report = verify_folder(args.folder, node=args.node, model=args.model, wp=args.wp,
+                               progress=_progress(args))
+    except VerifyFailed as exc:
+        print(f"pyrosgen: {exc.verify_report.folder} does NOT verify (node {exc.verify_report.node})")
+        _print_checks(exc.verify_report)
+        raise
+    print(f"pyrosgen: {report.folder} verifies (node {report.node}); {report.seconds:.1f} s")
+    _print_checks(report)
+    return EXIT_OK
+
+
+def cmd_library(args: argparse.Namespace) -> int:
+    """``pyrosgen library``: the ROSGen library this pyrosgen checks proofs
+    with: its folder and identity (as certificates record it)."""
+    from pyrosgen import __version__
+    from pyrosgen.proof.coqdriver import CoqDriver
+
+    drv = CoqDriver()
+    if args.path:
+        print(drv.theories)
+        return EXIT_OK
+    drv.check_library()
+    print(f"ROSGen library of pyrosgen {__version__}")
+    print(f"  folder          {drv.theories}")
+    print(f"  sources SHA-256 {drv.library_digest()}")
+    return EXIT_OK
+
+
 _EXAMPLES = {
     "pyrosgen": """examples:
   pyrosgen check examples/landshark/landshark_controller.yaml
   pyrosgen generate examples/landshark/landshark_controller.yaml -o build/landshark
   pyrosgen build examples/landshark/landshark_controller.yaml --controller examples/landshark/controller -o build/landshark
   pyrosgen diagram examples/landshark/landshark_controller.yaml -o landshark.svg
+  pyrosgen verify build/landshark
 
 exit codes: 0 success, 1 invalid model or usage, 2 proof or tool failure.
 'pyrosgen COMMAND --help' shows each command's options.""",
@@ -192,8 +237,15 @@ Every problem is reported as FILE:LINE:COL: error: MESSAGE; exit 1 if any.""",
   pyrosgen generate examples/multi/multi_node.yaml -o build/multi --wp     # also Frama-C WP
   pyrosgen -v generate my_node.yaml -o out --keep-work                     # show commands, keep the Coq work dir
 
-writes DIR/<node>.v, <node>_types.h, <node>_glue.c, <node>.sexp, CERTIFICATE.md
+writes DIR/<node>.v, <node>_types.h, <node>_glue.c, <node>.sexp, <node>.model,
+<node>.certificate.md, <node>.manifest.json, <node>.sha256 (and <node>_wp.c with --wp)
 only if the node's DDC theorem was checked and is closed under the global context.""",
+    "verify": """examples:
+  pyrosgen verify build/landshark                       # hashes, coqc/coqchk, re-printed C, wrapper
+  pyrosgen verify build/landshark --model examples/landshark/landshark_controller.yaml --wp
+
+exit codes: 0 every check holds, 1 a check failed (each is named) or not an
+output folder, 2 a tool is missing.""",
     "build": """examples:
   pyrosgen build examples/landshark/landshark_controller.yaml \\
       --controller examples/landshark/controller -o build/landshark
@@ -271,7 +323,37 @@ def build_parser() -> argparse.ArgumentParser:
         "--keep-work", action="store_true",
         help="keep the temporary work directory (next to OUT) for inspection",
     )
+    p.add_argument(
+        "--wp", action="store_true",
+        help="also prove ACSL contracts generated from the model on the printed C with Frama-C WP",
+    )
     p.set_defaults(func=cmd_build)
+
+    p = sub.add_parser(
+        "verify",
+        epilog=_EXAMPLES["verify"], formatter_class=argparse.RawDescriptionHelpFormatter,
+        help="re-check an output folder on its own",
+        description=(
+            "Re-check an output folder of generate or build: the recorded hashes, the "
+            "library identity, coqc and coqchk of the .v, the C re-printed from the proof "
+            "and compared with the files, the wrapper against the proved model; with "
+            "--model, the proved model against a model file; with --wp, Frama-C WP. "
+            "The folder is not written."
+        ),
+    )
+    p.add_argument("folder", metavar="OUT", help="output folder of pyrosgen generate or build")
+    p.add_argument("--node", metavar="NAME", help="the node to check when OUT holds several")
+    p.add_argument("--model", metavar="MODEL.yaml", help="also check that the proved model is this file's")
+    p.add_argument("--wp", action="store_true", help="also re-run Frama-C WP on the folder's ACSL contracts")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
+    p.set_defaults(func=cmd_verify)
+
+    p = sub.add_parser(
+        "library", help="show the Coq library proofs are checked with",
+        description="Show the ROSGen library's folder and the SHA-256 of its sources (a certificate's library identity).",
+    )
+    p.add_argument("--path", action="store_true", help="print only the folder (for coqc -R FOLDER ROSGen)")
+    p.set_defaults(func=cmd_library)
     return parser
 
 
@@ -296,7 +378,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         console.VERBOSE = bool(getattr(args, "verbose", False))
         func: Callable[[argparse.Namespace], int] = args.func
         writes = func in (cmd_generate, cmd_build)
-        ctx = Context(command=func.__name__.removeprefix("cmd_"), model=str(getattr(args, "model", "")),
+        ctx = Context(command=func.__name__.removeprefix("cmd_"), model=str(getattr(args, "model", "") or ""),
                       output=str(args.output) if writes else "")
         return func(args)
     except PyrosgenError as exc:

@@ -267,8 +267,11 @@ def generate_model(
             contracts = f"{model.name}_wp.c"
             shutil.copyfile(wp_result.wrapper, stage / contracts)
             covered.append(contracts)
+            from pyrosgen.verify.acsl import contract_frame, contracts as acsl_contracts
+
             wp_record = {"proved": wp_result.proved, "total": wp_result.total,
-                         "prover": wp_result.prover, "contracts": contracts}
+                         "prover": wp_result.prover, "contracts": contracts,
+                         "functions": [[n, ptr, list(sep)] for n, ptr, sep in map(contract_frame, acsl_contracts(model))]}
         from pyrosgen import __version__
 
         record = ProofRecord(

@@ -56,6 +56,7 @@ from pyrosgen import console
 from pyrosgen.ros import layout
 from pyrosgen.ros import wrapper as ros
 from pyrosgen.errors import Context, DetailedFailure, UserError
+from pyrosgen.verify.certificate import certificate_files, write_certificate
 from pyrosgen.verify.wrapper_check import check_wrapper
 from pyrosgen.generate import GenerateResult, OutputDirError, generate_model
 from pyrosgen.frontend.model import NodeModel
@@ -352,7 +353,7 @@ def _install(stage: Path, out_dir: Path, old_files: list[str], backup_dir: Path)
 
 def build(model_path: str | Path, controller_dir: str | Path, out_dir: str | Path, *,
           progress: Callable[[str], None] | None = None, keep_work: bool = False,
-          driver=None) -> BuildResult:
+          driver=None, wp: bool = False) -> BuildResult:
     """Build the node of the model file ``model_path`` with the controller
     in ``controller_dir`` into ``out_dir``; see the module documentation.
 
@@ -367,13 +368,14 @@ def build(model_path: str | Path, controller_dir: str | Path, out_dir: str | Pat
     say(f"[1/{STEPS}] front end: reading {model_path}")
     model = load_model(model_path)
     return build_model(model, controller_dir, out_dir, progress=progress, keep_work=keep_work,
-                       driver=driver, _t_start=t0)
+                       driver=driver, wp=wp, _t_start=t0)
 
 
 def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Path, *,
                 progress: Callable[[str], None] | None = None, keep_work: bool = False,
-                driver=None, _t_start: float | None = None) -> BuildResult:
-    """:func:`build` on an already loaded ``model``."""
+                driver=None, wp: bool = False, _t_start: float | None = None) -> BuildResult:
+    """:func:`build` on an already loaded ``model``; ``wp`` also proves
+    the ACSL contracts with Frama-C WP (as ``generate --wp``)."""
     say = progress or (lambda _line: None)
     t_start = _t_start if _t_start is not None else time.monotonic()
     times: dict[str, float] = {}
@@ -409,7 +411,7 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         def sub(line: str) -> None:
             say(f"[2/{STEPS}] generate: " + re.sub(r"^\[\d+/\d+\] ", "", line).replace(str(stage), str(out_dir)))
 
-        gen = generate_model(model, stage, progress=sub, keep_work=keep_work, driver=driver)
+        gen = generate_model(model, stage, progress=sub, keep_work=keep_work, driver=driver, wp=wp)
         times["generate"] = time.monotonic() - t
         types_h = (stage / names.types_header).read_text(encoding="ascii")
 
@@ -517,6 +519,11 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
                                           "the glue uses", msg.splitlines())
                 raise BuildToolError(f"linking {node} failed (exit status {r.returncode})", msg.splitlines())
             steps.append((f"bin/{node}", True))
+        # the certificate again, now covering what the build added (the
+        # wrapper, the layout check, the controller, the catkin files, the binary)
+        cert_files = set(certificate_files(node))
+        covered = [f for f in _all_files(stage) if not f.startswith("obj/") and f not in cert_files]
+        write_certificate(gen.record, stage, covered)
         files = _all_files(stage) + [STAMP]
         (stage / STAMP).write_text(cache.stamp(sorted(files)), encoding="utf-8")
         say(f"[8/{STEPS}] installing into {out_dir}")

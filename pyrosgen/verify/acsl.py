@@ -63,6 +63,8 @@ from pyrosgen.proof.coqdriver import CoqError
 from pyrosgen.frontend.model import NodeModel
 
 __all__ = [
+    "run_wp_file",
+    "contract_frame",
     "WPError",
     "WPResult",
     "Contract",
@@ -263,15 +265,23 @@ def memory_hypotheses(output: str) -> list[tuple[str, tuple[str, ...]]]:
     return out
 
 
-def _check_hypotheses(output: str, cs: list[Contract]) -> None:
-    """Every memory-model hypothesis WP reports must be stated in the contract."""
-    by_name = {c.name: c for c in cs}
+def _check_hypotheses(output: str, cs: list[Contract] | list[tuple[str, str | None, tuple[str, ...]]]) -> None:
+    """Every memory-model hypothesis WP reports must be stated in the
+    contract (``cs``: the contracts, or their (name, pointer, separated))."""
+    by_name = {c[0]: c for c in (contract_frame(c) if isinstance(c, Contract) else c for c in cs)}
     for fn, terms in memory_hypotheses(output):
         c = by_name.get(fn)
-        stated = set(c.separated) | {c.pointer} if c is not None and c.pointer else set()
-        if c is None or c.pointer not in terms or not set(terms) <= stated:
+        pointer, separated = (c[1], c[2]) if c is not None else (None, ())
+        stated = set(separated) | {pointer} if pointer else set()
+        if c is None or pointer not in terms or not set(terms) <= stated:
             raise WPError(f"WP assumed a memory-model hypothesis that the contract of {fn} does not "
                           f"state: \\separated({', '.join(terms)})")
+
+
+def contract_frame(c: Contract) -> tuple[str, str | None, tuple[str, ...]]:
+    """What a WP run needs of a contract besides its text in the contracts
+    file: its function, pointer argument and stated separations."""
+    return (c.name, c.pointer, tuple(c.separated))
 
 
 def run_wp(model: NodeModel, glue: str | Path, header: str | Path, work: str | Path, *,
@@ -280,7 +290,7 @@ def run_wp(model: NodeModel, glue: str | Path, header: str | Path, work: str | P
     includes ``header``) with Frama-C WP, in the directory ``work``.
 
     Raises :class:`WPError` unless every goal is proved."""
-    frama_c = _tool("frama-c", "install Frama-C (Debian package frama-c-base) for --wp")
+    _tool("frama-c", "install Frama-C (Debian package frama-c-base) for --wp")
     work = Path(work)
     work.mkdir(parents=True, exist_ok=True)
     glue, header = Path(glue), Path(header)
@@ -290,6 +300,18 @@ def run_wp(model: NodeModel, glue: str | Path, header: str | Path, work: str | P
     cs = contracts(model)
     wrapper = work / f"{model.name}_wp.c"
     wrapper.write_text(render_wrapper(model, glue.name, header.name, cs), encoding="ascii")
+    return run_wp_file(wrapper, [contract_frame(c) for c in cs], timeout=timeout, jobs=jobs, provers=provers)
+
+
+def run_wp_file(wrapper: Path, frames: list[tuple[str, str | None, tuple[str, ...]]], *,
+                timeout: int = 10, jobs: int = 2, provers: tuple[str, ...] | None = None) -> WPResult:
+    """Prove the contracts of the contracts file ``wrapper`` (which
+    includes the glue and its header, next to it) on the functions of
+    ``frames`` (:func:`contract_frame`); the folder of ``wrapper`` is the
+    work folder.  Raises :class:`WPError` unless every goal is proved and
+    every memory-model hypothesis WP used is stated by a contract."""
+    frama_c = _tool("frama-c", "install Frama-C (Debian package frama-c-base) for --wp")
+    work = wrapper.parent
     conf, found = _why3_config(work)
     use = tuple(p for p in (provers or found) if p in found)
     if not use:
@@ -297,7 +319,7 @@ def run_wp(model: NodeModel, glue: str | Path, header: str | Path, work: str | P
     argv = [frama_c, "-no-autoload-plugins", "-load-module", "wp",
             "-wp", "-wp-rte", "-wp-model", "Typed+float", "-wp-prover", ",".join(use),
             "-wp-timeout", str(timeout), "-wp-par", str(jobs),
-            "-wp-fct", ",".join(c.name for c in cs), "-wp-session", str(work / "wp-session"),
+            "-wp-fct", ",".join(f[0] for f in frames), "-wp-session", str(work / "wp-session"),
             wrapper.name]
     # Frama-C resolves relative file names against $PWD, not the process's cwd
     env = dict(os.environ, WHY3CONFIG=str(conf), PWD=str(work.resolve()))
@@ -315,10 +337,10 @@ def run_wp(model: NodeModel, glue: str | Path, header: str | Path, work: str | P
         raise WPError(f"frama-c failed (exit status {proc.returncode})", tail or output.splitlines()[-10:])
     proved, total = int(m.group(1)), int(m.group(2))
     by_prover = {k: int(v) for k, v in _BY_PROVER.findall(output[m.end():])}
-    result = WPResult(proved, total, seconds, use, tuple(c.name for c in cs), wrapper, output, by_prover)
+    result = WPResult(proved, total, seconds, use, tuple(f[0] for f in frames), wrapper, output, by_prover)
     if not result.ok:
         bad = [f"  {g.group('goal')}: {g.group('status').strip()}" for g in _UNPROVED.finditer(output)
                if not g.group("status").startswith(("Valid", "trivial"))]
         raise WPError(f"Frama-C WP: {proved}/{total} goals proved, not all", bad[:20])
-    _check_hypotheses(output, cs)
+    _check_hypotheses(output, frames)
     return result

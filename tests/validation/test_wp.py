@@ -117,3 +117,44 @@ def test_generate_wp_failure_is_exit_2(monkeypatch, capsys, tmp_path):
     assert re.search(r"Frama-C WP: (\d+)/(\d+) goals proved, not all; nothing written", err), err
     assert "typed_input_glue_ensures" in err
     assert not out.exists()
+
+
+def test_build_wp_writes_contracts_that_verify_rechecks(capsys, tmp_path):
+    """``pyrosgen build --wp``: the contracts file is in the output folder
+    and covered by the certificate; ``verify --wp`` re-runs Frama-C on it;
+    with ``--model``, a weakened contracts file is refused even with its
+    digests updated."""
+    import hashlib
+    import json
+
+    out = tmp_path / "out"
+    ctl = LANDSHARK.parent / "controller"
+    code = cli.main(["build", str(LANDSHARK), "--controller", str(ctl), "-o", str(out), "--wp", "-q"])
+    text = capsys.readouterr().out
+    assert code == 0, text
+    node = "landshark_controller"
+    contracts_file = out / f"{node}_wp.c"
+    manifest = json.loads((out / f"{node}.manifest.json").read_text())
+    assert manifest["files"][contracts_file.name] == hashlib.sha256(contracts_file.read_bytes()).hexdigest()
+    assert manifest["wp"]["proved"] == manifest["wp"]["total"] > 50
+    assert re.search(r"  WP        WP: (\d+)/\1 goals proved", text), text
+    cert = (out / f"{node}.certificate.md").read_text()
+    assert f"{manifest['wp']['proved']}/{manifest['wp']['total']} goals" in cert and contracts_file.name in cert
+
+    code = cli.main(["verify", str(out), "--wp", "--model", str(LANDSHARK), "-q"])
+    text = capsys.readouterr().out
+    assert code == 0, text
+    assert "  ok      wp        WP: " in text and "contracts are those of landshark_controller.yaml" in text
+
+    # weaken one ensures clause to \true, update the digests
+    src = contracts_file.read_text()
+    weak = re.sub(r"ensures [^\n]*", r"ensures \\true", src, count=1)
+    assert weak != src
+    contracts_file.write_text(weak)
+    manifest["files"][contracts_file.name] = hashlib.sha256(weak.encode()).hexdigest()
+    (out / f"{node}.manifest.json").write_text(json.dumps(manifest))
+    (out / f"{node}.sha256").write_text("".join(f"{v}  {n}\n" for n, v in sorted(manifest["files"].items())))
+    code = cli.main(["verify", str(out), "--wp", "--model", str(LANDSHARK), "-q"])
+    text = capsys.readouterr().out
+    assert code == 1
+    assert "  FAILED  wp" in text and "not the contracts of landshark_controller.yaml" in text, text
