@@ -7,7 +7,7 @@ VENV  := .venv
 PY    := $(VENV)/bin/python
 PYTEST_ARGS ?=
 
-.PHONY: all deps apt venv proofs demo test clean distclean
+.PHONY: all deps apt venv proofs demo test mutants clean distclean
 
 all: test
 
@@ -46,6 +46,16 @@ docs: venv
 BENCH_ARGS ?=
 bench: deps proofs
 	@$(PY) bench/run.py $(BENCH_ARGS)
+
+## mutants: the mutation catalogue, run on its own: the generator mutations that
+## T2 refutes (coq/tests/Mutants.v), the tamperings of the per-node .v refused by
+## the model comparison, the wrapper mutations refused by the wrapper check, the
+## output-folder tamperings refused by `pyrosgen verify`
+.PHONY: mutants
+mutants: deps proofs
+	@for f in coq/tests/LandShark.v coq/tests/Mutants.v; do (cd coq && coqc -R theories ROSGen -R tests ROSGenTests $${f#coq/}) || exit 1; done
+	@echo "mutants: $$(grep -c '^Theorem [a-z_]*_refuted' coq/tests/Mutants.v) generator mutations refuted by T2 (coq/tests/Mutants.v)"
+	@$(PY) -m pytest -q -p no:cacheprovider tests/generate/test_seam.py tests/build/test_wrapper_check.py tests/generate/test_verify.py
 
 ## test: everything
 test: deps proofs
