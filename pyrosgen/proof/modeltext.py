@@ -118,6 +118,31 @@ class ProvedTopic:
         return self.ros_type.replace("/", "_")
 
     @property
+    def queue_size(self) -> int:
+        return self.queue
+
+    @property
+    def msg_type(self) -> str:
+        return self.ros_type
+
+    @property
+    def cpp_type(self) -> str:
+        """The roscpp C++ type: ``pkg::Type``."""
+        return self.ros_type.replace("/", "::")
+
+    @property
+    def subscribe_fn(self) -> str:
+        return f"ros_subscribe_{self.c_name}"
+
+    @property
+    def advertise_fn(self) -> str:
+        return f"ros_advertise_{self.c_name}"
+
+    @property
+    def publish_fn(self) -> str:
+        return f"ros_publish_{self.c_name}"
+
+    @property
     def callback(self) -> str:
         """The subscription callback of the generated glue."""
         return f"{self.c_name}_callback"

@@ -56,6 +56,7 @@ from pyrosgen import console
 from pyrosgen.ros import layout
 from pyrosgen.ros import wrapper as ros
 from pyrosgen.errors import Context, DetailedFailure, UserError
+from pyrosgen.proof.modeltext import parse_model_text
 from pyrosgen.verify.certificate import certificate_files, write_certificate
 from pyrosgen.verify.wrapper_check import check_wrapper
 from pyrosgen.generate import GenerateResult, OutputDirError, generate_model
@@ -418,7 +419,8 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         # 3. wrapper, custom messages, controller copy, catkin files
         say(f"[3/{STEPS}] wrapper: C API over roscpp, gencpp, catkin package")
         t = time.monotonic()
-        for fname, text in ros.render_wrapper(model).items():
+        proved = parse_model_text(gen.proved_model)
+        for fname, text in ros.render_wrapper(model, proved).items():
             if fname == names.api_source:
                 # The node registers and sleeps as the proved model says.
                 check_wrapper(text, gen.proved_model, wrapper_name=fname)

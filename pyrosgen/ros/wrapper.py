@@ -16,6 +16,7 @@ import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 
+from pyrosgen.proof.modeltext import ProvedModel
 from pyrosgen.render import render
 
 from pyrosgen.errors import ToolFailure
@@ -58,12 +59,23 @@ def _messages_by_name(model: NodeModel) -> dict[str, MsgType]:
     return {m.name: m for m in model.messages}
 
 
-def _context(model: NodeModel) -> dict:
+def _context(model: NodeModel, proved: ProvedModel | None = None) -> dict:
     files = wrapper_files(model)
     msgs = _messages_by_name(model)
-    subs = [t for t in model.topics if t.direction == "subscribe"]
-    pubs = [t for t in model.topics if t.direction == "publish"]
-    for t in model.topics:
+    if proved is not None:
+        # the node registers and sleeps as the proved model says
+        topics = list(proved.topics)
+        msg_c = {t.name: t.struct for t in topics}
+        msg_cpp = {t.name: t.cpp_type for t in topics}
+        period_ms = proved.period_ms
+    else:
+        topics = list(model.topics)
+        msg_c = {t.name: msgs[t.msg_type].c_name for t in topics}
+        msg_cpp = {t.name: msgs[t.msg_type].cpp_name for t in topics}
+        period_ms = model.period_ms
+    subs = [t for t in topics if t.direction == "subscribe"]
+    pubs = [t for t in topics if t.direction == "publish"]
+    for t in topics:
         for name in (t.c_name, t.subscribe_fn, t.advertise_fn, t.publish_fn):
             _check_ident(name)
     for m in model.messages:
@@ -81,15 +93,20 @@ def _context(model: NodeModel) -> dict:
         "messages": list(model.messages),
         "subs": subs,
         "pubs": pubs,
-        "msg_c": {t.name: msgs[t.msg_type].c_name for t in model.topics},
-        "msg_cpp": {t.name: msgs[t.msg_type].cpp_name for t in model.topics},
-        "period_s": repr(model.period_ms / 1000.0),
+        "msg_c": msg_c,
+        "msg_cpp": msg_cpp,
+        "period_s": repr(period_ms / 1000.0),
     }
 
 
-def render_wrapper(model: NodeModel) -> dict[str, str]:
-    """The C API header and its roscpp implementation, by file name."""
-    ctx = _context(model)
+def render_wrapper(model: NodeModel, proved: ProvedModel | None = None) -> dict[str, str]:
+    """The C API header and its roscpp implementation, by file name.
+
+    With ``proved`` (the model Coq printed, read back), the topics, their
+    names, message types and queue sizes, and the period come from it; the
+    message converters come from ``model``'s message definitions (a struct
+    the proved model names that ``model`` does not define cannot compile)."""
+    ctx = _context(model, proved)
     files = wrapper_files(model)
     return {
         files.api_header: render("ros_api.h.j2", **ctx),

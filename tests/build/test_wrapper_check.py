@@ -62,8 +62,8 @@ def test_proved_model_differs_from_wrapper():
 def test_build_refuses_a_wrapper_that_is_not_the_proved_node(monkeypatch, capsys, tmp_path):
     original = wrapper.render_wrapper
 
-    def mutated(model):
-        out = original(model)
+    def mutated(model, proved=None):
+        out = original(model, proved)
         src = wrapper.wrapper_files(model).api_source
         out[src] = out[src].replace("ros::Rate(ros::Duration(0.02))", "ros::Rate(ros::Duration(0.01))")
         return out
@@ -75,3 +75,23 @@ def test_build_refuses_a_wrapper_that_is_not_the_proved_node(monkeypatch, capsys
     assert code == 2, err
     assert "does not implement the proved model's interface" in err and "proved period is 20 ms" in err
     assert not out.exists()
+
+
+def test_wrapper_follows_the_proved_model():
+    """Rendered with the proved model, the wrapper takes the topics' names,
+    types, queue sizes and the period from it, not from the front end's
+    model: a proved model that differs (here: another period and queue
+    size) gives a wrapper that registers and sleeps as that model says."""
+    from pyrosgen.proof.modeltext import parse_model_text
+
+    m = load_model(LANDSHARK)
+    text = model_text(m).replace("period_ms 20\n", "period_ms 40\n").replace(
+        "/landshark/gps_velocity landshark_gps_velocity subscribe geometry_msgs/TwistStamped 1",
+        "/landshark/gps_velocity landshark_gps_velocity subscribe geometry_msgs/TwistStamped 3")
+    cpp = wrapper.render_wrapper(m, parse_model_text(text))[wrapper.wrapper_files(m).api_source]
+    assert "ros::Rate(ros::Duration(0.04))" in cpp and '"/landshark/gps_velocity", 3, f);' in cpp
+    check_wrapper(cpp, text, wrapper_name="w")
+    with pytest.raises(WrapperMismatch):
+        check_wrapper(cpp, model_text(m), wrapper_name="w")
+    # the same proved model as the front end's: the same wrapper as before
+    assert wrapper.render_wrapper(m, parse_model_text(model_text(m))) == wrapper.render_wrapper(m)
