@@ -23,7 +23,7 @@ import jinja2
 
 from pyrosgen import resources
 
-__all__ = ["environment", "render", "ros_name"]
+__all__ = ["environment", "render", "ros_name", "source_label"]
 
 #: What may appear inside a C/C++ string literal in generated code: a
 #: validated ROS graph name.  Checked again when printed (defence in depth).
@@ -36,6 +36,25 @@ def ros_name(value: str) -> str:
     if not isinstance(value, str) or not _ROS_NAME.match(value):
         raise ValueError(f"refusing to print {value!r} as a ROS name")
     return value
+
+
+_LABEL_SAFE = re.compile(r"[A-Za-z0-9._+-]")
+
+
+def source_label(name: str) -> str:
+    """A file name (user input) as it may appear in a comment of any
+    generated language (C, C++, CMake, XML, Coq, shell): letters, digits,
+    ``. _ + -`` as they are, every other character, and a ``-`` after a
+    ``-`` (XML comments), as ``\\xNN`` / ``\\uNNNN``.  A name with a
+    newline, ``*/``, ``-->``, ``$(...)`` or a backtick cannot end its
+    comment or start a command (DESIGN.md rule 4.10)."""
+    out = []
+    for i, ch in enumerate(str(name)):
+        if _LABEL_SAFE.fullmatch(ch) and not (ch == "-" and i and name[i - 1] == "-"):
+            out.append(ch)
+        else:
+            out.append(f"\\x{ord(ch):02x}" if ord(ch) < 256 else f"\\u{ord(ch):04x}")
+    return "".join(out)
 
 
 @functools.lru_cache(maxsize=None)

@@ -27,7 +27,7 @@ from pathlib import Path
 import jinja2
 
 from pyrosgen.errors import ToolFailure
-from pyrosgen.render import environment
+from pyrosgen.render import environment, source_label
 from pyrosgen.resources import coq_templates_dir
 from pyrosgen.frontend.model import NodeModel
 from pyrosgen.frontend.msgmodel import PRIMITIVES, FieldPath, MsgField, MsgType, msg_c_name
@@ -355,7 +355,7 @@ def render_node_file(model: NodeModel, *, ddc_available: bool, source: str | Non
     """
     m = emit_model(model)
     names = node_file_names(model.name)
-    label = coq_comment(source if source is not None else Path(model.source).name)
+    label = source_label(source if source is not None else Path(model.source).name)
     return template_env().get_template("node.v.j2").render(
         template=NODE_TEMPLATE,
         source=label,

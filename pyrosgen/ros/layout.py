@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from pyrosgen.errors import Context, ToolFailure, UserError
-from pyrosgen.render import render
+from pyrosgen.render import render, source_label
 from pyrosgen.frontend.model import IOStruct, NodeModel
 
 __all__ = [
@@ -138,7 +138,7 @@ def controller_header_name(model: NodeModel) -> str:
 def render_layout_check(model: NodeModel, types_h: str, types_header_name: str) -> str:
     """The text of ``<node>_layout_check.c`` (see the module documentation)."""
     return render("layout_check.c.j2",
-        source=model.source.name,
+        source=source_label(model.source.name),
         node=model,
         types_header=types_header_name,
         controller_header=controller_header_name(model),
@@ -154,7 +154,7 @@ def render_reference_header(model: NodeModel, types_h: str) -> str:
     """A ``<Controller>.h`` that agrees with the glue by construction: the
     layout check must compile against it."""
     return render("controller_ref.h.j2",
-        source=model.source.name,
+        source=source_label(model.source.name),
         node=model,
         controller=model.controller,
         glue_structs=rename_tags(types_h, REF_PREFIX).rstrip("\n"),

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from pyrosgen.proof.modeltext import ProvedModel
-from pyrosgen.render import render
+from pyrosgen.render import render, source_label
 
 from pyrosgen.errors import ToolFailure
 from pyrosgen.frontend.model import NodeModel, Topic
@@ -84,7 +84,7 @@ def _context(model: NodeModel, proved: ProvedModel | None = None) -> dict:
             _check_ident(f.name)
     cpp_headers = sorted({f"{m.name}.h" for m in model.messages if not m.is_pseudo})
     return {
-        "source": model.source.name,
+        "source": source_label(model.source.name),
         "node": model,
         "header_name": files.api_header,
         "types_header": files.types_header,
@@ -199,7 +199,7 @@ def render_catkin(model: NodeModel, c_sources: list[str], cpp_sources: list[str]
     msg_pkgs = sorted({m.package for m in model.messages
                        if not m.is_pseudo and m.name not in custom})
     ctx = {
-        "source": model.source.name,
+        "source": source_label(model.source.name),
         "package": catkin_package_name(model),
         "node": model,
         "msg_pkgs": msg_pkgs,

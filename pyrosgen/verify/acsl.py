@@ -57,7 +57,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from pyrosgen.render import render
+from pyrosgen.render import render, source_label
 
 from pyrosgen.proof.coqdriver import CoqError
 from pyrosgen.frontend.model import NodeModel
@@ -217,7 +217,7 @@ def render_wrapper(model: NodeModel, glue_name: str, header_name: str,
     """The WP wrapper: the contracts, then ``#include`` of the glue."""
     cs = contracts(model) if contract_list is None else contract_list
     return render("wp_contracts.c.j2",
-        template=WRAPPER_TEMPLATE, source=Path(model.source).name, header=header_name,
+        template=WRAPPER_TEMPLATE, source=source_label(Path(model.source).name), header=header_name,
         glue=glue_name, externs=_globals(model), boxes=list(_BOXES.values()), functions=cs)
 
 

@@ -36,7 +36,7 @@ from pathlib import Path
 
 from pyrosgen.errors import DetailedFailure
 from pyrosgen.proof.modeltext import ProvedModel, parse_model_text
-from pyrosgen.render import render
+from pyrosgen.render import render, source_label
 
 __all__ = [
     "MANIFEST_FORMAT", "ProofRecord", "certificate_files", "sha256_file", "tool_versions",
@@ -112,7 +112,7 @@ def tool_versions(wp: bool = False) -> list[tuple[str, str]]:
     return out
 
 
-_PLAIN = re.compile(r"[A-Za-z0-9._+/-]+(?: [A-Za-z0-9._+/-]+)*")
+_PLAIN = re.compile(r"[A-Za-z0-9._+/\\-]+(?: [A-Za-z0-9._+/\\-]+)*")
 
 
 def md_code(text: str) -> str:
@@ -212,7 +212,7 @@ def write_certificate(rec: ProofRecord, folder: Path, files: list[str]) -> list[
     built = any(name.startswith("bin/") for name, _ in hashes)
     text = render(
         "CERTIFICATE.md.j2",
-        rec=rec, pm=pm, md=md_code, source=md_code(rec.source_name),
+        rec=rec, pm=pm, md=md_code, source=md_code(source_label(rec.source_name)),
         inputs=inputs, outputs=outputs, hashes=hashes, built=built,
         manifest=manifest_name, sums=sums_name, certificate=cert_name,
     )

@@ -32,7 +32,7 @@ import subprocess
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from pyrosgen.render import render
+from pyrosgen.render import render, source_label
 
 from pyrosgen.proof.coqdriver import CoqDriver, CoqError
 from pyrosgen.proof.sexp import parse_sexp, program_items
@@ -189,7 +189,7 @@ def harness_source(sexp_text: str, header_name: str, source: str = "the AST dump
     structs = [Struct(s, d.leaves(s), s in filled, s in shown) for s in d.root_structs()]
     kinds = sorted({leaf.kind for s in structs if s.fill for leaf in s.leaves})
     return render("difftest_ros.c.j2",
-        template=HARNESS_TEMPLATE, source=source, header=header_name, structs=structs, kinds=kinds,
+        template=HARNESS_TEMPLATE, source=source_label(source), header=header_name, structs=structs, kinds=kinds,
         fns=d.fns, subs=d.subs, advs=d.advs, pubs=d.pubs, u=d.u, y=d.y)
 
 

@@ -15,6 +15,7 @@ import pytest
 
 from pyrosgen.errors import DetailedFailure
 from pyrosgen.generate import generate
+from pyrosgen.render import source_label
 from pyrosgen.verify.certificate import md_code, read_manifest, write_certificate
 
 from support.generate import LANDSHARK, require_library
@@ -120,4 +121,6 @@ def test_user_strings_are_escaped(landshark, tmp_path, name):
     c = _copy(d, tmp_path)
     write_certificate(replace(res.record, source_name=name), c, res.covered)
     cert = (c / f"{NODE}.certificate.md").read_text()
-    assert shown in cert and name not in cert
+    label = md_code(source_label(name))  # as in every generated file's header comment
+    assert label.isascii() and "\n" not in label and label.count("`") == 2 and "|" not in label
+    assert label in cert and name not in cert
