@@ -37,6 +37,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from pyrosgen.files import move
 from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
 from pyrosgen.proof.coqmodel import node_file_names, render_node_file
 from pyrosgen.errors import ToolFailure, UserError
@@ -116,14 +117,14 @@ def _install(staged: list[tuple[Path, str]], out_dir: Path) -> list[tuple[Path, 
             if target.exists():
                 backup = src.with_name(src.name + ".old")
                 shutil.copy2(target, backup)
-            os.replace(src, target)
+            move(src, target)
             done.append((target, backup))
             result.append((target, True))
     except OSError as exc:
         for target, backup in reversed(done):
             try:
                 if backup is not None:
-                    os.replace(backup, target)
+                    move(backup, target)
                 else:
                     target.unlink()
             except OSError:

@@ -39,6 +39,7 @@ proof, tool or generated-code compilation failure is exit 2.
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import json
 import os
@@ -53,6 +54,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from pyrosgen import console
+from pyrosgen.files import move
 from pyrosgen.ros import layout
 from pyrosgen.ros import wrapper as ros
 from pyrosgen.errors import Context, DetailedFailure, UserError
@@ -295,7 +297,16 @@ def _install(stage: Path, out_dir: Path, old_files: list[str], backup_dir: Path)
     if not out_dir.exists():
         try:
             out_dir.parent.mkdir(parents=True, exist_ok=True)
-            os.rename(stage, out_dir)
+            try:
+                os.rename(stage, out_dir)
+            except OSError as exc:
+                if exc.errno != errno.EXDEV:
+                    raise
+                try:
+                    shutil.copytree(stage, out_dir, symlinks=True)
+                except BaseException:
+                    shutil.rmtree(out_dir, ignore_errors=True)
+                    raise
         except OSError as exc:
             raise BuildError(f"cannot create {out_dir}: {exc.strerror or exc}") from None
         return [(out_dir / f, True) for f in files]
@@ -312,9 +323,9 @@ def _install(stage: Path, out_dir: Path, old_files: list[str], backup_dir: Path)
             if target.exists() or target.is_symlink():
                 backup = backup_dir / rel
                 backup.parent.mkdir(parents=True, exist_ok=True)
-                os.replace(target, backup)
+                move(target, backup)
             target.parent.mkdir(parents=True, exist_ok=True)
-            os.replace(src, target)
+            move(src, target)
             done.append((target, backup))
             result.append((target, True))
         new = set(files)
@@ -325,18 +336,18 @@ def _install(stage: Path, out_dir: Path, old_files: list[str], backup_dir: Path)
             if target.is_file():
                 backup = backup_dir / "removed" / rel
                 backup.parent.mkdir(parents=True, exist_ok=True)
-                os.replace(target, backup)
+                move(target, backup)
                 removed.append((target, backup))
     except OSError as exc:
         for target, backup in reversed(removed):
             try:
-                os.replace(backup, target)
+                move(backup, target)
             except OSError:
                 pass
         for target, backup in reversed(done):
             try:
                 if backup is not None:
-                    os.replace(backup, target)
+                    move(backup, target)
                 else:
                     target.unlink()
             except OSError:

@@ -48,3 +48,15 @@ def test_verify_a_build_folder(landshark_build, tmp_path):
     assert run.returncode == 1
     assert "  FAILED  wrapper" in run.stdout and "/landshark/gps_velocity" in run.stdout, run.stdout
     assert "  ok      hashes" in run.stdout
+
+
+def test_build_into_a_mount_point(mount_point):
+    """``-o`` a mount point: the staged build is copied into it."""
+    from .conftest import LANDSHARK, LANDSHARK_CTL
+
+    run = pyrosgen("build", LANDSHARK, "--controller", LANDSHARK_CTL, "-o", mount_point, "-q")
+    assert run.returncode == 0, run.stderr
+    assert (mount_point / "bin" / NODE).stat().st_mode & 0o100
+    run = pyrosgen("verify", mount_point, "-q")
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert not [p for p in mount_point.rglob(".*pyrosgen-tmp")]
