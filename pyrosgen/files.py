@@ -10,13 +10,15 @@ renames it into place, so that the destination still changes atomically
 
 from __future__ import annotations
 
+import contextlib
 import errno
+import fcntl
 import os
 import shutil
 import tempfile
 from pathlib import Path
 
-__all__ = ["move"]
+__all__ = ["move", "locked_folder"]
 
 
 def move(src: Path, dst: Path) -> None:
@@ -39,3 +41,23 @@ def move(src: Path, dst: Path) -> None:
             pass
         raise
     os.unlink(src)
+
+
+@contextlib.contextmanager
+def locked_folder(folder: Path, on_wait=None):
+    """Hold an exclusive lock on ``folder`` (``flock`` on the folder
+    itself: no lock file is left behind) while its contents are replaced,
+    so that concurrent runs into one output folder install one after the
+    other, each its complete set of files.  ``on_wait`` is called once if
+    another run holds the lock."""
+    fd = os.open(str(folder), os.O_RDONLY | os.O_DIRECTORY)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            if on_wait is not None:
+                on_wait()
+            fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)  # releases the lock

@@ -37,7 +37,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from pyrosgen.files import move
+from pyrosgen.files import locked_folder, move
 from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
 from pyrosgen.proof.coqmodel import node_file_names, render_node_file
 from pyrosgen.errors import ToolFailure, UserError
@@ -97,7 +97,7 @@ def _same_content(path: Path, data: bytes) -> bool:
         return False
 
 
-def _install(staged: list[tuple[Path, str]], out_dir: Path) -> list[tuple[Path, bool]]:
+def _install(staged: list[tuple[Path, str]], out_dir: Path, on_wait=None) -> list[tuple[Path, bool]]:
     """Move the staged files into ``out_dir`` (created if missing), each
     only if its content changed; on an error, undo what was done."""
     created = not out_dir.exists()
@@ -105,6 +105,13 @@ def _install(staged: list[tuple[Path, str]], out_dir: Path) -> list[tuple[Path, 
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise ToolFailure(f"cannot create {out_dir}: {exc.strerror or exc}") from None
+    # one run at a time installs into a folder (concurrent runs would mix
+    # their files: a .v of one next to the certificate of the other)
+    with locked_folder(out_dir, on_wait):
+        return _install_files(staged, out_dir, created)
+
+
+def _install_files(staged: list[tuple[Path, str]], out_dir: Path, created: bool) -> list[tuple[Path, bool]]:
     done: list[tuple[Path, Path | None]] = []  # (target, backup of the old file)
     result: list[tuple[Path, bool]] = []
     try:
@@ -291,7 +298,8 @@ def generate_model(
         for p, _ in staged:
             if not p.is_file():
                 raise CoqError(f"the printer did not write {p.name}")
-        files = _install(staged, out_dir)
+        files = _install(staged, out_dir, on_wait=lambda: say(
+            f"[5/{STEPS}] waiting for another pyrosgen run writing into {out_dir}"))
     finally:
         if keep_work:
             say(f"work directory kept: {work}")

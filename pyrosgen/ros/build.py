@@ -39,7 +39,6 @@ proof, tool or generated-code compilation failure is exit 2.
 
 from __future__ import annotations
 
-import errno
 import hashlib
 import json
 import os
@@ -54,7 +53,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from pyrosgen import console
-from pyrosgen.files import move
+from pyrosgen.files import locked_folder, move
 from pyrosgen.ros import layout
 from pyrosgen.ros import wrapper as ros
 from pyrosgen.errors import Context, DetailedFailure, UserError
@@ -289,27 +288,29 @@ def _same(a: Path, b: Path) -> bool:
         return False
 
 
-def _install(stage: Path, out_dir: Path, old_files: list[str], backup_dir: Path) -> list[tuple[Path, bool]]:
+def _install(stage: Path, out_dir: Path, old_files: list[str], backup_dir: Path,
+             on_wait=None) -> list[tuple[Path, bool]]:
     """Move every file of ``stage`` into ``out_dir`` (only the changed
     ones), then remove the files of ``old_files`` not produced any more;
     undo everything on an error."""
     files = _all_files(stage)
-    if not out_dir.exists():
-        try:
-            out_dir.parent.mkdir(parents=True, exist_ok=True)
-            try:
-                os.rename(stage, out_dir)
-            except OSError as exc:
-                if exc.errno != errno.EXDEV:
-                    raise
-                try:
-                    shutil.copytree(stage, out_dir, symlinks=True)
-                except BaseException:
-                    shutil.rmtree(out_dir, ignore_errors=True)
-                    raise
-        except OSError as exc:
-            raise BuildError(f"cannot create {out_dir}: {exc.strerror or exc}") from None
-        return [(out_dir / f, True) for f in files]
+    created = not out_dir.exists()
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise BuildError(f"cannot create {out_dir}: {exc.strerror or exc}") from None
+    try:
+        # one run at a time installs into a folder (see pyrosgen.files.locked_folder)
+        with locked_folder(out_dir, on_wait):
+            return _install_files(stage, out_dir, files, old_files, backup_dir)
+    except BaseException:
+        if created:
+            shutil.rmtree(out_dir, ignore_errors=True)
+        raise
+
+
+def _install_files(stage: Path, out_dir: Path, files: list[str], old_files: list[str],
+                   backup_dir: Path) -> list[tuple[Path, bool]]:
     done: list[tuple[Path, Path | None]] = []
     result: list[tuple[Path, bool]] = []
     removed: list[tuple[Path, Path]] = []
@@ -540,7 +541,8 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         files = _all_files(stage) + [STAMP]
         (stage / STAMP).write_text(cache.stamp(sorted(files)), encoding="utf-8")
         say(f"[8/{STEPS}] installing into {out_dir}")
-        installed = _install(stage, out_dir, cache.old_files, work / "backup")
+        installed = _install(stage, out_dir, cache.old_files, work / "backup", on_wait=lambda: say(
+            f"[8/{STEPS}] waiting for another pyrosgen run writing into {out_dir}"))
         times["link and install"] = time.monotonic() - t
     finally:
         if keep_work:
