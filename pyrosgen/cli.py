@@ -13,7 +13,9 @@ Unexpected exceptions print ``pyrosgen: internal error: ...`` and exit 2; set
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
+import signal
 import sys
 from collections.abc import Callable, Sequence
 
@@ -90,26 +92,36 @@ def _progress(args: argparse.Namespace) -> Callable[[str], None] | None:
     return say
 
 
+@contextlib.contextmanager
+def _stopped_by_signals():
+    """SIGTERM and SIGHUP stop a long command as Ctrl-C does: the work
+    folder is removed, the tools' process groups are stopped
+    (:mod:`pyrosgen.procs`), nothing is written, exit status 130."""
+
+    def _terminated(signum, frame):
+        raise KeyboardInterrupt
+
+    previous = {}
+    for sig in (signal.SIGTERM, signal.SIGHUP):
+        try:
+            previous[sig] = signal.signal(sig, _terminated)
+        except ValueError:  # not in the main thread
+            pass
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
 def cmd_generate(args: argparse.Namespace) -> int:
     """``pyrosgen generate MODEL.yaml -o DIR``: emit the Coq file, check the
     proof, write the C (see :mod:`pyrosgen.generate`)."""
     from pyrosgen.generate import generate
 
-    import signal
-
-    def _terminated(signum, frame):  # clean up the work directory on SIGTERM too
-        raise KeyboardInterrupt
-
-    try:
-        previous = signal.signal(signal.SIGTERM, _terminated)
-    except ValueError:  # not in the main thread
-        previous = None
-    try:
+    with _stopped_by_signals():
         res = generate(args.model, args.output, progress=_progress(args), keep_work=args.keep_work,
                        wp=args.wp)
-    finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
     print(f"pyrosgen: generated node {res.model.name} into {res.out_dir}")
     for path, rewritten in res.files:
         print(f"  {'written' if rewritten else 'unchanged':<10}{path}")
@@ -129,23 +141,11 @@ def cmd_build(args: argparse.Namespace) -> int:
     """``pyrosgen build MODEL.yaml --controller DIR -o OUT``: generate and
     prove the glue, then compile and link a runnable ROS node (see
     :mod:`pyrosgen.ros.build`)."""
-    import signal
-
     from pyrosgen.ros.build import build
 
-    def _terminated(signum, frame):  # clean up the work directory on SIGTERM too
-        raise KeyboardInterrupt
-
-    try:
-        previous = signal.signal(signal.SIGTERM, _terminated)
-    except ValueError:  # not in the main thread
-        previous = None
-    try:
+    with _stopped_by_signals():
         res = build(args.model, args.controller, args.output, progress=_progress(args), keep_work=args.keep_work,
                     wp=args.wp)
-    finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
     for line in res.warnings:
         _print_err(line)
     print(f"pyrosgen: built node {res.model.name} into {res.out_dir}")
@@ -185,8 +185,9 @@ def cmd_verify(args: argparse.Namespace) -> int:
     from pyrosgen.verify.recheck import VerifyFailed, verify_folder
 
     try:
-        report = verify_folder(args.folder, node=args.node, model=args.model, wp=args.wp,
-                               progress=_progress(args))
+        with _stopped_by_signals():
+            report = verify_folder(args.folder, node=args.node, model=args.model, wp=args.wp,
+                                   progress=_progress(args))
     except VerifyFailed as exc:
         print(f"pyrosgen: {exc.verify_report.folder} does NOT verify (node {exc.verify_report.node})")
         _print_checks(exc.verify_report)

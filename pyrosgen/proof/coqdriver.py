@@ -38,7 +38,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from pyrosgen import console, resources
+from pyrosgen import console, procs, resources
 from pyrosgen.errors import Context, DetailedFailure, UserError, escape
 
 __all__ = [
@@ -348,16 +348,7 @@ class CoqDriver:
         t0 = time.monotonic()
         console.trace_command(argv)
         try:
-            proc = subprocess.run(
-                list(argv),
-                cwd=str(cwd),
-                stdin=subprocess.DEVNULL,
-                capture_output=True,
-                text=True,
-                errors="replace",
-                check=False,
-                timeout=self.timeout,
-            )
+            proc = procs.run(argv, cwd=cwd, timeout=self.timeout)
         except OSError as exc:
             raise CoqError(f"cannot run {argv[0]}: {exc.strerror or exc}") from None
         except subprocess.TimeoutExpired:

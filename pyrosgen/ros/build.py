@@ -52,7 +52,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from pyrosgen import console
+from pyrosgen import console, procs
 from pyrosgen.files import locked_folder, move
 from pyrosgen.ros import layout
 from pyrosgen.ros import wrapper as ros
@@ -154,9 +154,7 @@ def _run(argv: Sequence[str], what: str, cwd: Path | None = None, timeout: int =
     console.trace_command(argv)
     t0 = time.monotonic()
     try:
-        r = subprocess.run(list(argv), capture_output=True, text=True, errors="replace",
-                           stdin=subprocess.DEVNULL, check=False, timeout=timeout,
-                           cwd=str(cwd) if cwd else None)
+        r = procs.run(argv, timeout=timeout, cwd=cwd)
         console.trace_result(argv, r.returncode, time.monotonic() - t0)
         return r
     except OSError as exc:

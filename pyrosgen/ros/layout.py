@@ -34,6 +34,7 @@ from pathlib import Path
 from pyrosgen.errors import Context, ToolFailure, UserError
 from pyrosgen.render import render, source_label
 from pyrosgen.frontend.model import IOStruct, NodeModel
+from pyrosgen import procs
 
 __all__ = [
     "LayoutMismatch",
@@ -166,8 +167,7 @@ def render_reference_header(model: NodeModel, types_h: str) -> str:
 def _compile(cc: list[str], check_c: Path, include: Path) -> subprocess.CompletedProcess:
     argv = [*cc, "-std=c11", "-Wall", "-Wextra", "-pedantic", "-fsyntax-only", "-I", str(include), str(check_c)]
     try:
-        return subprocess.run(argv, capture_output=True, text=True, errors="replace",
-                              stdin=subprocess.DEVNULL, check=False, timeout=300)
+        return procs.run(argv, timeout=300)
     except OSError as exc:
         raise LayoutToolError(f"cannot run {cc[0]}: {exc.strerror or exc}") from None
     except subprocess.TimeoutExpired:

@@ -22,6 +22,7 @@ from pyrosgen.render import render, source_label
 from pyrosgen.errors import ToolFailure
 from pyrosgen.frontend.model import NodeModel, Topic
 from pyrosgen.frontend.msgmodel import MsgType
+from pyrosgen import procs
 
 _C_IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
@@ -155,7 +156,10 @@ def generate_custom_cpp(model: NodeModel, include_dir: Path) -> list[Path]:
         out.mkdir(parents=True, exist_ok=True)
         # gencpp is Debian's, built for Debian's interpreter.
         cmd = ["/usr/bin/python3", str(GENCPP), "-p", pkg, "-o", str(out), "-e", str(GENCPP_TEMPLATES), *includes, str(path)]
-        r = subprocess.run(cmd, capture_output=True, text=True, check=False)
+        try:
+            r = procs.run(cmd, timeout=600)
+        except subprocess.TimeoutExpired:
+            raise ToolError(f"gencpp did not finish on {path} within 600 s") from None
         if r.returncode != 0:
             raise ToolError(f"gencpp failed on {path}:\n{r.stderr.strip() or r.stdout.strip()}")
         written.append(out / f"{path.stem}.h")

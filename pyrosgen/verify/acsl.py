@@ -61,6 +61,7 @@ from pyrosgen.render import render, source_label
 
 from pyrosgen.proof.coqdriver import CoqError
 from pyrosgen.frontend.model import NodeModel
+from pyrosgen import procs
 
 __all__ = [
     "run_wp_file",
@@ -325,8 +326,7 @@ def run_wp_file(wrapper: Path, frames: list[tuple[str, str | None, tuple[str, ..
     env = dict(os.environ, WHY3CONFIG=str(conf), PWD=str(work.resolve()))
     t0 = time.monotonic()
     try:
-        proc = subprocess.run(argv, cwd=str(work), capture_output=True, text=True, errors="replace",
-                              check=False, env=env, timeout=3600)
+        proc = procs.run(argv, cwd=work, env=env, timeout=3600)
     except subprocess.TimeoutExpired:
         raise WPError("frama-c did not finish within an hour") from None
     seconds = time.monotonic() - t0

@@ -1,0 +1,60 @@
+"""Running external tools so that none outlives pyrosgen.
+
+Every tool runs in a session (and process group) of its own, so that an
+interrupt, a termination or a timeout of pyrosgen stops the whole tree
+the tool started (``g++`` runs ``cc1plus``, ``make`` runs ``coqc``):
+:func:`run` sends SIGTERM to the group, then SIGKILL to what is left, and
+waits for the leader before it re-raises.  (A signal from the terminal
+reaches only pyrosgen, which is in the foreground group; pyrosgen then
+stops the tools itself.)"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+__all__ = ["run", "stop_group"]
+
+
+def stop_group(proc: subprocess.Popen, grace: float = 2.0) -> None:
+    """SIGTERM to ``proc``'s process group, SIGKILL after ``grace``
+    seconds to whatever is still in it; wait for ``proc``."""
+    for sig, wait in ((signal.SIGTERM, grace), (signal.SIGKILL, None)):
+        try:
+            os.killpg(proc.pid, sig)
+        except (ProcessLookupError, PermissionError):
+            pass
+        try:
+            proc.wait(timeout=wait)
+        except subprocess.TimeoutExpired:
+            continue
+        if sig == signal.SIGTERM:
+            # the leader is gone; members that ignored SIGTERM are not
+            try:
+                os.killpg(proc.pid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                pass
+        return
+
+
+def run(argv: Sequence[str], *, cwd: str | Path | None = None, timeout: float | None = None,
+        env: Mapping[str, str] | None = None, input: str | None = None) -> subprocess.CompletedProcess:
+    """``subprocess.run(argv, capture_output=True, text=True,
+    errors="replace", check=False)`` with standard input from ``input`` (or
+    ``/dev/null``), in a process group of its own that is stopped on any
+    exception (``KeyboardInterrupt``, ``subprocess.TimeoutExpired``, ...)."""
+    with subprocess.Popen(
+        [str(a) for a in argv], cwd=None if cwd is None else str(cwd), env=None if env is None else dict(env),
+        stdin=subprocess.PIPE if input is not None else subprocess.DEVNULL,
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, errors="replace",
+        start_new_session=True,
+    ) as proc:
+        try:
+            out, err = proc.communicate(input, timeout=timeout)
+        except BaseException:
+            stop_group(proc)
+            raise
+        return subprocess.CompletedProcess(proc.args, proc.returncode, out, err)
