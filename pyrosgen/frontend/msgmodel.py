@@ -21,6 +21,9 @@ __all__ = [
     "SIMULINK_TYPES",
     "PRIM_SIZES",
     "MAX_LEAVES",
+    "MAX_STRUCT_FIELDS",
+    "MAX_TOTAL_LEAVES",
+    "widest_struct",
     "MAX_MSG_FILES",
     "MAX_MSG_DEPTH",
     "MsgField",
@@ -102,6 +105,13 @@ PRIM_SIZES: dict[str, int] = {
 #: Largest number of carried scalar leaves in one topic's message type (each
 #: leaf is one copy statement in a callback, and one proof obligation).
 MAX_LEAVES = 10000
+#: At most this many carried fields in one message definition (struct).
+#: The cost of checking the proof grows with the square of a struct's width
+#: (each field access walks the field list; BENCHMARKS.md section 5).
+MAX_STRUCT_FIELDS = 256
+#: At most this many carried leaves over all topics of a node (every
+#: callback and output glue copies its whole message).
+MAX_TOTAL_LEAVES = 20000
 
 #: Largest number of ``.msg`` files read from the ``msg_paths`` of one model.
 MAX_MSG_FILES = 2000
@@ -286,6 +296,24 @@ def leaf_count(msg: str | MsgType, messages: Mapping[str, MsgType]) -> int:
         return n
 
     return count(msg if isinstance(msg, MsgType) else _get(messages, msg))
+
+
+def widest_struct(msg: str | MsgType, messages: Mapping[str, MsgType]) -> tuple[str, int]:
+    """The message type with the most carried fields among ``msg`` and the
+    types it contains, and that number."""
+    seen: dict[str, int] = {}
+
+    def visit(t: MsgType) -> None:
+        if t.name in seen:
+            return
+        seen[t.name] = len(t.fields)
+        for f in t.fields:
+            if f.kind != "prim":
+                visit(_get(messages, f.msg))
+
+    visit(msg if isinstance(msg, MsgType) else _get(messages, msg))
+    name = max(seen, key=lambda k: (seen[k], k))
+    return name, seen[name]
 
 
 def _get(messages: Mapping[str, MsgType], name: str) -> MsgType:

@@ -25,7 +25,10 @@ from pyrosgen.frontend.model import (
     Pos,
     Topic,
 )
-from pyrosgen.frontend.msgmodel import MAX_LEAVES, PRIMITIVES, ROS1_ALIASES, FieldPath, leaf_count
+from pyrosgen.frontend.msgmodel import (
+    MAX_LEAVES, MAX_STRUCT_FIELDS, MAX_TOTAL_LEAVES, PRIMITIVES, ROS1_ALIASES, FieldPath, leaf_count,
+    widest_struct,
+)
 from pyrosgen.frontend.msgload import MsgRegistry, PathError
 from pyrosgen.frontend.names import (
     MAX_NAME_LEN,
@@ -43,6 +46,9 @@ MAX_PERIOD_MS = 3_600_000
 
 #: Largest accepted subscriber/publisher queue.
 MAX_QUEUE_SIZE = 10_000
+#: At most this many fields in each of the controller's structs (rule 4.3;
+#: times at the limits in BENCHMARKS.md section 5).
+MAX_CONTROLLER_FIELDS = 2000
 
 #: Names the generated C defines or calls whatever the model says.
 FIXED_C_NAMES = (
@@ -223,6 +229,11 @@ class _Checker:
         if not fnode.items:
             self.err(fnode, f"{what}.fields must declare at least one field")
             ok = False
+        elif len(fnode.items) > MAX_CONTROLLER_FIELDS:
+            self.err_rule("4.3", fnode, f"{what}.fields declares {len(fnode.items)} fields; at most "
+                          f"{MAX_CONTROLLER_FIELDS} (the time to check the proof grows with the square "
+                          "of a struct's width)")
+            return var, None
         for knode, vnode in fnode.items:
             fname = knode.text
             problem = identifier_problem(fname)
@@ -318,6 +329,7 @@ class _Checker:
             self.err(node, "topics must declare at least one topic")
         decls: list[_TopicDecl] = []
         by_name: dict[str, _TopicDecl] = {}
+        total_leaves, total_reported = 0, False
         for i, item in enumerate(node.items):
             what = f"topics[{i}]"
             m = self.mapping(item, what)
@@ -375,6 +387,7 @@ class _Checker:
                         )
                     else:
                         n = leaf_count(carried, registry.messages())
+                        wide, width = widest_struct(carried, registry.messages())
                         if n > MAX_LEAVES:
                             self.err_rule(
                                 "4.5",
@@ -382,8 +395,25 @@ class _Checker:
                                 f"{what}.type: message type {t} has {n} scalar leaves; "
                                 f"the glue carries at most {MAX_LEAVES} per message",
                             )
+                        elif width > MAX_STRUCT_FIELDS:
+                            self.err_rule(
+                                "4.5",
+                                tnode,
+                                f"{what}.type: message type {wide}{' (in ' + t + ')' if wide != t else ''} "
+                                f"has {width} carried fields; at most {MAX_STRUCT_FIELDS} per message "
+                                "definition (nest them in sub-messages, or use an array)",
+                            )
                         else:
                             type_ok = True
+                            total_leaves += n
+                            if total_leaves > MAX_TOTAL_LEAVES and not total_reported:
+                                total_reported = True
+                                self.err_rule(
+                                    "4.5",
+                                    tnode,
+                                    f"{what}.type: the topics up to this one carry {total_leaves} scalar leaves "
+                                    f"in all; a node carries at most {MAX_TOTAL_LEAVES}",
+                                )
             d.type_ok = type_ok
             d.usable = usable and type_ok and direction is not None and d.queue_size is not None
         return decls
