@@ -197,6 +197,47 @@ def cmd_verify(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_init(args: argparse.Namespace) -> int:
+    """``pyrosgen init --controller DIR -o MODEL.yaml``: a node model
+    skeleton from the controller's Embedded Coder header (see
+    :mod:`pyrosgen.frontend.coder`)."""
+    import tempfile
+    from pathlib import Path
+
+    from pyrosgen.errors import UserError
+    from pyrosgen.frontend.coder import read_controller, skeleton
+
+    out = Path(args.output)
+    if (out.exists() or out.is_symlink()) and not args.force:
+        raise UserError(f"{out}: exists; pyrosgen init does not overwrite a model (use --force)")
+    if out.exists() and not out.is_file():
+        raise UserError(f"{out}: exists and is not a regular file")
+    if not out.parent.is_dir():
+        raise UserError(f"{out.parent}: the folder of the output file does not exist")
+    iface = read_controller(args.controller, args.name)
+    text = skeleton(iface, Path(args.controller), args.node)
+    fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".tmp", dir=str(out.parent))
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+        os.replace(tmp, out)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    print(f"pyrosgen: wrote {out}: controller {iface.model} from {iface.header}")
+    print(f"  inputs    {len(iface.inputs)}: {', '.join(f'{f.name} ({f.prim})' for f in iface.inputs)}")
+    print(f"  outputs   {len(iface.outputs)}: {', '.join(f'{f.name} ({f.prim})' for f in iface.outputs)}")
+    if iface.period_ms is not None:
+        print(f"  period    {iface.period_ms} ms, from {iface.period_source}")
+    else:
+        print("  period    not found in the controller folder: set period_ms")
+    for note in iface.notes:
+        print(f"  note      {note}")
+    print(f"  next      declare the topics and relations in {out}, then: pyrosgen check {out}")
+    return EXIT_OK
+
+
 def cmd_library(args: argparse.Namespace) -> int:
     """``pyrosgen library``: the ROSGen library this pyrosgen checks proofs
     with: its folder and identity (as certificates record it)."""
@@ -241,6 +282,9 @@ Every problem is reported as FILE:LINE:COL: error: MESSAGE; exit 1 if any.""",
 writes DIR/<node>.v, <node>_types.h, <node>_glue.c, <node>.sexp, <node>.model,
 <node>.certificate.md, <node>.manifest.json, <node>.sha256 (and <node>_wp.c with --wp)
 only if the node's DDC theorem was checked and is closed under the global context.""",
+    "init": """examples:
+  pyrosgen init --controller examples/landshark/controller -o my_node.yaml
+  pyrosgen init --controller codegen/Robot_ert_rtw --name Robot -o robot.yaml""",
     "verify": """examples:
   pyrosgen verify build/landshark                       # hashes, coqc/coqchk, re-printed C, wrapper
   pyrosgen verify build/landshark --model examples/landshark/landshark_controller.yaml --wp
@@ -348,6 +392,25 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--wp", action="store_true", help="also re-run Frama-C WP on the folder's ACSL contracts")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     p.set_defaults(func=cmd_verify)
+
+    p = sub.add_parser(
+        "init",
+        epilog=_EXAMPLES["init"], formatter_class=argparse.RawDescriptionHelpFormatter,
+        help="write a node model skeleton from a controller's Embedded Coder header",
+        description=(
+            "Read the Embedded Coder interface of the controller in DIR (ExtU_<Model>_T, "
+            "ExtY_<Model>_T, <Model>_U, <Model>_Y, <Model>_initialize, <Model>_step) with a C "
+            "parser and write a node model with the controller section filled in and the "
+            "period from the sample time where it is found; topics and relations are left "
+            "as commented placeholders."
+        ),
+    )
+    p.add_argument("--controller", metavar="DIR", required=True, help="the controller folder (Embedded Coder output)")
+    p.add_argument("-o", "--output", metavar="MODEL.yaml", required=True, help="the model file to write")
+    p.add_argument("--name", metavar="MODEL", help="the Simulink model, when DIR holds several")
+    p.add_argument("--node", metavar="NAME", help="the node's name (default: <model>_node)")
+    p.add_argument("--force", action="store_true", help="overwrite MODEL.yaml if it exists")
+    p.set_defaults(func=cmd_init)
 
     p = sub.add_parser(
         "library", help="show the Coq library proofs are checked with",

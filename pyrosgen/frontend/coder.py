@@ -1,0 +1,353 @@
+"""``pyrosgen init --controller DIR -o MODEL.yaml``: a node model skeleton
+from the controller's Embedded Coder header.
+
+Embedded Coder writes the controller's interface into ``<Model>.h``: the
+structs ``ExtU_<Model>_T`` (root inports) and ``ExtY_<Model>_T`` (root
+outports), the globals ``<Model>_U`` and ``<Model>_Y``, and the functions
+``<Model>_initialize`` and ``<Model>_step``.  This module reads them with a
+real C parser: each header of ``DIR`` is run through the C preprocessor
+(``cpp``, with ``DIR`` on the include path and the minimal standard headers
+of ``fake_libc/``, so that the system's headers and their extensions never
+reach the parser), then parsed by pycparser; typedefs are resolved
+(``real_T`` -> ``double``) and each field's type is mapped to a ROS
+primitive (rule 4.3).  Fields that cannot be carried (arrays, buses, i.e.
+structs, ``creal_T``, pointers, ``char``) are reported with their field and
+the reason, and the model is not written.
+
+The period comes from the generated code's sample time where it can be
+found: ``ert_main.c``'s "with period 0.02 seconds", a "Sample time: [0.02s,
+0.0s]" comment, a "Fixed-step size: 0.02" comment, or a ``#define`` whose
+comment says "sample time".  Otherwise the skeleton says so and leaves the
+period to the user.
+
+The skeleton has the controller section filled in, in the header's field
+order, each field with the header's comment; topics and relations are
+commented placeholders.  It passes ``pyrosgen check`` once they are
+filled in.
+"""
+
+from __future__ import annotations
+
+import re
+import subprocess
+from dataclasses import dataclass, field
+from fractions import Fraction
+from pathlib import Path
+
+from pyrosgen import procs
+from pyrosgen.errors import UserError, escape
+
+__all__ = ["CoderError", "CoderInterface", "read_controller", "skeleton", "FAKE_LIBC"]
+
+#: Minimal standard headers used instead of the system's.
+FAKE_LIBC = Path(__file__).resolve().parent / "fake_libc"
+
+#: Typedef names of Embedded Coder with a fixed meaning (checked before the
+#: C type they stand for: ``boolean_T`` is an ``unsigned char``).
+CODER_TYPES = {
+    "boolean_T": "bool", "real_T": "float64", "real64_T": "float64", "real32_T": "float32",
+    "int8_T": "int8", "uint8_T": "uint8", "int16_T": "int16", "uint16_T": "uint16",
+    "int32_T": "int32", "uint32_T": "uint32", "int64_T": "int64", "uint64_T": "uint64",
+    "_Bool": "bool", "bool": "bool",
+}
+#: C types (after typedefs) and their ROS primitive.
+C_TYPES = {
+    ("double",): "float64", ("float",): "float32", ("_Bool",): "bool",
+    ("signed", "char"): "int8", ("unsigned", "char"): "uint8",
+    ("short",): "int16", ("short", "int"): "int16", ("signed", "short"): "int16",
+    ("unsigned", "short"): "uint16", ("unsigned", "short", "int"): "uint16",
+    ("int",): "int32", ("signed", "int"): "int32", ("signed",): "int32",
+    ("unsigned", "int"): "uint32", ("unsigned",): "uint32",
+    ("long", "long"): "int64", ("long", "long", "int"): "int64", ("signed", "long", "long"): "int64",
+    ("unsigned", "long", "long"): "uint64", ("unsigned", "long", "long", "int"): "uint64",
+    ("int8_t",): "int8", ("uint8_t",): "uint8", ("int16_t",): "int16", ("uint16_t",): "uint16",
+    ("int32_t",): "int32", ("uint32_t",): "uint32", ("int64_t",): "int64", ("uint64_t",): "uint64",
+}
+_WHY = {
+    "creal_T": "a complex number (creal_T): ROS has no complex primitive",
+    "creal32_T": "a complex number (creal32_T): ROS has no complex primitive",
+    "char_T": "char_T: its signedness is the compiler's; use int8_T or uint8_T",
+}
+
+
+class CoderError(UserError):
+    """The controller folder's header cannot give a model (exit 1)."""
+
+    def __init__(self, summary: str, lines: list[str] | tuple[str, ...] = ()):
+        self.summary = summary
+        self.lines = tuple(lines)
+        super().__init__(summary + "".join(f"\n  {ln}" for ln in self.lines))
+
+    def report(self, ctx) -> list[str]:
+        return [f"pyrosgen: error: {self.summary}", *(f"  {escape(ln, keep_quotes=True)}" for ln in self.lines)]
+
+
+@dataclass
+class CoderField:
+    name: str
+    where: str                #: ``file:line`` of its declaration
+    prim: str | None          #: ROS primitive, or None when it cannot be carried
+    c_type: str               #: as written in the header
+    comment: str = ""
+    why: str = ""             #: the reason when ``prim`` is None
+
+
+@dataclass
+class CoderInterface:
+    """The controller interface read from ``header``."""
+
+    model: str
+    header: Path
+    inputs: list[CoderField]
+    outputs: list[CoderField]
+    functions: list[str] = field(default_factory=list)
+    period_ms: int | None = None
+    period_source: str = ""
+    notes: list[str] = field(default_factory=list)
+
+
+def _preprocess(header: Path, folder: Path) -> str:
+    argv = ["cpp", "-nostdinc", "-undef", "-D__STDC_VERSION__=201112L",
+            "-I", str(FAKE_LIBC), "-I", str(header.parent), "-I", str(folder), str(header)]
+    try:
+        r = procs.run(argv, timeout=60)
+    except OSError as exc:
+        raise CoderError(f"cannot run the C preprocessor cpp: {exc.strerror or exc} (install gcc)") from None
+    except subprocess.TimeoutExpired:
+        raise CoderError(f"{header}: the C preprocessor did not finish within 60 s") from None
+    if r.returncode != 0:
+        raise CoderError(f"{header}: error: the C preprocessor failed", r.stderr.strip().splitlines()[:10])
+    return r.stdout
+
+
+def _comment(text: str, name: str) -> str:
+    m = re.search(rf"\b{re.escape(name)}\s*(?:\[[^\]]*\])?\s*;[ \t]*/\*(.*?)\*/", text)
+    return " ".join(m.group(1).split()) if m else ""
+
+
+def _map_field(decl, typedefs: dict, raw_text: str) -> CoderField:
+    from pycparser import c_ast
+
+    name = decl.name
+    where = f"{Path(decl.coord.file).name}:{decl.coord.line}" if decl.coord is not None else "?"
+    t = decl.type
+    written = _type_text(t)
+    comment = _comment(raw_text, name)
+    if isinstance(t, c_ast.ArrayDecl):
+        return CoderField(name, where, None, written, comment,
+                          "an array: the glue carries scalar controller fields (rule 4.3); "
+                          "split it into scalar inports")
+    if isinstance(t, c_ast.PtrDecl):
+        return CoderField(name, where, None, written, comment, "a pointer")
+    if not isinstance(t, c_ast.TypeDecl):
+        return CoderField(name, where, None, written, comment, f"an unsupported declaration ({type(t).__name__})")
+    inner = t.type
+    if isinstance(inner, (c_ast.Struct, c_ast.Union)):
+        return CoderField(name, where, None, written, comment, "a bus (a struct): the glue carries scalar fields")
+    if isinstance(inner, c_ast.Enum):
+        return CoderField(name, where, None, written, comment, "an enumeration: its size is the compiler's")
+    names = tuple(inner.names)
+    seen = set()
+    while True:
+        if len(names) == 1 and names[0] in CODER_TYPES:
+            return CoderField(name, where, CODER_TYPES[names[0]], written, comment)
+        if len(names) == 1 and names[0] in _WHY:
+            return CoderField(name, where, None, written, comment, _WHY[names[0]])
+        if names in C_TYPES:
+            return CoderField(name, where, C_TYPES[names], written, comment)
+        if len(names) == 1 and names[0] in typedefs and names[0] not in seen:
+            seen.add(names[0])
+            target = typedefs[names[0]]
+            if isinstance(target, c_ast.TypeDecl) and isinstance(target.type, c_ast.IdentifierType):
+                names = tuple(target.type.names)
+                continue
+            if isinstance(target, c_ast.TypeDecl) and isinstance(target.type, (c_ast.Struct, c_ast.Union)):
+                why = _WHY.get(written, f"a bus (struct type {written}): the glue carries scalar fields")
+                return CoderField(name, where, None, written, comment, why)
+            if isinstance(target, c_ast.ArrayDecl):
+                return CoderField(name, where, None, written, comment, f"an array type ({written})")
+            return CoderField(name, where, None, written, comment, f"type {written} is not a scalar")
+        if "char" in names and "signed" not in names and "unsigned" not in names:
+            return CoderField(name, where, None, written, comment, "plain char: its signedness is the compiler's")
+        if "long" in names and names.count("long") == 1:
+            return CoderField(name, where, None, written, comment, "long: its size differs between platforms")
+        return CoderField(name, where, None, written, comment, f"type {' '.join(names)} has no ROS primitive")
+
+
+def _type_text(t) -> str:
+    from pycparser import c_generator
+
+    try:
+        return " ".join(c_generator.CGenerator().visit(t).split()) or "?"
+    except Exception:  # noqa: BLE001 - only for messages
+        return "?"
+
+
+def _struct_fields(decl) -> list | None:
+    from pycparser import c_ast
+
+    t = decl.type
+    if isinstance(t, c_ast.TypeDecl) and isinstance(t.type, c_ast.Struct) and t.type.decls is not None:
+        return list(t.type.decls)
+    return None
+
+
+_PERIOD_PATTERNS = [
+    (re.compile(r"with[\s*]+period\s+([0-9.]+(?:[eE][+-]?[0-9]+)?)\s+seconds"), "the rate of rt_OneStep"),
+    (re.compile(r"Sample time:\s*\[\s*([0-9.]+(?:[eE][+-]?[0-9]+)?)\s*s"), "a sample time comment"),
+    (re.compile(r"Fixed-step size:\s*([0-9.]+(?:[eE][+-]?[0-9]+)?)"), "the fixed-step size"),
+    (re.compile(r"#define\s+\w+\s+\(?\s*([0-9.]+(?:[eE][+-]?[0-9]+)?)\s*\)?\s*/\*[^*]*sample time", re.I),
+     "a #define commented as the sample time"),
+]
+
+
+def _find_period(folder: Path, files: list[Path]) -> tuple[int | None, str, list[str]]:
+    notes = []
+    for pattern, what in _PERIOD_PATTERNS:
+        for f in files:
+            try:
+                text = f.read_text(encoding="utf-8", errors="replace")
+            except OSError:
+                continue
+            m = pattern.search(text)
+            if not m:
+                continue
+            try:
+                seconds = Fraction(m.group(1))
+            except (ValueError, ZeroDivisionError):
+                continue
+            ms = seconds * 1000
+            line = text.count("\n", 0, m.start()) + 1
+            where = f"{f.name}:{line}"
+            if ms <= 0 or ms.denominator != 1:
+                notes.append(f"{where}: sample time {m.group(1)} s is not a whole number of milliseconds; "
+                             "period_ms left for you to set")
+                return None, "", notes
+            return int(ms), f"{what}, {where}: {m.group(1)} s", notes
+    return None, "", notes
+
+
+def read_controller(folder: str | Path, name: str | None = None) -> CoderInterface:
+    """Read the Embedded Coder interface of the controller in ``folder``
+    (the model ``name``, or the only one whose header defines
+    ``ExtU_<Model>_T`` and ``ExtY_<Model>_T``)."""
+    from pycparser import c_ast, c_parser
+
+    try:
+        from pycparser.c_parser import ParseError
+    except ImportError:  # pycparser 2.x
+        from pycparser.plyparser import ParseError
+
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise CoderError(f"{folder}: the controller folder does not exist or is not a folder")
+    headers = sorted(p for p in folder.rglob("*.h") if p.is_file())
+    candidates: list[tuple[str, Path]] = []
+    for h in headers:
+        try:
+            text = h.read_text(encoding="utf-8", errors="replace")
+        except OSError:
+            continue
+        for m in re.finditer(r"\bExtU_(\w+)_T\s*;", text):
+            if re.search(rf"\bExtY_{re.escape(m.group(1))}_T\s*;", text):
+                candidates.append((m.group(1), h))
+    if name is not None:
+        candidates = [c for c in candidates if c[0] == name]
+    if not candidates:
+        want = f"ExtU_{name}_T and ExtY_{name}_T" if name else "ExtU_<Model>_T and ExtY_<Model>_T"
+        raise CoderError(f"{folder}: no header defines {want} (the Embedded Coder interface of a model "
+                         "with root inports and outports)")
+    models = sorted({c[0] for c in candidates})
+    if len(models) > 1:
+        raise CoderError(f"{folder}: several models ({', '.join(models)}); choose one with --name")
+    model, header = candidates[0]
+    raw = header.read_text(encoding="utf-8", errors="replace")
+    text = _preprocess(header, folder)
+    try:
+        ast = c_parser.CParser().parse(text, filename=str(header))
+    except ParseError as exc:
+        raise CoderError(f"{header}: error: cannot parse the preprocessed header: {exc}") from None
+    typedefs: dict[str, object] = {}
+    structs: dict[str, list] = {}
+    externs: dict[str, str] = {}
+    functions: list[str] = []
+    for ext in ast.ext:
+        if isinstance(ext, c_ast.Typedef):
+            typedefs[ext.name] = ext.type
+            fields = _struct_fields(ext)
+            if fields is not None:
+                structs[ext.name] = fields
+        elif isinstance(ext, c_ast.Decl):
+            if isinstance(ext.type, c_ast.FuncDecl):
+                functions.append(ext.name)
+            elif isinstance(ext.type, c_ast.TypeDecl) and isinstance(ext.type.type, c_ast.IdentifierType):
+                externs[ext.name] = " ".join(ext.type.type.names)
+    problems, sides = [], {}
+    for side, tdname, var in (("inputs", f"ExtU_{model}_T", f"{model}_U"), ("outputs", f"ExtY_{model}_T", f"{model}_Y")):
+        if tdname not in structs:
+            raise CoderError(f"{header}: {tdname} is not a struct with fields")
+        if externs.get(var) != tdname:
+            problems.append(f"{header.name}: {var} is not declared as extern {tdname} {var};")
+        fields = [_map_field(d, typedefs, raw) for d in structs[tdname]]
+        for f in fields:
+            if f.prim is None:
+                problems.append(f"{f.where}: {tdname}.{f.name} ({f.c_type}): {f.why}")
+        sides[side] = fields
+    for fn in (f"{model}_initialize", f"{model}_step"):
+        if fn not in functions:
+            problems.append(f"{header.name}: no declaration of {fn}(void)")
+    if problems:
+        raise CoderError(f"{header}: the controller's interface cannot be carried as it is "
+                         f"({len(problems)} problems)", problems)
+    sources = sorted(p for p in folder.rglob("*") if p.suffix in (".c", ".cpp", ".h") and p.is_file())
+    period, period_source, notes = _find_period(folder, [header] + [p for p in sources if p != header])
+    return CoderInterface(model, header, sides["inputs"], sides["outputs"], functions, period, period_source, notes)
+
+
+def _yaml_comment(text: str) -> str:
+    return "".join(ch if ch.isprintable() and ch.isascii() else "?" for ch in text)
+
+
+def skeleton(iface: CoderInterface, folder: Path, node_name: str | None = None) -> str:
+    """The text of the node model skeleton."""
+    m = iface.model
+    node = node_name or re.sub(r"[^a-z0-9_]", "_", m.lower()) + "_node"
+    if not re.fullmatch(r"[a-z][a-z0-9_]*", node):
+        node = "controller_node"
+    src = _yaml_comment(str(iface.header.relative_to(folder) if iface.header.is_relative_to(folder) else iface.header.name))
+    out = [
+        f"# Node model skeleton written by `pyrosgen init` from the Embedded Coder header {src}",
+        f"# of the controller folder (ExtU_{m}_T, ExtY_{m}_T, {m}_initialize, {m}_step).",
+        "# Declare the topics, relate their fields to the controller's inputs and outputs,",
+        "# then: pyrosgen check THIS_FILE",
+        "node:",
+        f"  name: {node}",
+    ]
+    if iface.period_ms is not None:
+        out.append(f"  period_ms: {iface.period_ms}    # from {_yaml_comment(iface.period_source)}")
+    else:
+        out.append("  period_ms:    # the sample time was not found in the controller folder: "
+                   "set the period in milliseconds")
+    out += ["controller:", f"  name: {m}", "  inputs:", f"    name: {m}_U", "    fields:"]
+    width = max(len(f.name) for f in iface.inputs + iface.outputs) + 1
+    for f in iface.inputs:
+        out.append(f"      {f.name + ':':<{width}} {f.prim:<8}  # {_yaml_comment(f.c_type)}"
+                   + (f": {_yaml_comment(f.comment)}" if f.comment else ""))
+    out += ["  outputs:", f"    name: {m}_Y", "    fields:"]
+    for f in iface.outputs:
+        out.append(f"      {f.name + ':':<{width}} {f.prim:<8}  # {_yaml_comment(f.c_type)}"
+                   + (f": {_yaml_comment(f.comment)}" if f.comment else ""))
+    first_in, first_out = iface.inputs[0].name, iface.outputs[0].name
+    out += [
+        "topics:",
+        "  # one line per topic, for example:",
+        "  # - {name: /sensor, direction: subscribe, type: geometry_msgs/TwistStamped, queue_size: 1}",
+        "  # - {name: /command, direction: publish, type: geometry_msgs/TwistStamped, queue_size: 1}",
+        "relations:",
+        "  inputs:      # every controller input is fed by exactly one message field:",
+        *(f"    # - {{topic: /sensor, field: twist.linear.x, input: {f.name}}}" for f in iface.inputs),
+        "  outputs:     # controller outputs into fields of published messages, for example:",
+        f"    # - {{output: {first_out}, topic: /command, field: twist.linear.x}}",
+    ]
+    del first_in
+    return "\n".join(out) + "\n"

@@ -1,0 +1,1 @@
+/* pyrosgen init: an empty <math.h>: controller headers only need its macros, which are not read. */

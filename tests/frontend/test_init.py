@@ -1,0 +1,171 @@
+"""``pyrosgen init --controller DIR -o MODEL.yaml``: the controller
+section read from the Embedded Coder header with pycparser; round trip on
+the examples; unsupported fields reported; nothing written on failure."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+import yaml
+
+from pyrosgen import cli
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = {
+    "landshark": (ROOT / "examples/landshark/landshark_controller.yaml", ROOT / "examples/landshark/controller"),
+    "multi": (ROOT / "examples/multi/multi_node.yaml", ROOT / "examples/multi/controller"),
+}
+
+HEADER = """#include "rtwtypes.h"
+typedef struct {{
+{inputs}
+}} ExtU_{m}_T;
+typedef struct {{
+  real_T Out1;
+}} ExtY_{m}_T;
+extern ExtU_{m}_T {m}_U;
+extern ExtY_{m}_T {m}_Y;
+extern void {m}_initialize(void);
+extern void {m}_step(void);
+"""
+
+
+def run(capsys, *argv):
+    code = cli.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def _controller_folder(tmp_path: Path, inputs: str, m: str = "Robot", extra: dict[str, str] | None = None) -> Path:
+    d = tmp_path / "ctl"
+    d.mkdir(exist_ok=True)
+    shutil.copyfile(EXAMPLES["landshark"][1] / "rtwtypes.h", d / "rtwtypes.h")
+    (d / f"{m}.h").write_text(HEADER.format(inputs=inputs, m=m))
+    for name, text in (extra or {}).items():
+        (d / name).write_text(text)
+    return d
+
+
+@pytest.mark.parametrize("key", list(EXAMPLES))
+def test_init_reads_the_example_controllers(capsys, tmp_path, key):
+    model_file, ctl = EXAMPLES[key]
+    out = tmp_path / "skeleton.yaml"
+    code, text, err = run(capsys, "init", "--controller", ctl, "-o", out)
+    assert code == 0, err
+    got = yaml.safe_load(out.read_text())
+    want = yaml.safe_load(model_file.read_text())
+    assert got["controller"] == want["controller"]  # names, field order, types
+    assert list(got["controller"]["inputs"]["fields"]) == list(want["controller"]["inputs"]["fields"])
+    if key == "landshark":
+        assert got["node"]["period_ms"] == want["node"]["period_ms"] == 20
+        assert "period    20 ms, from a #define commented as the sample time, Controller.h:36" in text
+    else:
+        assert got["node"]["period_ms"] is None and "period    not found" in text
+    assert got["topics"] is None and got["relations"] == {"inputs": None, "outputs": None}
+    # the header's comments come along
+    assert "# real_T: '<Root>/In1'" in out.read_text() or key != "landshark"
+
+
+@pytest.mark.parametrize("key", list(EXAMPLES))
+def test_round_trip_gives_the_same_node(capsys, tmp_path, key):
+    """init, then the example's node name, period, topics and relations
+    filled in: generate prints the very same C and model as for the
+    example itself."""
+    model_file, ctl = EXAMPLES[key]
+    filled = tmp_path / "model" / model_file.name
+    filled.parent.mkdir()
+    code, _, err = run(capsys, "init", "--controller", ctl, "-o", filled)
+    assert code == 0, err
+    skeleton = yaml.safe_load(filled.read_text())
+    example = yaml.safe_load(model_file.read_text())
+    skeleton["node"] = example["node"] if key == "multi" else {**skeleton["node"], "name": example["node"]["name"]}
+    for k in ("topics", "relations", "msg_paths"):
+        if k in example:
+            skeleton[k] = example[k]
+    if "msg_paths" in example:
+        for p in example["msg_paths"]:
+            shutil.copytree(model_file.parent / p, filled.parent / p)
+    filled.write_text(yaml.safe_dump(skeleton, sort_keys=False))
+    outs = {}
+    for name, path in (("example", model_file), ("init", filled)):
+        outs[name] = tmp_path / name
+        code, _, err = run(capsys, "generate", path, "-o", outs[name], "-q")
+        assert code == 0, err
+    node = example["node"]["name"]
+    for f in (f"{node}_glue.c", f"{node}_types.h", f"{node}.model", f"{node}.sexp", f"{node}.v"):
+        assert (outs["init"] / f).read_bytes() == (outs["example"] / f).read_bytes(), f
+
+
+def test_unsupported_fields_are_reported(capsys, tmp_path):
+    inputs = "\n".join([
+        "  real_T Ok;",
+        "  real_T Vec[3];",
+        "  creal_T Z;",
+        "  struct { real_T a; } Bus;",
+        "  char C;",
+        "  long L;",
+    ])
+    extra = {"rtwtypes_c.h": ""}
+    d = _controller_folder(tmp_path, inputs, extra=extra)
+    (d / "rtwtypes.h").write_text((d / "rtwtypes.h").read_text().replace(
+        "#endif", "typedef struct { real_T re; real_T im; } creal_T;\n#endif"))
+    out = tmp_path / "m.yaml"
+    code, _, err = run(capsys, "init", "--controller", d, "-o", out)
+    assert code == 1
+    assert "(5 problems)" in err
+    assert "  Robot.h:4: ExtU_Robot_T.Vec (real_T [3]): an array" in err
+    assert "  Robot.h:5: ExtU_Robot_T.Z (creal_T): a complex number" in err
+    assert "  Robot.h:6: ExtU_Robot_T.Bus" in err and "a bus" in err
+    assert "  Robot.h:7: ExtU_Robot_T.C (char): plain char: its signedness is the compiler's" in err
+    assert "  Robot.h:8: ExtU_Robot_T.L (long): long: its size differs" in err
+    assert "Ok" not in err.split("problems)")[1]
+    assert not out.exists() and not list(tmp_path.glob(".m.yaml*"))
+
+
+@pytest.mark.parametrize("text, period", [
+    ("/* Attach rt_OneStep to a timer or interrupt service routine with\n * period 0.05 seconds (the model's base sample time) here. */", 50),
+    ("/* Sample time: [0.1s, 0.0s] */", 100),
+    ("/*  Fixed-step size: 0.004 */", 4),
+])
+def test_period_from_the_generated_code(capsys, tmp_path, text, period):
+    d = _controller_folder(tmp_path, "  real_T In1;", extra={"ert_main.c": text + "\nint main(void) { return 0; }\n"})
+    out = tmp_path / "m.yaml"
+    code, _, err = run(capsys, "init", "--controller", d, "-o", out)
+    assert code == 0, err
+    assert yaml.safe_load(out.read_text())["node"]["period_ms"] == period
+
+
+def test_period_that_is_not_whole_milliseconds(capsys, tmp_path):
+    d = _controller_folder(tmp_path, "  real_T In1;", extra={"Robot.c": "/* Sample time: [0.0005s, 0.0s] */\n"})
+    out = tmp_path / "m.yaml"
+    code, text, err = run(capsys, "init", "--controller", d, "-o", out)
+    assert code == 0, err
+    assert yaml.safe_load(out.read_text())["node"]["period_ms"] is None
+    assert "not a whole number of milliseconds" in text
+
+
+def test_refusals(capsys, tmp_path):
+    d = _controller_folder(tmp_path, "  real_T In1;")
+    out = tmp_path / "m.yaml"
+    out.write_text("mine\n")
+    code, _, err = run(capsys, "init", "--controller", d, "-o", out)
+    assert code == 1 and "does not overwrite" in err and out.read_text() == "mine\n"
+    assert run(capsys, "init", "--controller", d, "-o", out, "--force")[0] == 0
+    # two models in one folder
+    (d / "Other.h").write_text(HEADER.format(inputs="  real_T A;", m="Other"))
+    code, _, err = run(capsys, "init", "--controller", d, "-o", tmp_path / "n.yaml")
+    assert code == 1 and "several models (Other, Robot); choose one with --name" in err
+    assert run(capsys, "init", "--controller", d, "--name", "Other", "-o", tmp_path / "n.yaml")[0] == 0
+    # no interface, no folder, a garbage header, an output folder that does not exist
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    code, _, err = run(capsys, "init", "--controller", empty, "-o", tmp_path / "e.yaml")
+    assert code == 1 and "no header defines ExtU_<Model>_T" in err
+    assert run(capsys, "init", "--controller", tmp_path / "nowhere", "-o", tmp_path / "e.yaml")[0] == 1
+    (d / "Other.h").write_bytes(b"typedef struct { \xff\xfe\x00 ExtU_Other_T; ExtY_Other_T;")
+    code, _, err = run(capsys, "init", "--controller", d, "--name", "Other", "-o", tmp_path / "g.yaml")
+    assert code == 1 and "Other.h" in err and "Traceback" not in err
+    assert run(capsys, "init", "--controller", d, "-o", tmp_path / "no" / "m.yaml")[0] == 1
+    assert not (tmp_path / "e.yaml").exists() and not (tmp_path / "g.yaml").exists()
