@@ -20,7 +20,7 @@ import sys
 from collections.abc import Callable, Sequence
 
 from pyrosgen import console
-from pyrosgen.errors import Context, PyrosgenError
+from pyrosgen.errors import Context, PyrosgenError, UserError
 
 __all__ = ["main", "build_parser", "EXIT_OK", "EXIT_USER", "EXIT_TOOL"]
 
@@ -141,11 +141,22 @@ def cmd_build(args: argparse.Namespace) -> int:
     """``pyrosgen build MODEL.yaml --controller DIR -o OUT``: generate and
     prove the glue, then compile and link a runnable ROS node (see
     :mod:`pyrosgen.ros.build`)."""
-    from pyrosgen.ros.build import build
+    import shlex
 
+    from pyrosgen.ros.build import ControllerOptions, build
+
+    def words(values: list[str] | None) -> tuple[str, ...]:
+        return tuple(w for v in values or () for w in shlex.split(v))
+
+    try:
+        options = ControllerOptions(std=args.std, cflags=words(args.cflags), cxxflags=words(args.cxxflags),
+                                    includes=tuple(args.include or ()), ldflags=words(args.ldflags),
+                                    libs=words(args.libs))
+    except ValueError as exc:  # shlex: an unclosed quote
+        raise UserError(f"controller flags: {exc}") from None
     with _stopped_by_signals():
         res = build(args.model, args.controller, args.output, progress=_progress(args), keep_work=args.keep_work,
-                    wp=args.wp)
+                    wp=args.wp, options=options)
     for line in res.warnings:
         _print_err(line)
     print(f"pyrosgen: built node {res.model.name} into {res.out_dir}")
@@ -204,7 +215,6 @@ def cmd_init(args: argparse.Namespace) -> int:
     import tempfile
     from pathlib import Path
 
-    from pyrosgen.errors import UserError
     from pyrosgen.frontend.coder import read_controller, skeleton
 
     out = Path(args.output)
@@ -372,6 +382,15 @@ def build_parser() -> argparse.ArgumentParser:
         "--wp", action="store_true",
         help="also prove ACSL contracts generated from the model on the printed C with Frama-C WP",
     )
+    g = p.add_argument_group("compiling the controller (also written into the catkin package); "
+                             "write flags with '=': --cflags=-DX=1, --libs=-lrt")
+    g.add_argument("--std", default="c11", metavar="STD", help="C standard of the controller's .c files (default c11)")
+    g.add_argument("--cflags", action="append", metavar="FLAGS", help="extra flags for the controller's .c files")
+    g.add_argument("--cxxflags", action="append", metavar="FLAGS", help="extra flags for the controller's .cpp files")
+    g.add_argument("--include", action="append", metavar="DIR",
+                   help="an include folder for the controller (relative to its folder, or absolute)")
+    g.add_argument("--ldflags", action="append", metavar="FLAGS", help="extra link flags")
+    g.add_argument("--libs", action="append", metavar="LIBS", help="extra libraries, e.g. -lrt")
     p.set_defaults(func=cmd_build)
 
     p = sub.add_parser(

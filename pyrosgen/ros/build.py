@@ -12,11 +12,16 @@ The steps (each one progress line):
    ``CMakeLists.txt``);
 4. layout check: ``<node>_layout_check.c`` (:mod:`pyrosgen.ros.layout`);
 5. compile the glue: ``gcc -std=c11 -Wall -Wextra -Werror -pedantic``;
-6. compile the controller: every ``DIR/*.c`` with ``-std=c11 -Wall
-   -Wextra -I DIR`` (user code: warnings are shown, not errors);
+6. compile the controller: every ``.c`` of ``DIR`` and its subfolders
+   with ``-std=<--std, default c11> -O2 -Wall -Wextra`` and ``--cflags``,
+   every ``.cpp`` with ``g++ -std=c++14`` and ``--cxxflags``, ``-I`` each
+   folder holding headers and each ``--include`` (user code: warnings are
+   shown, not errors); sources defining ``main`` (``ert_main.c``) are left
+   out with a note;
 7. compile the wrapper: ``g++ -std=c++14 -Wall -Wextra -Werror`` with the
    flags of ``pkg-config roscpp <message packages>``;
-8. link ``bin/<node>`` and install everything into ``OUT``.
+8. link ``bin/<node>`` (with ``--ldflags`` and ``--libs``) and install
+   everything into ``OUT``.
 
 Nothing partial: everything is built in a staging folder next to ``OUT``
 and moved into ``OUT`` only when every step succeeded (files whose content
@@ -56,7 +61,7 @@ from pyrosgen import console, procs
 from pyrosgen.files import locked_folder, move
 from pyrosgen.ros import layout
 from pyrosgen.ros import wrapper as ros
-from pyrosgen.errors import Context, DetailedFailure, UserError
+from pyrosgen.errors import Context, DetailedFailure, UserError, escape
 from pyrosgen.proof.modeltext import parse_model_text
 from pyrosgen.verify.certificate import certificate_files, write_certificate
 from pyrosgen.verify.wrapper_check import check_wrapper
@@ -83,7 +88,8 @@ _STAMP_VERSION = 1
 
 GLUE_CFLAGS = ("-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic")
 WRAPPER_CXXFLAGS = ("-std=c++14", "-O2", "-Wall", "-Wextra", "-Werror", "-pthread")
-CONTROLLER_CFLAGS = ("-std=c11", "-O2", "-Wall", "-Wextra")
+CONTROLLER_CFLAGS = ("-O2", "-Wall", "-Wextra")     # after -std=<--std, default c11>
+CONTROLLER_CXXFLAGS = ("-std=c++14", "-O2", "-Wall", "-Wextra")
 LDFLAGS = ("-pthread",)
 LDLIBS = ("-lm",)
 
@@ -189,17 +195,76 @@ def pkg_config(modules: Sequence[str]) -> tuple[list[str], list[str]]:
 
 @dataclass(frozen=True)
 class ControllerDir:
-    """The user's controller: its folder, header and C sources."""
+    """The user's controller: its folder, header and sources."""
 
     path: Path
     header: Path
-    sources: tuple[Path, ...]
-    files: tuple[Path, ...]          #: every *.c and *.h (copied into OUT/controller)
+    sources: tuple[Path, ...]        #: the .c and .cpp files compiled
+    files: tuple[Path, ...]          #: every source and header (copied into OUT/controller)
+    include_dirs: tuple[Path, ...]   #: the folders holding headers (the top folder first)
+    left_out: tuple[tuple[Path, str], ...] = ()  #: sources not compiled, with the reason
+
+    def rel(self, p: Path) -> str:
+        return p.relative_to(self.path).as_posix()
+
+
+#: Suffixes of the controller's sources and headers.
+C_SUFFIXES = (".c",)
+CXX_SUFFIXES = (".cpp", ".cc", ".cxx")
+HEADER_SUFFIXES = (".h", ".hpp", ".hh")
+#: C standards a controller may be compiled with (``--std``).
+C_STANDARDS = ("c89", "c90", "c99", "c11", "c17", "c18", "gnu89", "gnu99", "gnu11", "gnu17", "gnu18")
+#: What a user flag may contain (it reaches argv and CMakeLists.txt).
+_FLAG = re.compile(r"^[A-Za-z0-9_=+,./:@%-]+$")
+_MAIN = re.compile(r"(?:^|[;}\s])(?:int|void)\s+main\s*\(")
+
+
+@dataclass(frozen=True)
+class ControllerOptions:
+    """How the controller is compiled and linked (``pyrosgen build``'s
+    ``--std``, ``--cflags``, ``--cxxflags``, ``--include``, ``--ldflags``,
+    ``--libs``)."""
+
+    std: str = "c11"
+    cflags: tuple[str, ...] = ()
+    cxxflags: tuple[str, ...] = ()
+    includes: tuple[str, ...] = ()
+    ldflags: tuple[str, ...] = ()
+    libs: tuple[str, ...] = ()
+
+    def check(self) -> None:
+        if self.std not in C_STANDARDS:
+            raise BuildError(f"--std {self.std}: not one of {', '.join(C_STANDARDS)}")
+        for what, flags in (("--cflags", self.cflags), ("--cxxflags", self.cxxflags), ("--include", self.includes),
+                            ("--ldflags", self.ldflags), ("--libs", self.libs)):
+            for f in flags:
+                if not _FLAG.match(f):
+                    raise BuildError(f"{what}: {escape(f)!s}: unsupported characters (letters, digits and "
+                                     "_ = + , . / : @ % - only; flags reach the compiler's command line and "
+                                     "CMakeLists.txt)")
+
+
+def _strip_comments(text: str) -> str:
+    text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
+    text = re.sub(r"//[^\n]*", " ", text)
+    return re.sub(r'"(?:\\.|[^"\\\n])*"', '""', text)
+
+
+def defines_main(p: Path) -> bool:
+    """Whether the source ``p`` defines ``main`` (Embedded Coder's
+    ``ert_main.c``, a test harness)."""
+    try:
+        return bool(_MAIN.search(_strip_comments(p.read_text(encoding="utf-8", errors="replace"))))
+    except OSError:
+        return False
 
 
 def find_controller(model: NodeModel, directory: str | Path) -> ControllerDir:
-    """Check the controller folder: it holds ``<Controller>.h`` and at
-    least one ``*.c``; file names are plain (they go into CMakeLists.txt)."""
+    """Check the controller folder: it holds ``<Controller>.h`` (at its top)
+    and at least one source; its sources (``.c``, ``.cpp``) and headers are
+    found in its subfolders too (hidden folders excepted); sources that
+    define ``main`` (``ert_main.c``) are left out; file and folder names are
+    plain (they go into CMakeLists.txt)."""
     d = Path(directory)
     if not d.is_dir():
         raise BuildError(f"{d}: controller folder not found")
@@ -210,16 +275,28 @@ def find_controller(model: NodeModel, directory: str | Path) -> ControllerDir:
             f"is {model.controller.name}: {model.controller.step_fn}() and "
             f"{model.controller.inputs.var_name}/{model.controller.outputs.var_name} "
             f"must be declared in {header.name})")
-    files = sorted(p for p in d.iterdir() if p.is_file() and p.suffix in (".c", ".h"))
+    wanted = C_SUFFIXES + CXX_SUFFIXES + HEADER_SUFFIXES
+    files = sorted(p for p in d.rglob("*")
+                   if p.suffix in wanted and p.is_file()
+                   and not any(part.startswith(".") for part in p.relative_to(d).parts))
     for p in files:
-        if not _FILE_NAME.match(p.name):
-            raise BuildError(f"{p}: unsupported file name in the controller folder "
-                             "(letters, digits, '_', '.', '-' only)")
-    sources = tuple(p for p in files if p.suffix == ".c")
+        for part in p.relative_to(d).parts:
+            if not _FILE_NAME.match(part):
+                raise BuildError(f"{p}: unsupported file or folder name in the controller folder "
+                                 "(letters, digits, '_', '.', '-' only)")
+    left_out, sources = [], []
+    for p in files:
+        if p.suffix in HEADER_SUFFIXES:
+            continue
+        if defines_main(p):
+            left_out.append((p, "defines main (the node has its own)"))
+        else:
+            sources.append(p)
     if not sources:
-        raise BuildError(f"{d}: no .c file in the controller folder (the controller must define "
+        raise BuildError(f"{d}: no .c or .cpp file in the controller folder (the controller must define "
                          f"{model.controller.initialize_fn}() and {model.controller.step_fn}())")
-    return ControllerDir(d, header, sources, tuple(files))
+    includes = [d] + sorted({p.parent for p in files if p.suffix in HEADER_SUFFIXES and p.parent != d})
+    return ControllerDir(d, header, tuple(sources), tuple(files), tuple(includes), tuple(left_out))
 
 
 # -- the stamp file and the object cache -------------------------------------------
@@ -364,7 +441,7 @@ def _install_files(stage: Path, out_dir: Path, files: list[str], old_files: list
 
 def build(model_path: str | Path, controller_dir: str | Path, out_dir: str | Path, *,
           progress: Callable[[str], None] | None = None, keep_work: bool = False,
-          driver=None, wp: bool = False) -> BuildResult:
+          driver=None, wp: bool = False, options: ControllerOptions | None = None) -> BuildResult:
     """Build the node of the model file ``model_path`` with the controller
     in ``controller_dir`` into ``out_dir``; see the module documentation.
 
@@ -379,12 +456,13 @@ def build(model_path: str | Path, controller_dir: str | Path, out_dir: str | Pat
     say(f"[1/{STEPS}] front end: reading {model_path}")
     model = load_model(model_path)
     return build_model(model, controller_dir, out_dir, progress=progress, keep_work=keep_work,
-                       driver=driver, wp=wp, _t_start=t0)
+                       driver=driver, wp=wp, options=options, _t_start=t0)
 
 
 def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Path, *,
                 progress: Callable[[str], None] | None = None, keep_work: bool = False,
-                driver=None, wp: bool = False, _t_start: float | None = None) -> BuildResult:
+                driver=None, wp: bool = False, options: ControllerOptions | None = None,
+                _t_start: float | None = None) -> BuildResult:
     """:func:`build` on an already loaded ``model``; ``wp`` also proves
     the ACSL contracts with Frama-C WP (as ``generate --wp``)."""
     say = progress or (lambda _line: None)
@@ -393,6 +471,8 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
     out_dir = Path(out_dir)
     if out_dir.exists() and not out_dir.is_dir():
         raise OutputDirError(f"{out_dir}: exists and is not a directory")
+    opts = options or ControllerOptions()
+    opts.check()
     ctl = find_controller(model, controller_dir)
     cc, cxx = _tool("CC", "gcc"), _tool("CXX", "g++")
     names = ros.wrapper_files(model)
@@ -409,7 +489,10 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
     stage = work / "out"
     cache = _Cache(out_dir)
     steps: list[tuple[str, bool]] = []
-    warnings: list[str] = []
+    warnings: list[str] = [f"pyrosgen: note: {p}: left out of the build: {why}" for p, why in ctl.left_out]
+    user_includes = [str(Path(i) if Path(i).is_absolute() else (ctl.path / i).absolute()) for i in opts.includes]
+    ctl_includes = [a for inc in ctl.include_dirs for a in ("-I", str(inc.absolute()))] + \
+        [a for inc in user_includes for a in ("-I", inc)]
 
     def shown(text: str) -> str:
         return text.replace(str(stage), str(out_dir))
@@ -442,10 +525,20 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
             raise BuildToolError(str(exc).splitlines()[0], str(exc).splitlines()[1:]) from None
         (stage / "controller").mkdir()
         for p in ctl.files:
-            shutil.copyfile(p, stage / "controller" / p.name)
-        c_sources = [glue_c, *(f"controller/{p.name}" for p in ctl.sources)]
-        include_dirs = [".", "controller"] + (["include"] if custom_headers else [])
-        for fname, text in ros.render_catkin(model, c_sources, [names.api_source], include_dirs).items():
+            dest = stage / "controller" / ctl.rel(p)
+            dest.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(p, dest)
+        ctl_c = [f"controller/{ctl.rel(p)}" for p in ctl.sources if p.suffix in C_SUFFIXES]
+        ctl_cxx = [f"controller/{ctl.rel(p)}" for p in ctl.sources if p.suffix in CXX_SUFFIXES]
+        include_dirs = ["."] + [f"controller/{inc.relative_to(ctl.path).as_posix()}".rstrip("/.").rstrip("/")
+                                if inc != ctl.path else "controller" for inc in ctl.include_dirs] \
+            + (["include"] if custom_headers else [])
+        for fname, text in ros.render_catkin(model, [glue_c, *ctl_c], [names.api_source, *ctl_cxx], include_dirs,
+                                             controller=ros.CatkinController(
+                                                 c_sources=ctl_c, cxx_sources=ctl_cxx, std=opts.std,
+                                                 cflags=list(opts.cflags), cxxflags=list(opts.cxxflags),
+                                                 includes=user_includes, ldflags=list(opts.ldflags),
+                                                 libs=list(opts.libs))).items():
             (stage / fname).write_text(text, encoding="utf-8")
         modules = ros.ros_pkg_config_modules(model)
         pc_cflags, pc_libs = pkg_config(modules)
@@ -456,7 +549,7 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         t = time.monotonic()
         (stage / check_c).write_text(layout.render_layout_check(model, types_h, names.types_header), encoding="ascii")
         layout.check_layout(model, stage / check_c, ctl.path, work, types_h, cc=cc,
-                            shown_check=str(out_dir / check_c))
+                            shown_check=str(out_dir / check_c), includes=ctl_includes)
         times["layout check"] = time.monotonic() - t
 
         obj = stage / "obj"
@@ -497,9 +590,12 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         # 6. controller (before the slow wrapper: user errors first)
         t = time.monotonic()
         for src in ctl.sources:
-            compile_one(6, "compile controller", cc, cc_id, [*CONTROLLER_CFLAGS, "-I", str(ctl.path.absolute())],
-                        src.absolute(), f"controller_{src.stem}.o",
-                        [p.absolute() for p in ctl.files if p != src], user=True)
+            cxx_src = src.suffix in CXX_SUFFIXES
+            flags = ([*CONTROLLER_CXXFLAGS, *opts.cxxflags] if cxx_src else
+                     [f"-std={opts.std}", *CONTROLLER_CFLAGS, *opts.cflags]) + ctl_includes
+            obj_name = "controller_" + ctl.rel(src).replace("/", "__").rsplit(".", 1)[0] + ".o"
+            compile_one(6, "compile controller", cxx if cxx_src else cc, cxx_id if cxx_src else cc_id, flags,
+                        src.absolute(), obj_name, [p.absolute() for p in ctl.files if p != src], user=True)
         times["controller"] = time.monotonic() - t
 
         # 7. wrapper
@@ -513,7 +609,8 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         t = time.monotonic()
         (stage / "bin").mkdir()
         binary = stage / "bin" / node
-        argv = [*cxx, *LDFLAGS, *(str(o) for o in objects), "-o", str(binary), *pc_libs, *LDLIBS]
+        argv = [*cxx, *LDFLAGS, *opts.ldflags, *(str(o) for o in objects), "-o", str(binary), *pc_libs,
+                *opts.libs, *LDLIBS]
         key = _key(argv, stage, cxx_id, [], extra=keys)
         if cache.reuse(f"bin/{node}", key, binary):
             say(f"[8/{STEPS}] link: objects unchanged, reusing bin/{node}")
@@ -529,6 +626,14 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
                 if any(f"undefined reference to `{n}'" in msg for n in ctl_names):
                     raise ControllerError(f"{ctl.path}: error: the controller does not define what "
                                           "the glue uses", msg.splitlines())
+                # a link error in the controller's objects (a symbol defined twice, a
+                # library missing) is the user's too: name the source at fault
+                at_fault = [src for src in ctl.sources
+                            if "controller_" + ctl.rel(src).replace("/", "__").rsplit(".", 1)[0] + ".o" in msg]
+                if at_fault or "cannot find -l" in msg:
+                    where = ", ".join(str(p) for p in at_fault) or str(ctl.path)
+                    raise ControllerError(f"{where}: error: the controller does not link (exit status "
+                                          f"{r.returncode})", msg.splitlines())
                 raise BuildToolError(f"linking {node} failed (exit status {r.returncode})", msg.splitlines())
             steps.append((f"bin/{node}", True))
         # the certificate again, now covering what the build added (the

@@ -164,8 +164,9 @@ def render_reference_header(model: NodeModel, types_h: str) -> str:
     )
 
 
-def _compile(cc: list[str], check_c: Path, include: Path) -> subprocess.CompletedProcess:
-    argv = [*cc, "-std=c11", "-Wall", "-Wextra", "-pedantic", "-fsyntax-only", "-I", str(include), str(check_c)]
+def _compile(cc: list[str], check_c: Path, include: Path, extra: list[str] = ()) -> subprocess.CompletedProcess:
+    argv = [*cc, "-std=c11", "-Wall", "-Wextra", "-pedantic", "-fsyntax-only", "-I", str(include), *extra,
+            str(check_c)]
     try:
         return procs.run(argv, timeout=300)
     except OSError as exc:
@@ -192,9 +193,11 @@ def _problems(output: str, check_c: Path, shown_check: str) -> list[str]:
 
 
 def check_layout(model: NodeModel, check_c: Path, controller_dir: Path, work: Path,
-                 types_h: str, *, cc: list[str] | None = None, shown_check: str | None = None) -> None:
+                 types_h: str, *, cc: list[str] | None = None, shown_check: str | None = None,
+                 includes: list[str] = ()) -> None:
     """Compile ``check_c`` (already written) against the reference header,
-    then against the user's header in ``controller_dir``.
+    then against the user's header in ``controller_dir`` (``includes``:
+    ``-I`` options for the folders its own includes need).
 
     Raises :class:`LayoutToolError` if the check fails against the reference
     header (or the compiler cannot be run), :class:`LayoutMismatch` naming
@@ -211,7 +214,7 @@ def check_layout(model: NodeModel, check_c: Path, controller_dir: Path, work: Pa
             "the layout check does not compile against the reference header "
             f"(a pyrosgen bug):\n{(r.stderr or r.stdout).strip()}")
     header = controller_dir / controller_header_name(model)
-    r = _compile(cc, check_c, controller_dir)
+    r = _compile(cc, check_c, controller_dir, list(includes))  # the controller's other header folders
     if r.returncode != 0:
         problems = _problems(r.stderr + r.stdout, check_c, shown) or [(r.stderr or r.stdout).strip()]
         raise LayoutMismatch(header, problems)

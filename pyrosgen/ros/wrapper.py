@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 import subprocess
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from pyrosgen.proof.modeltext import ProvedModel
@@ -192,13 +192,36 @@ def catkin_package_name(model: NodeModel) -> str:
     return name
 
 
+@dataclass(frozen=True)
+class CatkinController:
+    """How the catkin package compiles the controller, as ``pyrosgen build``
+    does: its sources (package-relative), the C standard, the user's flags,
+    include folders (absolute) and libraries."""
+
+    c_sources: list[str] = field(default_factory=list)
+    cxx_sources: list[str] = field(default_factory=list)
+    std: str = "c11"
+    cflags: list[str] = field(default_factory=list)
+    cxxflags: list[str] = field(default_factory=list)
+    includes: list[str] = field(default_factory=list)
+    ldflags: list[str] = field(default_factory=list)
+    libs: list[str] = field(default_factory=list)
+
+
+_CMAKE_WORD = re.compile(r"^[A-Za-z0-9_=+,./:@%-]+$")
+
+
 def render_catkin(model: NodeModel, c_sources: list[str], cpp_sources: list[str],
-                  include_dirs: list[str]) -> dict[str, str]:
+                  include_dirs: list[str], controller: CatkinController | None = None) -> dict[str, str]:
     """``package.xml`` and ``CMakeLists.txt`` of a catkin package building the
     node from the given sources (paths relative to the package folder)."""
     for p in [*c_sources, *cpp_sources, *include_dirs]:
         if not re.match(r"^[A-Za-z0-9_./-]+$", p) or ".." in p.split("/"):
             raise ValueError(f"refusing to print {p!r} as a package-relative path")
+    ctl = controller or CatkinController()
+    for w in [ctl.std, *ctl.cflags, *ctl.cxxflags, *ctl.includes, *ctl.ldflags, *ctl.libs]:
+        if not _CMAKE_WORD.match(w):
+            raise ValueError(f"refusing to print {w!r} in CMakeLists.txt")
     custom = custom_message_files(model)
     msg_pkgs = sorted({m.package for m in model.messages
                        if not m.is_pseudo and m.name not in custom})
@@ -210,6 +233,7 @@ def render_catkin(model: NodeModel, c_sources: list[str], cpp_sources: list[str]
         "c_sources": c_sources,
         "cpp_sources": cpp_sources,
         "include_dirs": include_dirs,
+        "controller": ctl,
     }
     return {
         "package.xml": render("package.xml.j2", **ctx),

@@ -177,7 +177,7 @@ def test_fast_user_errors(tmp_path):
     assert r.returncode == 1 and "no Controller.h in the controller folder" in r.stderr
     (empty / "Controller.h").write_text("/* */\n")
     r = pyrosgen("build", LANDSHARK, "--controller", empty, "-o", out)
-    assert r.returncode == 1 and "no .c file in the controller folder" in r.stderr
+    assert r.returncode == 1 and "no .c or .cpp file in the controller folder" in r.stderr
     a_file = tmp_path / "file"
     a_file.write_text("x")
     r = pyrosgen("build", LANDSHARK, "--controller", LANDSHARK_CTL, "-o", a_file)

@@ -1,0 +1,120 @@
+"""Controller folders as Embedded Coder writes them: ``ert_main.c`` (any
+source defining ``main``) left out with a note; sources in subfolders and
+``.cpp`` sources compiled; the C standard, flags, include folders and
+libraries given on the command line reach the compiler, the linker and the
+catkin package; a controller that does not link is a user error naming the
+file at fault."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from .conftest import LANDSHARK, LANDSHARK_CTL, pyrosgen
+
+NODE = "landshark_controller"
+
+ERT_MAIN = """/* ert_main.c: Embedded Coder's example main program */
+#include <stdio.h>
+#include "Controller.h"
+int main(int argc, const char *argv[])
+{
+  (void)argc; (void)argv;
+  Controller_initialize();
+  return 0;
+}
+"""
+
+
+def _folder(tmp_path: Path) -> Path:
+    d = tmp_path / "Controller_ert_rtw"
+    shutil.copytree(LANDSHARK_CTL, d)
+    (d / "ert_main.c").write_text(ERT_MAIN)
+    (d / "shared").mkdir()
+    (d / "shared" / "rt_util.h").write_text("#ifndef RT_UTIL_H\n#define RT_UTIL_H\ndouble rt_util_twice(double x);\n#endif\n")
+    (d / "shared" / "rt_util.c").write_text('#include "rt_util.h"\ndouble rt_util_twice(double x) { return 2.0 * x; }\n')
+    (d / "helper.cpp").write_text('extern "C" {\n#include "rt_util.h"\n}\nextern "C" double helper_cpp(double x) { return rt_util_twice(x); }\n')
+    return d
+
+
+def test_embedded_coder_folder_builds(tmp_path):
+    d = _folder(tmp_path)
+    out = tmp_path / "out"
+    run = pyrosgen("build", LANDSHARK, "--controller", d, "-o", out, "-q")
+    assert run.returncode == 0, run.stderr
+    assert f"note: {d / 'ert_main.c'}: left out of the build: defines main" in run.stderr
+    objs = {p.name for p in (out / "obj").iterdir()}
+    assert {"controller_Controller.o", "controller_shared__rt_util.o", "controller_helper.o"} <= objs
+    assert "controller_ert_main.o" not in objs
+    syms = subprocess.run(["nm", str(out / "bin" / NODE)], capture_output=True, text=True).stdout
+    assert " T rt_util_twice\n" in syms and " T helper_cpp\n" in syms
+    cml = (out / "CMakeLists.txt").read_text()
+    for f in ("controller/Controller.c", "controller/shared/rt_util.c", "controller/helper.cpp", "controller/shared"):
+        assert f"  {f}\n" in cml, f
+    assert "ert_main" not in cml
+    r = subprocess.run(["cmake", "-S", str(out), "-B", str(tmp_path / "cmake"), "-DPYTHON_EXECUTABLE=/usr/bin/python3"],
+                       capture_output=True, text=True, stdin=subprocess.DEVNULL, timeout=300)
+    assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
+
+
+def test_flags_reach_the_compiler_and_the_package(tmp_path):
+    d = _folder(tmp_path)
+    (d / "needs_flags.c").write_text(
+        "#ifndef ROBOT_VARIANT\n#error ROBOT_VARIANT is not defined\n#endif\n"
+        "#if __STDC_VERSION__ != 199901L\n#error not C99\n#endif\n"
+        '#include "extra.h"\nint needs_flags_value(void) { return ROBOT_VARIANT + EXTRA; }\n')
+    inc = tmp_path / "extra_include"
+    inc.mkdir()
+    (inc / "extra.h").write_text("#define EXTRA 1\n")
+    out = tmp_path / "out"
+    run = pyrosgen("build", LANDSHARK, "--controller", d, "-o", out, "-q")
+    assert run.returncode == 1
+    assert "needs_flags.c: error: the controller source does not compile" in run.stderr
+    assert "ROBOT_VARIANT is not defined" in run.stderr
+    run = pyrosgen("build", LANDSHARK, "--controller", d, "-o", out, "-q", "--std", "c99",
+                   "--cflags=-DROBOT_VARIANT=2 -O1", "--include", str(inc), "--libs=-lrt")
+    assert run.returncode == 0, run.stderr
+    cml = (out / "CMakeLists.txt").read_text()
+    assert 'COMPILE_OPTIONS "-std=c99;-DROBOT_VARIANT=2;-O1")' in cml
+    assert f"  {inc}\n" in cml and " -lrt m)" in cml
+
+
+def test_controller_that_does_not_link_is_a_user_error(tmp_path):
+    d = _folder(tmp_path)
+    (d / "dup.c").write_text("double rt_util_twice(double x) { return x; }\n")
+    run = pyrosgen("build", LANDSHARK, "--controller", d, "-o", tmp_path / "out", "-q")
+    assert run.returncode == 1, run.stderr
+    assert "error: the controller does not link" in run.stderr and "dup.c" in run.stderr.splitlines()[0]
+    assert "multiple definition of `rt_util_twice'" in run.stderr
+    (d / "dup.c").unlink()
+    run = pyrosgen("build", LANDSHARK, "--controller", d, "-o", tmp_path / "out", "-q", "--libs=-lno_such_lib")
+    assert run.returncode == 1 and "cannot find -lno_such_lib" in run.stderr
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--cflags=-DX=$(touch y)"], "unsupported characters"),
+    (["--libs=-lm;rm"], "unsupported characters"),
+    (["--std", "c++17"], "--std c++17: not one of"),
+    (["--cflags='-DX"], "controller flags: No closing quotation"),
+])
+def test_bad_flags_are_refused(tmp_path, argv, message):
+    run = pyrosgen("build", LANDSHARK, "--controller", LANDSHARK_CTL, "-o", tmp_path / "out", "-q", *argv)
+    assert run.returncode == 1 and message in run.stderr, run.stderr
+    assert not (tmp_path / "out").exists() and not list(tmp_path.glob("y"))
+
+
+def test_headers_in_subfolders(tmp_path):
+    """Embedded Coder puts shared headers (rtwtypes.h) into
+    slprj/ert/_sharedutils: the layout check and the compiles find them."""
+    d = tmp_path / "ctl"
+    shutil.copytree(LANDSHARK_CTL, d)
+    shared = d / "slprj" / "ert" / "_sharedutils"
+    shared.mkdir(parents=True)
+    (d / "rtwtypes.h").rename(shared / "rtwtypes.h")
+    run = pyrosgen("build", LANDSHARK, "--controller", d, "-o", tmp_path / "out", "-q")
+    assert run.returncode == 0, run.stderr
+    assert (tmp_path / "out" / "controller" / "slprj" / "ert" / "_sharedutils" / "rtwtypes.h").is_file()
