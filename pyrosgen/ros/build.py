@@ -28,7 +28,7 @@ and moved into ``OUT`` only when every step succeeded (files whose content
 did not change are left alone; files of a previous build that this one no
 longer produces are removed; other files in ``OUT`` are kept).
 
-Compiling roscpp code is slow (about 10 s for the wrapper), so an object
+Compiling roscpp code is slow (about 4 s for the wrapper), so an object
 file, and the binary, is reused from the previous build in ``OUT`` when the
 hash of everything it is made from is unchanged: the compiler command (with
 the staging folder abstracted), the compiler's identity, the source, the
