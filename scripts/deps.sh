@@ -10,6 +10,8 @@ PKGS=(
   g++ gcc make pkg-config
   # ROS 1 runtime, master and message packages
   libroscpp-dev python3-rosmaster python3-rospy python3-roslib python3-rosgraph catkin
+  # the tools a user watches a node with: rostopic, rosnode, roslaunch, rosrun
+  python3-rostopic python3-rosnode python3-roslaunch rosbash
   libstd-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libsensor-msgs-dev
   python3-std-msgs python3-geometry-msgs python3-nav-msgs python3-sensor-msgs
   # C++ classes for custom .msg types (msg_paths)
