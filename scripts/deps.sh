@@ -16,6 +16,8 @@ PKGS=(
   python3-std-msgs python3-geometry-msgs python3-nav-msgs python3-sensor-msgs
   # C++ classes for custom .msg types (msg_paths)
   python3-gencpp python3-genmsg ros-std-msgs ros-geometry-msgs ros-nav-msgs ros-sensor-msgs
+  # message packages of custom messages in the catkin workspace (message_generation)
+  ros-message-generation ros-message-runtime python3-genpy
   # second verifier of the printed C
   frama-c-base why3 z3
   # pictures, python venv

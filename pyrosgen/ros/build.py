@@ -86,8 +86,8 @@ STEPS = 8
 STAMP = ".pyrosgen-build.json"
 _STAMP_VERSION = 1
 
-GLUE_CFLAGS = ("-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic")
-WRAPPER_CXXFLAGS = ("-std=c++14", "-O2", "-Wall", "-Wextra", "-Werror", "-pthread")
+GLUE_CFLAGS = ros.GLUE_CFLAGS
+WRAPPER_CXXFLAGS = ros.WRAPPER_CXXFLAGS
 CONTROLLER_CFLAGS = ("-O2", "-Wall", "-Wextra")     # after -std=<--std, default c11>
 CONTROLLER_CXXFLAGS = ("-std=c++14", "-O2", "-Wall", "-Wextra")
 LDFLAGS = ("-pthread",)
@@ -297,6 +297,41 @@ def find_controller(model: NodeModel, directory: str | Path) -> ControllerDir:
                          f"{model.controller.initialize_fn}() and {model.controller.step_fn}())")
     includes = [d] + sorted({p.parent for p in files if p.suffix in HEADER_SUFFIXES and p.parent != d})
     return ControllerDir(d, header, tuple(sources), tuple(files), tuple(includes), tuple(left_out))
+
+
+def write_catkin_packages(model: NodeModel, stage: Path, ctl: ControllerDir, opts: ControllerOptions,
+                          user_includes: list[str], sources: dict[str, Path]) -> None:
+    """Write the node's catkin package into ``stage/<package>/``: copies of
+    the glue, the wrapper, the layout check and the headers (``src/``,
+    ``include/``), the controller (``controller/``), ``package.xml``,
+    ``CMakeLists.txt`` (the same flags as this build, the layout check as a
+    build step) and ``launch/<node>.launch``; and a message package
+    (``message_generation``) for each package of custom messages."""
+    pkg_dir = stage / ros.catkin_package_name(model)
+    paths = ros.catkin_paths(model)
+    for key, src in sources.items():
+        dest = pkg_dir / paths[key]
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(src, dest)
+    for p in ctl.files:
+        dest = pkg_dir / "controller" / ctl.rel(p)
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(p, dest)
+    ctl_c = [f"controller/{ctl.rel(p)}" for p in ctl.sources if p.suffix in C_SUFFIXES]
+    ctl_cxx = [f"controller/{ctl.rel(p)}" for p in ctl.sources if p.suffix in CXX_SUFFIXES]
+    include_dirs = ["include"] + ["controller" if inc == ctl.path else
+                                  f"controller/{inc.relative_to(ctl.path).as_posix()}" for inc in ctl.include_dirs]
+    texts = ros.render_catkin(model, include_dirs, controller=ros.CatkinController(
+        c_sources=ctl_c, cxx_sources=ctl_cxx, std=opts.std, cflags=list(opts.cflags),
+        cxxflags=list(opts.cxxflags), includes=user_includes, ldflags=list(opts.ldflags), libs=list(opts.libs)))
+    for rel, text in texts.items():
+        dest = Path(os.path.normpath(pkg_dir / rel))
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        dest.write_text(text, encoding="utf-8")
+    for pkg, msg_dir in ros.custom_message_packages(model).items():
+        (stage / pkg / "msg").mkdir(parents=True, exist_ok=True)
+        for f in sorted(msg_dir.glob("*.msg")):
+            shutil.copyfile(f, stage / pkg / "msg" / f.name)
 
 
 # -- the stamp file and the object cache -------------------------------------------
@@ -528,18 +563,6 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
             dest = stage / "controller" / ctl.rel(p)
             dest.parent.mkdir(parents=True, exist_ok=True)
             shutil.copyfile(p, dest)
-        ctl_c = [f"controller/{ctl.rel(p)}" for p in ctl.sources if p.suffix in C_SUFFIXES]
-        ctl_cxx = [f"controller/{ctl.rel(p)}" for p in ctl.sources if p.suffix in CXX_SUFFIXES]
-        include_dirs = ["."] + [f"controller/{inc.relative_to(ctl.path).as_posix()}".rstrip("/.").rstrip("/")
-                                if inc != ctl.path else "controller" for inc in ctl.include_dirs] \
-            + (["include"] if custom_headers else [])
-        for fname, text in ros.render_catkin(model, [glue_c, *ctl_c], [names.api_source, *ctl_cxx], include_dirs,
-                                             controller=ros.CatkinController(
-                                                 c_sources=ctl_c, cxx_sources=ctl_cxx, std=opts.std,
-                                                 cflags=list(opts.cflags), cxxflags=list(opts.cxxflags),
-                                                 includes=user_includes, ldflags=list(opts.ldflags),
-                                                 libs=list(opts.libs))).items():
-            (stage / fname).write_text(text, encoding="utf-8")
         modules = ros.ros_pkg_config_modules(model)
         pc_cflags, pc_libs = pkg_config(modules)
         times["wrapper"] = time.monotonic() - t
@@ -551,6 +574,13 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         layout.check_layout(model, stage / check_c, ctl.path, work, types_h, cc=cc,
                             shown_check=str(out_dir / check_c), includes=ctl_includes)
         times["layout check"] = time.monotonic() - t
+
+        # the catkin package OUT/<package>/ (sources only) and, for custom
+        # messages, their message packages OUT/<pkg>/
+        write_catkin_packages(model, stage, ctl, opts, user_includes,
+                              {"glue": stage / glue_c, "wrapper": stage / names.api_source,
+                               "layout_check": stage / check_c, "types_header": stage / names.types_header,
+                               "api_header": stage / names.api_header})
 
         obj = stage / "obj"
         obj.mkdir()

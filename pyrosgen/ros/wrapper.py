@@ -211,31 +211,98 @@ class CatkinController:
 _CMAKE_WORD = re.compile(r"^[A-Za-z0-9_=+,./:@%-]+$")
 
 
-def render_catkin(model: NodeModel, c_sources: list[str], cpp_sources: list[str],
-                  include_dirs: list[str], controller: CatkinController | None = None) -> dict[str, str]:
-    """``package.xml`` and ``CMakeLists.txt`` of a catkin package building the
-    node from the given sources (paths relative to the package folder)."""
-    for p in [*c_sources, *cpp_sources, *include_dirs]:
+#: The flags ``pyrosgen build`` compiles the glue and the wrapper with (the
+#: catkin package uses the same; pyrosgen.ros.build imports them).
+GLUE_CFLAGS = ("-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic")
+WRAPPER_CXXFLAGS = ("-std=c++14", "-O2", "-Wall", "-Wextra", "-Werror", "-pthread")
+
+_MSG_BUILTINS = {"bool", "int8", "uint8", "int16", "uint16", "int32", "uint32", "int64", "uint64",
+                 "float32", "float64", "string", "time", "duration", "char", "byte"}
+
+
+def _msg_deps(package: str, msg_dir: Path) -> list[str]:
+    """The message packages the ``.msg`` files of ``msg_dir`` use."""
+    deps: set[str] = set()
+    for f in sorted(msg_dir.glob("*.msg")):
+        for line in f.read_text(encoding="utf-8", errors="replace").splitlines():
+            line = line.split("#", 1)[0].strip()
+            if not line or "=" in line:
+                continue
+            ty = line.split()[0].split("[", 1)[0]
+            if "/" in ty:
+                deps.add(ty.split("/", 1)[0])
+            elif ty == "Header":
+                deps.add("std_msgs")
+    deps.discard(package)
+    return sorted(deps)
+
+
+def catkin_paths(model: NodeModel) -> dict[str, str]:
+    """Package-relative paths of the node package's sources."""
+    n = _check_ident(model.name)
+    return {"glue": f"src/{n}_glue.c", "wrapper": f"src/{n}_ros.cpp", "layout_check": f"src/{n}_layout_check.c",
+            "types_header": f"include/{n}_types.h", "api_header": f"include/{n}_ros.h",
+            "launch": f"launch/{n}.launch"}
+
+
+def custom_message_packages(model: NodeModel) -> dict[str, Path]:
+    """The message packages of the node's custom messages: name -> the
+    folder holding their ``.msg`` files."""
+    out: dict[str, Path] = {}
+    for name, f in custom_message_files(model).items():
+        out.setdefault(name.split("/", 1)[0], f.parent)
+    return out
+
+
+def render_catkin(model: NodeModel, include_dirs: list[str],
+                  controller: CatkinController | None = None) -> dict[str, str]:
+    """The text files of the node's catkin package, by package-relative path:
+    ``package.xml``, ``CMakeLists.txt`` (the sources at the paths of
+    :func:`catkin_paths`, the controller's under ``controller/``) and
+    ``launch/<node>.launch``; then, for each message package of the node's
+    custom messages, ``<pkg>/package.xml`` and ``<pkg>/CMakeLists.txt``
+    under the key ``../<pkg>/...`` (a sibling package)."""
+    ctl = controller or CatkinController()
+    for p in [*include_dirs, *ctl.c_sources, *ctl.cxx_sources]:
         if not re.match(r"^[A-Za-z0-9_./-]+$", p) or ".." in p.split("/"):
             raise ValueError(f"refusing to print {p!r} as a package-relative path")
-    ctl = controller or CatkinController()
     for w in [ctl.std, *ctl.cflags, *ctl.cxxflags, *ctl.includes, *ctl.ldflags, *ctl.libs]:
         if not _CMAKE_WORD.match(w):
             raise ValueError(f"refusing to print {w!r} in CMakeLists.txt")
-    custom = custom_message_files(model)
+    custom = custom_message_packages(model)
     msg_pkgs = sorted({m.package for m in model.messages
-                       if not m.is_pseudo and m.name not in custom})
+                       if not m.is_pseudo and m.package not in custom})
+    for p in [*msg_pkgs, *custom]:
+        _check_ident(p)
+    package = catkin_package_name(model)
+    paths = catkin_paths(model)
     ctx = {
         "source": source_label(model.source.name),
-        "package": catkin_package_name(model),
+        "package": package,
         "node": model,
         "msg_pkgs": msg_pkgs,
-        "c_sources": c_sources,
-        "cpp_sources": cpp_sources,
+        "custom_pkgs": sorted(custom),
         "include_dirs": include_dirs,
         "controller": ctl,
+        "glue_cflags": GLUE_CFLAGS,
+        "wrapper_cxxflags": [f for f in WRAPPER_CXXFLAGS if not f.startswith("-std=")],
+        "topics": [t.name for t in model.topics],
+        **paths,
     }
-    return {
+    out = {
         "package.xml": render("package.xml.j2", **ctx),
         "CMakeLists.txt": render("CMakeLists.txt.j2", **ctx),
+        paths["launch"]: render("node.launch.j2", **ctx),
     }
+    for pkg, msg_dir in sorted(custom.items()):
+        msgs = sorted(f.name for f in msg_dir.glob("*.msg"))
+        for m in msgs:
+            if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*\.msg", m):
+                raise ValueError(f"refusing to print {m!r} in CMakeLists.txt")
+        deps = _msg_deps(pkg, msg_dir)
+        for d in deps:
+            _check_ident(d)
+        mctx = {"source": ctx["source"], "package": pkg, "deps": deps, "msgs": msgs}
+        out[f"../{pkg}/package.xml"] = render("msg_package.xml.j2", **mctx)
+        out[f"../{pkg}/CMakeLists.txt"] = render("msg_CMakeLists.txt.j2", **mctx)
+    return out

@@ -17,8 +17,13 @@ from .conftest import LANDSHARK, LANDSHARK_CTL, MULTI, ROOT, pyrosgen, snapshot
 
 NODE = "landshark_controller"
 #: What build adds to generate's files (listed on the "generated" line).
+PKG = f"{NODE}/"  # the catkin package: sources only
 BUILD_FILES = {
-    ".pyrosgen-build.json", "CMakeLists.txt", "package.xml",
+    ".pyrosgen-build.json",
+    PKG + "package.xml", PKG + "CMakeLists.txt", PKG + f"launch/{NODE}.launch",
+    PKG + f"src/{NODE}_glue.c", PKG + f"src/{NODE}_ros.cpp", PKG + f"src/{NODE}_layout_check.c",
+    PKG + f"include/{NODE}_types.h", PKG + f"include/{NODE}_ros.h",
+    PKG + "controller/Controller.c", PKG + "controller/Controller.h", PKG + "controller/rtwtypes.h",
     f"{NODE}_ros.h", f"{NODE}_ros.cpp", f"{NODE}_layout_check.c",
     "controller/Controller.c", "controller/Controller.h", "controller/rtwtypes.h",
     f"obj/{NODE}_glue.o", f"obj/{NODE}_ros.o", "obj/controller_Controller.o", f"bin/{NODE}",
@@ -106,17 +111,26 @@ def test_controller_change_recompiles_only_the_controller(landshark_build, tmp_p
     assert " T Controller_marker\n" in syms
 
 
-def test_catkin_package_configures(landshark_build, tmp_path):
+def test_catkin_package_holds_only_sources(landshark_build, tmp_path):
+    """OUT/<package>/: package.xml, CMakeLists.txt, src/, include/,
+    controller/, launch/ -- no object, binary or proof file; its sources are
+    the ones pyrosgen built the node from; it configures with cmake."""
     _, out = landshark_build
-    cml = (out / "CMakeLists.txt").read_text()
-    for src in (f"{NODE}_glue.c", "controller/Controller.c", f"{NODE}_ros.cpp"):
-        assert f"  {src}\n" in cml and (out / src).is_file()
-    r = subprocess.run(["cmake", "-S", str(out), "-B", str(tmp_path / "cmake"), "-DPYTHON_EXECUTABLE=/usr/bin/python3"],
+    pkg = out / NODE
+    for p in pkg.rglob("*"):
+        assert p.is_dir() or p.suffix in (".xml", ".txt", ".c", ".cpp", ".h", ".launch"), p
+    for name, rel in ((f"{NODE}_glue.c", "src"), (f"{NODE}_ros.cpp", "src"), (f"{NODE}_layout_check.c", "src"),
+                      (f"{NODE}_types.h", "include"), (f"{NODE}_ros.h", "include")):
+        assert (pkg / rel / name).read_bytes() == (out / name).read_bytes(), name
+    cml = (pkg / "CMakeLists.txt").read_text()
+    assert f"add_library({NODE}_layout_check OBJECT src/{NODE}_layout_check.c)" in cml
+    assert f"add_dependencies({NODE} {NODE}_layout_check" in cml
+    assert 'COMPILE_OPTIONS "-std=c11;-O2;-Wall;-Wextra;-Werror;-pedantic"' in cml  # the glue, as pyrosgen build
+    assert "<name>landshark_controller</name>" in (pkg / "package.xml").read_text()
+    assert f'<node pkg="{NODE}" type="{NODE}" name="{NODE}"' in (pkg / "launch" / f"{NODE}.launch").read_text()
+    r = subprocess.run(["cmake", "-S", str(pkg), "-B", str(tmp_path / "cmake"), "-DPYTHON_EXECUTABLE=/usr/bin/python3"],
                        capture_output=True, text=True, stdin=subprocess.DEVNULL, timeout=300)
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
-    assert (tmp_path / "cmake" / "Makefile").is_file()
-    assert "<name>landshark_controller</name>" in (out / "package.xml").read_text()
-
 
 # -- user errors (exit 1) ---------------------------------------------------------------
 

@@ -51,11 +51,11 @@ def test_embedded_coder_folder_builds(tmp_path):
     assert "controller_ert_main.o" not in objs
     syms = subprocess.run(["nm", str(out / "bin" / NODE)], capture_output=True, text=True).stdout
     assert " T rt_util_twice\n" in syms and " T helper_cpp\n" in syms
-    cml = (out / "CMakeLists.txt").read_text()
+    cml = (out / NODE / "CMakeLists.txt").read_text()
     for f in ("controller/Controller.c", "controller/shared/rt_util.c", "controller/helper.cpp", "controller/shared"):
         assert f"  {f}\n" in cml, f
     assert "ert_main" not in cml
-    r = subprocess.run(["cmake", "-S", str(out), "-B", str(tmp_path / "cmake"), "-DPYTHON_EXECUTABLE=/usr/bin/python3"],
+    r = subprocess.run(["cmake", "-S", str(out / NODE), "-B", str(tmp_path / "cmake"), "-DPYTHON_EXECUTABLE=/usr/bin/python3"],
                        capture_output=True, text=True, stdin=subprocess.DEVNULL, timeout=300)
     assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
 
@@ -77,9 +77,9 @@ def test_flags_reach_the_compiler_and_the_package(tmp_path):
     run = pyrosgen("build", LANDSHARK, "--controller", d, "-o", out, "-q", "--std", "c99",
                    "--cflags=-DROBOT_VARIANT=2 -O1", "--include", str(inc), "--libs=-lrt")
     assert run.returncode == 0, run.stderr
-    cml = (out / "CMakeLists.txt").read_text()
-    assert 'COMPILE_OPTIONS "-std=c99;-DROBOT_VARIANT=2;-O1")' in cml
-    assert f"  {inc}\n" in cml and " -lrt m)" in cml
+    cml = (out / NODE / "CMakeLists.txt").read_text()
+    assert 'COMPILE_OPTIONS "-std=c99;-O2;-Wall;-Wextra;-DROBOT_VARIANT=2;-O1")' in cml
+    assert f"  {inc}\n" in cml and " -lrt m pthread)" in cml
 
 
 def test_controller_that_does_not_link_is_a_user_error(tmp_path):

@@ -35,14 +35,14 @@ def test_hostile_model_file_name(tmp_path):
             assert piece.encode() not in data, (p, piece)
     # the comments name the file, escaped
     assert "x\\x0a\\x24\\x28touch" in (out / f"{NODE}_ros.cpp").read_text()
-    assert "x\\x0a\\x24\\x28touch" in (out / "CMakeLists.txt").read_text()
+    assert "x\\x0a\\x24\\x28touch" in (out / NODE / "CMakeLists.txt").read_text()
     assert "`x\\x0a\\x24\\x28touch" in (out / f"{NODE}.certificate.md").read_text()
     # configuring the catkin package runs no command of the name
-    r = subprocess.run(["cmake", "-S", str(out), "-B", str(tmp_path / "cmake"), "-DPYTHON_EXECUTABLE=/usr/bin/python3"],
+    r = subprocess.run(["cmake", "-S", str(out / NODE), "-B", str(tmp_path / "cmake"), "-DPYTHON_EXECUTABLE=/usr/bin/python3"],
                        capture_output=True, text=True, stdin=subprocess.DEVNULL, timeout=300, cwd=tmp_path)
     assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
     assert not list(tmp_path.rglob("PWNED*")) and not list(out.rglob("PWNED*"))
     # the package.xml is still well-formed XML
     import xml.dom.minidom
 
-    xml.dom.minidom.parse(str(out / "package.xml"))
+    xml.dom.minidom.parse(str(out / NODE / "package.xml"))

@@ -17,7 +17,7 @@ def test_certificate_covers_the_build(landshark_build):
     _, out = landshark_build
     files = json.loads((out / f"{NODE}.manifest.json").read_text())["files"]
     for name in (f"bin/{NODE}", f"{NODE}_ros.cpp", f"{NODE}_ros.h", f"{NODE}_layout_check.c",
-                 "controller/Controller.c", "controller/Controller.h", "CMakeLists.txt", "package.xml",
+                 "controller/Controller.c", "controller/Controller.h", f"{NODE}/CMakeLists.txt", f"{NODE}/package.xml",
                  f"{NODE}.v", f"{NODE}_glue.c"):
         assert files[name] == hashlib.sha256((out / name).read_bytes()).hexdigest(), name
     assert not any(n.startswith("obj/") for n in files)
