@@ -118,3 +118,29 @@ def test_headers_in_subfolders(tmp_path):
     run = pyrosgen("build", LANDSHARK, "--controller", d, "-o", tmp_path / "out", "-q")
     assert run.returncode == 0, run.stderr
     assert (tmp_path / "out" / "controller" / "slprj" / "ert" / "_sharedutils" / "rtwtypes.h").is_file()
+
+
+def test_init_then_build_gives_the_same_node(landshark_build, tmp_path):
+    """pyrosgen init on the example controller, the example's topics and
+    relations filled in, then build: the same node as the example's (the
+    same glue, wrapper, layout check and headers)."""
+    import yaml
+
+    _, example_out = landshark_build
+    model = tmp_path / "m" / LANDSHARK.name
+    model.parent.mkdir()
+    assert pyrosgen("init", "--controller", LANDSHARK_CTL, "-o", model).returncode == 0
+    skeleton = yaml.safe_load(model.read_text())
+    example = yaml.safe_load(LANDSHARK.read_text())
+    skeleton["node"]["name"] = example["node"]["name"]
+    skeleton["topics"], skeleton["relations"] = example["topics"], example["relations"]
+    model.write_text(yaml.safe_dump(skeleton, sort_keys=False))
+    out = tmp_path / "out"
+    run = pyrosgen("build", model, "--controller", LANDSHARK_CTL, "-o", out, "-q")
+    assert run.returncode == 0, run.stderr
+    for rel in ("src", "include", "controller"):
+        for f in sorted((example_out / NODE / rel).rglob("*")):
+            if f.is_file():
+                mine = out / NODE / rel / f.relative_to(example_out / NODE / rel)
+                assert mine.read_bytes() == f.read_bytes(), f
+    assert (out / f"{NODE}.model").read_bytes() == (example_out / f"{NODE}.model").read_bytes()
