@@ -24,13 +24,14 @@ from __future__ import annotations
 import html
 import os
 import shutil
+import stat
 import subprocess
 import tempfile
 from pathlib import Path
 from typing import Any
 
 
-from pyrosgen.errors import ToolFailure, escape
+from pyrosgen.errors import ToolFailure, UserError, escape
 from pyrosgen.render import render
 from pyrosgen.frontend.model import NodeModel
 
@@ -236,6 +237,10 @@ def run_dot(dot_text: str, fmt: str, exe: str | None = None) -> bytes:
     return proc.stdout
 
 
+class DiagramOutputError(UserError):
+    """The diagram's output path cannot be written as asked (exit 1)."""
+
+
 def write_atomic(path: Path, data: bytes) -> bool:
     """Write ``data`` to ``path`` through a temporary file in the same
     folder and a rename, so that ``path`` is never seen half written.
@@ -243,11 +248,23 @@ def write_atomic(path: Path, data: bytes) -> bool:
     whether it wrote."""
     path = Path(path)
     try:
-        if path.is_file() and path.read_bytes() == data:
+        st = os.lstat(path)
+    except FileNotFoundError:
+        st = None
+    except OSError as exc:
+        raise DiagramOutputError(f"{path}: {exc.strerror or exc}") from None
+    if st is not None and not stat.S_ISREG(st.st_mode):
+        kind = ("a symbolic link" if stat.S_ISLNK(st.st_mode) else "a directory" if stat.S_ISDIR(st.st_mode)
+                else "a FIFO" if stat.S_ISFIFO(st.st_mode) else "a device or socket")
+        raise DiagramOutputError(f"{path}: exists and is {kind}, not a regular file; "
+                                 "pyrosgen diagram writes or replaces only regular files")
+    if not path.parent.is_dir():
+        raise DiagramOutputError(f"{path.parent}: the output folder does not exist")
+    try:
+        if st is not None and path.read_bytes() == data:
             return False
     except OSError:
         pass
-    path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "wb") as fh:

@@ -219,7 +219,7 @@ class MsgRegistry:
             return
         name = f"{pkg}/{typ}"
         try:
-            text = read_text(path, what="message definition", rule="4.5")
+            text = read_text(path, what="message definition", rule="4.5", regular_only=True)
         except InvalidNodeModel as exc:
             for d in exc.diagnostics:
                 self._diag(path, d.line, d.col, d.message)

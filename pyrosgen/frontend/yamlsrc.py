@@ -21,6 +21,7 @@ are collected and returned with the tree so that later checks can add theirs.
 from __future__ import annotations
 
 import os
+import stat
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -204,11 +205,16 @@ def _line_col_of_char(text: str, index: int) -> tuple[int, int]:
     return line, index - (before.rfind("\n") + 1) + 1
 
 
-def read_text(path: str | Path, what: str = "file", limit: int = MAX_FILE_SIZE, rule: str = "4.1") -> str:
+def read_text(path: str | Path, what: str = "file", limit: int = MAX_FILE_SIZE, rule: str = "4.1",
+              regular_only: bool = False) -> str:
     """Read a UTF-8 text file of at most ``limit`` bytes.
 
     Raises :class:`InvalidNodeModel` (one diagnostic) when the file cannot be
-    read, is too large, contains NUL bytes or is not valid UTF-8.
+    read, is too large, contains NUL bytes or is not valid UTF-8, and, with
+    ``regular_only`` (files pyrosgen finds itself, such as the ``.msg``
+    files of ``msg_paths``), when it is not a regular file: a FIFO is then
+    refused before anything waits for its writer.  A file the user names
+    (the model) may be a pipe (``pyrosgen check /dev/stdin``).
     """
     name = str(path)
 
@@ -216,11 +222,18 @@ def read_text(path: str | Path, what: str = "file", limit: int = MAX_FILE_SIZE, 
         raise InvalidNodeModel([Diagnostic(name, line, col, message, rule=rule)])
 
     try:
-        with open(path, "rb") as fh:
-            try:
-                size = os.fstat(fh.fileno()).st_size
-            except OSError:  # pragma: no cover - fstat on an open file
-                size = 0
+        # O_NONBLOCK: opening a FIFO must not wait for a writer; anything but
+        # a regular file is refused before a byte is read
+        flags = os.O_RDONLY | os.O_NOCTTY | getattr(os, "O_CLOEXEC", 0) | (os.O_NONBLOCK if regular_only else 0)
+        fd = os.open(path, flags)
+        with open(fd, "rb") as fh:
+            st = os.fstat(fh.fileno())
+            if stat.S_ISDIR(st.st_mode) or (regular_only and not stat.S_ISREG(st.st_mode)):
+                kind = ("a directory" if stat.S_ISDIR(st.st_mode) else "a FIFO" if stat.S_ISFIFO(st.st_mode)
+                        else "a device" if stat.S_ISCHR(st.st_mode) or stat.S_ISBLK(st.st_mode)
+                        else "a socket" if stat.S_ISSOCK(st.st_mode) else "not a regular file")
+                fail(f"cannot read {what}: it is {kind}, not a regular file")
+            size = st.st_size if stat.S_ISREG(st.st_mode) else 0
             if size > limit:
                 fail(f"{what} too large ({size} bytes; the limit is {limit} bytes)")
             data = fh.read(limit + 1)
@@ -308,6 +321,46 @@ class _Loader(yaml.SafeLoader):
             return super().compose_node(parent, index)
         finally:
             self._depth -= 1
+
+
+_PLAIN_KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]{0,63}")
+#: The integers a node model writes: decimal, no leading zero, no "_".
+_DECIMAL_INT = re.compile(r"[-+]?(?:0|[1-9][0-9]*)")
+_DECIMAL_FLOAT = re.compile(r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?")
+
+
+def _number_form_problem(node: yaml.ScalarNode, kind: str, key: str | None = None) -> str | None:
+    """YAML 1.1 reads some plain numbers unlike what a user means: ``020``
+    is octal 16, ``1:20`` is sexagesimal 80, ``0x10``, ``0b11`` and
+    ``1_000`` are numbers too.  A node model's integers are decimal; any
+    other form is refused (rule 4.1) rather than read silently."""
+    if node.style is not None or node.tag not in (_CORE + "int", _CORE + "float"):
+        return None
+    text = node.value
+    where = f"{key}: " if key else ""
+    if kind == "int" and not _DECIMAL_INT.fullmatch(text):
+        if re.fullmatch(r"[-+]?0[0-7_]+", text):
+            why = f"a leading zero makes it octal in YAML 1.1 (it would be read as {int(text.replace('_', ''), 8)})"
+        elif ":" in text:
+            why = "YAML 1.1 reads it as a base-60 (sexagesimal) number"
+        elif re.fullmatch(r"[-+]?0[xX].*", text):
+            why = "it is hexadecimal"
+        elif re.fullmatch(r"[-+]?0[bB].*", text):
+            why = "it is binary"
+        elif "_" in text:
+            why = "it has '_' separators"
+        else:
+            why = "it is not a plain decimal integer"
+        return f"{where}number {show(text)}: {why}; write integers in plain decimal, without leading zeros"
+    if kind == "float" and not _DECIMAL_FLOAT.fullmatch(text):
+        if ":" in text:
+            why = "YAML 1.1 reads it as a base-60 (sexagesimal) number"
+        elif text.lower().lstrip("+-") in (".inf", ".nan"):
+            why = "it is not a finite number"
+        else:
+            why = "it is not a plain decimal number"
+        return f"{where}number {show(text)}: {why}; write numbers in plain decimal"
+    return None
 
 
 def _tag(tag: str) -> str:
@@ -422,7 +475,7 @@ class _Walker:
         line, col = _mark_pos(node.start_mark)
         self.diagnostics.append(Diagnostic(self.name, line, col, message, rule="4.1"))
 
-    def walk(self, node: yaml.Node, owner: tuple[int, int] | None = None) -> YNode:
+    def walk(self, node: yaml.Node, owner: tuple[int, int] | None = None, key: str | None = None) -> YNode:
         # Depth was bounded by the composer, so recursion here is shallow.
         line, col = _mark_pos(node.start_mark)
         if isinstance(node, yaml.ScalarNode):
@@ -437,6 +490,10 @@ class _Walker:
                 value = ctor(node)
             except Exception:  # noqa: BLE001 - any failure is a user error here
                 self.error(node, f"invalid {kind} value {show(node.value)}")
+                return YBad(line, col)
+            problem = _number_form_problem(node, kind, key)
+            if problem:
+                self.error(node, problem)
                 return YBad(line, col)
             return YScalar(line, col, value, node.value, kind)
         if isinstance(node, yaml.SequenceNode):
@@ -470,7 +527,7 @@ class _Walker:
                     )
                     continue
                 seen[knode.value] = key
-                items.append((key, self.walk(vnode, (kl, kc))))
+                items.append((key, self.walk(vnode, (kl, kc), knode.value if _PLAIN_KEY.fullmatch(knode.value) else None)))
             return YMap(line, col, tuple(items), owner)
         # pragma: no cover - pyyaml composes only the three node kinds
         self.error(node, "unsupported YAML node")

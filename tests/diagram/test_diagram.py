@@ -209,6 +209,7 @@ def test_formats(capsys, tmp_path, name, fmt, magic):
 
 def test_dot_format_is_the_rendered_text(tmp_path):
     out = tmp_path / "sub" / "dir" / "n.gv"
+    out.parent.mkdir(parents=True)  # missing folders are not created (test_output_path.py)
     assert cli.main(["diagram", str(LANDSHARK), "-o", str(out)]) == 0
     assert out.read_text() == render_dot(load_model(LANDSHARK))
 
