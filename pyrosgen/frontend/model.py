@@ -103,36 +103,12 @@ class Controller:
         return f"{self.name}_initialize"
 
 
-@dataclass(frozen=True)
-class Topic:
-    """A topic the node subscribes to or publishes.
+class TopicNames:
+    """The C names the generator derives from a topic's C name ``c_name``
+    (``ROSGen.glue.Generator``): shared by the front end's :class:`Topic`
+    and the proved model's topics (:mod:`pyrosgen.proof.modeltext`)."""
 
-    ``name`` is the ROS graph name (``/landshark/gps_velocity``), ``c_name``
-    its C name (``landshark_gps_velocity``), ``direction`` is ``'subscribe'``
-    or ``'publish'``, ``msg_type`` the ROS type (``geometry_msgs/TwistStamped``).
-    """
-
-    name: str
     c_name: str
-    direction: str
-    msg_type: str
-    queue_size: int
-    pos: Pos = field(default=_NOPOS, compare=False, repr=False)
-
-    @property
-    def is_subscribed(self) -> bool:
-        """Whether the node subscribes to this topic."""
-        return self.direction == SUBSCRIBE
-
-    @property
-    def is_published(self) -> bool:
-        """Whether the node publishes this topic."""
-        return self.direction == PUBLISH
-
-    @property
-    def msg_struct(self) -> str:
-        """The C struct name of the message type (``geometry_msgs_TwistStamped``)."""
-        return msg_c_name(self.msg_type)
 
     @property
     def msg_var(self) -> str:
@@ -168,6 +144,39 @@ class Topic:
     def cmd_var(self) -> str:
         """Message built by the output glue before publishing: ``<c>_cmd``."""
         return f"{self.c_name}_cmd"
+
+
+
+@dataclass(frozen=True)
+class Topic(TopicNames):
+    """A topic the node subscribes to or publishes.
+
+    ``name`` is the ROS graph name (``/landshark/gps_velocity``), ``c_name``
+    its C name (``landshark_gps_velocity``), ``direction`` is ``'subscribe'``
+    or ``'publish'``, ``msg_type`` the ROS type (``geometry_msgs/TwistStamped``).
+    """
+
+    name: str
+    c_name: str
+    direction: str
+    msg_type: str
+    queue_size: int
+    pos: Pos = field(default=_NOPOS, compare=False, repr=False)
+
+    @property
+    def is_subscribed(self) -> bool:
+        """Whether the node subscribes to this topic."""
+        return self.direction == SUBSCRIBE
+
+    @property
+    def is_published(self) -> bool:
+        """Whether the node publishes this topic."""
+        return self.direction == PUBLISH
+
+    @property
+    def msg_struct(self) -> str:
+        """The C struct name of the message type (``geometry_msgs_TwistStamped``)."""
+        return msg_c_name(self.msg_type)
 
     def derived_names(self) -> tuple[str, ...]:
         """Every C name derived from this topic (whatever its direction)."""

@@ -18,7 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from pyrosgen.errors import DetailedFailure
-from pyrosgen.frontend.model import NodeModel
+from pyrosgen.frontend.model import NodeModel, TopicNames
 from pyrosgen.frontend.msgmodel import MsgField, msg_c_name
 
 __all__ = [
@@ -103,7 +103,7 @@ class MalformedModelText(DetailedFailure):
 
 
 @dataclass(frozen=True)
-class ProvedTopic:
+class ProvedTopic(TopicNames):
     """A ``topic`` line of the proved model."""
 
     name: str        #: ROS name
@@ -129,28 +129,6 @@ class ProvedTopic:
     def cpp_type(self) -> str:
         """The roscpp C++ type: ``pkg::Type``."""
         return self.ros_type.replace("/", "::")
-
-    @property
-    def subscribe_fn(self) -> str:
-        return f"ros_subscribe_{self.c_name}"
-
-    @property
-    def advertise_fn(self) -> str:
-        return f"ros_advertise_{self.c_name}"
-
-    @property
-    def publish_fn(self) -> str:
-        return f"ros_publish_{self.c_name}"
-
-    @property
-    def callback(self) -> str:
-        """The subscription callback of the generated glue."""
-        return f"{self.c_name}_callback"
-
-    @property
-    def output_glue(self) -> str:
-        """The output glue function of a published topic."""
-        return f"output_glue_{self.c_name}"
 
 
 @dataclass
