@@ -221,18 +221,31 @@ def read_text(path: str | Path, what: str = "file", limit: int = MAX_FILE_SIZE, 
     def fail(message: str, line: int | None = None, col: int | None = None):
         raise InvalidNodeModel([Diagnostic(name, line, col, message, rule=rule)])
 
+    def refuse(st: os.stat_result) -> None:
+        kind = ("a directory" if stat.S_ISDIR(st.st_mode) else "a FIFO" if stat.S_ISFIFO(st.st_mode)
+                else "a device" if stat.S_ISCHR(st.st_mode) or stat.S_ISBLK(st.st_mode)
+                else "a socket" if stat.S_ISSOCK(st.st_mode) else "not a regular file")
+        fail(f"cannot read {what}: it is {kind}, not a regular file")
+
     try:
-        # O_NONBLOCK: opening a FIFO must not wait for a writer; anything but
-        # a regular file is refused before a byte is read
+        before = None
+        if regular_only:
+            # stat (through symbolic links) before opening: a FIFO, a
+            # device or a socket is refused without being opened at all
+            # (opening a device can have effects of its own)
+            before = os.stat(path)
+            if not stat.S_ISREG(before.st_mode):
+                refuse(before)
+        # O_NONBLOCK: should the path have become a FIFO since, opening it
+        # must not wait for a writer; it is then refused by the fstat below
         flags = os.O_RDONLY | os.O_NOCTTY | getattr(os, "O_CLOEXEC", 0) | (os.O_NONBLOCK if regular_only else 0)
         fd = os.open(path, flags)
         with open(fd, "rb") as fh:
             st = os.fstat(fh.fileno())
             if stat.S_ISDIR(st.st_mode) or (regular_only and not stat.S_ISREG(st.st_mode)):
-                kind = ("a directory" if stat.S_ISDIR(st.st_mode) else "a FIFO" if stat.S_ISFIFO(st.st_mode)
-                        else "a device" if stat.S_ISCHR(st.st_mode) or stat.S_ISBLK(st.st_mode)
-                        else "a socket" if stat.S_ISSOCK(st.st_mode) else "not a regular file")
-                fail(f"cannot read {what}: it is {kind}, not a regular file")
+                refuse(st)
+            if before is not None and (st.st_dev, st.st_ino) != (before.st_dev, before.st_ino):
+                fail(f"cannot read {what}: it was replaced while being read")
             size = st.st_size if stat.S_ISREG(st.st_mode) else 0
             if size > limit:
                 fail(f"{what} too large ({size} bytes; the limit is {limit} bytes)")
@@ -322,45 +335,83 @@ class _Loader(yaml.SafeLoader):
         finally:
             self._depth -= 1
 
+    def resolve(self, kind, value, implicit):  # noqa: D102 - pyyaml hook
+        # Only plain scalars without an explicit tag get here with
+        # implicit[0]; a number form a node model refuses gets a tag of its
+        # own, so that it is reported (and never constructed) by the walker.
+        tag = super().resolve(kind, value, implicit)
+        if kind is yaml.ScalarNode and implicit[0] and _refused_number_form(value, tag):
+            return _NUMBER_FORM
+        return tag
+
 
 _PLAIN_KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]{0,63}")
 #: The integers a node model writes: decimal, no leading zero, no "_".
 _DECIMAL_INT = re.compile(r"[-+]?(?:0|[1-9][0-9]*)")
 _DECIMAL_FLOAT = re.compile(r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?")
+#: Plain scalars that YAML 1.1 reads as text but that look like numbers
+#: written in a form a user may mean otherwise: ``08`` (a leading zero),
+#: ``0o20`` (YAML 1.2's octal), ``1:60`` or ``0:20`` (base 60).
+_LEADING_ZERO = re.compile(r"[-+]?0[0-9_]+")
+_OCTAL_12 = re.compile(r"[-+]?0[oO][0-7_]+")
+_SEXAGESIMAL_LIKE = re.compile(r"[-+]?[0-9][0-9_]*(?::[0-9_]+)+(?:\.[0-9_]*)?")
+
+#: The tag the loader's resolver gives a plain scalar written in a number
+#: form that is refused (rule 4.1): such a scalar is never constructed, so
+#: neither its value nor the time to compute it (``1:59:59:...``) matters.
+_NUMBER_FORM = "tag:pyrosgen,2026:refused-number-form"
+
+#: Longest integer text constructed (rule 4.2's and 4.4's ranges need 7).
+_MAX_INT_TEXT = 100
 
 
-def _number_form_problem(node: yaml.ScalarNode, kind: str, key: str | None = None) -> str | None:
-    """YAML 1.1 reads some plain numbers unlike what a user means: ``020``
-    is octal 16, ``1:20`` is sexagesimal 80, ``0x10``, ``0b11`` and
-    ``1_000`` are numbers too.  A node model's integers are decimal; any
-    other form is refused (rule 4.1) rather than read silently."""
-    if node.style is not None or node.tag not in (_CORE + "int", _CORE + "float"):
-        return None
-    text = node.value
+def _refused_number_form(value: str, tag: str) -> bool:
+    """Whether the plain scalar ``value``, resolved by YAML 1.1 to ``tag``,
+    is written in a number form a node model refuses."""
+    if tag == _CORE + "int":
+        return not _DECIMAL_INT.fullmatch(value)
+    if tag == _CORE + "float":
+        return not _DECIMAL_FLOAT.fullmatch(value)
+    if tag == _CORE + "str":
+        return bool(_LEADING_ZERO.fullmatch(value) or _OCTAL_12.fullmatch(value)
+                    or _SEXAGESIMAL_LIKE.fullmatch(value))
+    return False
+
+
+def _number_form_problem(text: str, key: str | None = None) -> str:
+    """Why the plain scalar ``text`` (see :func:`_refused_number_form`) is
+    refused.  YAML 1.1 reads some plain numbers unlike what a user means:
+    ``020`` is octal 16, ``1:20`` is sexagesimal 80, ``0x10``, ``0b11`` and
+    ``1_000`` are numbers too, and ``08`` is text.  A node model's numbers
+    are plain decimals; any other form is refused (rule 4.1) rather than
+    read silently."""
     where = f"{key}: " if key else ""
-    if kind == "int" and not _DECIMAL_INT.fullmatch(text):
-        if re.fullmatch(r"[-+]?0[0-7_]+", text):
-            why = f"a leading zero makes it octal in YAML 1.1 (it would be read as {int(text.replace('_', ''), 8)})"
-        elif ":" in text:
+    body = text.lstrip("+-")
+    if re.fullmatch(r"0[0-7_]+", body) and re.search(r"[0-7]", body):
+        value = int(body.replace("_", ""), 8) * (-1 if text.startswith("-") else 1)
+        why = f"a leading zero makes it octal in YAML 1.1 (it would be read as {value})"
+    elif re.fullmatch(r"0[0-9_]+", body):
+        why = ("a leading zero makes it ambiguous (YAML 1.1 reads 010 as octal 8 "
+               f"and {text} as text)")
+    elif _OCTAL_12.fullmatch(text):
+        why = "it is octal in YAML 1.2's form, which YAML 1.1 reads as text"
+    elif ":" in body:
+        if re.fullmatch(r"[1-9][0-9_]*(?::[0-5]?[0-9])+(?:\.[0-9_]*)?", body):
             why = "YAML 1.1 reads it as a base-60 (sexagesimal) number"
-        elif re.fullmatch(r"[-+]?0[xX].*", text):
-            why = "it is hexadecimal"
-        elif re.fullmatch(r"[-+]?0[bB].*", text):
-            why = "it is binary"
-        elif "_" in text:
-            why = "it has '_' separators"
         else:
-            why = "it is not a plain decimal integer"
-        return f"{where}number {show(text)}: {why}; write integers in plain decimal, without leading zeros"
-    if kind == "float" and not _DECIMAL_FLOAT.fullmatch(text):
-        if ":" in text:
-            why = "YAML 1.1 reads it as a base-60 (sexagesimal) number"
-        elif text.lower().lstrip("+-") in (".inf", ".nan"):
-            why = "it is not a finite number"
-        else:
-            why = "it is not a plain decimal number"
-        return f"{where}number {show(text)}: {why}; write numbers in plain decimal"
-    return None
+            why = "it looks like a base-60 (sexagesimal) number (YAML 1.1 reads 1:20 as 80)"
+    elif re.fullmatch(r"0[xX].*", body):
+        why = "it is hexadecimal"
+    elif re.fullmatch(r"0[bB].*", body):
+        why = "it is binary"
+    elif body.lower() in (".inf", ".nan"):
+        why = "it is not a finite number"
+    elif "_" in body:
+        why = "it has '_' separators"
+    else:
+        why = "it is not a plain decimal number"
+    return (f"{where}number {show(text)}: {why}; write numbers in plain decimal, without "
+            "leading zeros (quote it if it is meant as text)")
 
 
 def _tag(tag: str) -> str:
@@ -479,28 +530,41 @@ class _Walker:
         # Depth was bounded by the composer, so recursion here is shallow.
         line, col = _mark_pos(node.start_mark)
         if isinstance(node, yaml.ScalarNode):
+            if node.tag == _NUMBER_FORM:
+                self.error(node, _number_form_problem(node.value, key))
+                return YBad(line, col)
             kind = _SCALAR_TAGS.get(node.tag)
             if kind is None:
                 self.error(node, f"unsupported YAML tag {_tag(node.tag)}: only plain values are allowed")
                 return YBad(line, col)
             if kind == "str":
                 return YScalar(line, col, node.value, node.value, kind)
+            if kind in ("int", "float") and _refused_number_form(
+                    node.value, self._constructor.resolve(yaml.ScalarNode, node.value, (True, False))):
+                # an explicit tag (!!int 020) is not seen by the resolver
+                self.error(node, _number_form_problem(node.value, key))
+                return YBad(line, col)
+            where = f"{key}: " if key else ""
+            if kind == "int" and len(node.value) > _MAX_INT_TEXT:
+                # int() of a long decimal takes quadratic time (and Python
+                # refuses more than 4300 digits); no node model number is
+                # anywhere near this long
+                self.error(node, f"{where}number {show(node.value)} is too long "
+                                 f"({len(node.value)} characters)")
+                return YBad(line, col)
             try:
                 ctor = getattr(self._constructor, f"construct_yaml_{kind}")
                 value = ctor(node)
             except Exception:  # noqa: BLE001 - any failure is a user error here
-                self.error(node, f"invalid {kind} value {show(node.value)}")
-                return YBad(line, col)
-            problem = _number_form_problem(node, kind, key)
-            if problem:
-                self.error(node, problem)
+                self.error(node, f"{where}invalid {kind} value {show(node.value)}")
                 return YBad(line, col)
             return YScalar(line, col, value, node.value, kind)
         if isinstance(node, yaml.SequenceNode):
             if node.tag != _SEQ_TAG:
                 self.error(node, f"unsupported YAML tag {_tag(node.tag)} on a list")
                 return YBad(line, col)
-            return YSeq(line, col, tuple(self.walk(n) for n in node.value))
+            return YSeq(line, col, tuple(self.walk(n, None, f"{key}[{i}]" if key else None)
+                                         for i, n in enumerate(node.value)))
         if isinstance(node, yaml.MappingNode):
             if node.tag != _MAP_TAG:
                 self.error(node, f"unsupported YAML tag {_tag(node.tag)} on a mapping")
@@ -514,7 +578,7 @@ class _Walker:
                 if knode.tag == _CORE + "merge":
                     self.error(knode, "YAML merge keys (<<) are not allowed in a node model")
                     continue
-                if knode.tag not in _SCALAR_TAGS:
+                if knode.tag not in _SCALAR_TAGS and knode.tag != _NUMBER_FORM:
                     self.error(knode, f"unsupported YAML tag {_tag(knode.tag)} on a key")
                     continue
                 kl, kc = _mark_pos(knode.start_mark)
