@@ -21,6 +21,7 @@ byte-identical DOT.
 
 from __future__ import annotations
 
+import errno
 import html
 import os
 import shutil
@@ -31,7 +32,7 @@ from pathlib import Path
 from typing import Any
 
 
-from pyrosgen.errors import ToolFailure, UserError, escape
+from pyrosgen.errors import ToolFailure, UserError, escape, show
 from pyrosgen.render import render
 from pyrosgen.frontend.model import NodeModel
 
@@ -241,37 +242,68 @@ class DiagramOutputError(UserError):
     """The diagram's output path cannot be written as asked (exit 1)."""
 
 
+def _kind(mode: int) -> str:
+    return ("a symbolic link" if stat.S_ISLNK(mode) else "a directory" if stat.S_ISDIR(mode)
+            else "a FIFO" if stat.S_ISFIFO(mode) else "a socket" if stat.S_ISSOCK(mode)
+            else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "not a regular file")
+
+
 def write_atomic(path: Path, data: bytes) -> bool:
     """Write ``data`` to ``path`` through a temporary file in the same
-    folder and a rename, so that ``path`` is never seen half written.
-    Leaves ``path`` untouched when it already holds ``data``; returns
-    whether it wrote."""
+    folder and a rename, so that ``path`` is never seen half written and a
+    failure leaves it as it was.
+
+    ``path`` must be a regular file or not exist: a symbolic link, a FIFO,
+    a device, a socket or a directory there is refused (it would otherwise
+    be replaced by a regular file), and so is a missing folder (it is not
+    created).  A replaced file keeps its permission bits.  Leaves ``path``
+    untouched when it already holds ``data``; returns whether it wrote."""
     path = Path(path)
+    shown = escape(str(path))
     try:
         st = os.lstat(path)
     except FileNotFoundError:
         st = None
     except OSError as exc:
-        raise DiagramOutputError(f"{path}: {exc.strerror or exc}") from None
+        if exc.errno == errno.ENOTDIR:
+            st = None  # reported below, with the folder
+        else:
+            raise DiagramOutputError(f"{shown}: {exc.strerror or exc}") from None
     if st is not None and not stat.S_ISREG(st.st_mode):
-        kind = ("a symbolic link" if stat.S_ISLNK(st.st_mode) else "a directory" if stat.S_ISDIR(st.st_mode)
-                else "a FIFO" if stat.S_ISFIFO(st.st_mode) else "a device or socket")
-        raise DiagramOutputError(f"{path}: exists and is {kind}, not a regular file; "
+        raise DiagramOutputError(f"{shown}: exists and is {_kind(st.st_mode)}, not a regular file; "
                                  "pyrosgen diagram writes or replaces only regular files")
-    if not path.parent.is_dir():
-        raise DiagramOutputError(f"{path.parent}: the output folder does not exist")
+    folder = path.parent
     try:
-        if st is not None and path.read_bytes() == data:
-            return False
-    except OSError:
-        pass
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+        folder_st = os.stat(folder)
+    except FileNotFoundError:
+        raise DiagramOutputError(f"{escape(str(folder))}: the output folder does not exist "
+                                 "(pyrosgen diagram does not create it)") from None
+    except OSError as exc:
+        if exc.errno != errno.ENOTDIR:
+            raise DiagramOutputError(f"{escape(str(folder))}: {exc.strerror or exc}") from None
+        folder_st = None
+    if folder_st is None or not stat.S_ISDIR(folder_st.st_mode):
+        raise DiagramOutputError(f"{escape(str(folder))}: not a folder, so it cannot hold the output file")
+    if st is not None and st.st_size == len(data):
+        try:
+            with open(path, "rb") as fh:
+                if fh.read(len(data) + 1) == data:
+                    return False
+        except OSError:
+            pass
+    if st is not None:
+        mode = stat.S_IMODE(st.st_mode)
+    else:
+        umask = os.umask(0)
+        os.umask(umask)
+        mode = 0o666 & ~umask
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.chmod(tmp, mode)
         os.replace(tmp, path)
     except BaseException:
         try:
@@ -285,6 +317,10 @@ def write_atomic(path: Path, data: bytes) -> bool:
 def write_diagram(model: NodeModel, output: str | os.PathLike[str], fmt: str) -> bool:
     """Draw ``model`` into ``output`` in format ``fmt`` (one of
     :data:`FORMATS`); nothing is written if anything fails."""
+    text = os.fspath(output)
+    if not text or text.endswith(("/", os.sep)) or os.path.basename(text) in (".", ".."):
+        # Path() would drop a final "/": "out.svg/" names a folder, not a file
+        raise DiagramOutputError(f"{show(text)} names a folder, not a file; give a file name")
     dot_text = render_dot(model)
     data = dot_text.encode("utf-8") if fmt == "dot" else run_dot(dot_text, fmt)
-    return write_atomic(Path(output), data)
+    return write_atomic(Path(text), data)
