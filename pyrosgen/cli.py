@@ -62,6 +62,7 @@ def cmd_diagram(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from pyrosgen import diagram
+    from pyrosgen.errors import escape
     from pyrosgen.frontend.validate import load_model
 
     try:
@@ -70,15 +71,15 @@ def cmd_diagram(args: argparse.Namespace) -> int:
         _print_err(f"pyrosgen diagram: error: {exc}")
         return EXIT_USER
     if Path(args.output).is_dir():
-        _print_err(f"pyrosgen diagram: error: {args.output} is a directory; give a file name")
+        _print_err(f"pyrosgen diagram: error: {escape(args.output)} is a directory; give a file name")
         return EXIT_USER
     model = load_model(args.model)
     try:
         diagram.write_diagram(model, args.output, fmt)
     except OSError as exc:
-        _print_err(f"pyrosgen diagram: error: cannot write {args.output}: {exc.strerror or exc}")
+        _print_err(f"pyrosgen diagram: error: cannot write {escape(args.output)}: {exc.strerror or exc}")
         return EXIT_USER
-    print(f"{args.output}: {fmt} diagram of node {model.name}")
+    print(f"{escape(args.output)}: {fmt} diagram of node {model.name}")
     return EXIT_OK
 
 
