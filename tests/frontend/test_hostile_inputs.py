@@ -251,3 +251,41 @@ def test_symlink_to_a_regular_message_file_is_read(tmp_path):
     r = _check_watched(model)
     assert r.returncode == 0, r.stderr
 
+
+# --------------------------------------------------------------------------
+# The YAML 1.1 forms of the first version of the check, and the model file
+
+@pytest.mark.parametrize("value, reason", [
+    ("020", "a leading zero makes it octal in YAML 1.1 (it would be read as 16)"),
+    ("0020", "a leading zero makes it octal in YAML 1.1 (it would be read as 16)"),
+    ("1:20", "YAML 1.1 reads it as a base-60 (sexagesimal) number"),
+    ("0x14", "it is hexadecimal"),
+    ("0b10100", "it is binary"),
+    ("2_0", "it has '_' separators"),
+    ("1:20.5", "YAML 1.1 reads it as a base-60 (sexagesimal) number"),
+    (".inf", "it is not a finite number"),
+    ("-.inf", "it is not a finite number"),
+    (".NaN", "it is not a finite number"),
+])
+def test_refused_number_forms(capsys, tmp_path, value, reason):
+    code, text = _check(capsys, tmp_path, "period_ms: 20", f"period_ms: {value}")
+    assert code == 1
+    assert f":6:14: error: period_ms: number '{value}': {reason}; write" in text
+    assert text.rstrip().endswith("[rule 4.1]") and "Traceback" not in text
+
+
+def test_queue_size_in_octal_is_refused_on_every_line(capsys, tmp_path):
+    text = LANDSHARK.read_text().replace("queue_size: 1}", "queue_size: 010}")
+    m = tmp_path / "m.yaml"
+    m.write_text(text)
+    assert cli.main(["check", str(m)]) == 1
+    err = capsys.readouterr().err
+    assert err.count("queue_size: number '010': a leading zero makes it octal") == 4
+
+
+def test_model_file_that_is_a_device(tmp_path):
+    """A model named by the user may be a pipe (check /dev/stdin, tested in
+    test_cli.py); a device is read up to the size limit, then refused."""
+    r = subprocess.run([sys.executable, "-m", "pyrosgen", "check", "/dev/zero"], cwd=ROOT, capture_output=True,
+                       text=True, stdin=subprocess.DEVNULL, timeout=60)
+    assert r.returncode == 1 and "too large" in r.stderr and "Traceback" not in r.stderr
