@@ -148,6 +148,101 @@ Definition f_loops : globdef := fn Tvoid [] [] [("k", tint)] (seq [
     Sskip;
   Sreturn None]).
 
+(** [void arith(void)]: the operators on each type they allow, from
+    temporaries (not constants), with results at the edges: wrap-around
+    of unsigned arithmetic, truncating division, remainders of negative
+    numbers, [-0.0], rounding to nearest even, overflow to infinity, a
+    NaN operand propagated, NaN comparisons. *)
+Definition bop (op : binary_operation) (a b : expr) (ty : type) : expr := Ebinop op a b ty.
+Definition uop (op : unary_operation) (a : expr) (ty : type) : expr := Eunop op a ty.
+Definition ai (i : Z) := Eindex (gv "g_ai" (Tarray tint 16)) (ci i tint) tint.
+Definition au (i : Z) := Eindex (gv "g_au" (Tarray tuint 6)) (ci i tint) tuint.
+Definition al (i : Z) := Eindex (gv "g_al" (Tarray tlong 6)) (ci i tint) tlong.
+Definition aul (i : Z) := Eindex (gv "g_aul" (Tarray tulong 4)) (ci i tint) tulong.
+Definition ad (i : Z) := Eindex (gv "g_ad" (Tarray tdouble 12)) (ci i tint) tdouble.
+Definition af (i : Z) := Eindex (gv "g_af" (Tarray tfloat 5)) (ci i tint) tfloat.
+Definition ac (i : Z) := Eindex (gv "g_ac" (Tarray tint 16)) (ci i tint) tint.
+
+Definition f_arith : globdef :=
+  fn Tvoid [] [] [("a", tint); ("b", tint); ("c", tint); ("ua", tuint); ("ub", tuint);
+                  ("la", tlong); ("lb", tlong); ("ula", tulong); ("ulb", tulong);
+                  ("x", tdouble); ("y", tdouble); ("z", tdouble); ("n", tdouble);
+                  ("f", tfloat); ("g", tfloat)] (seq [
+  Sset "a" (ci (-7) tint); Sset "b" (ci 2 tint); Sset "c" (ci 2147483647 tint);
+  Sassign (ai 0) (bop Oadd (tv "a" tint) (tv "b" tint) tint);            (* -5 *)
+  Sassign (ai 1) (bop Odiv (tv "a" tint) (tv "b" tint) tint);            (* -3 *)
+  Sassign (ai 2) (bop Omod (tv "a" tint) (tv "b" tint) tint);            (* -1 *)
+  Sassign (ai 3) (bop Osub (tv "c" tint) (tv "b" tint) tint);            (* INT_MAX - 2 *)
+  Sassign (ai 4) (bop Omul (tv "a" tint) (ci (-6) tint) tint);           (* 42 *)
+  Sassign (ai 5) (bop Oand (tv "a" tint) (ci 12 tint) tint);             (* 8 *)
+  Sassign (ai 6) (bop Oor (tv "a" tint) (ci 12 tint) tint);              (* -3 *)
+  Sassign (ai 7) (bop Oxor (tv "a" tint) (ci 12 tint) tint);             (* -11 *)
+  Sassign (ai 8) (uop Oneg (tv "a" tint) tint);                          (* 7 *)
+  Sassign (ai 9) (uop Oneg (ci (-3) tint) tint);                         (* (-(-3)) = 3 *)
+  Sassign (ai 10) (uop Onotbool (tv "b" tint) tint);                     (* 0 *)
+  Sassign (ai 11) (bop Osub (bop Omul (tv "b" tint) (tv "b" tint) tint)
+                            (bop Odiv (tv "c" tint) (ci 1000 tint) tint) tint); (* 4 - 2147483 *)
+  Sassign (ai 12) (bop Omod (ci 7 tint) (uop Oneg (tv "b" tint) tint) tint);   (* 1 *)
+  Sassign (ai 13) (bop Odiv (tv "c" tint) (uop Oneg (tv "c" tint) tint) tint); (* -1 *)
+  Sassign (ai 14) (bop Omod (bop Oadd (tv "a" tint) (ci 0 tint) tint) (ci 7 tint) tint); (* 0 *)
+  Sassign (ai 15) (uop Onotbool (ci 0 tint) tint);                       (* 1 *)
+  Sset "ua" (ci 0 tuint); Sset "ub" (ci 4000000000 tuint);
+  Sassign (au 0) (bop Osub (tv "ua" tuint) (ci 1 tuint) tuint);          (* 4294967295 *)
+  Sassign (au 1) (bop Oadd (tv "ub" tuint) (tv "ub" tuint) tuint);       (* 3705032704 *)
+  Sassign (au 2) (bop Odiv (tv "ub" tuint) (ci 7 tuint) tuint);          (* 571428571 *)
+  Sassign (au 3) (bop Omod (tv "ub" tuint) (ci 7 tuint) tuint);          (* 3 *)
+  Sassign (au 4) (uop Oneg (tv "ub" tuint) tuint);                       (* 294967296 *)
+  Sassign (au 5) (bop Omul (tv "ub" tuint) (tv "ub" tuint) tuint);       (* wraps *)
+  Sset "la" (cl (-9) tlong); Sset "lb" (cl 9223372036854775807 tlong);
+  Sassign (al 0) (bop Odiv (tv "la" tlong) (cl 4 tlong) tlong);          (* -2 *)
+  Sassign (al 1) (bop Omod (tv "la" tlong) (cl 4 tlong) tlong);          (* -1 *)
+  Sassign (al 2) (bop Osub (tv "lb" tlong) (cl 1 tlong) tlong);          (* LLONG_MAX - 1 *)
+  Sassign (al 3) (bop Omul (tv "la" tlong) (cl 1000000000000 tlong) tlong);
+  Sassign (al 4) (uop Oneg (tv "lb" tlong) tlong);                       (* -LLONG_MAX *)
+  Sassign (al 5) (bop Oxor (tv "la" tlong) (tv "lb" tlong) tlong);       (* 8 *)
+  Sset "ula" (cl (-1) tulong); Sset "ulb" (cl 2 tulong);
+  Sassign (aul 0) (bop Oadd (tv "ula" tulong) (tv "ulb" tulong) tulong); (* 1 *)
+  Sassign (aul 1) (bop Omul (tv "ula" tulong) (tv "ulb" tulong) tulong); (* 2^64 - 2 *)
+  Sassign (aul 2) (bop Odiv (tv "ula" tulong) (tv "ulb" tulong) tulong); (* 2^63 - 1 *)
+  Sassign (aul 3) (uop Oneg (tv "ulb" tulong) tulong);                   (* 2^64 - 2 *)
+  Sset "x" (cd 0x3FB999999999999A); Sset "y" (cd 0x4008000000000000);    (* 0.1, 3.0 *)
+  Sset "z" (cd 0x8000000000000000); Sset "n" (cd 0x7FF8000000000123);    (* -0.0, NaN *)
+  Sassign (ad 0) (bop Omul (tv "x" tdouble) (tv "y" tdouble) tdouble);   (* 0.30000000000000004 *)
+  Sassign (ad 1) (bop Oadd (tv "x" tdouble) (cd 0x3FC999999999999A) tdouble); (* 0.1 + 0.2 *)
+  Sassign (ad 2) (bop Odiv (cd 0x3FF0000000000000) (tv "y" tdouble) tdouble); (* 1/3 *)
+  Sassign (ad 3) (bop Osub (tv "x" tdouble) (tv "x" tdouble) tdouble);   (* +0.0 *)
+  Sassign (ad 4) (uop Oneg (tv "z" tdouble) tdouble);                    (* +0.0 *)
+  Sassign (ad 5) (uop Oabsfloat (uop Oneg (tv "y" tdouble) tdouble) tdouble); (* 3.0 *)
+  Sassign (ad 6) (bop Omul (cd 0x7FE1CCF385EBC8A0) (cd 0x4024000000000000) tdouble); (* +inf *)
+  Sassign (ad 7) (bop Oadd (tv "n" tdouble) (tv "y" tdouble) tdouble);   (* the NaN *)
+  Sassign (ad 8) (uop Oneg (tv "n" tdouble) tdouble);                    (* sign flipped *)
+  Sassign (ad 9) (uop Oabsfloat (uop Oneg (tv "n" tdouble) tdouble) tdouble); (* the NaN *)
+  Sassign (ad 10) (bop Omul (cd 0x0000000000000001) (cd 0x3FF8000000000000) tdouble); (* tie to even *)
+  Sassign (ad 11) (uop Oneg (cd 0xBFF0000000000000) tdouble);            (* (-(-0x1p+0)) *)
+  Sset "f" (cf 0x3DCCCCCD); Sset "g" (cf 0x40400000);                    (* 0.1f, 3.0f *)
+  Sassign (af 0) (bop Omul (tv "f" tfloat) (tv "g" tfloat) tfloat);
+  Sassign (af 1) (bop Odiv (tv "f" tfloat) (tv "g" tfloat) tfloat);
+  Sassign (af 2) (bop Osub (tv "f" tfloat) (tv "g" tfloat) tfloat);
+  Sassign (af 3) (uop Oabsfloat (cf 0xFF800000) tfloat);                 (* +inf *)
+  Sassign (af 4) (uop Oneg (tv "f" tfloat) tfloat);
+  Sassign (ac 0) (bop Olt (tv "a" tint) (tv "b" tint) tint);             (* 1 *)
+  Sassign (ac 1) (bop Oge (tv "a" tint) (tv "b" tint) tint);             (* 0 *)
+  Sassign (ac 2) (bop Ogt (tv "ub" tuint) (tv "ua" tuint) tint);         (* 1 *)
+  Sassign (ac 3) (bop Ole (tv "ula" tulong) (tv "ulb" tulong) tint);     (* 0 *)
+  Sassign (ac 4) (bop Oeq (tv "la" tlong) (cl (-9) tlong) tint);         (* 1 *)
+  Sassign (ac 5) (bop One (tv "la" tlong) (cl (-9) tlong) tint);         (* 0 *)
+  Sassign (ac 6) (bop Oeq (tv "z" tdouble) (bop Osub (tv "x" tdouble) (tv "x" tdouble) tdouble) tint); (* -0 == +0 *)
+  Sassign (ac 7) (bop Olt (tv "n" tdouble) (tv "y" tdouble) tint);       (* 0: unordered *)
+  Sassign (ac 8) (bop Oge (tv "n" tdouble) (tv "y" tdouble) tint);       (* 0 *)
+  Sassign (ac 9) (bop One (tv "n" tdouble) (tv "n" tdouble) tint);       (* 1 *)
+  Sassign (ac 10) (bop Oeq (tv "n" tdouble) (tv "n" tdouble) tint);      (* 0 *)
+  Sassign (ac 11) (uop Onotbool (tv "z" tdouble) tint);                  (* 1 *)
+  Sassign (ac 12) (uop Onotbool (tv "n" tdouble) tint);                  (* 0 *)
+  Sassign (ac 13) (bop Ogt (tv "g" tfloat) (tv "f" tfloat) tint);        (* 1 *)
+  Sassign (ac 14) (bop Ole (cd 0x7FF0000000000000) (tv "y" tdouble) tint); (* 0 *)
+  Sassign (ac 15) (uop Onotbool (tv "ula" tulong) tint);                 (* 0 *)
+  Sreturn None]).
+
 (** [int run_all(void)]: the entry point, called by the harness. *)
 Definition f_run_all : globdef :=
   fn tint [] [("loc", tM)] [("d", tdouble); ("r", tint); ("ok", tint)] (seq [
@@ -176,6 +271,7 @@ Definition f_run_all : globdef :=
   Scall (Some "r") (Evar "ret_neg" (fnty [] tint)) [];
   Sassign (gv "g_r" tint) (tv "r" tint);
   call0 "loops";
+  call0 "arith";
   Scall (Some "ok") (Evar "ros_ok" (fnty [] tint)) [];
   Sassign (gv "g_ok" tint) (tv "ok" tint);
   Scall None (Evar "ros_subscribe_t" (fnty [tptr (fnty [tptr tM] Tvoid)] Tvoid))
@@ -197,11 +293,16 @@ Definition the_program : program := {|
     ("g_count", Gvar tint); ("g_count2", Gvar tint); ("g_branch", Gvar tint);
     ("g_branch2", Gvar tint); ("g_branch3", Gvar tint); ("g_ok", Gvar tint);
     ("g_ext", Gvar tint);
+    ("g_ai", Gvar (Tarray tint 16)); ("g_au", Gvar (Tarray tuint 6));
+    ("g_al", Gvar (Tarray tlong 6)); ("g_aul", Gvar (Tarray tulong 4));
+    ("g_ad", Gvar (Tarray tdouble 12)); ("g_af", Gvar (Tarray tfloat 5));
+    ("g_ac", Gvar (Tarray tint 16));
     ("ros_ok", Gfun (External EF_ros_ok [] tint));
     ("ros_subscribe_t", Gfun (External (EF_ros_subscribe "/t" "Msg" 1)
                                        [tptr (fnty [tptr tM] Tvoid)] Tvoid));
     ("ints", f_ints); ("floats", f_floats); ("copy_msg", f_copy);
     ("get_x", f_get_x); ("ret_neg", f_ret_neg); ("loops", f_loops);
+    ("arith", f_arith);
     ("run_all", f_run_all)];
   prog_main := "run_all" |}.
 
@@ -303,6 +404,48 @@ Example print_deref_field:
 Proof. reflexivity. Qed.
 Example print_addrof_field:
   print_expr (Eaddrof (fld (Ederef msg tM) "lin" tV) (tptr tV)) = "&(*msg).lin".
+Proof. reflexivity. Qed.
+
+(** Operations: always parenthesised, never the token [--]. *)
+Example print_binop:
+  print_expr (bop Osub (bop Omul (tv "a" tint) (tv "b" tint) tint) (ci (-3) tint) tint)
+  = "((a * b) - -3)".
+Proof. reflexivity. Qed.
+Example print_neg_neg:
+  print_expr (uop Oneg (uop Oneg (tv "x" tdouble) tdouble) tdouble) = "(-(-x))".
+Proof. reflexivity. Qed.
+Example print_neg_const:
+  print_expr (uop Oneg (ci (-3) tint) tint) = "(-(-3))".
+Proof. reflexivity. Qed.
+Example print_fabs:
+  print_expr (uop Oabsfloat (Ecast (tv "f" tfloat) tfloat) tfloat) = "rosgen_fabsf((float)f)".
+Proof. reflexivity. Qed.
+Example print_cmp_not:
+  print_expr (uop Onotbool (bop Ole (tv "x" tdouble) (tv "y" tdouble) tint) tint) = "(!(x <= y))".
+Proof. reflexivity. Qed.
+
+(** The semantics is stuck on C's undefined behaviour and on operands
+    the typing rules refuse. *)
+Definition ev (a : expr) : option val :=
+  eval_expr (mkgenv [] [] []) [] [("a", Vint (-2147483648)); ("b", Vint 0); ("u", Vint 5);
+                                  ("c", Vint 3)] empty a.
+Example int_min_div: ev (bop Odiv (tv "a" tint) (ci (-1) tint) tint) = None.
+Proof. reflexivity. Qed.
+Example int_min_mod: ev (bop Omod (tv "a" tint) (ci (-1) tint) tint) = None.
+Proof. reflexivity. Qed.
+Example div_zero: ev (bop Odiv (tv "u" tuint) (tv "b" tuint) tuint) = None.
+Proof. reflexivity. Qed.
+Example neg_int_min: ev (uop Oneg (tv "a" tint) tint) = None.
+Proof. reflexivity. Qed.
+Example add_overflow: ev (bop Osub (tv "a" tint) (ci 1 tint) tint) = None.
+Proof. reflexivity. Qed.
+Example uchar_operands: ev (bop Oadd (tv "c" tuchar) (tv "c" tuchar) tuchar) = None.
+Proof. reflexivity. Qed.
+Example mixed_operands: ev (bop Oadd (tv "c" tint) (tv "u" tuint) tuint) = None.
+Proof. reflexivity. Qed.
+Example cmp_result_type: ev (bop Olt (tv "c" tint) (tv "c" tint) tuint) = None.
+Proof. reflexivity. Qed.
+Example unsigned_wraps: ev (bop Osub (tv "b" tuint) (tv "u" tuint) tuint) = Some (Vint 4294967291).
 Proof. reflexivity. Qed.
 
 (** Declarators. *)

@@ -29,7 +29,7 @@
 From Coq Require Import String List ZArith Bool.
 From Flocq Require Import IEEE754.Binary IEEE754.Bits.
 From ROSGen Require Import Errors Maps FloatBits.
-From ROSGen Require Import Syntax Values Memory Environment Semantics Typing Interp.
+From ROSGen Require Import Syntax Values Operators Memory Environment Semantics Typing Interp.
 From ROSGen Require Import NodeModel ModelText Wellformed Generator Generatorspec Generatorproof DDC.
 From ROSGen Require FloatOps Loopproof Glueproof Interpproof.
 Import ListNotations.
@@ -301,6 +301,21 @@ Proof. exact Semantics.program_behaves_determ. Qed.
     typed ([Typing.wt_program]). *)
 Theorem check_program_correct: forall p, check_program p = true -> wt_program p.
 Proof. exact Typing.check_program_correct. Qed.
+
+(** The arithmetic operators ([Operators]) compute values of the type
+    the typing rules announce: the result of [e1 op e2] on operands of
+    type [ty] has type [binop_type op ty] (e.g. [int] for a comparison),
+    and likewise for [op e].  Undefined behaviour (signed overflow,
+    division by zero, [INT_MIN / -1]) has no result at all. *)
+Theorem sem_binop_type:
+  forall op ty v1 v2 v ty',
+  sem_binop op ty v1 v2 = Some v -> binop_type op ty = Some ty' -> val_has_type v ty'.
+Proof. exact Operators.sem_binop_type. Qed.
+
+Theorem sem_unop_type:
+  forall op ty v r ty',
+  sem_unop op ty v = Some r -> unop_type op ty = Some ty' -> val_has_type r ty'.
+Proof. exact Operators.sem_unop_type. Qed.
 
 (** The queue model of the environment keeps the newest message: for a
     subscription [s] with a queue of size at least 1, the last message

@@ -144,6 +144,57 @@ def test_run_hand_values(printed, work):
         assert v[key] == val, key
 
 
+def _f32(x: float) -> float:
+    """``x`` rounded to the nearest binary32 (ties to even)."""
+    return struct.unpack("<f", struct.pack("<f", x))[0]
+
+
+def _c_div(a: int, b: int) -> int:
+    """C's division: the quotient truncated toward zero."""
+    q = abs(a) // abs(b)
+    return q if (a >= 0) == (b >= 0) else -q
+
+
+def test_run_hand_arith(printed, work):
+    """The operators of ``arith`` (PrinterExamples.v), on values computed
+    here by Python's own integer and IEEE arithmetic: C's truncating
+    division and remainder, unsigned wrap-around, signed results at the
+    edges, binary64/binary32 rounding, -0.0, infinity, NaN propagation
+    and NaN comparisons.  The compiled C must give them (the interpreter
+    is compared with the C by test_run_matches_interpreter)."""
+    _, sexp_text, c_file = printed
+    items = program_items(parse_sexp(sexp_text))
+    v = parse_dump(compile_and_run(harness_source(c_file, items, EXAMPLE_STUBS), work,
+                                   name="hand_arith"))
+    a, b, c = -7, 2, 2**31 - 1
+    ints = [a + b, _c_div(a, b), a - b * _c_div(a, b), c - b, a * -6, a & 12, a | 12, a ^ 12,
+            -a, 3, int(not b), b * b - _c_div(c, 1000), 7 - (-b) * _c_div(7, -b),
+            _c_div(c, -c), 0, 1]
+    ua, ub, M32 = 0, 4000000000, 2**32
+    uints = [(ua - 1) % M32, (ub + ub) % M32, ub // 7, ub % 7, (-ub) % M32, (ub * ub) % M32]
+    la, lb = -9, 2**63 - 1
+    longs = [_c_div(la, 4), la - 4 * _c_div(la, 4), lb - 1, la * 10**12, -lb, la ^ lb]
+    ula, ulb, M64 = 2**64 - 1, 2, 2**64
+    ulongs = [(ula + ulb) % M64, (ula * ulb) % M64, ula // ulb, (-ulb) % M64]
+    x, y = 0.1, 3.0
+    nan = "0x7ff8000000000123"
+    doubles = [f64_bits(x * y), f64_bits(x + 0.2), f64_bits(1.0 / y), f64_bits(x - x),
+               f64_bits(0.0), f64_bits(3.0), f64_bits(float("inf")), nan,
+               "0xfff8000000000123", nan, f64_bits(1e-323), f64_bits(1.0)]
+    f, g = _f32(0.1), 3.0
+    floats = [f32_bits(_f32(f * g)), f32_bits(_f32(f / g)), f32_bits(_f32(f - g)),
+              f32_bits(float("inf")), f32_bits(-f)]
+    cmps = [1, 0, 1, 0, 1, 0, 1, 0, 0, 1, 0, 1, 0, 1, 0, 0]
+    expected = {}
+    for name, vals in (("g_ai", ints), ("g_au", uints), ("g_al", longs), ("g_aul", ulongs),
+                       ("g_ad", doubles), ("g_af", floats), ("g_ac", cmps)):
+        for i, val in enumerate(vals):
+            expected[f"{name}[{i}]"] = str(val)
+    assert len(expected) == 16 + 6 + 6 + 4 + 12 + 5 + 16
+    wrong = {k: (v.get(k), e) for k, e in expected.items() if v.get(k) != e}
+    assert not wrong
+
+
 def test_c_text_shape(printed):
     """Figure 11's forms, declarators and constants as documented."""
     c_text, _, _ = printed
@@ -209,7 +260,7 @@ def test_sexp_parses_and_matches_c(printed):
             structs.append(ext.type.name)
         elif isinstance(ext, c_ast.Decl):
             (externs if "extern" in ext.storage else gvars).add(ext.name)
-    helpers = {"rosgen_f64_of_bits", "rosgen_f32_of_bits"}
+    helpers = {"rosgen_f64_of_bits", "rosgen_f32_of_bits", "rosgen_fabs", "rosgen_fabsf"}
     assert set(funcdefs) - helpers == set(items["functions"])
     assert protos == set(items["functions"]) | set(items["externals"])
     assert gvars | externs == set(items["gvars"]) and externs == {"g_ext"}

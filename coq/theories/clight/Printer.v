@@ -54,6 +54,11 @@
       [rosgen_f32_of_bits(0x7fc00000U)], calls to two small [static]
       functions that reinterpret the bit pattern through a union (well
       defined in C11); they are emitted only when used;
+    - operations are always parenthesised: [(e1 + e2)], [(-e)] (and
+      [(-(-1))]: never the token [--]), [(!e)]; [Oabsfloat] prints as a
+      call of the [static] helper [rosgen_fabs] ([double]) or
+      [rosgen_fabsf] ([float]), which clears the sign bit through a
+      union, emitted only when used (after the two above);
     - a constant whose type annotation is not the type of its kind (e.g.
       [Econst_int 0 (tptr t)]) prints as a cast of the constant to that
       type, the constant itself being read as [int], [long long],
@@ -179,6 +184,9 @@ Definition zero_const (s : bool) (sfx : string) : doc :=
 (** The names of the helpers for non-finite constants. *)
 Definition f64_helper : string := "rosgen_f64_of_bits".
 Definition f32_helper : string := "rosgen_f32_of_bits".
+(** The helpers of [Oabsfloat]: the sign bit cleared through a union. *)
+Definition fabs_helper : string := "rosgen_fabs".
+Definition fabsf_helper : string := "rosgen_fabsf".
 
 (** A [double] constant: hexadecimal if finite, through the helper otherwise. *)
 Definition float64_const (f : float64) : doc :=
@@ -277,7 +285,20 @@ Definition long_const (n : Z) (ty : type) : doc :=
 Definition is_tfloat (fs : floatsize) (ty : type) : bool :=
   match ty, fs with Tfloat F64, F64 | Tfloat F32, F32 => true | _, _ => false end.
 
-(** [e] with its precedence level. *)
+(** The C token of a binary operator. *)
+Definition binop_token (op : binary_operation) : string :=
+  match op with
+  | Oadd => "+" | Osub => "-" | Omul => "*" | Odiv => "/" | Omod => "%"
+  | Oand => "&" | Oor => "|" | Oxor => "^"
+  | Oeq => "==" | One => "!=" | Olt => "<" | Ogt => ">" | Ole => "<=" | Oge => ">="
+  end.
+
+(** Whether the operand of an [Oabsfloat] is a [float] (else a [double]). *)
+Definition is_single_expr (e : expr) : bool := is_tfloat F32 (typeof e).
+
+(** [e] with its precedence level.  An operation is always printed in
+    parentheses, [(e1 + e2)], [(-e)], [(!e)]: no precedence or
+    associativity rule of C is involved in reading it back. *)
 Fixpoint expr_doc (e : expr) : doc :=
   match e with
   | Econst_int n ty => int_const n ty
@@ -294,6 +315,20 @@ Fixpoint expr_doc (e : expr) : doc :=
   | Efield e1 f _ => (at_level 3 (expr_doc e1) ++ "." ++ f, 3%nat)
   | Eindex e1 e2 _ => (at_level 3 (expr_doc e1) ++ "[" ++ fst (expr_doc e2) ++ "]", 3%nat)
   | Ecast e1 ty => ("(" ++ type_name ty ++ ")" ++ at_level 1 (expr_doc e1), 1%nat)
+  | Eunop op e1 _ =>
+      let s := at_level 1 (expr_doc e1) in
+      match op with
+      | Oneg =>
+          (* [- -x] must not become the token [--] *)
+          ("(-" ++ (if String.prefix "-" s then "(" ++ s ++ ")" else s) ++ ")", 3%nat)
+      | Onotbool => ("(!" ++ s ++ ")", 3%nat)
+      | Oabsfloat =>
+          ((if is_single_expr e1 then fabsf_helper else fabs_helper)
+             ++ "(" ++ fst (expr_doc e1) ++ ")", 3%nat)
+      end
+  | Ebinop op e1 e2 _ =>
+      ("(" ++ at_level 1 (expr_doc e1) ++ " " ++ binop_token op ++ " "
+           ++ at_level 1 (expr_doc e2) ++ ")", 3%nat)
   end.
 
 (** [e] as a full expression. *)
@@ -399,46 +434,59 @@ Definition sort_structs (l : list composite_definition) : list composite_definit
   rev (fst (fold_left (fun st co => visit_struct (S (length l)) l (co_name co) st)
                       l ([], []))).
 
-(** *** Non-finite constants *)
+(** *** Helper functions *)
 
-(** Whether [e] contains a non-finite [double] / [float] constant. *)
-Fixpoint expr_nonfinite (e : expr) : bool * bool :=
-  match e with
-  | Econst_float f _ => (negb (is_finite64 f), false)
-  | Econst_single f _ => (false, negb (is_finite32 f))
-  | Econst_int _ _ | Econst_long _ _ | Evar _ _ | Etempvar _ _ => (false, false)
-  | Ederef e1 _ | Eaddrof e1 _ | Efield e1 _ _ | Ecast e1 _ => expr_nonfinite e1
-  | Eindex e1 e2 _ =>
-      let (a1, b1) := expr_nonfinite e1 in
-      let (a2, b2) := expr_nonfinite e2 in (a1 || a2, b1 || b2)
-  end.
+(** The [static] helpers a program needs: [rosgen_f64_of_bits] /
+    [rosgen_f32_of_bits] for its non-finite [double] / [float] constants,
+    [rosgen_fabs] / [rosgen_fabsf] for its [Oabsfloat]s. *)
+Record needs : Type := mkneeds {
+  need_f64 : bool; need_f32 : bool; need_fabs : bool; need_fabsf : bool
+}.
+
+Definition no_needs : needs := mkneeds false false false false.
 
 (** Pointwise disjunction. *)
-Definition or2 (x y : bool * bool) : bool * bool := (fst x || fst y, snd x || snd y).
+Definition or_needs (x y : needs) : needs :=
+  mkneeds (need_f64 x || need_f64 y) (need_f32 x || need_f32 y)
+          (need_fabs x || need_fabs y) (need_fabsf x || need_fabsf y).
 
-(** The same for the expressions of a statement. *)
-Fixpoint stmt_nonfinite (s : statement) : bool * bool :=
-  match s with
-  | Sskip | Sbreak | Sreturn None => (false, false)
-  | Sassign e1 e2 => or2 (expr_nonfinite e1) (expr_nonfinite e2)
-  | Sset _ e | Sreturn (Some e) => expr_nonfinite e
-  | Scall _ f args => fold_left (fun acc a => or2 acc (expr_nonfinite a)) args (expr_nonfinite f)
-  | Ssequence s1 s2 => or2 (stmt_nonfinite s1) (stmt_nonfinite s2)
-  | Sifthenelse c s1 s2 => or2 (expr_nonfinite c) (or2 (stmt_nonfinite s1) (stmt_nonfinite s2))
-  | Sloop s1 => stmt_nonfinite s1
+Fixpoint expr_needs (e : expr) : needs :=
+  match e with
+  | Econst_float f _ => mkneeds (negb (is_finite64 f)) false false false
+  | Econst_single f _ => mkneeds false (negb (is_finite32 f)) false false
+  | Econst_int _ _ | Econst_long _ _ | Evar _ _ | Etempvar _ _ => no_needs
+  | Ederef e1 _ | Eaddrof e1 _ | Efield e1 _ _ | Ecast e1 _ => expr_needs e1
+  | Eunop Oabsfloat e1 _ =>
+      or_needs (expr_needs e1)
+               (if is_single_expr e1 then mkneeds false false false true
+                else mkneeds false false true false)
+  | Eunop _ e1 _ => expr_needs e1
+  | Eindex e1 e2 _ | Ebinop _ e1 e2 _ => or_needs (expr_needs e1) (expr_needs e2)
   end.
 
-(** Whether a function of [p] contains a non-finite [double] / [float] constant. *)
-Definition prog_nonfinite (p : program) : bool * bool :=
+(** The same for the expressions of a statement. *)
+Fixpoint stmt_needs (s : statement) : needs :=
+  match s with
+  | Sskip | Sbreak | Sreturn None => no_needs
+  | Sassign e1 e2 => or_needs (expr_needs e1) (expr_needs e2)
+  | Sset _ e | Sreturn (Some e) => expr_needs e
+  | Scall _ f args => fold_left (fun acc a => or_needs acc (expr_needs a)) args (expr_needs f)
+  | Ssequence s1 s2 => or_needs (stmt_needs s1) (stmt_needs s2)
+  | Sifthenelse c s1 s2 => or_needs (expr_needs c) (or_needs (stmt_needs s1) (stmt_needs s2))
+  | Sloop s1 => stmt_needs s1
+  end.
+
+(** The helpers the functions of [p] need. *)
+Definition prog_needs (p : program) : needs :=
   fold_left (fun acc d =>
                match snd d with
-               | Gfun (Internal f) => or2 acc (stmt_nonfinite (fn_body f))
+               | Gfun (Internal f) => or_needs acc (stmt_needs (fn_body f))
                | _ => acc
-               end) (prog_defs p) (false, false).
+               end) (prog_defs p) no_needs.
 
-(** The helpers that reinterpret a bit pattern, if [need]ed. *)
-Definition helper_lines (need : bool * bool) : list string :=
-  (if fst need then
+(** The helpers' definitions, those [need]ed, in this order. *)
+Definition helper_lines (need : needs) : list string :=
+  (if need_f64 need then
      [ "static double " ++ f64_helper ++ "(unsigned long long b)";
        "{";
        "    union { unsigned long long u; double d; } x;";
@@ -447,11 +495,31 @@ Definition helper_lines (need : bool * bool) : list string :=
        "}";
        "" ]
    else [])
-  ++ (if snd need then
+  ++ (if need_f32 need then
      [ "static float " ++ f32_helper ++ "(unsigned int b)";
        "{";
        "    union { unsigned int u; float f; } x;";
        "    x.u = b;";
+       "    return x.f;";
+       "}";
+       "" ]
+   else [])
+  ++ (if need_fabs need then
+     [ "static double " ++ fabs_helper ++ "(double d)";
+       "{";
+       "    union { unsigned long long u; double d; } x;";
+       "    x.d = d;";
+       "    x.u &= 0x7fffffffffffffffULL;";
+       "    return x.d;";
+       "}";
+       "" ]
+   else [])
+  ++ (if need_fabsf need then
+     [ "static float " ++ fabsf_helper ++ "(float f)";
+       "{";
+       "    union { unsigned int u; float f; } x;";
+       "    x.f = f;";
+       "    x.u &= 0x7fffffffU;";
        "    return x.f;";
        "}";
        "" ]
@@ -510,7 +578,7 @@ Definition struct_section_lines (p : program) : list string :=
 
 (** Everything after the structs: helpers, globals, prototypes, functions. *)
 Definition code_section_lines (externs : list ident) (p : program) : list string :=
-  helper_lines (prog_nonfinite p)
+  helper_lines (prog_needs p)
   ++ section (global_lines externs (prog_defs p))
   ++ section (external_proto_lines (prog_defs p))
   ++ section (internal_proto_lines (prog_defs p))
@@ -582,7 +650,9 @@ expr    ::= (const_int INT type) | (const_long INT type)
           | (const_float HEX64 type) | (const_single HEX32 type)
           | (var IDENT type) | (tempvar IDENT type) | (deref expr type)
           | (addrof expr type) | (field expr IDENT type) | (index expr expr type)
-          | (cast expr type)
+          | (cast expr type) | (unop UNOP expr type) | (binop BINOP expr expr type)
+UNOP    ::= neg | notbool | absfloat
+BINOP   ::= add | sub | mul | div | mod | and | or | xor | eq | ne | lt | gt | le | ge
 stmt    ::= (skip) | (assign expr expr) | (set IDENT expr)
           | (call () expr (expr...)) | (call (IDENT) expr (expr...))
           | (seq stmt...) | (if expr stmt stmt) | (loop stmt) | (break)
@@ -626,6 +696,17 @@ Fixpoint sexp_type (ty : type) : string :=
   | Tstruct id => sexp_list ["struct"; id]
   end.
 
+(** Operators in the dump. *)
+Definition sexp_unop (op : unary_operation) : string :=
+  match op with Oneg => "neg" | Onotbool => "notbool" | Oabsfloat => "absfloat" end.
+
+Definition sexp_binop (op : binary_operation) : string :=
+  match op with
+  | Oadd => "add" | Osub => "sub" | Omul => "mul" | Odiv => "div" | Omod => "mod"
+  | Oand => "and" | Oor => "or" | Oxor => "xor"
+  | Oeq => "eq" | One => "ne" | Olt => "lt" | Ogt => "gt" | Ole => "le" | Oge => "ge"
+  end.
+
 (** An expression in the dump, with its type. *)
 Fixpoint sexp_expr (e : expr) : string :=
   match e with
@@ -642,6 +723,8 @@ Fixpoint sexp_expr (e : expr) : string :=
   | Efield e1 f ty => sexp_list ["field"; sexp_expr e1; f; sexp_type ty]
   | Eindex e1 e2 ty => sexp_list ["index"; sexp_expr e1; sexp_expr e2; sexp_type ty]
   | Ecast e1 ty => sexp_list ["cast"; sexp_expr e1; sexp_type ty]
+  | Eunop op e1 ty => sexp_list ["unop"; sexp_unop op; sexp_expr e1; sexp_type ty]
+  | Ebinop op e1 e2 ty => sexp_list ["binop"; sexp_binop op; sexp_expr e1; sexp_expr e2; sexp_type ty]
   end.
 
 (** A quoted string: a backslash before each double quote and backslash. *)

@@ -4,7 +4,10 @@
     - expressions are evaluated by *functions* ([eval_expr],
       [eval_lvalue]): expressions of the subset have no side effects, so
       their evaluation is deterministic; the relational reading is
-      [eval_expr ... a = Some v];
+      [eval_expr ... a = Some v]; the arithmetic operators mean what
+      [Operators] says, and an operation whose operand or result types are
+      not the ones [Operators.unop_type] / [binop_type] allow is stuck
+      (so the semantics never performs an implicit conversion);
     - statements, function calls and the delivery of messages by
       [ros_spinOnce] are big-step judgements ([exec_stmt], [eval_funcall],
       [deliver]), mutually inductive because [ros_spinOnce] runs the
@@ -20,7 +23,7 @@
     the subset are in [Typing]. *)
 
 From Coq Require Import String List ZArith Bool Lia.
-From ROSGen Require Import Syntax Values Memory Environment.
+From ROSGen Require Import Syntax Values Operators Memory Environment.
 Import ListNotations.
 Local Open Scope Z_scope.
 
@@ -145,6 +148,18 @@ Fixpoint eval_expr (a : expr) : option val :=
       | Some v => sem_cast v ty
       | None => None
       end
+  | Eunop op a1 ty =>
+      match unop_type op (typeof a1), eval_expr a1 with
+      | Some ty', Some v => if type_eqb ty ty' then sem_unop op (typeof a1) v else None
+      | _, _ => None
+      end
+  | Ebinop op a1 a2 ty =>
+      match binop_type op (typeof a1), eval_expr a1, eval_expr a2 with
+      | Some ty', Some v1, Some v2 =>
+          if type_eqb (typeof a1) (typeof a2) && type_eqb ty ty'
+          then sem_binop op (typeof a1) v1 v2 else None
+      | _, _, _ => None
+      end
   end
 
 with eval_lvalue (a : expr) : option (block * path) :=
@@ -166,7 +181,7 @@ Lemma eval_expr_lvalue:
             end ->
   eval_expr a = load_loc (typeof a) (eval_lvalue a).
 Proof.
-  intros a H; destruct a as [| | | | x ty | | | | | |]; try contradiction; auto.
+  intros a H; destruct a as [| | | | x ty | | | | | | | |]; try contradiction; auto.
   destruct ty; try contradiction; reflexivity.
 Qed.
 

@@ -85,6 +85,31 @@ Proof.
   intros a b; unfold type_eqb; destruct (type_eq a b); split; congruence.
 Qed.
 
+(** ** Operators *)
+
+(** The arithmetic of the subset (CompCert's names).  The typing rules
+    ([Typing]) only allow operands that C's integer promotions and usual
+    arithmetic conversions leave unchanged: both operands of a binary
+    operator have the same type, [int], [unsigned int], [long long],
+    [unsigned long long], [float] or [double].  So the printed C
+    computes in exactly the type the AST says, and the semantics
+    ([Values.sem_binop]) needs no implicit conversion. *)
+Inductive unary_operation : Type :=
+  | Oneg         (**r [-e] *)
+  | Onotbool     (**r [!e]: 1 if [e] is zero, else 0, of type [int] *)
+  | Oabsfloat.   (**r [fabs(e)]: the sign bit cleared (printed as a helper) *)
+
+Inductive binary_operation : Type :=
+  | Oadd | Osub | Omul | Odiv     (**r [+ - * /] *)
+  | Omod                          (**r [%] (integers) *)
+  | Oand | Oor | Oxor             (**r [& | ^] (integers) *)
+  | Oeq | One | Olt | Ogt | Ole | Oge.  (**r [== != < > <= >=], of type [int] *)
+
+Definition unary_operation_eq (a b : unary_operation) : {a = b} + {a <> b}.
+Proof. decide equality. Defined.
+Definition binary_operation_eq (a b : binary_operation) : {a = b} + {a <> b}.
+Proof. decide equality. Defined.
+
 (** ** Expressions *)
 
 (** Every expression carries its type, as in Clight.  Integer constants are
@@ -100,13 +125,15 @@ Inductive expr : Type :=
   | Eaddrof (e : expr) (ty : type)          (**r [&e] *)
   | Efield (e : expr) (f : ident) (ty : type)  (**r [e.f] (use [Ederef] for [e->f]) *)
   | Eindex (e : expr) (i : expr) (ty : type)   (**r [e[i]], [e] of array type *)
-  | Ecast (e : expr) (ty : type).           (**r [(ty) e] *)
+  | Ecast (e : expr) (ty : type)            (**r [(ty) e] *)
+  | Eunop (op : unary_operation) (e : expr) (ty : type)     (**r [op e] *)
+  | Ebinop (op : binary_operation) (e1 e2 : expr) (ty : type).  (**r [e1 op e2] *)
 
 Definition typeof (e : expr) : type :=
   match e with
   | Econst_int _ ty | Econst_long _ ty | Econst_float _ ty | Econst_single _ ty
   | Evar _ ty | Etempvar _ ty | Ederef _ ty | Eaddrof _ ty
-  | Efield _ _ ty | Eindex _ _ ty | Ecast _ ty => ty
+  | Efield _ _ ty | Eindex _ _ ty | Ecast _ ty | Eunop _ _ ty | Ebinop _ _ _ ty => ty
   end.
 
 (** ** Statements *)

@@ -7,7 +7,7 @@
     simply stuck there. *)
 
 From Coq Require Import String List ZArith Bool Lia.
-From ROSGen Require Import Syntax Values Memory.
+From ROSGen Require Import Syntax Values Operators Memory.
 Import ListNotations.
 Local Open Scope Z_scope.
 
@@ -102,7 +102,14 @@ Inductive wt_expr : expr -> Prop :=
       wt_expr (Eindex a i ty)
   | wt_Ecast: forall a ty,
       wt_expr a -> cast_ok (typeof a) ty = true ->
-      wt_expr (Ecast a ty).
+      wt_expr (Ecast a ty)
+  | wt_Eunop: forall op a ty,
+      wt_expr a -> unop_type op (typeof a) = Some ty ->
+      wt_expr (Eunop op a ty)
+  | wt_Ebinop: forall op a1 a2 ty,
+      wt_expr a1 -> wt_expr a2 -> typeof a1 = typeof a2 ->
+      binop_type op (typeof a1) = Some ty ->
+      wt_expr (Ebinop op a1 a2 ty).
 
 Inductive wt_exprlist : list expr -> list type -> Prop :=
   | wt_Enil: wt_exprlist [] []
@@ -189,6 +196,18 @@ Fixpoint check_expr (a : expr) : bool :=
       | _ => false
       end
   | Ecast a1 ty => check_expr a1 && cast_ok (typeof a1) ty
+  | Eunop op a1 ty =>
+      check_expr a1 &&
+      match unop_type op (typeof a1) with
+      | Some ty' => type_eqb ty' ty
+      | None => false
+      end
+  | Ebinop op a1 a2 ty =>
+      check_expr a1 && check_expr a2 && type_eqb (typeof a1) (typeof a2) &&
+      match binop_type op (typeof a1) with
+      | Some ty' => type_eqb ty' ty
+      | None => false
+      end
   end.
 
 Fixpoint check_exprlist (al : list expr) (tl : list type) : bool :=
@@ -244,7 +263,8 @@ Local Ltac split_andb :=
 Lemma check_expr_correct: forall a, check_expr a = true -> wt_expr a.
 Proof.
   induction a as [n ty | n ty | f ty | f ty | x ty | x ty | a1 IH1 ty | a1 IH1 ty
-                 | a1 IH1 f ty | a1 IH1 i IHi ty | a1 IH1 ty]; simpl; intros H.
+                 | a1 IH1 f ty | a1 IH1 i IHi ty | a1 IH1 ty
+                 | op a1 IH1 ty | op a1 IH1 a2 IH2 ty]; simpl; intros H.
   - destruct ty; try discriminate; constructor.
   - destruct ty; try discriminate; constructor.
   - destruct ty as [| | | [|] | | | |]; try discriminate; constructor.
@@ -265,6 +285,10 @@ Proof.
   - split_andb. destruct (typeof a1) as [| | | | | t n | |] eqn:T; try discriminate.
     split_andb. econstructor; eauto.
   - split_andb. constructor; auto.
+  - split_andb. destruct (unop_type op (typeof a1)) as [ty'|] eqn:U; try discriminate.
+    split_andb. constructor; auto.
+  - split_andb. destruct (binop_type op (typeof a1)) as [ty'|] eqn:U; try discriminate.
+    split_andb. constructor; auto.
 Qed.
 
 Lemma check_exprlist_correct:
