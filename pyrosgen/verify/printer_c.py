@@ -7,23 +7,26 @@ from __future__ import annotations
 
 import re
 from pyrosgen.verify.printer_types import (
-    F32,
+    C_BINOPS,
+    C_UNOPS,
+    F32_HELPER,
     F64,
     F64_HELPER,
     INT,
-    UINT,
-    ULLONG,
+    LLONG,
     VOID,
     ValidationReport,
     _C_INT_TYPES,
     _Diff,
     _HELPER_TEXT,
+    _HELPER_TYPE,
+    _binop_type,
+    _unop_type,
     _float_literal,
     _int_literal,
     _is_arith,
     _is_int,
     _is_scalar,
-    _usual_arith,
     _wrap,
     show_type,
     typeof,
@@ -320,8 +323,12 @@ class _CProgram:
                                 "doc: " + " ".join(gen.visit(expected).split())))
         if name in self.scope:
             raise _Diff(f"{name} declared twice", fd.coord)
-        self.scope[name] = ("helper", ("fun", (ULLONG if name == F64_HELPER else UINT,),
-                                       F64 if name == F64_HELPER else F32))
+        order = list(_HELPER_TEXT)
+        later = [h for h in self.helpers_defined if order.index(h) > order.index(name)]
+        if later:
+            raise _Diff(f"helper {name} defined after {later[0]} (the printer's order: "
+                        f"{', '.join(order)})", fd.coord)
+        self.scope[name] = ("helper", _HELPER_TYPE[name])
         self.helpers_defined[name] = fd
 
 
@@ -352,26 +359,24 @@ class _CFunction:
                 raise _Diff(f"constant {node.value} is not in the printed subset", node.coord)
             v, t = _int_literal(node.value)
             return ("const", v, t)
-        if isinstance(node, a.UnaryOp) and node.op == "-":
+        if isinstance(node, a.UnaryOp) and node.op == "-" and isinstance(node.expr, a.Constant):
+            # a sign before a literal: the printer's negative constants
+            # ([-5], [-5LL], [-0x1p+0]); [-5U] is an operation
             c = self.const(node.expr)
-            if c is None:
-                raise _Diff("unary minus of a non-constant", node.coord)
             if c[0] == "constf":
                 return ("constf", c[1] ^ (1 << (63 if c[2] == F64 else 31)), c[2])
-            t = c[2]
-            v = -c[1]
-            if t[-1] == "signed" and _wrap(t, v) != v:
-                raise _Diff("signed overflow in a constant", node.coord)
-            return ("const", _wrap(t, v), t)
+            if c[2] in (INT, LLONG):
+                return ("const", -c[1], c[2])     # the literal is at most the maximum
+            return None
         if isinstance(node, a.BinaryOp) and node.op == "-":
-            l, r = self.const(node.left), self.const(node.right)
-            if l is None or r is None or l[0] != "const" or r[0] != "const":
-                raise _Diff("subtraction other than of two integer constants", node.coord)
-            t = _usual_arith(l[2], r[2])
-            v = _wrap(t, l[1]) - _wrap(t, r[1])
-            if t[-1] == "signed" and _wrap(t, v) != v:
-                raise _Diff("signed overflow in a constant", node.coord)
-            return ("const", _wrap(t, v), t)
+            # [(-2147483647 - 1)] and [(-9223372036854775807LL - 1)]: the minimum values
+            if isinstance(node.left, a.UnaryOp) and isinstance(node.right, a.Constant):
+                l, r = self.const(node.left), self.const(node.right)
+                if l is not None and r == ("const", 1, INT):
+                    for t, bits in ((INT, 32), (LLONG, 64)):
+                        if l == ("const", -(1 << (bits - 1)) + 1, t):
+                            return ("const", -(1 << (bits - 1)), t)
+            return None
         return None
 
     def expr(self, node) -> tuple:
@@ -387,7 +392,7 @@ class _CFunction:
             if x in self.visible:
                 kind, t = self.prog.scope[x]
                 if kind == "helper":
-                    raise _Diff(f"{x} used other than as a constant", node.coord)
+                    raise _Diff(f"{x} used other than called", node.coord)
                 return ("ref", kind, x, t)
             raise _Diff(f"{x} is not declared", node.coord)
         if isinstance(node, a.UnaryOp) and node.op == "*":
@@ -429,12 +434,36 @@ class _CFunction:
             if h not in self.visible:
                 raise _Diff(f"{h} used before its definition", node.coord)
             args = node.args.exprs if node.args is not None else []
-            arg = self.const(args[0]) if len(args) == 1 else None
-            want = ULLONG if h == F64_HELPER else UINT
-            if arg is None or arg[0] != "const" or arg[2] != want:
-                raise _Diff(f"{h} applied to something else than one {show_type(want)} constant", node.coord)
+            _, (want,), res = _HELPER_TYPE[h]
+            if h in (F64_HELPER, F32_HELPER):
+                arg = self.const(args[0]) if len(args) == 1 else None
+                if arg is None or arg[0] != "const" or arg[2] != want:
+                    raise _Diff(f"{h} applied to something else than one {show_type(want)} constant", node.coord)
+                self.prog.helpers_used.add(h)
+                return ("constf", arg[1], res)
+            # rosgen_fabs / rosgen_fabsf: [Oabsfloat] on a double / a float
+            if len(args) != 1:
+                raise _Diff(f"{h} applied to {len(args)} arguments", node.coord)
+            arg = self.expr(args[0])
+            if typeof(arg) != want:
+                raise _Diff(f"{h} applied to a {show_type(typeof(arg))} (implicit conversion "
+                            f"to {show_type(want)})", node.coord)
             self.prog.helpers_used.add(h)
-            return ("constf", arg[1], F64 if h == F64_HELPER else F32)
+            return ("unop", "absfloat", arg, res)
+        if isinstance(node, a.UnaryOp) and node.op in C_UNOPS:
+            op = C_UNOPS[node.op]
+            e = self.expr(node.expr)
+            try:
+                return ("unop", op, e, _unop_type(op, typeof(e)))
+            except _Diff as d:
+                raise _Diff(d.message, node.coord) from None
+        if isinstance(node, a.BinaryOp) and node.op in C_BINOPS:
+            op = C_BINOPS[node.op]
+            e1, e2 = self.expr(node.left), self.expr(node.right)
+            try:
+                return ("binop", op, e1, e2, _binop_type(op, typeof(e1), typeof(e2)))
+            except _Diff as d:
+                raise _Diff(d.message, node.coord) from None
         raise _Diff(f"expression {type(node).__name__}"
                     f"{' ' + node.op if hasattr(node, 'op') else ''} is not in the printed subset", node.coord)
 

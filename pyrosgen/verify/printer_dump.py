@@ -6,10 +6,12 @@ from __future__ import annotations
 
 from pyrosgen.proof.sexp import SexpError, parse_sexp, program_items
 from pyrosgen.verify.printer_types import (
+    BINOPS,
     F32,
     F64,
     INT,
     LLONG,
+    UNOPS,
     ValidationReport,
     _Diff,
     _dump_type,
@@ -20,6 +22,43 @@ from pyrosgen.verify.printer_types import (
 
 # ---------------------------------------------------------------------------
 # The dump side
+
+_SIGN = {F64: 1 << 63, F32: 1 << 31}
+_EXP = {F64: 0x7FF << 52, F32: 0xFF << 23}
+
+
+def _fold_neg(op: str, e: tuple, t: tuple) -> tuple:
+    """[('unop', op, e, t)], except where the printed text is the text of a
+    constant.  [Oneg] of a constant the printer prints as a literal without
+    a sign ([5], [5LL], [0x1p+0], [0x1p+0f]) prints as [(-5)]: in C that
+    is the negative constant [-5] (the printer's own form of it, a sign
+    before the literal), so it is normalised to it, the value negated
+    exactly (no overflow: the literal is at most the type's maximum) or the
+    sign bit flipped.  A negative or non-finite operand, or one of an
+    unsigned type, stays an operation: [(-(-5))], [(-rosgen_f64_of_bits(...))],
+    [(-5U)]."""
+    if op == "neg" and e[0] in ("const", "constf") and typeof(e) == t:
+        if e[0] == "const" and t in (INT, LLONG) and e[1] >= 0:
+            return ("const", -e[1], t)
+        if e[0] == "constf" and t in (F64, F32) and not e[1] & _SIGN[t] and e[1] & _EXP[t] != _EXP[t]:
+            return ("constf", e[1] | _SIGN[t], t)
+    return ("unop", op, e, t)
+
+
+_INT_MIN = (-(1 << 31), ("const", -(1 << 31) + 1, INT), ("const", 1, INT), INT)
+
+
+def _fold_min(op: str, e1: tuple, e2: tuple, t: tuple) -> tuple:
+    """[('binop', op, e1, e2, t)], except [Osub] of the [int] constants
+    [-2147483647] and [1]: it prints as [(-2147483647 - 1)], the printer's
+    form of the constant [INT_MIN], of the same value and type, so it is
+    that constant.  (The [long long] form [(-9223372036854775807LL - 1)]
+    subtracts an [int]: as an operation it is ill-typed and refused.)"""
+    v, c1, c2, ty = _INT_MIN
+    if op == "sub" and (e1, e2, t) == (c1, c2, ty):
+        return ("const", v, INT)
+    return ("binop", op, e1, e2, t)
+
 
 class _DumpFunction:
     """Normalises one function of the dump."""
@@ -83,7 +122,27 @@ class _DumpFunction:
             return ("field", self.expr(e[1]), e[2], _dump_type(e[3]))
         if k == "index":
             return ("index", self.expr(e[1]), self.expr(e[2]), _dump_type(e[3]))
+        if k == "unop":
+            if len(e) != 4 or not isinstance(e[1], str) or e[1] not in UNOPS:
+                raise _Diff(f"malformed unop {e!r:.80} in the dump")
+            return _fold_neg(e[1], self.operand(e[2]), _dump_type(e[3]))
+        if k == "binop":
+            if len(e) != 5 or not isinstance(e[1], str) or e[1] not in BINOPS:
+                raise _Diff(f"malformed binop {e!r:.80} in the dump")
+            return _fold_min(e[1], self.operand(e[2]), self.operand(e[3]), _dump_type(e[4]))
         raise _Diff(f"unknown expression {k!r} in the dump")
+
+    def operand(self, e) -> tuple:
+        """An operand of an operation.  An 8- or 16-bit integer constant
+        keeps its own type here: it prints as an [int] literal, which C
+        does not convert to the narrow type in an operation, so the C side
+        (an [int] operand) differs from it."""
+        n = self.expr(e)
+        if isinstance(e, list) and e[:1] == ["const_int"] and n[0] == "const":
+            t = _dump_type(e[2])
+            if t != n[2]:
+                return ("const", n[1], t)
+        return n
 
     def temp(self, x: str, value_type: tuple) -> tuple:
         """The destination of [Sset x _] / [Scall (Some x) _ _]: C converts

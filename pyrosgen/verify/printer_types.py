@@ -18,6 +18,10 @@ __all__ = [
     "ValidationReport",
     "F64_HELPER",
     "F32_HELPER",
+    "FABS_HELPER",
+    "FABSF_HELPER",
+    "UNOPS",
+    "BINOPS",
     "show_type",
     "show_expr",
     "show_stmt",
@@ -26,8 +30,11 @@ __all__ = [
 
 F64_HELPER = "rosgen_f64_of_bits"
 F32_HELPER = "rosgen_f32_of_bits"
+FABS_HELPER = "rosgen_fabs"      # [Oabsfloat] on a double
+FABSF_HELPER = "rosgen_fabsf"    # [Oabsfloat] on a float
 
-#: The helpers' definitions as ROSGen.Printer prints them ([helper_lines]).
+#: The helpers' definitions as ROSGen.Printer prints them ([helper_lines]),
+#: in the order it prints them (those used).
 _HELPER_TEXT = {
     F64_HELPER: (
         "static double rosgen_f64_of_bits(unsigned long long b)\n{\n"
@@ -36,6 +43,16 @@ _HELPER_TEXT = {
     F32_HELPER: (
         "static float rosgen_f32_of_bits(unsigned int b)\n{\n"
         "    union { unsigned int u; float f; } x;\n    x.u = b;\n    return x.f;\n}\n"
+    ),
+    FABS_HELPER: (
+        "static double rosgen_fabs(double d)\n{\n"
+        "    union { unsigned long long u; double d; } x;\n    x.d = d;\n"
+        "    x.u &= 0x7fffffffffffffffULL;\n    return x.d;\n}\n"
+    ),
+    FABSF_HELPER: (
+        "static float rosgen_fabsf(float f)\n{\n"
+        "    union { unsigned int u; float f; } x;\n    x.f = f;\n"
+        "    x.u &= 0x7fffffffU;\n    return x.f;\n}\n"
     ),
 }
 
@@ -154,20 +171,6 @@ def _wrap(t: tuple, n: int) -> int:
     return u
 
 
-def _usual_arith(t1: tuple, t2: tuple) -> tuple:
-    """C11 6.3.1.8 on the promoted integer types of the printed subset
-    ([int], [unsigned int], [long long], [unsigned long long]; LP64)."""
-    rank = {INT: 1, UINT: 1, LLONG: 2, ULLONG: 2}
-    if t1 not in rank or t2 not in rank:
-        raise _Diff(f"arithmetic on {show_type(t1)} and {show_type(t2)}")
-    if t1 == t2:
-        return t1
-    big, small = (t1, t2) if rank[t1] >= rank[t2] else (t2, t1)
-    if rank[big] == rank[small]:          # same rank, different signedness: unsigned
-        return big if big[-1] == "unsigned" else small
-    return big                            # the 64-bit type holds every 32-bit value
-
-
 def _is_int(t: tuple) -> bool:
     return t[0] in ("int", "long")
 
@@ -178,6 +181,72 @@ def _is_arith(t: tuple) -> bool:
 
 def _is_scalar(t: tuple) -> bool:
     return _is_arith(t) or t[0] == "ptr"
+
+
+#: The helpers' C types.
+_HELPER_TYPE = {
+    F64_HELPER: ("fun", (ULLONG,), F64),
+    F32_HELPER: ("fun", (UINT,), F32),
+    FABS_HELPER: ("fun", (F64,), F64),
+    FABSF_HELPER: ("fun", (F32,), F32),
+}
+
+
+# ---------------------------------------------------------------------------
+# Operators ([Syntax.unary_operation], [Syntax.binary_operation])
+
+#: Unary operators: the dump's atom -> the C text ([Printer.expr_doc]).
+UNOPS = {"neg": "-", "notbool": "!", "absfloat": "fabs"}
+#: Binary operators: the dump's atom -> the C token ([Printer.binop_token]).
+BINOPS = {"add": "+", "sub": "-", "mul": "*", "div": "/", "mod": "%",
+          "and": "&", "or": "|", "xor": "^",
+          "eq": "==", "ne": "!=", "lt": "<", "gt": ">", "le": "<=", "ge": ">="}
+#: The C token of a binary operator -> its name.
+C_BINOPS = {tok: op for op, tok in BINOPS.items()}
+#: The C unary operators of the subset (besides [*] and [&]) -> their names.
+C_UNOPS = {"-": "neg", "!": "notbool"}
+
+_COMPARISONS = frozenset({"eq", "ne", "lt", "gt", "le", "ge"})
+_INTEGER_ONLY = frozenset({"mod", "and", "or", "xor"})
+#: The operand types [Operators.arith_type] allows: exactly the types that
+#: C's integer promotions and usual arithmetic conversions leave unchanged.
+_OPERAND_TYPES = (INT, UINT, LLONG, ULLONG, F32, F64)
+
+
+def _operand_type(what: str, t: tuple) -> None:
+    """[t] must be one of the six operand types."""
+    if t in _OPERAND_TYPES:
+        return
+    if t[0] == "int":
+        raise _Diff(f"{what}: operand of type {show_type(t)}, which C promotes to int")
+    raise _Diff(f"{what}: operand of type {show_type(t)}")
+
+
+def _unop_type(op: str, t: tuple) -> tuple:
+    """The C11 type of [op e] for [e] of type [t], when the subset allows
+    it ([Operators.unop_type]); a :class:`_Diff` otherwise."""
+    what = f"operator {UNOPS[op]}"
+    if op == "absfloat":
+        if t not in (F32, F64):
+            raise _Diff(f"{what}: operand of type {show_type(t)}")
+        return t
+    _operand_type(what, t)
+    return INT if op == "notbool" else t     # C11 6.5.3.3: [!e] is an int
+
+
+def _binop_type(op: str, t1: tuple, t2: tuple) -> tuple:
+    """The C11 type of [e1 op e2] for operands of types [t1], [t2], when the
+    subset allows it ([Operators.binop_type]: the same type on both sides,
+    one of the six, so that C converts nothing); a :class:`_Diff`
+    otherwise."""
+    what = f"operator {BINOPS[op]}"
+    _operand_type(what, t1)
+    _operand_type(what, t2)
+    if t1 != t2:
+        raise _Diff(f"{what}: operands of different types, {show_type(t1)} and {show_type(t2)}")
+    if op in _INTEGER_ONLY and not _is_int(t1):
+        raise _Diff(f"{what}: operands of type {show_type(t1)}")
+    return INT if op in _COMPARISONS else t1   # C11 6.5.8-9: comparisons give an int
 
 
 # C's integer type names (any order / equivalent spelling) -> our types.
@@ -289,6 +358,8 @@ def _float_literal(text: str) -> tuple[int, tuple]:
 #   ('ref', kind, name, type)    kind: local | global | function (| unbound...)
 #   ('deref', e, type) ('addrof', e, type) ('field', e, f, type)
 #   ('index', e, i, type) ('cast', e, type)
+#   ('unop', op, e, type)        op: a key of UNOPS
+#   ('binop', op, e1, e2, type)  op: a key of BINOPS
 # Normalised statements:
 #   ('assign', lhs, rhs)  ('call', dest|None, f, (args...))
 #   ('if', c, (then...), (else...))  ('loop', (body...))  ('break',)
@@ -320,6 +391,12 @@ def show_expr(e) -> str:
         return f"({show_expr(e[1])})[{show_expr(e[2])}] : {show_type(e[3])}"
     if k == "cast":
         return f"({show_type(e[2])})({show_expr(e[1])})"
+    if k == "unop":
+        if e[1] == "absfloat":
+            return f"fabs({show_expr(e[2])}) : {show_type(e[3])}"
+        return f"({UNOPS[e[1]]}({show_expr(e[2])})) : {show_type(e[3])}"
+    if k == "binop":
+        return f"(({show_expr(e[2])}) {BINOPS[e[1]]} ({show_expr(e[3])})) : {show_type(e[4])}"
     return repr(e)
 
 

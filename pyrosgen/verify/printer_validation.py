@@ -24,7 +24,8 @@ term), and compared with the dump, completely:
   recovered from the declarations (a variable's declared type, the member
   type of a field, the pointee of a dereference, the element of an
   index, the type named by a cast, the type of a literal by C11's rules
-  for its suffix and value on an LP64 target), and compared with the
+  for its suffix and value on an LP64 target, the type of an operation
+  by C11's rules for its operator and operands), and compared with the
   dump's type annotations.
 
 Normalisation accounts exactly for the printing conventions documented in
@@ -47,16 +48,51 @@ Normalisation accounts exactly for the printing conventions documented in
 - integer constants denote their value wrapped to their type (the dump
   shows the AST's unwrapped integer); an 8- or 16-bit constant prints as an
   ``int`` literal of that value, so it is compared as an ``int`` constant
-  (C converts it exactly where it is used); ``(-2147483647 - 1)`` and
+  (C converts it exactly where it is used), except as the operand of an
+  operation, where C does not convert it (there it keeps its own type,
+  which the C side never has: a difference); ``(-2147483647 - 1)`` and
   ``(-9223372036854775807LL - 1)`` are the minimum values;
 - float constants are compared by IEEE bit pattern: a hexadecimal literal
   must denote its value exactly (an inexact or decimal literal is
-  refused), ``-`` flips the sign bit, and ``rosgen_f64_of_bits(0x...ULL)``
-  / ``rosgen_f32_of_bits(0x...U)`` denote the pattern they reinterpret;
-  these two ``static`` helpers must be defined, token for token as
-  documented, exactly when used;
+  refused), a ``-`` directly before the literal flips the sign bit, and
+  ``rosgen_f64_of_bits(0x...ULL)`` / ``rosgen_f32_of_bits(0x...U)``
+  denote the pattern they reinterpret;
 - a constant whose type annotation is not its kind's type prints as a
-  cast of the constant.
+  cast of the constant;
+- operations: ``(e1 OP e2)`` is [Ebinop] (``+ - * / % & | ^ == != < >
+  <= >=``), ``(-e)`` and ``(!e)`` are [Eunop Oneg] and [Eunop Onotbool],
+  ``rosgen_fabs(e)`` / ``rosgen_fabsf(e)`` are [Eunop Oabsfloat] of a
+  ``double`` / ``float``.  The comparison is on parsed trees, so the
+  parentheses the printer puts around every operation need no check of
+  their own (a pair whose absence changes the grouping changes the tree).
+  The C side computes the type of each operation by C11's rules and
+  accepts only what the typing rules of the subset
+  ([Operators.unop_type], [binop_type]) allow, where C converts nothing:
+  both operands of a binary operator of the same type, one of ``int``,
+  ``unsigned int``, ``long long``, ``unsigned long long``, ``float``,
+  ``double`` (so the integer promotions and the usual arithmetic
+  conversions change nothing), ``% & | ^`` on the integer types only,
+  the comparisons and ``!`` of type ``int``, ``-`` and ``!`` on the same
+  six types, ``rosgen_fabs`` / ``rosgen_fabsf`` on a ``double`` /
+  ``float`` without conversion.  Operands of different types, of a type C
+  promotes (``unsigned char``, ``short``, ...), pointers, structs, and
+  every other operator (``&& || << >> ~``, unary ``+``, ``++``, ``?:``,
+  ``,``, ``sizeof``, compound assignments, ...) are differences;
+- a ``-`` directly before a literal is part of the constant (the printer
+  prints a negative ``int``, ``long long`` or finite float constant so:
+  ``-5``, ``-5LL``, ``-0x1p+0``).  So [Eunop Oneg] of such a constant
+  without its sign (``5``, ``5LL``, ``0x1p+0``, ``0x0p+0``), printed
+  ``(-5)``, which C parses to the same tree, is that negative constant on
+  the dump side too (the value negated, or the sign bit flipped).  Every
+  other [Oneg] stays an operation: of a negative constant ``(-(-5))`` and
+  ``(-(-0x1p+0))``, of an unsigned constant ``(-5U)``, of a non-finite
+  one ``(-rosgen_f64_of_bits(...))``, of a cast constant, of anything
+  else.  Likewise [Ebinop Osub] of the ``int`` constants ``-2147483647``
+  and ``1`` prints as ``(-2147483647 - 1)``, the printer's ``INT_MIN``: it
+  is that constant (the same value and type);
+- the ``static`` helpers ``rosgen_f64_of_bits``, ``rosgen_f32_of_bits``,
+  ``rosgen_fabs``, ``rosgen_fabsf`` must be defined, token for token as
+  documented, in this order, exactly when used.
 
 Any construct outside this printed subset (other operators, implicit
 conversions other than an exact integer constant, declarations after
@@ -78,6 +114,8 @@ from pathlib import Path
 from pyrosgen.verify.printer_types import (
     F32_HELPER,
     F64_HELPER,
+    FABS_HELPER,
+    FABSF_HELPER,
     PrinterValidationError,
     ValidationReport,
     _Diff,
@@ -104,6 +142,8 @@ __all__ = [
     "validate_output_dir",
     "F64_HELPER",
     "F32_HELPER",
+    "FABS_HELPER",
+    "FABSF_HELPER",
 ]
 
 # ---------------------------------------------------------------------------
@@ -131,7 +171,8 @@ def _sub(t, path):
 def _show_any(x) -> str:
     if isinstance(x, tuple) and x and x[0] in ("assign", "call", "if", "loop", "break", "return"):
         return show_stmt(x)
-    if isinstance(x, tuple) and x and x[0] in ("const", "constf", "ref", "deref", "addrof", "field", "index", "cast"):
+    if isinstance(x, tuple) and x and x[0] in ("const", "constf", "ref", "deref", "addrof", "field", "index", "cast",
+                                               "unop", "binop"):
         return show_expr(x)
     if isinstance(x, tuple) and x and isinstance(x[0], str) and x[0] in ("int", "long", "float", "ptr", "array", "fun", "struct", "void"):
         return show_type(x)

@@ -4,7 +4,9 @@ pycparser and compared with the AST dump on every ``pyrosgen generate``.
 - it passes on the generated LandShark and multi nodes, and on the
   printer's example program (every construct: while loops, constants at
   the limits of their types, casts, non-finite float helpers, calls with
-  results) and on a program of 300 float constants;
+  results, every arithmetic operator and the fabs helpers) and on a
+  program of 300 float constants (the operators on hand-written programs:
+  ``test_printer_arith.py``);
 - each kind of corruption of the C text (swapped assignments, a changed
   field name, a changed constant, a dropped statement, a changed type, ...)
   and of the dump is reported, naming the function and statement;
@@ -255,8 +257,15 @@ def printed_examples(tmp_path_factory):
 def test_printer_examples_validate(printed_examples):
     c, s = printed_examples
     rep = validate_program(c, s, name="ex.c")
-    assert rep.helpers == ["rosgen_f32_of_bits", "rosgen_f64_of_bits"]
+    assert rep.helpers == ["rosgen_f32_of_bits", "rosgen_f64_of_bits", "rosgen_fabs", "rosgen_fabsf"]
     assert rep.constants > 50 and rep.functions >= 5
+    # the operations of [arith] (f_arith): every operator was compared
+    body = c[c.index("void arith(void)\n{"):]
+    body = body[:body.index("\n}\n")]
+    for token in (" + ", " - ", " * ", " / ", " % ", " & ", " | ", " ^ ", " == ", " != ", " < ", " > ",
+                  " <= ", " >= ", "(-", "(!", "rosgen_fabs(", "rosgen_fabsf(", "(-(-"):
+        assert token in body, token
+    assert s.count("(binop ") + s.count("(unop ") >= 60
 
 
 @pytest.mark.parametrize("old,new,match", [
@@ -266,7 +275,26 @@ def test_printer_examples_validate(printed_examples):
     ("g_d[2] = 0x1.999999999999ap-4;", "g_d[2] = 0x1.999999999999bp-4;", "differs"),
     ("g_d[2] = 0x1.999999999999ap-4;", "g_d[2] = 0.1;", "not an exact hexadecimal"),
     ("g_f[0] = 0x1.99999ap-4f;", "g_f[0] = 0x1.999999999999ap-4f;", "not exactly representable as a float"),
-    ("    while (g_flag) {", "    while (!g_flag) {", "not in the printed subset"),
+    ("    while (g_flag) {", "    while (~g_flag) {", "not in the printed subset"),
+    ("    while (g_flag) {", "    while (!g_flag) {", r"function loops, statement \d+, loop body, statement 1 differs"),
+    # the operations of [arith]
+    ("    g_ai[0] = (a + b);", "    g_ai[0] = (a - b);", r"function arith, statement 4 differs"),
+    ("    g_ai[3] = (c - b);", "    g_ai[3] = (b - c);", r"function arith, statement 7 differs"),
+    ("    g_ai[0] = (a + b);", "    g_ai[0] = (a && b);", "not in the printed subset"),
+    ("    g_ai[0] = (a + b);", "    g_ai[0] = (a + ub);", "operands of different types, int and unsigned int"),
+    ("    g_ac[2] = (ub > ua);", "    g_ac[2] = (ub > a);", "operands of different types"),
+    ("    g_au[4] = (-ub);", "    g_au[4] = (!ub);", "implicit conversion from int to unsigned int"),
+    ("    g_ai[9] = (-(-3));", "    g_ai[9] = (-3);", r"function arith, statement 13 differs"),
+    ("    g_ai[9] = (-(-3));", "    g_ai[9] = 3;", r"function arith, statement 13 differs"),
+    ("    g_ad[11] = (-(-0x1p+0));", "    g_ad[11] = 0x1p+0;", r"function arith, statement \d+ differs"),
+    ("    g_ad[11] = (-(-0x1p+0));", "    g_ad[11] = (-0x1p+0);", r"function arith, statement \d+ differs"),
+    ("    g_ai[11] = ((b * b) - (c / 1000));", "    g_ai[11] = (b * (b - c) / 1000);",
+     r"function arith, statement 15 differs"),
+    ("    g_ad[5] = rosgen_fabs((-y));", "    g_ad[5] = rosgen_fabsf((-y));", "rosgen_fabsf applied to a double"),
+    ("    g_ad[5] = rosgen_fabs((-y));", "    g_ad[5] = (-y);", r"function arith, statement \d+ differs"),
+    ("    x.u &= 0x7fffffffU;", "    x.u &= 0xffffffffU;", "helper rosgen_fabsf is not the documented definition"),
+    ("static double rosgen_fabs(double d)\n{\n    union { unsigned long long u; double d; } x;\n    x.d = d;\n"
+     "    x.u &= 0x7fffffffffffffffULL;\n    return x.d;\n}\n\n", "", "rosgen_fabs used before its definition"),
     ("    union { unsigned long long u; double d; } x;", "    union { unsigned long long u; double d; } y; double x;",
      "helper rosgen_f64_of_bits is not the documented definition"),
 ])
