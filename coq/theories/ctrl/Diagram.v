@@ -86,7 +86,7 @@ Inductive switch_crit : Type :=
   | Cgt     (**r [c > threshold] *)
   | Cne0.   (**r [c != 0] *)
 
-Inductive block : Type :=
+Inductive dblock : Type :=
   | Binport (x : ident)
   | Bstate (x : ident)
   | Bconst (c : val)
@@ -107,7 +107,7 @@ Inductive block : Type :=
 Record equation : Type := mkeq {
   eq_sig : ident;
   eq_type : prim;
-  eq_block : block
+  eq_block : dblock
 }.
 
 Inductive state_kind : Type :=
@@ -176,7 +176,7 @@ Definition state_type (x : ident) : option prim :=
   option_map st_type (find (fun st => String.eqb (st_name st) x) (dg_states d)).
 
 (** The rule of each block, for an output of type [q]. *)
-Definition block_ok (ctx : list (ident * prim)) (b : block) (q : prim) : bool :=
+Definition block_ok (ctx : list (ident * prim)) (b : dblock) (q : prim) : bool :=
   sig_prim q &&
   match b with
   | Binport x => match find_assoc x (dg_inputs d) with Some q' => prim_eqb q q' | None => false end
@@ -359,7 +359,7 @@ Variable d : diagram.
 
 (** The output of block [b] of type [q] in a step with state [s],
     inputs [u] and the signals [env] computed so far. *)
-Definition eval_block (s u : mval) (env : senv) (b : block) (q : prim) : val :=
+Definition eval_block (s u : mval) (env : senv) (b : dblock) (q : prim) : val :=
   match b with
   | Binport x => field_val u x
   | Bstate x => field_val s x

@@ -343,3 +343,381 @@ Proof.
 Qed.
 
 End EXPR.
+
+(** ** Statements *)
+
+Lemma set_assoc_twice:
+  forall A x (v v' : A) l, set_assoc x v (set_assoc x v' l) = set_assoc x v l.
+Proof.
+  induction l as [|[y z] l IH]; simpl.
+  - destruct (ident_eq x x); congruence.
+  - destruct (ident_eq x y) as [E|N]; simpl.
+    + destruct (ident_eq x y); congruence.
+    + destruct (ident_eq x y); [congruence|]. rewrite IH. reflexivity.
+Qed.
+
+Lemma append_inj: forall p a b, (p ++ a)%string = (p ++ b)%string -> a = b.
+Proof. induction p as [|c p IH]; simpl; intros a b H; [auto|]. inversion H; auto. Qed.
+
+Lemma temp_of_inj: forall a b, temp_of a = temp_of b -> a = b.
+Proof. intros a b H. exact (append_inj _ _ _ H). Qed.
+
+Section STMT.
+
+Context {CS : Type}.
+Variable ctx : ros_context CS.
+Variable ge : genv.
+
+Lemma exec_seq:
+  forall e le m w s1 s2 le1 m1 le2 m2,
+  exec_stmt ctx ge e le m w s1 [] le1 m1 w Out_normal ->
+  exec_stmt ctx ge e le1 m1 w s2 [] le2 m2 w Out_normal ->
+  exec_stmt ctx ge e le m w (Ssequence s1 s2) [] le2 m2 w Out_normal.
+Proof. intros. change (@nil event) with (@nil event ++ []). econstructor; eauto. Qed.
+
+Lemma exec_set:
+  forall le m w x a v, eval_expr ge [] le m a = Some v ->
+  exec_stmt ctx ge [] le m w (Sset x a) [] (set_assoc x v le) m w Out_normal.
+Proof. intros; constructor; auto. Qed.
+
+Lemma exec_if:
+  forall le m w c v b s1 s2 le' m',
+  eval_expr ge [] le m c = Some v -> bool_val v = Some b ->
+  exec_stmt ctx ge [] le m w (if b then s1 else s2) [] le' m' w Out_normal ->
+  exec_stmt ctx ge [] le m w (Sifthenelse c s1 s2) [] le' m' w Out_normal.
+Proof. intros; econstructor; eauto. Qed.
+
+Variable d : diagram.
+Variables (m : mem) (w : world CS) (s u : mval) (bu bs : block).
+Hypothesis HU : find_var ge (dg_in_var d) = Some (bu, Tstruct (dg_in_struct d)).
+Hypothesis HUm : exists ty, get_block m bu = Some (ty, u).
+Hypothesis Uty : forall f q, find_assoc f (dg_inputs d) = Some q ->
+  exists v, mval_get u [Sfield f] = Some (MVscalar v) /\ typed v q.
+Hypothesis HS : has_states d = true ->
+  find_var ge (dg_state_var d) = Some (bs, Tstruct (dg_state_struct d))
+  /\ exists ty, get_block m bs = Some (ty, s).
+Hypothesis Sty : forall st, In st (dg_states d) ->
+  exists v, mval_get s [Sfield (st_name st)] = Some (MVscalar v) /\ typed v (st_type st).
+
+(** The temporaries hold the signals of [tctx]. *)
+Definition temps_ok (tctx : list (ident * prim)) (env : senv) (le : temp_env) : Prop :=
+  forall x q, find_assoc x tctx = Some q ->
+  find_assoc (temp_of x) le = Some (sig env x) /\ typed (sig env x) q.
+
+Lemma ev_field:
+  forall le b x sid mv f q v,
+  find_var ge x = Some (b, Tstruct sid) -> (exists t, get_block m b = Some (t, mv)) ->
+  mval_get mv [Sfield f] = Some (MVscalar v) -> sig_prim q = true ->
+  eval_expr ge [] le m (Efield (Evar x (Tstruct sid)) f (ct q)) = Some v.
+Proof.
+  intros le b x sid mv f q v F [t G] M S. cbn.
+  rewrite F. unfold load_loc, load.
+  assert (SC: is_scalar_type (ct q) = true) by (destruct q; reflexivity).
+  rewrite SC. unfold load_path. rewrite G. simpl in M |- *. rewrite M. reflexivity.
+Qed.
+
+Lemma typeof_tmp: forall x q, typeof (tmp x q) = ct q.
+Proof. reflexivity. Qed.
+Lemma typeof_const: forall v q, typeof (const_expr v q) = ct q.
+Proof. intros [] q; reflexivity. Qed.
+Lemma typeof_arith: forall op q a b, typeof (arith_expr op q a b) = ct q.
+Proof. intros op q a b; unfold arith_expr; destruct (unsigned_of q); reflexivity. Qed.
+Lemma typeof_neg: forall q a, typeof (neg_expr q a) = ct q.
+Proof. intros q a; unfold neg_expr; destruct (unsigned_of q); reflexivity. Qed.
+
+Lemma has_type_spec:
+  forall tctx x q, has_type tctx x q = true -> find_assoc x tctx = Some q.
+Proof.
+  unfold has_type, sig_type. intros tctx x q H.
+  destruct (find_assoc x tctx) as [q'|]; [|discriminate].
+  apply prim_eqb_true in H. subst; reflexivity.
+Qed.
+
+Section BLOCK.
+
+Variables (tctx : list (ident * prim)) (env : senv) (le : temp_env).
+Hypothesis TOK : temps_ok tctx env le.
+
+Lemma tmp_ok: forall x q, has_type tctx x q = true ->
+  eval_expr ge [] le m (tmp x q) = Some (sig env x) /\ typed (sig env x) q.
+Proof.
+  intros x q H. apply has_type_spec in H. destruct (TOK x q H) as [A B].
+  split; auto.
+Qed.
+
+Lemma num_sig: forall q, num_prim q = true -> sig_prim q = true.
+Proof. intros q H. unfold num_prim in H. apply andb_true_iff in H. tauto. Qed.
+
+Lemma negate_typed: forall q a, num_prim q = true -> typed a q -> typed (negate q a) q.
+Proof.
+  intros q a N T. destruct q; simpl in N; try discriminate; typed_inv; simpl; try exact I;
+    unfold typed, ct; simpl; unfold norm_int, norm_long; simpl;
+    first [ exact (wrap_idem 32 Signed _ ltac:(lia)) | exact (wrap_idem 32 Unsigned _ ltac:(lia))
+          | exact (wrap_idem 64 Signed _ ltac:(lia)) | exact (wrap_idem 64 Unsigned _ ltac:(lia)) ].
+Qed.
+
+Lemma of_bool_typed: forall b, typed (of_bool b) Pbool.
+Proof. destruct b; reflexivity. Qed.
+
+Lemma of_bool_int: forall b, of_bool b = int_of_bool b.
+Proof. reflexivity. Qed.
+
+(** [Sum]: the fold of the terms. *)
+Lemma ev_sum:
+  forall q terms acc accv, num_prim q = true ->
+  forallb (fun t => has_type tctx (snd t) q) terms = true ->
+  eval_expr ge [] le m acc = Some accv -> typed accv q -> typeof acc = ct q ->
+  let r := fold_left (fun (a : val) (t : bool * ident) =>
+                        arith (if fst t then Aadd else Asub) q a (sig env (snd t))) terms accv in
+  eval_expr ge [] le m
+    (fold_left (fun (a : expr) (t : bool * ident) => arith_expr (if fst t then Aadd else Asub) q a (tmp (snd t) q))
+               terms acc) = Some r /\ typed r q.
+Proof.
+  intros q terms; induction terms as [|[p y] terms IH]; intros acc accv N F Ea Ta TA; simpl; auto.
+  simpl in F. apply andb_true_iff in F as [Fy F].
+  destruct (tmp_ok y q Fy) as [Ey Ty].
+  assert (D: (if p then Aadd else Asub) <> Adiv) by (destruct p; discriminate).
+  apply IH; auto.
+  - apply ev_arith; auto.
+  - apply arith_typed; auto.
+  - apply typeof_arith.
+Qed.
+
+Lemma state_type_In:
+  forall x q, state_type d x = Some q ->
+  exists st, In st (dg_states d) /\ st_name st = x /\ st_type st = q.
+Proof.
+  unfold state_type. intros x q H.
+  destruct (find (fun st => String.eqb (st_name st) x) (dg_states d)) as [st|] eqn:F; [|discriminate].
+  simpl in H. inversion H; subst. apply find_some in F as [I E].
+  apply String.eqb_eq in E. eauto.
+Qed.
+
+Lemma has_states_In: forall st, In st (dg_states d) -> has_states d = true.
+Proof. intros st I. unfold has_states. destruct (dg_states d); [contradiction | reflexivity]. Qed.
+
+(** [x := a; if (b < x) x = b; ...] computes the MinMax fold. *)
+Lemma exec_minmax:
+  forall (x : ident) (q : prim) (ismax : bool) (args : list ident) (xv : val),
+  num_prim q = true -> forallb (fun a => has_type tctx a q) args = true ->
+  find_assoc x tctx = None -> typed xv q ->
+  exec_stmt ctx ge [] (set_assoc (temp_of x) xv le) m w
+    (fold_right (fun (b : ident) (k : statement) => Ssequence
+       (Sifthenelse (cmp_expr (if ismax then Rgt else Rlt) q (tmp b q) (Etempvar (temp_of x) (ct q)))
+                    (Sset (temp_of x) (tmp b q)) Sskip) k) Sskip args)
+    [] (set_assoc (temp_of x)
+          (fold_left (fun (v : val) (b : ident) =>
+                        if compare (if ismax then Rgt else Rlt) q (sig env b) v then sig env b else v)
+                     args xv) le) m w Out_normal
+  /\ typed (fold_left (fun (v : val) (b : ident) =>
+                        if compare (if ismax then Rgt else Rlt) q (sig env b) v then sig env b else v)
+                     args xv) q.
+Proof.
+  intros x q ismax args; induction args as [|b args IH]; intros xv N F X T; simpl.
+  - split; auto. constructor.
+  - simpl in F. apply andb_true_iff in F as [Fb F].
+    destruct (tmp_ok b q Fb) as [Eb Tb].
+    assert (NE: temp_of b <> temp_of x).
+    { intros E. apply temp_of_inj in E. subst b. apply has_type_spec in Fb. congruence. }
+    assert (Eb': eval_expr ge [] (set_assoc (temp_of x) xv le) m (tmp b q) = Some (sig env b)).
+    { unfold tmp in *. cbn in Eb |- *. rewrite find_assoc_set_other by auto. exact Eb. }
+    assert (Ex: eval_expr ge [] (set_assoc (temp_of x) xv le) m (Etempvar (temp_of x) (ct q)) = Some xv).
+    { cbn. apply find_assoc_set_same. }
+    assert (Ec := ev_cmp ge (set_assoc (temp_of x) xv le) m (if ismax then Rgt else Rlt) q
+                    (tmp b q) (Etempvar (temp_of x) (ct q)) (sig env b) xv N Eb' Ex Tb T
+                    eq_refl eq_refl).
+    destruct (compare (if ismax then Rgt else Rlt) q (sig env b) xv) eqn:C.
+    + destruct (IH (sig env b) N F X Tb) as [IHe IHt].
+      split; [|exact IHt].
+      eapply exec_seq; [|exact IHe].
+      eapply exec_if; [exact Ec | apply bool_val_int_of_bool |]. simpl.
+      rewrite <- (set_assoc_twice _ (temp_of x) (sig env b) xv le).
+      apply exec_set; exact Eb'.
+    + destruct (IH xv N F X T) as [IHe IHt].
+      split; [|exact IHt].
+      eapply exec_seq; [|exact IHe].
+      eapply exec_if; [exact Ec | apply bool_val_int_of_bool |]. constructor.
+Qed.
+
+Lemma cast_bool_of_int:
+  forall b, sem_cast (int_of_bool b) (ct Pbool) = Some (of_bool b).
+Proof. destruct b; reflexivity. Qed.
+
+Lemma ev_cast_bool:
+  forall a b, eval_expr ge [] le m a = Some (int_of_bool b) ->
+  eval_expr ge [] le m (Ecast a (ct Pbool)) = Some (of_bool b).
+Proof. intros a b H. cbn. rewrite H. apply cast_bool_of_int. Qed.
+
+Lemma truth_ne0:
+  forall qc vc, sig_prim qc = true -> prim_eqb qc Pbool = false -> typed vc qc ->
+  sem_binop One (ct qc) vc (zero_of_prim qc) = Some (int_of_bool (truth vc)).
+Proof.
+  intros qc vc S B T. destruct qc; simpl in S, B; try discriminate; typed_inv; simpl.
+  - unfold int_binop. rewrite (in_range_of_norm 32 Signed x) by (auto; lia). simpl.
+    unfold truth; simpl. destruct (x =? 0); reflexivity.
+  - unfold int_binop. rewrite (in_range_of_norm 32 Unsigned x) by (auto; lia). simpl.
+    unfold truth; simpl. destruct (x =? 0); reflexivity.
+  - unfold int_binop. rewrite (in_range_of_norm 64 Signed x) by (auto; lia). simpl.
+    unfold truth; simpl. destruct (x =? 0); reflexivity.
+  - unfold int_binop. rewrite (in_range_of_norm 64 Unsigned x) by (auto; lia). simpl.
+    unfold truth; simpl. destruct (x =? 0); reflexivity.
+  - destruct x as [[]|[]|[] pl Hp|[] mx ex Hx]; reflexivity.
+  - destruct x as [[]|[]|[] pl Hp|[] mx ex Hx]; reflexivity.
+Qed.
+
+(** One equation: its statement sets the signal's temporary to the
+    block's output, a value of the signal's type. *)
+Lemma exec_eq:
+  forall x q b, block_ok d tctx b q = true -> find_assoc x tctx = None ->
+  exec_stmt ctx ge [] le m w (eq_stmt d (mkeq x q b)) []
+            (set_assoc (temp_of x) (eval_block s u env b q) le) m w Out_normal
+  /\ typed (eval_block s u env b q) q.
+Proof.
+  intros x q b OK X. unfold block_ok in OK. apply andb_true_iff in OK as [SQ OK].
+  destruct b as [f|f|c|k a|terms|a b|a b|a|ismax args|lo hi a|op qa a b|op args|crit qc thr a c b];
+    unfold eq_stmt; simpl eq_block; simpl eq_type; cbv zeta.
+  - (* Binport *)
+    destruct (find_assoc f (dg_inputs d)) as [q'|] eqn:F; [|discriminate].
+    apply prim_eqb_true in OK; subst q'.
+    destruct (Uty f q F) as [v [M T]].
+    assert (E: field_val u f = v) by (unfold field_val; rewrite M; reflexivity).
+    simpl. rewrite E. split; auto. apply exec_set. eapply ev_field; eauto.
+  - (* Bstate *)
+    destruct (state_type d f) as [q'|] eqn:F; [|discriminate].
+    apply prim_eqb_true in OK; subst q'.
+    destruct (state_type_In f q F) as [st [I [<- <-]]].
+    destruct (Sty st I) as [v [M T]].
+    destruct (HS (has_states_In st I)) as [FS GS].
+    assert (E: field_val s (st_name st) = v) by (unfold field_val; rewrite M; reflexivity).
+    simpl. rewrite E. split; auto. apply exec_set. eapply ev_field; eauto.
+  - (* Bconst *)
+    assert (T := val_of_prim_typed c q OK).
+    simpl. split; auto. apply exec_set. apply ev_const; auto.
+  - (* Bgain *)
+    apply andb_true_iff in OK as [OK Fa]. apply andb_true_iff in OK as [N Kt].
+    destruct (tmp_ok a q Fa) as [Ea Ta]. assert (Tk := val_of_prim_typed k q Kt).
+    simpl. split; [|apply arith_typed; auto; left; discriminate].
+    apply exec_set. apply ev_arith; auto;
+      first [ left; discriminate | apply typeof_const | apply ev_const; auto ].
+  - (* Bsum *)
+    apply andb_true_iff in OK as [OK F]. apply andb_true_iff in OK as [N L].
+    destruct terms as [|[p a] terms]; [discriminate|].
+    simpl in F. apply andb_true_iff in F as [Fa F].
+    destruct (tmp_ok a q Fa) as [Ea Ta].
+    assert (A0: eval_expr ge [] le m (if p then tmp a q else neg_expr q (tmp a q))
+                = Some (if p then sig env a else negate q (sig env a))
+                /\ typed (if p then sig env a else negate q (sig env a)) q
+                /\ typeof (if p then tmp a q else neg_expr q (tmp a q)) = ct q).
+    { destruct p.
+      - split; [exact Ea | split; [exact Ta | reflexivity]].
+      - split; [apply ev_neg; auto | split; [apply negate_typed; auto | apply typeof_neg]]. }
+    destruct A0 as [E0 [T0 Y0]].
+    destruct (ev_sum q terms _ _ N F E0 T0 Y0) as [E T].
+    simpl. split; auto. apply exec_set. exact E.
+  - (* Bproduct *)
+    apply andb_true_iff in OK as [OK Fb]. apply andb_true_iff in OK as [N Fa].
+    destruct (tmp_ok a q Fa) as [Ea Ta]. destruct (tmp_ok b q Fb) as [Eb Tb].
+    simpl. split; [|apply arith_typed; auto; left; discriminate].
+    apply exec_set. apply ev_arith; auto. left; discriminate.
+  - (* Bdivide *)
+    apply andb_true_iff in OK as [OK Fb]. apply andb_true_iff in OK as [Fl Fa].
+    assert (N: num_prim q = true) by (destruct q; simpl in Fl; try discriminate; reflexivity).
+    destruct (tmp_ok a q Fa) as [Ea Ta]. destruct (tmp_ok b q Fb) as [Eb Tb].
+    simpl. split; [|apply arith_typed; auto].
+    apply exec_set. apply ev_arith; auto.
+  - (* Babs *)
+    apply andb_true_iff in OK as [Fl Fa].
+    destruct (tmp_ok a q Fa) as [Ea Ta].
+    destruct q; simpl in Fl; try discriminate;
+      destruct (sig env a) eqn:SA; simpl in Ta; try contradiction; simpl; rewrite SA;
+      (split; [apply exec_set; cbn; cbn in Ea; rewrite Ea; reflexivity | exact I]).
+  - (* Bminmax *)
+    apply andb_true_iff in OK as [OK F]. apply andb_true_iff in OK as [N L].
+    destruct args as [|a args]; [discriminate|].
+    simpl in F. apply andb_true_iff in F as [Fa F].
+    destruct (tmp_ok a q Fa) as [Ea Ta].
+    destruct (exec_minmax x q ismax args (sig env a) N F X Ta) as [E T].
+    simpl. split; auto.
+    eapply exec_seq; [apply exec_set; exact Ea | exact E].
+  - (* Bsaturation *)
+    apply andb_true_iff in OK as [OK Fa]. apply andb_true_iff in OK as [OK Th].
+    apply andb_true_iff in OK as [N Tl].
+    assert (TL := val_of_prim_typed lo q Tl). assert (TH := val_of_prim_typed hi q Th).
+    assert (SP := SQ).
+    destruct (tmp_ok a q Fa) as [Ea Ta].
+    set (le1 := set_assoc (temp_of x) (sig env a) le).
+    assert (Ex: eval_expr ge [] le1 m (Etempvar (temp_of x) (ct q)) = Some (sig env a))
+      by (cbn; apply find_assoc_set_same).
+    assert (Eh := ev_const ge le1 m hi q SP TH). assert (El := ev_const ge le1 m lo q SP TL).
+    assert (C1 := ev_cmp ge le1 m Rgt q _ _ _ _ N Ex Eh Ta TH eq_refl (typeof_const hi q)).
+    assert (C2 := ev_cmp ge le1 m Rlt q _ _ _ _ N Ex El Ta TL eq_refl (typeof_const lo q)).
+    simpl. unfold saturate.
+    split; [| destruct (compare Rgt q (sig env a) hi); [auto|]; destruct (compare Rlt q (sig env a) lo); auto].
+    eapply exec_seq; [apply exec_set; exact Ea|]. fold le1.
+    eapply exec_if; [exact C1 | apply bool_val_int_of_bool |].
+    destruct (compare Rgt q (sig env a) hi).
+    + unfold le1. rewrite <- (set_assoc_twice _ (temp_of x) hi (sig env a) le).
+      apply exec_set. exact Eh.
+    + eapply exec_if; [exact C2 | apply bool_val_int_of_bool |].
+      destruct (compare Rlt q (sig env a) lo).
+      * unfold le1. rewrite <- (set_assoc_twice _ (temp_of x) lo (sig env a) le).
+        apply exec_set. exact El.
+      * constructor.
+  - (* Brelational *)
+    apply andb_true_iff in OK as [OK Fb]. apply andb_true_iff in OK as [OK Fa].
+    apply andb_true_iff in OK as [B N]. apply prim_eqb_true in B; subst q.
+    destruct (tmp_ok a qa Fa) as [Ea Ta]. destruct (tmp_ok b qa Fb) as [Eb Tb].
+    simpl. split; [|apply of_bool_typed].
+    apply exec_set. apply ev_cast_bool. apply ev_cmp; auto.
+  - (* Blogical *)
+    apply andb_true_iff in OK as [OK Sh]. apply andb_true_iff in OK as [B F].
+    apply prim_eqb_true in B; subst q.
+    simpl. split; [|apply of_bool_typed].
+    apply exec_set. apply ev_cast_bool. apply ev_logic.
+    + clear Sh. induction args as [|a args IH]; simpl; constructor.
+      * simpl in F. apply andb_true_iff in F as [Fa _].
+        destruct (tmp_ok a Pbool Fa) as [Ea Ta]. split; [apply ev_truth; auto | reflexivity].
+      * simpl in F. apply andb_true_iff in F as [_ F]. auto.
+    + destruct op, args as [|a1 [|a2 args]]; simpl in Sh |- *; try discriminate; exact I.
+  - (* Bswitch *)
+    apply andb_true_iff in OK as [OK Cr]. apply andb_true_iff in OK as [OK Fc].
+    apply andb_true_iff in OK as [Fa Fb].
+    destruct (tmp_ok a q Fa) as [Ea Ta]. destruct (tmp_ok b q Fb) as [Eb Tb].
+    destruct (tmp_ok c qc Fc) as [Ec Tc].
+    assert (Cond: eval_expr ge [] le m (switch_cond crit qc thr (tmp c qc))
+                  = Some (int_of_bool (match crit with
+                                       | Cge => compare Rge qc (sig env c) thr
+                                       | Cgt => compare Rgt qc (sig env c) thr
+                                       | Cne0 => truth (sig env c)
+                                       end))).
+    { destruct crit; simpl.
+      - apply andb_true_iff in Cr as [N Tt]. assert (TT := val_of_prim_typed thr qc Tt).
+        apply ev_cmp; auto.
+        + apply ev_const; auto. apply num_sig; auto.
+        + apply typeof_const.
+      - apply andb_true_iff in Cr as [N Tt]. assert (TT := val_of_prim_typed thr qc Tt).
+        apply ev_cmp; auto.
+        + apply ev_const; auto. apply num_sig; auto.
+        + apply typeof_const.
+      - destruct (prim_eqb qc Pbool) eqn:B.
+        + apply prim_eqb_true in B; subst qc. apply ev_truth; auto.
+        + cbn - [sem_binop]. unfold tmp in Ec. cbn in Ec. rewrite Ec.
+          assert (Z: eval_expr ge [] le m (const_expr (zero_of_prim qc) qc) = Some (zero_of_prim qc)).
+          { apply ev_const; auto. destruct qc; simpl in B, Cr |- *; try discriminate; reflexivity. }
+          rewrite Z. rewrite typeof_const.
+          assert (BT: binop_type One (ct qc) = Some tint).
+          { unfold binop_type. destruct qc; simpl in Cr, B |- *; try discriminate; reflexivity. }
+          rewrite BT, !type_eqb_refl. simpl.
+          apply truth_ne0; auto. }
+    simpl.
+    destruct (match crit with
+              | Cge => compare Rge qc (sig env c) thr
+              | Cgt => compare Rgt qc (sig env c) thr
+              | Cne0 => truth (sig env c)
+              end) eqn:P;
+      (split; [eapply exec_if; [exact Cond | apply bool_val_int_of_bool | apply exec_set; auto] | auto]).
+Qed.
+
+End BLOCK.
+
+End STMT.
