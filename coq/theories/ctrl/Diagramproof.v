@@ -17,7 +17,7 @@
 
 From Coq Require Import String List ZArith Bool Lia.
 From Flocq Require Import IEEE754.Binary.
-From ROSGen Require Import FloatOps Syntax Values Operators Memory Environment Semantics
+From ROSGen Require Import Maps FloatOps Syntax Values Operators Memory Environment Semantics
                            NodeModel Diagram Diagramgen.
 Import ListNotations.
 Local Open Scope Z_scope.
@@ -404,17 +404,27 @@ Definition temps_ok (tctx : list (ident * prim)) (env : senv) (le : temp_env) : 
   forall x q, find_assoc x tctx = Some q ->
   find_assoc (temp_of x) le = Some (sig env x) /\ typed (sig env x) q.
 
+Lemma ev_field_mem:
+  forall mm le b x sid mv f q v,
+  find_var ge x = Some (b, Tstruct sid) -> (exists t, get_block mm b = Some (t, mv)) ->
+  mval_get mv [Sfield f] = Some (MVscalar v) -> sig_prim q = true ->
+  eval_expr ge [] le mm (Efield (Evar x (Tstruct sid)) f (ct q)) = Some v.
+Proof.
+  intros mm le b x sid mv f q v F [t G] M S. cbn.
+  rewrite F. unfold load_loc, load.
+  assert (SC: is_scalar_type (ct q) = true) by (destruct q; reflexivity).
+  rewrite SC. unfold load_path. rewrite G. simpl in M |- *. rewrite M. reflexivity.
+Qed.
+
 Lemma ev_field:
   forall le b x sid mv f q v,
   find_var ge x = Some (b, Tstruct sid) -> (exists t, get_block m b = Some (t, mv)) ->
   mval_get mv [Sfield f] = Some (MVscalar v) -> sig_prim q = true ->
   eval_expr ge [] le m (Efield (Evar x (Tstruct sid)) f (ct q)) = Some v.
-Proof.
-  intros le b x sid mv f q v F [t G] M S. cbn.
-  rewrite F. unfold load_loc, load.
-  assert (SC: is_scalar_type (ct q) = true) by (destruct q; reflexivity).
-  rewrite SC. unfold load_path. rewrite G. simpl in M |- *. rewrite M. reflexivity.
-Qed.
+Proof. intros; eapply ev_field_mem; eauto. Qed.
+
+Lemma tmp_any_mem: forall le mm mm' x q, eval_expr ge [] le mm (tmp x q) = eval_expr ge [] le mm' (tmp x q).
+Proof. reflexivity. Qed.
 
 Lemma typeof_tmp: forall x q, typeof (tmp x q) = ct q.
 Proof. reflexivity. Qed.
@@ -719,5 +729,260 @@ Proof.
 Qed.
 
 End BLOCK.
+
+Lemma find_assoc_none_of_not_in:
+  forall (A : Type) x (l : list (ident * A)), in_ident x (map fst l) = false -> find_assoc x l = None.
+Proof.
+  intros A x l H. destruct (find_assoc x l) eqn:F; auto.
+  apply find_assoc_In in F. assert (I: In x (map fst l)) by (apply (in_map fst _ _ F)).
+  apply in_ident_spec in I. congruence.
+Qed.
+
+(** The equations in order: the temporaries end holding every signal. *)
+Lemma exec_eqs:
+  forall eqs tctx env le tctx',
+  eqs_ok d tctx eqs = Some tctx' -> temps_ok tctx env le ->
+  exists le',
+     exec_stmt ctx ge [] le m w (seq_list (map (eq_stmt d) eqs)) [] le' m w Out_normal
+  /\ temps_ok tctx' (eval_eqs s u env eqs) le'.
+Proof.
+  induction eqs as [|[x q b] eqs IH]; intros tctx env le tctx' OK TOK; simpl in OK |- *.
+  - inversion OK; subst. exists le; split; auto. constructor.
+  - destruct (block_ok d tctx b q && negb (in_ident x (map fst tctx))) eqn:B; [|discriminate].
+    apply andb_true_iff in B as [B N]. apply negb_true_iff in N.
+    assert (X := find_assoc_none_of_not_in _ _ _ N).
+    destruct (exec_eq tctx env le TOK x q b B X) as [E T].
+    set (v := eval_block s u env b q) in *.
+    assert (TOK': temps_ok ((x, q) :: tctx) ((x, v) :: env) (set_assoc (temp_of x) v le)).
+    { intros y qy Fy. simpl in Fy. unfold sig; simpl.
+      destruct (string_dec y x) as [->|NE].
+      - inversion Fy; subst. rewrite find_assoc_set_same. split; auto.
+      - rewrite find_assoc_set_other by (intros Ex; apply temp_of_inj in Ex; congruence).
+        exact (TOK y qy Fy). }
+    destruct (IH _ _ _ _ OK TOK') as [le' [E' T']].
+    exists le'. split; auto. eapply exec_seq; eauto.
+Qed.
+
+(** ** Stores into a field of a global struct *)
+
+(** The memory after storing [v] into field [f] of block [b]. *)
+Definition store_field (mm : mem) (b : Values.block) (ty : type) (fs : list (ident * mval)) (f : ident) (v : val) : mem :=
+  mkmem (pset b (ty, MVstruct (set_field f (MVscalar v) fs)) (mem_contents mm)) (mem_next mm).
+
+Lemma get_store_field_same:
+  forall mm b ty fs f v, get_block (store_field mm b ty fs f v) b = Some (ty, MVstruct (set_field f (MVscalar v) fs)).
+Proof. intros; unfold store_field, get_block; simpl; apply pgss. Qed.
+
+Lemma get_store_field_other:
+  forall mm b ty fs f v b', b' <> b -> get_block (store_field mm b ty fs f v) b' = get_block mm b'.
+Proof. intros; unfold store_field, get_block; simpl; apply pgso; auto. Qed.
+
+Lemma exec_store_field:
+  forall le mm X b sid ty fs f old e v q,
+  find_var ge X = Some (b, Tstruct sid) -> get_block mm b = Some (ty, MVstruct fs) ->
+  find_assoc f fs = Some old -> eval_expr ge [] le mm e = Some v -> typed v q ->
+  exec_stmt ctx ge [] le mm w (Sassign (Efield (Evar X (Tstruct sid)) f (ct q)) e) []
+            le (store_field mm b ty fs f v) w Out_normal.
+Proof.
+  intros le mm X b sid ty fs f old e v q F G O E T. constructor.
+  unfold eval_assign. cbn - [store]. rewrite F.
+  assert (NS: match ct q with Tstruct _ => False | _ => True end) by (destruct q; exact I).
+  destruct (ct q) eqn:CQ; try contradiction;
+    rewrite E; unfold store; rewrite <- CQ, sem_cast_same by exact T;
+    unfold store_path; rewrite G; simpl; rewrite O; reflexivity.
+Qed.
+
+Lemma set_field_keeps:
+  forall f g v fs, (exists o, find_assoc g fs = Some o) -> exists o', find_assoc g (set_field f v fs) = Some o'.
+Proof.
+  intros f g v fs [o H]. destruct (string_dec g f) as [->|N].
+  - exists v. eapply find_assoc_set_field_same; eauto.
+  - exists o. rewrite find_assoc_set_field_other; auto.
+Qed.
+
+(** Storing fields [l] in order into [fs] with the same names, each
+    once, gives [l]. *)
+Lemma fold_set_fields_skip:
+  forall (l : list (ident * mval)) h rest, ~ In (fst h) (map fst l) ->
+  fold_left (fun acc fv => set_field (fst fv) (snd fv) acc) l (h :: rest)
+  = h :: fold_left (fun acc fv => set_field (fst fv) (snd fv) acc) l rest.
+Proof.
+  induction l as [|[f v] l IH]; intros [g o] rest N; simpl in *; auto.
+  destruct (ident_eq f g) as [E|E]; [subst; tauto|].
+  apply IH. simpl. tauto.
+Qed.
+
+Lemma fold_set_fields:
+  forall (l : list (ident * mval)) fs, map fst l = map fst fs -> NoDup (map fst l) ->
+  fold_left (fun acc fv => set_field (fst fv) (snd fv) acc) l fs = l.
+Proof.
+  induction l as [|[f v] l IH]; intros fs M N; destruct fs as [|[g o] fs]; simpl in *;
+    try discriminate; auto.
+  inversion M; subst g. inversion N as [|? ? NI N']; subst.
+  destruct (ident_eq f f) as [_|E]; [|congruence].
+  rewrite fold_set_fields_skip by (simpl; auto). f_equal. apply IH; auto.
+Qed.
+
+Section STORES.
+
+Variables (tctx : list (ident * prim)) (env : senv) (le : temp_env).
+Hypothesis TOK : temps_ok tctx env le.
+Variables (by_ : Values.block) (tyY : type).
+Hypothesis HY : find_var ge (dg_out_var d) = Some (by_, Tstruct (dg_out_struct d)).
+
+Definition out_val (f : ident) : val :=
+  match find_assoc f (dg_outs d) with Some x => sig env x | None => Vundef end.
+
+Lemma exec_outs:
+  forall L fs mm,
+  get_block mm by_ = Some (tyY, MVstruct fs) ->
+  (forall fq, In fq L -> exists o, find_assoc (fst fq) fs = Some o) ->
+  (forall fq, In fq L -> exists x, find_assoc (fst fq) (dg_outs d) = Some x /\ has_type tctx x (snd fq) = true) ->
+  exists mm',
+     exec_stmt ctx ge [] le mm w (seq_list (map (out_stmt d) L)) [] le mm' w Out_normal
+  /\ get_block mm' by_ = Some (tyY, MVstruct (fold_left (fun acc fv => set_field (fst fv) (snd fv) acc)
+                                              (map (fun fq => (fst fq, MVscalar (out_val (fst fq)))) L) fs))
+  /\ (forall b', b' <> by_ -> get_block mm' b' = get_block mm b')
+  /\ mem_next mm' = mem_next mm.
+Proof.
+  induction L as [|[f q] L IH]; intros fs mm G Ex Src; simpl.
+  - exists mm. repeat split; auto. constructor.
+  - destruct (Ex (f, q) (or_introl eq_refl)) as [o O].
+    destruct (Src (f, q) (or_introl eq_refl)) as [x [Fx Tx]]. simpl in Fx, Tx.
+    destruct (tmp_ok tctx env le TOK x q Tx) as [E T].
+    set (mm1 := store_field mm by_ tyY fs f (sig env x)).
+    assert (E1: exec_stmt ctx ge [] le mm w (out_stmt d (f, q)) [] le mm1 w Out_normal).
+    { unfold out_stmt. rewrite Fx. eapply exec_store_field; eauto. }
+    destruct (IH (set_field f (MVscalar (sig env x)) fs) mm1) as [mm' [E' [G' [O' N']]]].
+    + apply get_store_field_same.
+    + intros fq I. apply set_field_keeps. apply Ex. simpl; auto.
+    + intros fq I. apply Src. simpl; auto.
+    + exists mm'. split; [eapply exec_seq; eauto|].
+      assert (OV: out_val f = sig env x) by (unfold out_val; rewrite Fx; reflexivity).
+      rewrite OV. split; [exact G'|]. split.
+      * intros b' N. rewrite O' by auto. apply get_store_field_other; auto.
+      * rewrite N'. reflexivity.
+Qed.
+
+End STORES.
+
+Lemma set_field_twice:
+  forall f v v' fs, set_field f v (set_field f v' fs) = set_field f v fs.
+Proof.
+  induction fs as [|[g o] fs IH]; simpl; auto.
+  destruct (ident_eq f g) as [E|E]; simpl.
+  - destruct (ident_eq f g); congruence.
+  - destruct (ident_eq f g); [congruence|]. rewrite IH; reflexivity.
+Qed.
+
+Section STATES.
+
+Variables (tctx : list (ident * prim)) (env : senv) (le : temp_env).
+Hypothesis TOK : temps_ok tctx env le.
+Hypothesis HSv : find_var ge (dg_state_var d) = Some (bs, Tstruct (dg_state_struct d)).
+Variable tyS : type.
+
+(** One state update, from a block whose member [st_name st] still
+    holds the state's value in [s]. *)
+Lemma exec_update:
+  forall st fs mm, state_ok tctx st = true ->
+  get_block mm bs = Some (tyS, MVstruct fs) ->
+  find_assoc (st_name st) fs = Some (MVscalar (field_val s (st_name st))) ->
+  typed (field_val s (st_name st)) (st_type st) ->
+  exists mm',
+     exec_stmt ctx ge [] le mm w (update_stmt d st) [] le mm' w Out_normal
+  /\ get_block mm' bs = Some (tyS, MVstruct (set_field (st_name st) (MVscalar (next_state s env st)) fs))
+  /\ (forall b', b' <> bs -> get_block mm' b' = get_block mm b')
+  /\ mem_next mm' = mem_next mm.
+Proof.
+  intros [x q init inp kind] fs mm OK G O Tx. unfold state_ok in OK; simpl in *.
+  apply andb_true_iff in OK as [OK K]. apply andb_true_iff in OK as [OK Fi].
+  apply andb_true_iff in OK as [SQ Ti].
+  destruct (tmp_ok tctx env le TOK inp q Fi) as [Ei TIi].
+  unfold update_stmt, next_state, state_lv; simpl.
+  destruct kind as [|kt lim].
+  - exists (store_field mm bs tyS fs x (sig env inp)). split; [eapply exec_store_field; eauto|].
+    split; [apply get_store_field_same|]. split; [intros; apply get_store_field_other; auto|reflexivity].
+  - apply andb_true_iff in K as [K L]. apply andb_true_iff in K as [Fl Tk].
+    assert (N: num_prim q = true) by (destruct q; simpl in Fl; try discriminate; reflexivity).
+    assert (TK := val_of_prim_typed kt q Tk).
+    set (xs := field_val s x) in *.
+    set (y := arith Aadd q xs (arith Amul q kt (sig env inp))).
+    assert (Ex: forall mm0 fs0, get_block mm0 bs = Some (tyS, MVstruct fs0) ->
+                  find_assoc x fs0 = Some (MVscalar xs) ->
+                  eval_expr ge [] le mm0 (Efield (Evar (dg_state_var d) (Tstruct (dg_state_struct d))) x (ct q))
+                  = Some xs).
+    { intros mm0 fs0 G0 O0. eapply ev_field_mem; eauto. simpl. rewrite O0. reflexivity. }
+    assert (Ei': eval_expr ge [] le mm (tmp inp q) = Some (sig env inp))
+      by (rewrite (tmp_any_mem le mm m); exact Ei).
+    assert (Ey: eval_expr ge [] le mm (arith_expr Aadd q (Efield (Evar (dg_state_var d) (Tstruct (dg_state_struct d))) x (ct q))
+                                         (arith_expr Amul q (const_expr kt q) (tmp inp q))) = Some y).
+    { apply ev_arith; auto;
+        first [ left; discriminate | apply typeof_arith | reflexivity | (eapply Ex; eauto)
+              | (apply arith_typed; auto; left; discriminate)
+              | (apply ev_arith; auto; first [left; discriminate | apply ev_const; auto | apply typeof_const]) ]. }
+    assert (Ty: typed y q)
+      by (apply arith_typed; auto; first [left; discriminate | apply arith_typed; auto; left; discriminate]).
+    set (mm1 := store_field mm bs tyS fs x y).
+    assert (E1 := exec_store_field le mm _ _ _ _ fs x _ _ y q HSv G O Ey Ty).
+    destruct lim as [[lo hi]|].
+    + apply andb_true_iff in L as [Tl Th].
+      assert (TL := val_of_prim_typed lo q Tl). assert (TH := val_of_prim_typed hi q Th).
+      assert (G1 := get_store_field_same mm bs tyS fs x y). fold mm1 in G1.
+      assert (O1: find_assoc x (set_field x (MVscalar y) fs) = Some (MVscalar y))
+        by (eapply find_assoc_set_field_same; eauto).
+      assert (Ex1: eval_expr ge [] le mm1 (Efield (Evar (dg_state_var d) (Tstruct (dg_state_struct d))) x (ct q)) = Some y).
+      { eapply ev_field_mem; eauto. simpl. rewrite O1. reflexivity. }
+      assert (C1 := ev_cmp ge le mm1 Rgt q _ _ _ _ N Ex1 (ev_const ge le mm1 hi q SQ TH) Ty TH eq_refl (typeof_const hi q)).
+      assert (C2 := ev_cmp ge le mm1 Rlt q _ _ _ _ N Ex1 (ev_const ge le mm1 lo q SQ TL) Ty TL eq_refl (typeof_const lo q)).
+      unfold saturate. fold y.
+      destruct (compare Rgt q y hi) eqn:CH.
+      * exists (store_field mm1 bs tyS (set_field x (MVscalar y) fs) x hi).
+        split; [eapply exec_seq; [exact E1|]; eapply exec_if; [exact C1 | apply bool_val_int_of_bool |];
+                eapply exec_store_field; eauto; apply ev_const; auto|].
+        rewrite get_store_field_same, set_field_twice. split; [reflexivity|].
+        split; [intros; rewrite get_store_field_other by auto; apply get_store_field_other; auto | reflexivity].
+      * destruct (compare Rlt q y lo) eqn:CL.
+        -- exists (store_field mm1 bs tyS (set_field x (MVscalar y) fs) x lo).
+           split; [eapply exec_seq; [exact E1|]; eapply exec_if; [exact C1 | apply bool_val_int_of_bool |];
+                   eapply exec_if; [exact C2 | apply bool_val_int_of_bool |];
+                   eapply exec_store_field; eauto; apply ev_const; auto|].
+           rewrite get_store_field_same, set_field_twice. split; [reflexivity|].
+           split; [intros; rewrite get_store_field_other by auto; apply get_store_field_other; auto | reflexivity].
+        -- exists mm1.
+           split; [eapply exec_seq; [exact E1|]; eapply exec_if; [exact C1 | apply bool_val_int_of_bool |];
+                   eapply exec_if; [exact C2 | apply bool_val_int_of_bool |]; constructor|].
+           split; [exact G1|]. split; [intros; apply get_store_field_other; auto | reflexivity].
+    + exists mm1. split; [eapply exec_seq; [exact E1 | constructor]|].
+      split; [apply get_store_field_same|]. split; [intros; apply get_store_field_other; auto|reflexivity].
+Qed.
+
+Lemma exec_states:
+  forall L fs mm,
+  (forall st, In st L -> state_ok tctx st = true) -> NoDup (map st_name L) ->
+  get_block mm bs = Some (tyS, MVstruct fs) ->
+  (forall st, In st L -> find_assoc (st_name st) fs = Some (MVscalar (field_val s (st_name st)))
+                        /\ typed (field_val s (st_name st)) (st_type st)) ->
+  exists mm',
+     exec_stmt ctx ge [] le mm w (seq_list (map (update_stmt d) L)) [] le mm' w Out_normal
+  /\ get_block mm' bs = Some (tyS, MVstruct (fold_left (fun acc fv => set_field (fst fv) (snd fv) acc)
+                            (map (fun st => (st_name st, MVscalar (next_state s env st))) L) fs))
+  /\ (forall b', b' <> bs -> get_block mm' b' = get_block mm b')
+  /\ mem_next mm' = mem_next mm.
+Proof.
+  induction L as [|st L IH]; intros fs mm OK ND G V; simpl.
+  - exists mm. repeat split; auto. constructor.
+  - inversion ND as [|? ? NI ND']; subst.
+    destruct (V st (or_introl eq_refl)) as [O T].
+    destruct (exec_update st fs mm (OK st (or_introl eq_refl)) G O T) as [mm1 [E1 [G1 [U1 N1]]]].
+    destruct (IH _ mm1 (fun st' I => OK st' (or_intror I)) ND' G1) as [mm' [E' [G' [U' N']]]].
+    + intros st' I. destruct (V st' (or_intror I)) as [O' T']. split; auto.
+      rewrite find_assoc_set_field_other; auto.
+      intros Eq. apply NI. rewrite <- Eq. apply in_map; auto.
+    + exists mm'. split; [eapply exec_seq; eauto|]. split; [exact G'|].
+      split; [intros; rewrite U', U1; auto | congruence].
+Qed.
+
+End STATES.
 
 End STMT.
