@@ -32,6 +32,7 @@ From ROSGen Require Import Errors Maps FloatBits.
 From ROSGen Require Import Syntax Values Operators Memory Environment Semantics Typing Interp.
 From ROSGen Require Import NodeModel ModelText Wellformed Generator Generatorspec Generatorproof DDC.
 From ROSGen Require FloatOps Loopproof Glueproof Interpproof.
+From ROSGen Require Diagram Diagramgen Diagramproof.
 Import ListNotations.
 
 (** ** T1: every generated function meets its specification *)
@@ -271,6 +272,75 @@ Theorem run_trace_exact:
   forall (CS : Type) (ctx : ros_context CS) fuel p n t t',
   run_trace fuel p ctx n = Some t -> program_behaves p ctx n t' -> t' = t.
 Proof. exact Interpproof.run_trace_exact. Qed.
+
+(** ** The controller: block diagrams (DESIGN.md rule 4.11) *)
+
+(** A well-formed block diagram [d] ([Diagram.dg_wf]) means a stream
+    function: [Diagram.dg_init] is its initial state, [Diagram.dg_step d s
+    u] its next state and outputs from state [s] and inputs [u], with
+    IEEE 754 arithmetic and two's complement wrap-around.  The generated
+    [Controller_step] ([Diagramgen.step_function d]) computes exactly that:
+    called in any global environment where the inputs global
+    ([Controller_U]) holds inputs [u] whose fields have their types, the
+    outputs global ([Controller_Y]) holds a struct of its fields, and the
+    state global ([Controller_DW], when the diagram has states) holds the
+    state [s], a struct of one value of its type per state, it
+    terminates, emits no event, leaves the world as it was, and ends with
+    the outputs global holding the outputs and the state global the next
+    state that [dg_step] gives, every other block unchanged.  Since the
+    semantics is deterministic ([semantics_determ]), this is the only
+    run. *)
+Theorem controller_step_correct:
+  forall (CS : Type) (ctx : ros_context CS) (ge : genv) (d : Diagram.diagram) (m : mem) (w : world CS)
+         (s u : mval) (bu bs by_ : Values.block) (tyU tyY tyS : type)
+         (fsY sfs : list (ident * mval)),
+  Diagram.dg_wf d = true ->
+  find_var ge (Diagram.dg_in_var d) = Some (bu, Tstruct (Diagram.dg_in_struct d)) ->
+  get_block m bu = Some (tyU, u) ->
+  (forall f q, find_assoc f (Diagram.dg_inputs d) = Some q ->
+     exists v, mval_get u [Sfield f] = Some (MVscalar v) /\ val_has_type v (ctype_of_prim q)) ->
+  find_var ge (Diagram.dg_out_var d) = Some (by_, Tstruct (Diagram.dg_out_struct d)) ->
+  get_block m by_ = Some (tyY, MVstruct fsY) -> map fst fsY = map fst (Diagram.dg_outputs d) ->
+  (Diagramgen.has_states d = true ->
+     find_var ge (Diagram.dg_state_var d) = Some (bs, Tstruct (Diagram.dg_state_struct d))
+     /\ get_block m bs = Some (tyS, s) /\ by_ <> bs) ->
+  s = MVstruct sfs -> map fst sfs = map Diagram.st_name (Diagram.dg_states d) ->
+  (forall st, In st (Diagram.dg_states d) ->
+     exists v, mval_get s [Sfield (Diagram.st_name st)] = Some (MVscalar v)
+               /\ val_has_type v (ctype_of_prim (Diagram.st_type st))) ->
+  exists m',
+     eval_funcall ctx ge m w (Internal (Diagramgen.step_function d)) [] [] m' w Vundef
+  /\ get_block m' by_ = Some (tyY, snd (Diagram.dg_step d s u))
+  /\ (Diagramgen.has_states d = true -> get_block m' bs = Some (tyS, fst (Diagram.dg_step d s u)))
+  /\ (forall b', b' <> by_ -> (Diagramgen.has_states d = true -> b' <> bs) -> get_block m' b' = get_block m b')
+  /\ mem_next m' = mem_next m.
+Proof.
+  intros CS ctx ge d m w s u bu bs by_ tyU tyY tyS fsY sfs WF HU GU Uty HY GY NY HS SF NS Sty.
+  eapply (Diagramproof.step_call ctx ge d m w s u bu bs HU (ex_intro _ tyU GU) Uty); eauto.
+  - intros H; destruct (HS H) as [A [B _]]; eauto.
+  - intros H; destruct (HS H) as [_ [B _]]; eauto.
+  - intros H; destruct (HS H) as [_ [_ C]]; eauto.
+Qed.
+
+(** [Controller_initialize] ([Diagramgen.init_function d]) stores the
+    diagram's initial state [Diagram.dg_init d] into the state global, and
+    changes no other block. *)
+Theorem controller_init_correct:
+  forall (CS : Type) (ctx : ros_context CS) (ge : genv) (d : Diagram.diagram) (m : mem) (w : world CS)
+         (bs : Values.block) (tyS : type) (sfs0 : list (ident * mval)),
+  Diagram.dg_wf d = true -> Diagramgen.has_states d = true ->
+  find_var ge (Diagram.dg_state_var d) = Some (bs, Tstruct (Diagram.dg_state_struct d)) ->
+  get_block m bs = Some (tyS, MVstruct sfs0) -> map fst sfs0 = map Diagram.st_name (Diagram.dg_states d) ->
+  exists m',
+     eval_funcall ctx ge m w (Internal (Diagramgen.init_function d)) [] [] m' w Vundef
+  /\ get_block m' bs = Some (tyS, Diagram.dg_init d)
+  /\ (forall b', b' <> bs -> get_block m' b' = get_block m b')
+  /\ mem_next m' = mem_next m.
+Proof.
+  intros CS ctx ge d m w bs tyS sfs0 WF H HSv G N.
+  apply (Diagramproof.init_call ctx ge d m w (MVstruct sfs0) bs) with (tyS := tyS) (sfs0 := sfs0); auto.
+  intros _. split; eauto.
+Qed.
 
 (** ** The semantics *)
 

@@ -985,4 +985,154 @@ Qed.
 
 End STATES.
 
+(** ** The step function *)
+
+Section CALL.
+
+Variables (by_ : Values.block) (tyY tyS : type) (fsY sfs : list (ident * mval)).
+Hypothesis WF : dg_wf d = true.
+Hypothesis HY : find_var ge (dg_out_var d) = Some (by_, Tstruct (dg_out_struct d)).
+Hypothesis GY : get_block m by_ = Some (tyY, MVstruct fsY).
+Hypothesis NY : map fst fsY = map fst (dg_outputs d).
+Hypothesis GS : has_states d = true -> get_block m bs = Some (tyS, s).
+Hypothesis SF : s = MVstruct sfs.
+Hypothesis NS : map fst sfs = map st_name (dg_states d).
+Hypothesis DYS : has_states d = true -> by_ <> bs.
+
+Lemma dg_wf_inv:
+  exists tctx, eqs_ok d [] (dg_eqs d) = Some tctx
+  /\ forallb (state_ok tctx) (dg_states d) = true /\ outs_ok d tctx = true
+  /\ NoDup (map st_name (dg_states d)) /\ NoDup (map fst (dg_outputs d)).
+Proof.
+  unfold dg_wf in WF. destruct (eqs_ok d [] (dg_eqs d)) as [tctx|] eqn:EQ; [|discriminate].
+  exists tctx. split; auto.
+  apply andb_true_iff in WF as [WF _]. apply andb_true_iff in WF as [WF _].
+  apply andb_true_iff in WF as [WF _]. apply andb_true_iff in WF as [WF _].
+  apply andb_true_iff in WF as [WF _]. apply andb_true_iff in WF as [WF _].
+  apply andb_true_iff in WF as [WF No]. apply andb_true_iff in WF as [WF _].
+  apply andb_true_iff in WF as [WF Ns]. apply andb_true_iff in WF as [Fs Oo].
+  apply nodup_idents_spec in No. apply nodup_idents_spec in Ns. tauto.
+Qed.
+
+Lemma step_call:
+  exists m',
+     eval_funcall ctx ge m w (Internal (step_function d)) [] [] m' w Vundef
+  /\ get_block m' by_ = Some (tyY, snd (dg_step d s u))
+  /\ (has_states d = true -> get_block m' bs = Some (tyS, fst (dg_step d s u)))
+  /\ (forall b', b' <> by_ -> (has_states d = true -> b' <> bs) -> get_block m' b' = get_block m b')
+  /\ mem_next m' = mem_next m.
+Proof.
+  destruct dg_wf_inv as [tctx [EQ [FS [OO [NDS NDO]]]]].
+  set (le0 := create_undef_temps (map (fun e => (temp_of (eq_sig e), ct (eq_type e))) (dg_eqs d))).
+  assert (T0: temps_ok [] [] le0) by (intros x q F; discriminate).
+  destruct (exec_eqs (dg_eqs d) [] [] le0 tctx EQ T0) as [le1 [E1 T1]].
+  set (env := eval_eqs s u [] (dg_eqs d)) in T1.
+  (* the outputs *)
+  destruct (exec_outs tctx env le1 T1 by_ tyY HY (dg_outputs d) fsY m GY) as [m2 [E2 [G2 [U2 N2]]]].
+  { intros fq I. assert (IF: In (fst fq) (map fst fsY)) by (rewrite NY; apply in_map; auto).
+    apply in_map_iff in IF as [[f o] [Ef If]]. simpl in Ef; subst f. exists o.
+    apply In_find_assoc; auto. rewrite NY. exact NDO. }
+  { intros fq I. unfold outs_ok in OO.
+    apply andb_true_iff in OO as [_ OO]. rewrite forallb_forall in OO. specialize (OO fq I).
+    destruct (find_assoc (fst fq) (dg_outs d)) as [x|]; [eauto | discriminate]. }
+  (* the states *)
+  assert (ST: exists m3,
+     exec_stmt ctx ge [] le1 m2 w (seq_list (map (update_stmt d) (dg_states d))) [] le1 m3 w Out_normal
+  /\ (has_states d = true -> get_block m3 bs = Some (tyS, state_value d (next_state s env)))
+  /\ (forall b', (has_states d = true -> b' <> bs) -> get_block m3 b' = get_block m2 b')
+  /\ mem_next m3 = mem_next m2).
+  { destruct (has_states d) eqn:H.
+    - destruct (HS eq_refl) as [HSv _].
+      assert (G2S: get_block m2 bs = Some (tyS, MVstruct sfs)).
+      { rewrite U2 by (apply not_eq_sym; apply DYS; auto). rewrite <- SF. apply GS; auto. }
+      destruct (exec_states tctx env le1 T1 HSv tyS (dg_states d) sfs m2) as [m3 [E3 [G3 [U3 N3]]]]; auto.
+      + intros st I. rewrite forallb_forall in FS. auto.
+      + intros st I. destruct (Sty st I) as [v [M T]].
+        assert (FV: field_val s (st_name st) = v) by (unfold field_val; rewrite M; reflexivity).
+        rewrite FV. split; auto. rewrite SF in M. simpl in M.
+        destruct (find_assoc (st_name st) sfs) as [[]|]; simpl in M; congruence.
+      + exists m3. split; [exact E3|]. split; [|split; [intros b' Nb; apply U3; auto | exact N3]].
+        intros _. rewrite G3. f_equal. f_equal. unfold state_value. f_equal.
+        apply fold_set_fields.
+        * rewrite map_map. simpl. rewrite NS. reflexivity.
+        * rewrite map_map. simpl. exact NDS.
+    - unfold has_states in H. apply negb_false_iff in H. apply Nat.eqb_eq in H.
+      destruct (dg_states d); [|discriminate]. simpl.
+      exists m2. split; [constructor|]. split; [discriminate|]. split; auto. }
+  destruct ST as [m3 [E3 [G3 [U3 N3]]]].
+  exists m3. split.
+  - change m3 with (free_vars m3 []). eapply eval_funcall_internal.
+    + unfold function_entry. simpl. reflexivity.
+    + eapply exec_seq; [exact E1|]. eapply exec_seq; [exact E2 | exact E3].
+    + reflexivity.
+  - unfold dg_step. fold env. simpl. split; [|split; [exact G3|split]].
+    + rewrite U3 by (intros H; apply DYS; auto). rewrite G2.
+      f_equal. f_equal. unfold output_value. f_equal.
+      apply fold_set_fields.
+      * rewrite map_map. simpl. rewrite NY. reflexivity.
+      * rewrite map_map. simpl. exact NDO.
+    + intros b' N1 N2'. rewrite U3 by auto. apply U2; auto.
+    + congruence.
+Qed.
+
+(** [Controller_initialize]: every state member gets its initial value. *)
+Lemma exec_inits:
+  forall L fs mm le,
+  find_var ge (dg_state_var d) = Some (bs, Tstruct (dg_state_struct d)) ->
+  (forall st, In st L -> sig_prim (st_type st) = true /\ typed (st_init st) (st_type st)) ->
+  get_block mm bs = Some (tyS, MVstruct fs) ->
+  (forall st, In st L -> exists o, find_assoc (st_name st) fs = Some o) ->
+  exists mm',
+     exec_stmt ctx ge [] le mm w
+       (seq_list (map (fun st => Sassign (state_lv d st) (const_expr (st_init st) (st_type st))) L))
+       [] le mm' w Out_normal
+  /\ get_block mm' bs = Some (tyS, MVstruct (fold_left (fun acc fv => set_field (fst fv) (snd fv) acc)
+                            (map (fun st => (st_name st, MVscalar (st_init st))) L) fs))
+  /\ (forall b', b' <> bs -> get_block mm' b' = get_block mm b')
+  /\ mem_next mm' = mem_next mm.
+Proof.
+  induction L as [|st L IH]; intros fs mm le HSv T G V; simpl.
+  - exists mm. repeat split; auto. constructor.
+  - destruct (T st (or_introl eq_refl)) as [SP TI]. destruct (V st (or_introl eq_refl)) as [o O].
+    set (mm1 := store_field mm bs tyS fs (st_name st) (st_init st)).
+    assert (E1: exec_stmt ctx ge [] le mm w (Sassign (state_lv d st) (const_expr (st_init st) (st_type st)))
+                          [] le mm1 w Out_normal).
+    { unfold state_lv. eapply exec_store_field; eauto. apply ev_const; auto. }
+    destruct (IH (set_field (st_name st) (MVscalar (st_init st)) fs) mm1 le HSv) as [mm' [E' [G' [U' N']]]].
+    + intros; apply T; simpl; auto.
+    + apply get_store_field_same.
+    + intros st' I. apply set_field_keeps. apply V. simpl; auto.
+    + exists mm'. split; [eapply exec_seq; eauto|]. split; [exact G'|].
+      split; [intros; rewrite U' by auto; apply get_store_field_other; auto | rewrite N'; reflexivity].
+Qed.
+
+Lemma init_call:
+  forall sfs0, has_states d = true -> get_block m bs = Some (tyS, MVstruct sfs0) ->
+  map fst sfs0 = map st_name (dg_states d) ->
+  exists m',
+     eval_funcall ctx ge m w (Internal (init_function d)) [] [] m' w Vundef
+  /\ get_block m' bs = Some (tyS, dg_init d)
+  /\ (forall b', b' <> bs -> get_block m' b' = get_block m b')
+  /\ mem_next m' = mem_next m.
+Proof.
+  intros sfs0 H G N. destruct dg_wf_inv as [tctx [EQ [FS [OO [NDS NDO]]]]].
+  destruct (HS H) as [HSv _].
+  destruct (exec_inits (dg_states d) sfs0 m [] HSv) as [m' [E' [G' [U' N']]]]; auto.
+  - intros st I. rewrite forallb_forall in FS. specialize (FS st I). unfold state_ok in FS.
+    repeat (apply andb_true_iff in FS as [FS ?]). split; auto. apply val_of_prim_typed; auto.
+  - intros st I. assert (IN: In (st_name st) (map fst sfs0)) by (rewrite N; apply in_map; auto).
+    apply in_map_iff in IN as [[f o] [Ef If]]. simpl in Ef; subst f. exists o.
+    apply In_find_assoc; auto. rewrite N; auto.
+  - exists m'. split; [|split; [|split; auto]].
+    + change m' with (free_vars m' []). eapply eval_funcall_internal.
+      * unfold function_entry. simpl. reflexivity.
+      * exact E'.
+      * reflexivity.
+    + rewrite G'. unfold dg_init, state_value. do 3 f_equal. apply fold_set_fields.
+      * rewrite map_map; simpl. rewrite N; reflexivity.
+      * rewrite map_map; simpl. exact NDS.
+Qed.
+
+End CALL.
+
 End STMT.
