@@ -32,7 +32,7 @@ From ROSGen Require Import Errors Maps FloatBits.
 From ROSGen Require Import Syntax Values Operators Memory Environment Semantics Typing Interp.
 From ROSGen Require Import NodeModel ModelText Wellformed Generator Generatorspec Generatorproof DDC.
 From ROSGen Require FloatOps Loopproof Glueproof Interpproof.
-From ROSGen Require Diagram Diagramgen Diagramproof.
+From ROSGen Require Diagram Diagramgen Diagramproof Endtoend.
 Import ListNotations.
 
 (** ** T1: every generated function meets its specification *)
@@ -341,6 +341,36 @@ Proof.
   apply (Diagramproof.init_call ctx ge d m w (MVstruct sfs0) bs) with (tyS := tyS) (sfs0 := sfs0); auto.
   intros _. split; eauto.
 Qed.
+
+(** The whole node, its controller a diagram: T2 in the environments
+    whose controller is the diagram [d] ([Endtoend.diagram_ctx]).  For
+    every node model [m] and diagram [d] accepted by [generate] and
+    [dg_wf], [d] having [m]'s controller interface, every schedule of
+    well-typed messages and every number [n] of cycles: the node
+    terminates, and its trace is its start followed by [n] cycles in each
+    of which the diagram steps once, from the state its previous step left
+    ([dg_init] at first), on the related fields of the newest messages
+    ([DDC.input_values]), and the node publishes the related fields of the
+    diagram's outputs ([DDC.published_value]).  With
+    [controller_step_correct] (the generated C computes [dg_step], and
+    touches nothing but the outputs and its state), this is the node's
+    end-to-end property; how the two meet is in [Endtoend]'s header. *)
+Theorem diagram_node_ddc:
+  forall m p (d : Diagram.diagram), generate m = OK p -> Diagram.dg_wf d = true ->
+  Endtoend.dg_matches m d = true ->
+  forall arrivals n, arrivals_wt m (Endtoend.diagram_ctx m d arrivals) ->
+     (exists t, program_behaves p (Endtoend.diagram_ctx m d arrivals) n t)
+  /\ (forall t, program_behaves p (Endtoend.diagram_ctx m d arrivals) n t ->
+      exists (s : nat -> mval) (evs : nat -> trace),
+         s O = Diagram.dg_init d
+      /\ t = start_events m ++ concat (map evs (seq 0 n))
+      /\ forall i, (i < n)%nat ->
+           exists u y mvs,
+              evs i = Estep u y :: publish_events (published m) mvs ++ [Esleep (nm_period_ms m)]
+           /\ input_values m (Endtoend.diagram_ctx m d arrivals) i u
+           /\ Diagram.dg_step d (s i) u = (s (S i), y)
+           /\ Forall2 (published_value m y) (published m) mvs).
+Proof. exact Endtoend.diagram_node_ddc. Qed.
 
 (** ** The semantics *)
 
