@@ -204,6 +204,11 @@ def generate_model(
     ddc = drv.ddc_available() if ddc_available is None else ddc_available
     vtext = render_node_file(model, ddc_available=ddc)
     theorems = [names.theorem_ddc, names.theorem_wf] if ddc else [names.theorem_wf]
+    has_diagram = getattr(model.controller, "diagram", None) is not None
+    if has_diagram:
+        # printed in this order by coq/templates/node.v.j2 (the Ctrl module
+        # comes after the node's theorems)
+        theorems += [f"Ctrl.{names.theorem_ctrl_wf}", f"Ctrl.{names.theorem_e2e}"]
     main_thm = theorems[0]
     kind = (
         "node data delivery correctness, T2 (DDC.node_ddc)"
@@ -246,7 +251,10 @@ def generate_model(
         t0 = time.monotonic()
         out_h, out_c, out_s = stage / names.types_header, stage / names.glue_c, stage / names.sexp
         out_m = work / f"{model.name}.model"
-        drv.print_texts(module, lib, (out_h, out_c, out_s, out_m))
+        outputs = (out_h, out_c, out_s, out_m)
+        if has_diagram:
+            outputs += (stage / names.controller_c, stage / names.controller_sexp)
+        drv.print_texts(module, lib, outputs)
         # The model the theorems are about is the model of the YAML file
         # (raises ModelMismatch, exit 2, naming the differing items).
         proved_model = out_m.read_text(encoding="utf-8")
@@ -256,6 +264,12 @@ def generate_model(
         validation = validate_glue(
             out_c.read_text(encoding="utf-8"), out_h.read_text(encoding="utf-8"),
             out_s.read_text(encoding="utf-8"), glue_name=names.glue_c, header_name=names.types_header)
+        if has_diagram:
+            from pyrosgen.verify.printer_validation import validate_program
+
+            validate_program((stage / names.controller_c).read_text(encoding="utf-8"),
+                             (stage / names.controller_sexp).read_text(encoding="utf-8"),
+                             name=names.controller_c)
         times["printing"] = time.monotonic() - t0
         wp_result = None
         if wp:
@@ -270,6 +284,8 @@ def generate_model(
         model_file = f"{model.name}.model"
         shutil.copyfile(out_m, stage / model_file)
         covered = [names.v_file, names.types_header, names.glue_c, names.sexp, model_file]
+        if has_diagram:
+            covered += [names.controller_c, names.controller_sexp]
         wp_record = None
         if wp_result is not None:
             contracts = f"{model.name}_wp.c"

@@ -209,6 +209,22 @@ let () =
       exit 2
 """
 
+#: The driver for a node whose controller is a block diagram: its module
+#: also extracts the controller's C and dump (``Ctrl.controller_c``,
+#: ``Ctrl.controller_sexp``, coq/templates/node.v.j2).
+_DRIVER_CTRL_ML = _DRIVER_ML.replace(
+    """  | _ ->
+      prerr_endline "usage: print_job OUT.h OUT.c OUT.sexp [OUT.model]";""",
+    """  | [| _; out_h; out_c; out_sexp; out_model; ctrl_c; ctrl_sexp |] ->
+      write out_h (Job.types_h ());
+      write out_c (Job.glue_c ());
+      write out_sexp (Job.ast_sexp ());
+      write out_model (Job.model_text ());
+      write ctrl_c (Job.Ctrl.controller_c ());
+      write ctrl_sexp (Job.Ctrl.controller_sexp ())
+  | _ ->
+      prerr_endline "usage: print_job OUT.h OUT.c OUT.sexp OUT.model CTRL.c CTRL.sexp";""")
+
 
 class CoqDriver:
     """Runs the Coq tool chain against the ROSGen library.
@@ -425,8 +441,9 @@ class CoqDriver:
             # (about 1 s per node, BENCHMARKS.md).
             times["extraction"] = 0.0
         else:
-            times["extraction"] = self._extract(module, lib)
-        (work / "driver.ml").write_text(_DRIVER_ML, encoding="ascii")
+            times["extraction"] = self._extract(module, lib, outputs)
+        driver = _DRIVER_CTRL_ML if len(outputs) == 6 else _DRIVER_ML
+        (work / "driver.ml").write_text(driver, encoding="ascii")
         small = (work / "job.ml").stat().st_size < BYTECODE_MAX_BYTES
         compiler = self.ocamlc() if small else self.ocamlopt()
         res = self.run([*compiler, "-w", "-a", "job.mli", "job.ml", "driver.ml", "-o", "print_job"], work)
@@ -439,7 +456,7 @@ class CoqDriver:
         times["run"] = res.seconds
         return times
 
-    def _extract(self, module: str, lib: tuple[Path, str]) -> float:
+    def _extract(self, module: str, lib: tuple[Path, str], outputs: tuple[Path, ...] = ()) -> float:
         """Extract ``module``'s texts into ``job.ml`` with a second coqc run
         (for a per-node file that does not extract them itself); returns
         its time."""
@@ -449,7 +466,9 @@ class CoqDriver:
             f"   texts of {module}, after coq/extraction/print_program.sh. *)\n"
             "From Coq Require Import extraction.ExtrOcamlBasic extraction.ExtrOcamlNativeString.\n"
             f"Require {module}.\n"
-            f'Extraction "job.ml" {module}.types_h {module}.glue_c {module}.ast_sexp {module}.model_text.\n',
+            f'Extraction "job.ml" {module}.types_h {module}.glue_c {module}.ast_sexp {module}.model_text'
+            + (f" {module}.Ctrl.controller_c {module}.Ctrl.controller_sexp" if len(outputs) == 6 else "")
+            + ".\n",
             encoding="ascii",
         )
         res = self.run([self.tool("coqc"), "-q", *self.load_path([lib]), "Extract.v"], work)

@@ -326,6 +326,10 @@ class NodeFile:
     guard: str            #: include guard of the types header
     theorem_wf: str       #: ``<node>_wf`` (T4 instance)
     theorem_ddc: str      #: ``<node>_ddc`` (T2 instance)
+    theorem_ctrl_wf: str  #: ``<node>_controller_wf`` (the diagram is well formed)
+    theorem_e2e: str      #: ``<node>_e2e`` (T2 with the diagram as the controller)
+    controller_c: str     #: ``<node>_controller.c`` (printed from the diagram)
+    controller_sexp: str  #: ``<node>_controller.sexp``
 
 
 def node_file_names(node: str) -> NodeFile:
@@ -341,6 +345,10 @@ def node_file_names(node: str) -> NodeFile:
         guard=f"PYROSGEN_{node.upper()}_TYPES_H",
         theorem_wf=f"{node}_wf",
         theorem_ddc=f"{node}_ddc",
+        theorem_ctrl_wf=f"{node}_controller_wf",
+        theorem_e2e=f"{node}_e2e",
+        controller_c=f"{node}_controller.c",
+        controller_sexp=f"{node}_controller.sexp",
     )
 
 
@@ -363,7 +371,23 @@ def render_node_file(model: NodeModel, *, ddc_available: bool, source: str | Non
         names=names,
         guard=coq_string(names.guard, "include guard"),
         ddc_available=bool(ddc_available),
+        diagram=_diagram_text(model, ddc_available),
     )
+
+
+def _diagram_text(model: NodeModel, ddc_available: bool) -> str:
+    """The controller's diagram as a Coq definition, or ``""`` when the
+    model brings its own controller.  The end-to-end theorem needs the node
+    DDC theorem of the library: without it a diagram cannot be proved."""
+    diagram = getattr(model.controller, "diagram", None)
+    if diagram is None:
+        return ""
+    if not ddc_available:
+        raise EmitError("the controller is a block diagram, but the ROSGen library "
+                        "has no node DDC theorem (Loopproof) to prove it with")
+    from pyrosgen.proof.coqdiagram import emit_diagram
+
+    return emit_diagram(model)
 
 
 def render_model_definitions(models: list[tuple[str, NodeModel]]) -> str:

@@ -340,8 +340,7 @@ Qed.
     (from [dg_init] in the first), on the inputs [DDC.input_values]
     prescribes, and the published messages carry its outputs
     ([DDC.published_value]). *)
-Theorem diagram_node_ddc:
-  forall m p d, generate m = OK p -> dg_wf d = true -> dg_matches m d = true ->
+Definition diagram_node_ok (m : node_model) (p : program) (d : diagram) : Prop :=
   forall arrivals n, arrivals_wt m (diagram_ctx m d arrivals) ->
      (exists t, program_behaves p (diagram_ctx m d arrivals) n t)
   /\ (forall t, program_behaves p (diagram_ctx m d arrivals) n t ->
@@ -354,6 +353,10 @@ Theorem diagram_node_ddc:
            /\ input_values m (diagram_ctx m d arrivals) i u
            /\ dg_step d (s i) u = (s (S i), y)
            /\ Forall2 (published_value m y) (published m) mvs).
+
+Theorem diagram_node_ddc:
+  forall m p d, generate m = OK p -> dg_wf d = true -> dg_matches m d = true ->
+  diagram_node_ok m p d.
 Proof.
   intros m p d GEN WF MA arrivals n AWT.
   assert (W: wf_facts m) by (apply wf_facts_intro, (Generatorproof.generate_sound m p GEN)).
