@@ -305,6 +305,9 @@ def generate_model(
             library_sha256=drv.library_digest(), pyrosgen_version=__version__,
             source_name=Path(model.source).name, source_sha256=sha256_file(Path(model.source)) if Path(model.source).is_file() else "",
             wp=wp_record, tools=tool_versions(wp=wp_result is not None),
+            controller=({"c": names.controller_c, "sexp": names.controller_sexp,
+                         "wf": f"Ctrl.{names.theorem_ctrl_wf}", "e2e": f"Ctrl.{names.theorem_e2e}"}
+                        if has_diagram else None),
         )
         cert_files = write_certificate(record, stage, covered)
 

@@ -79,6 +79,9 @@ class ProofRecord:
     source_sha256: str
     wp: dict | None = None   #: proved, total, prover, contracts (file name)
     tools: list[tuple[str, str]] = field(default_factory=list)
+    #: when the controller is a block diagram: ``c`` and ``sexp`` (file
+    #: names of its printed C and dump), ``wf`` and ``e2e`` (theorem names)
+    controller: dict | None = None
 
 
 def sha256_file(path: Path) -> str:

@@ -195,6 +195,8 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
             printed = work / "printed"
             printed.mkdir()
             outs = tuple(printed / n for n in (rec.types_h, rec.glue_c, rec.sexp, rec.model_file))
+            if rec.controller:
+                outs += (printed / rec.controller["c"], printed / rec.controller["sexp"])
             try:
                 drv.print_texts(module, lib, outs)
                 differ = []
@@ -207,6 +209,11 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
                 validate_glue(outs[1].read_text(encoding="utf-8"), outs[0].read_text(encoding="utf-8"),
                               outs[2].read_text(encoding="utf-8"), glue_name=rec.glue_c, header_name=rec.types_h)
                 proved_text = outs[3].read_text(encoding="utf-8")
+                if rec.controller:
+                    from pyrosgen.verify.printer_validation import validate_program
+
+                    validate_program(outs[4].read_text(encoding="utf-8"), outs[5].read_text(encoding="utf-8"),
+                                     name=rec.controller["c"])
                 if differ:
                     checks.append(Check("re-print", False, f"{len(differ)} files are not the proof's", differ))
                 else:
