@@ -128,6 +128,7 @@ def cmd_generate(args: argparse.Namespace) -> int:
         print(f"  {'written' if rewritten else 'unchanged':<10}{path}")
     print(f"  theorem   {res.theorem}: {res.theorem_kind}")
     print(f"            checked by coqc and coqchk; Print Assumptions: {res.assumptions}")
+    _print_controller_theorems(res)
     if res.validation is not None:
         print(f"  printer   C text = AST dump (pycparser): {res.validation.summary()}")
     if res.wp is not None:
@@ -136,6 +137,14 @@ def cmd_generate(args: argparse.Namespace) -> int:
     phases = ", ".join(f"{k} {t[k]:.2f} s" for k in ("front end", "coqc", "checking", "printing", "wp") if k in t)
     print(f"  time      {phases}; total {t.get('total', 0.0):.2f} s")
     return EXIT_OK
+
+
+def _print_controller_theorems(g) -> None:
+    """The theorems about a block-diagram controller, if the node has one."""
+    ctrl = getattr(g.record, "controller", None) if g.record is not None else None
+    if ctrl:
+        print(f"  theorem   {ctrl['wf']}: the diagram is well formed; its C ({ctrl['c']}) computes its step")
+        print(f"  theorem   {ctrl['e2e']}: the node with the diagram as controller (T2 end to end)")
 
 
 def cmd_build(args: argparse.Namespace) -> int:
@@ -175,6 +184,7 @@ def cmd_build(args: argparse.Namespace) -> int:
     print(f"            checked by coqc and coqchk; Print Assumptions: {g.assumptions}")
     if g.wp is not None:
         print(f"  WP        {g.wp.summary()}")
+    _print_controller_theorems(g)
     print(f"  layout    {res.model.controller.name}.h agrees with the glue (sizes, offsets, types)")
     t = res.times
     phases = ", ".join(f"{k} {t[k]:.2f} s" for k in (
@@ -371,8 +381,9 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     p.add_argument("model", metavar="MODEL.yaml", help="the node model file")
-    p.add_argument("--controller", metavar="DIR", required=True,
-                   help="folder of the controller: <Controller>.h and its .c sources")
+    p.add_argument("--controller", metavar="DIR", default=None,
+                   help="folder of the controller: <Controller>.h and its .c sources "
+                        "(not for a model whose controller is a block diagram: its C is generated)")
     p.add_argument("-o", "--output", metavar="OUT", required=True, help="output directory")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     p.add_argument(

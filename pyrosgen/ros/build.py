@@ -66,6 +66,7 @@ from pyrosgen.proof.modeltext import parse_model_text
 from pyrosgen.verify.certificate import certificate_files, write_certificate
 from pyrosgen.verify.wrapper_check import check_wrapper
 from pyrosgen.generate import GenerateResult, OutputDirError, generate_model
+from pyrosgen.proof.coqmodel import node_file_names
 from pyrosgen.frontend.model import NodeModel
 from pyrosgen.frontend.validate import load_model
 
@@ -508,7 +509,13 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         raise OutputDirError(f"{out_dir}: exists and is not a directory")
     opts = options or ControllerOptions()
     opts.check()
-    ctl = find_controller(model, controller_dir)
+    diagram = getattr(model.controller, "diagram", None) is not None
+    if diagram and controller_dir is not None:
+        raise BuildError(f"{model.source}: the controller is a block diagram (controller.blocks): "
+                         "pyrosgen generates its C; --controller is for a controller written in C")
+    if not diagram and controller_dir is None:
+        raise BuildError("--controller DIR is required: the model's controller is not a block diagram")
+    ctl = find_controller(model, controller_dir) if not diagram else None
     cc, cxx = _tool("CC", "gcc"), _tool("CXX", "g++")
     names = ros.wrapper_files(model)
     node = model.name
@@ -524,10 +531,15 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
     stage = work / "out"
     cache = _Cache(out_dir)
     steps: list[tuple[str, bool]] = []
-    warnings: list[str] = [f"pyrosgen: note: {p}: left out of the build: {why}" for p, why in ctl.left_out]
-    user_includes = [str(Path(i) if Path(i).is_absolute() else (ctl.path / i).absolute()) for i in opts.includes]
-    ctl_includes = [a for inc in ctl.include_dirs for a in ("-I", str(inc.absolute()))] + \
-        [a for inc in user_includes for a in ("-I", inc)]
+    def controller_setup(ctl: ControllerDir) -> tuple[list[str], list[str], list[str]]:
+        warnings = [f"pyrosgen: note: {p}: left out of the build: {why}" for p, why in ctl.left_out]
+        user_includes = [str(Path(i) if Path(i).is_absolute() else (ctl.path / i).absolute()) for i in opts.includes]
+        ctl_includes = [a for inc in ctl.include_dirs for a in ("-I", str(inc.absolute()))] + \
+            [a for inc in user_includes for a in ("-I", inc)]
+        return warnings, user_includes, ctl_includes
+
+    if ctl is not None:
+        warnings, user_includes, ctl_includes = controller_setup(ctl)
 
     def shown(text: str) -> str:
         return text.replace(str(stage), str(out_dir))
@@ -543,6 +555,18 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         gen = generate_model(model, stage, progress=sub, keep_work=keep_work, driver=driver, wp=wp)
         times["generate"] = time.monotonic() - t
         types_h = (stage / names.types_header).read_text(encoding="ascii")
+        if diagram:
+            # The controller Coq printed from the diagram, as an Embedded
+            # Coder folder: <Controller>.c and a <Controller>.h that the
+            # layout check holds against the glue.
+            cdir = work / "controller"
+            cdir.mkdir()
+            (cdir / f"{model.controller.name}.c").write_bytes(
+                (stage / node_file_names(node).controller_c).read_bytes())
+            (cdir / layout.controller_header_name(model)).write_text(
+                layout.render_reference_header(model, types_h), encoding="ascii")
+            ctl = find_controller(model, cdir)
+            warnings, user_includes, ctl_includes = controller_setup(ctl)
 
         # 3. wrapper, custom messages, controller copy, catkin files
         say(f"[3/{STEPS}] wrapper: C API over roscpp, gencpp, catkin package")
@@ -568,7 +592,8 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         times["wrapper"] = time.monotonic() - t
 
         # 4. layout check
-        say(f"[4/{STEPS}] layout check: {ctl.header} against {names.types_header}")
+        say(f"[4/{STEPS}] layout check: "
+            f"{ctl.header.name + ' (generated from the diagram)' if diagram else ctl.header} against {names.types_header}")
         t = time.monotonic()
         (stage / check_c).write_text(layout.render_layout_check(model, types_h, names.types_header), encoding="ascii")
         layout.check_layout(model, stage / check_c, ctl.path, work, types_h, cc=cc,
