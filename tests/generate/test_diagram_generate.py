@@ -1,0 +1,128 @@
+"""``pyrosgen generate`` on a model whose controller is a block diagram
+(examples/landshark/landshark_diagram.yaml): the controller's C is printed
+by Coq from the diagram and validated against its dump; the node file
+proves two more theorems (the diagram is well formed; the node with the
+diagram as its controller, T2 end to end), each closed; the certificate
+says what they mean; ``pyrosgen verify`` re-prints the controller and
+refuses a tampered one; Coq, not the front end, is the authority on the
+diagram; ``build`` takes no controller folder for such a model."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from pyrosgen import cli
+from pyrosgen.frontend.validate import load_model
+from pyrosgen.generate import generate, generate_model
+from pyrosgen.proof import coqdiagram
+from pyrosgen.proof.coqdriver import CoqError
+
+from support.generate import LANDSHARK, REPO, require_library
+
+DIAGRAM = REPO / "examples" / "landshark" / "landshark_diagram.yaml"
+NODE = "landshark_controller"
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    require_library()
+    d = tmp_path_factory.mktemp("diagram") / "out"
+    res = generate(DIAGRAM, d)
+    assert res.record.controller is not None
+    return d
+
+
+def _rehash(d: Path) -> None:
+    m = d / f"{NODE}.manifest.json"
+    data = json.loads(m.read_text())
+    data["files"] = {n: hashlib.sha256((d / n).read_bytes()).hexdigest() for n in data["files"]}
+    m.write_text(json.dumps(data))
+    (d / f"{NODE}.sha256").write_text("".join(f"{v}  {n}\n" for n, v in data["files"].items()))
+
+
+def test_files_theorems_and_certificate(folder):
+    v = (folder / f"{NODE}.v").read_text()
+    assert "Module Ctrl." in v and "Definition the_diagram : diagram := mkdiagram" in v
+    for thm in (f"Theorem {NODE}_controller_wf : dg_wf the_diagram = true.",
+                f"Theorem {NODE}_e2e : Endtoend.diagram_node_ok model the_program the_diagram."):
+        assert thm in v
+    manifest = json.loads((folder / f"{NODE}.manifest.json").read_text())
+    assert manifest["theorems"] == [f"{NODE}_ddc", f"{NODE}_wf",
+                                    f"Ctrl.{NODE}_controller_wf", f"Ctrl.{NODE}_e2e"]
+    assert manifest["controller"]["c"] in manifest["files"]
+    assert manifest["assumptions"].count("Closed under the global context") == 4
+    cert = (folder / f"{NODE}.certificate.md").read_text()
+    assert f"`Ctrl.{NODE}_e2e : Endtoend.diagram_node_ok model the_program" in cert
+    assert "Not modelled: one semantics of the linked program" in cert
+
+
+def test_controller_c_is_embedded_coder_shaped_and_compiles(folder, tmp_path):
+    c = (folder / f"{NODE}_controller.c").read_text()
+    for needle in ("struct ExtU_Controller_T Controller_U;", "struct ExtY_Controller_T Controller_Y;",
+                   "struct DW_Controller_T Controller_DW;", "void Controller_step(void)\n{",
+                   "void Controller_initialize(void)\n{", "Controller_Y.Out1 = rtb_out;"):
+        assert needle in c
+    r = subprocess.run(["gcc", "-std=c11", "-pedantic", "-Wall", "-Wextra", "-Werror", "-c",
+                        str(folder / f"{NODE}_controller.c"), "-o", str(tmp_path / "c.o")],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+
+
+def test_verify_reprints_the_controller(folder, capsys):
+    code = cli.main(["verify", str(folder), "--model", str(DIAGRAM), "-q"])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert "6 files equal to the proof's" in out
+    assert f"Ctrl.{NODE}_e2e: Closed under the global context" in out
+
+
+def test_verify_refuses_a_tampered_controller(folder, tmp_path, capsys):
+    d = tmp_path / "copy"
+    shutil.copytree(folder, d)
+    p = d / f"{NODE}_controller.c"
+    text = p.read_text()
+    assert "(rtb_setpoint - rtb_median)" in text
+    p.write_text(text.replace("(rtb_setpoint - rtb_median)", "(rtb_median - rtb_setpoint)"))
+    _rehash(d)  # a careful forger: the digests agree with the folder
+    code = cli.main(["verify", str(d), "-q"])
+    out = capsys.readouterr().out
+    assert code == 1, out
+    assert f"{NODE}_controller.c: differs from what the proof prints" in out
+
+
+def test_coq_refuses_an_ill_formed_diagram(tmp_path, monkeypatch):
+    """The emitted diagram is checked by Coq's dg_wf, not trusted: a
+    diagram whose output takes a signal of another type (here the bool
+    err_ok for the float64 Out1), as a broken emitter would write it, is
+    refused by coqc and nothing is written."""
+    require_library()
+    model = load_model(DIAGRAM)
+    real = coqdiagram.emit_diagram
+
+    def broken(m):
+        return real(m).replace('[("Out1", "out")]', '[("Out1", "err_ok")]')
+
+    monkeypatch.setattr(coqdiagram, "emit_diagram", broken)
+    out = tmp_path / "out"
+    with pytest.raises(CoqError):
+        generate_model(model, out)
+    assert not out.exists()
+
+
+def test_build_controller_folder_rules(tmp_path, capsys):
+    """A diagram model takes no --controller; any other model needs one.
+    Both are refused before any work, with exit 1."""
+    code = cli.main(["build", str(DIAGRAM), "--controller", str(REPO / "examples" / "landshark" / "controller"),
+                     "-o", str(tmp_path / "a")])
+    err = capsys.readouterr().err
+    assert code == 1 and "block diagram" in err and "--controller" in err
+    code = cli.main(["build", str(LANDSHARK), "-o", str(tmp_path / "b")])
+    err = capsys.readouterr().err
+    assert code == 1 and "--controller DIR is required" in err
+    assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
