@@ -253,7 +253,7 @@ def generate_model(
         out_m = work / f"{model.name}.model"
         outputs = (out_h, out_c, out_s, out_m)
         if has_diagram:
-            outputs += (stage / names.controller_c, stage / names.controller_sexp)
+            outputs += (stage / names.controller_c, stage / names.controller_sexp, stage / names.controller_text)
         drv.print_texts(module, lib, outputs)
         # The model the theorems are about is the model of the YAML file
         # (raises ModelMismatch, exit 2, naming the differing items).
@@ -265,6 +265,12 @@ def generate_model(
             out_c.read_text(encoding="utf-8"), out_h.read_text(encoding="utf-8"),
             out_s.read_text(encoding="utf-8"), glue_name=names.glue_c, header_name=names.types_header)
         if has_diagram:
+            # The diagram the controller theorems are about is the diagram of
+            # the YAML file (raises ModelMismatch, exit 2).
+            from pyrosgen.proof.modeltext import compare_diagram_texts, diagram_text
+
+            compare_diagram_texts(diagram_text(model), (stage / names.controller_text).read_text(encoding="utf-8"),
+                                  vfile=names.v_file)
             from pyrosgen.verify.printer_validation import validate_program
 
             validate_program((stage / names.controller_c).read_text(encoding="utf-8"),
@@ -285,7 +291,7 @@ def generate_model(
         shutil.copyfile(out_m, stage / model_file)
         covered = [names.v_file, names.types_header, names.glue_c, names.sexp, model_file]
         if has_diagram:
-            covered += [names.controller_c, names.controller_sexp]
+            covered += [names.controller_c, names.controller_sexp, names.controller_text]
         wp_record = None
         if wp_result is not None:
             contracts = f"{model.name}_wp.c"
@@ -305,7 +311,7 @@ def generate_model(
             library_sha256=drv.library_digest(), pyrosgen_version=__version__,
             source_name=Path(model.source).name, source_sha256=sha256_file(Path(model.source)) if Path(model.source).is_file() else "",
             wp=wp_record, tools=tool_versions(wp=wp_result is not None),
-            controller=({"c": names.controller_c, "sexp": names.controller_sexp,
+            controller=({"c": names.controller_c, "sexp": names.controller_sexp, "text": names.controller_text,
                          "wf": f"Ctrl.{names.theorem_ctrl_wf}", "e2e": f"Ctrl.{names.theorem_e2e}"}
                         if has_diagram else None),
         )

@@ -215,15 +215,16 @@ let () =
 _DRIVER_CTRL_ML = _DRIVER_ML.replace(
     """  | _ ->
       prerr_endline "usage: print_job OUT.h OUT.c OUT.sexp [OUT.model]";""",
-    """  | [| _; out_h; out_c; out_sexp; out_model; ctrl_c; ctrl_sexp |] ->
+    """  | [| _; out_h; out_c; out_sexp; out_model; ctrl_c; ctrl_sexp; ctrl_text |] ->
       write out_h (Job.types_h ());
       write out_c (Job.glue_c ());
       write out_sexp (Job.ast_sexp ());
       write out_model (Job.model_text ());
       write ctrl_c (Job.Ctrl.controller_c ());
-      write ctrl_sexp (Job.Ctrl.controller_sexp ())
+      write ctrl_sexp (Job.Ctrl.controller_sexp ());
+      write ctrl_text (Job.Ctrl.diagram_text ())
   | _ ->
-      prerr_endline "usage: print_job OUT.h OUT.c OUT.sexp OUT.model CTRL.c CTRL.sexp";""")
+      prerr_endline "usage: print_job OUT.h OUT.c OUT.sexp OUT.model CTRL.c CTRL.sexp CTRL.diagram";""")
 
 
 class CoqDriver:
@@ -442,7 +443,7 @@ class CoqDriver:
             times["extraction"] = 0.0
         else:
             times["extraction"] = self._extract(module, lib, outputs)
-        driver = _DRIVER_CTRL_ML if len(outputs) == 6 else _DRIVER_ML
+        driver = _DRIVER_CTRL_ML if len(outputs) == 7 else _DRIVER_ML
         (work / "driver.ml").write_text(driver, encoding="ascii")
         small = (work / "job.ml").stat().st_size < BYTECODE_MAX_BYTES
         compiler = self.ocamlc() if small else self.ocamlopt()
@@ -467,7 +468,8 @@ class CoqDriver:
             "From Coq Require Import extraction.ExtrOcamlBasic extraction.ExtrOcamlNativeString.\n"
             f"Require {module}.\n"
             f'Extraction "job.ml" {module}.types_h {module}.glue_c {module}.ast_sexp {module}.model_text'
-            + (f" {module}.Ctrl.controller_c {module}.Ctrl.controller_sexp" if len(outputs) == 6 else "")
+            + (f" {module}.Ctrl.controller_c {module}.Ctrl.controller_sexp {module}.Ctrl.diagram_text"
+               if len(outputs) == 7 else "")
             + ".\n",
             encoding="ascii",
         )

@@ -330,6 +330,7 @@ class NodeFile:
     theorem_e2e: str      #: ``<node>_e2e`` (T2 with the diagram as the controller)
     controller_c: str     #: ``<node>_controller.c`` (printed from the diagram)
     controller_sexp: str  #: ``<node>_controller.sexp``
+    controller_text: str  #: ``<node>_controller.diagram`` (the proved diagram as text)
 
 
 def node_file_names(node: str) -> NodeFile:
@@ -349,6 +350,7 @@ def node_file_names(node: str) -> NodeFile:
         theorem_e2e=f"{node}_e2e",
         controller_c=f"{node}_controller.c",
         controller_sexp=f"{node}_controller.sexp",
+        controller_text=f"{node}_controller.diagram",
     )
 
 

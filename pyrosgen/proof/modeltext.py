@@ -22,7 +22,7 @@ from pyrosgen.frontend.model import NodeModel, TopicNames
 from pyrosgen.frontend.msgmodel import MsgField, msg_c_name
 
 __all__ = [
-    "HEADER", "model_text", "ModelMismatch", "compare_model_texts",
+    "HEADER", "model_text", "ModelMismatch", "compare_model_texts", "diagram_text", "compare_diagram_texts",
     "ProvedTopic", "ProvedModel", "parse_model_text", "MalformedModelText",
 ]
 
@@ -210,3 +210,99 @@ def parse_model_text(text: str, *, origin: str = "the proved model text") -> Pro
     if missing:
         raise MalformedModelText(f"{origin} has no {', '.join(missing)} line")
     return pm
+
+
+# --------------------------------------------------------------------------
+# The controller's block diagram (coq/theories/ctrl/DiagramText.v)
+
+DIAGRAM_HEADER = "pyrosgen-diagram 1"
+
+_RELOP_TEXT = {"==": "==", "!=": "!=", "<": "<", ">": ">", "<=": "<=", ">=": ">="}
+_CRIT_TEXT = {"u2 >= threshold": ">=", "u2 > threshold": ">", "u2 ~= 0": "~=0"}
+
+
+def _val_text(s) -> str:
+    """A constant as ``DiagramText.val_text`` prints it."""
+    if s.prim == "float64":
+        return f"0x{s.n:016x}"
+    if s.prim == "float32":
+        return f"0x{s.n:08x}"
+    return str(s.n)
+
+
+def _block_text(b) -> str:
+    k, ins = b.kind, list(b.inputs)
+    if k == "Constant":
+        return f"const {_val_text(b.value)}"
+    if k == "Gain":
+        return f"gain {_val_text(b.gain)} {ins[0]}"
+    if k == "Sum":
+        return "sum " + " ".join(f"{sg}{a}" for sg, a in zip(b.signs, ins))
+    if k in ("Product", "Divide"):
+        return f"{k.lower()} {ins[0]} {ins[1]}"
+    if k == "Abs":
+        return f"abs {ins[0]}"
+    if k == "MinMax":
+        return " ".join([b.op, *ins])
+    if k == "Saturation":
+        return f"saturation {_val_text(b.lower)} {_val_text(b.upper)} {ins[0]}"
+    if k == "RelationalOperator":
+        return f"relational {_RELOP_TEXT[b.op]} {b.input_prim} {ins[0]} {ins[1]}"
+    if k == "Logic":
+        return " ".join(["logic", b.op, *ins])
+    if k == "Switch":
+        thr = "0" if b.op == "u2 ~= 0" else _val_text(b.threshold)
+        return f"switch {_CRIT_TEXT[b.op]} {b.input_prim} {thr} {ins[0]} {ins[1]} {ins[2]}"
+    raise ValueError(f"block {b.name!r} of kind {k!r}")
+
+
+def diagram_text(model: NodeModel) -> str:
+    """The canonical text of the model's block diagram (the grammar of
+    Coq's ``DiagramText.print_diagram``), from the front end's reading:
+    the equations in the order the emitter gives them (the inputs read,
+    then the states' outputs, then the other blocks in evaluation order)."""
+    c = model.controller
+    d = c.diagram
+    lines = [
+        DIAGRAM_HEADER,
+        f"controller {c.name}",
+        f"inputs {c.inputs.var_name} {c.inputs.struct_name}",
+        *(f"input {f.name} {f.prim}" for f in c.inputs.fields),
+        f"outputs {c.outputs.var_name} {c.outputs.struct_name}",
+        *(f"output {f.name} {f.prim}" for f in c.outputs.fields),
+        f"states {c.name}_DW DW_{c.name}_T",
+    ]
+    for st in d.states:
+        line = f"state {st.name} {st.prim} {_val_text(st.initial)} {st.inputs[0]}"
+        if st.kind == "UnitDelay":
+            line += " delay"
+        else:
+            line += f" integrator {_val_text(st.kt)}"
+            if st.lower is not None:
+                line += f" {_val_text(st.lower)} {_val_text(st.upper)}"
+        lines.append(line)
+    lines += [f"eq {f.name} {f.prim} inport {f.name}" for f in d.inports]
+    lines += [f"eq {st.name} {st.prim} state {st.name}" for st in d.states]
+    lines += [f"eq {b.name} {b.prim} {_block_text(b)}" for b in (d.block(n) for n in d.order)]
+    lines += [f"out {f.name} {s}" for f, s in d.outports]
+    return "".join(line + "\n" for line in lines)
+
+
+def compare_diagram_texts(expected: str, proved: str, *, vfile: str, limit: int = 8) -> None:
+    """Raise :class:`ModelMismatch` unless ``proved`` (printed by Coq from
+    ``Ctrl.the_diagram`` of ``vfile``) is ``expected`` (read from the YAML)."""
+    if proved == expected:
+        return
+    exp, got = expected.splitlines(), proved.splitlines()
+    diffs = []
+    for i in range(max(len(exp), len(got))):
+        a = exp[i] if i < len(exp) else "(nothing)"
+        b = got[i] if i < len(got) else "(nothing)"
+        if a != b:
+            diffs.append(f"  item {i + 1}: the model file says {a!r}; the proved diagram says {b!r}")
+    shown = diffs[:limit] + ([f"  ... {len(diffs) - limit} more"] if len(diffs) > limit else [])
+    raise ModelMismatch(
+        f"the controller diagram proved in {vfile} is not the diagram of the YAML file "
+        f"({len(diffs)} differing items)",
+        shown,
+    )

@@ -213,9 +213,13 @@ def write_certificate(rec: ProofRecord, folder: Path, files: list[str]) -> list[
     inputs, outputs = _relations(pm, (folder / rec.glue_c).read_text(encoding="utf-8"))
     hashes = _hashes(folder, files)
     built = any(name.startswith("bin/") for name, _ in hashes)
+    # the proved diagram as Coq printed it (names checked by the front end
+    # and Coq; a line is shown in a code block, never as Markdown)
+    diagram = ((folder / rec.controller["text"]).read_text(encoding="utf-8").rstrip("\n")
+               if rec.controller and rec.controller.get("text") else None)
     text = render(
         "CERTIFICATE.md.j2",
-        rec=rec, pm=pm, md=md_code, source=md_code(source_label(rec.source_name)),
+        rec=rec, pm=pm, md=md_code, source=md_code(source_label(rec.source_name)), diagram=diagram,
         inputs=inputs, outputs=outputs, hashes=hashes, built=built,
         manifest=manifest_name, sums=sums_name, certificate=cert_name,
     )

@@ -43,7 +43,7 @@ from pathlib import Path
 
 from pyrosgen.errors import PyrosgenError, UserError
 from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
-from pyrosgen.proof.modeltext import compare_model_texts, model_text
+from pyrosgen.proof.modeltext import ModelMismatch, compare_model_texts, model_text
 from pyrosgen.verify.certificate import ProofRecord, certificate_files, read_manifest, sha256_file
 
 __all__ = ["Check", "VerifyReport", "NotAnOutputFolder", "VerifyFailed", "verify_folder", "find_manifest"]
@@ -189,6 +189,7 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
 
         begin("re-printing the C, the AST dump and the model from the proof")
         proved_text = None
+        proved_diagram = None
         if not compiled:
             checks.append(Check("re-print", False, "not run: the .v did not check"))
         else:
@@ -196,7 +197,8 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
             printed.mkdir()
             outs = tuple(printed / n for n in (rec.types_h, rec.glue_c, rec.sexp, rec.model_file))
             if rec.controller:
-                outs += (printed / rec.controller["c"], printed / rec.controller["sexp"])
+                outs += (printed / rec.controller["c"], printed / rec.controller["sexp"],
+                         printed / rec.controller["text"])
             try:
                 drv.print_texts(module, lib, outs)
                 differ = []
@@ -209,6 +211,7 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
                 validate_glue(outs[1].read_text(encoding="utf-8"), outs[0].read_text(encoding="utf-8"),
                               outs[2].read_text(encoding="utf-8"), glue_name=rec.glue_c, header_name=rec.types_h)
                 proved_text = outs[3].read_text(encoding="utf-8")
+                proved_diagram = outs[6].read_text(encoding="utf-8") if rec.controller else None
                 if rec.controller:
                     from pyrosgen.verify.printer_validation import validate_program
 
@@ -234,6 +237,13 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
                 try:
                     loaded = load_model(model)
                     compare_model_texts(model_text(loaded), proved_text, vfile=rec.node_v)
+                    if proved_diagram is not None:
+                        from pyrosgen.proof.modeltext import compare_diagram_texts, diagram_text
+
+                        if loaded.controller.diagram is None:
+                            raise ModelMismatch(f"{Path(model).name} has no block diagram, "
+                                                f"but {rec.node_v} proves one", [])
+                        compare_diagram_texts(diagram_text(loaded), proved_diagram, vfile=rec.node_v)
                     checks.append(Check("model", True, f"the proved model is the model of {Path(model).name}"))
                 except PyrosgenError as exc:
                     checks.append(Check("model", False, getattr(exc, "summary", str(exc).splitlines()[0]),

@@ -60,6 +60,10 @@ def test_files_theorems_and_certificate(folder):
     cert = (folder / f"{NODE}.certificate.md").read_text()
     assert f"`Ctrl.{NODE}_e2e : Endtoend.diagram_node_ok model the_program" in cert
     assert "Not modelled: one semantics of the linked program" in cert
+    # the proved diagram, as Coq printed it, is in the certificate
+    text = (folder / f"{NODE}_controller.diagram").read_text()
+    assert text.startswith("pyrosgen-diagram 1\n") and "eq median float64 max lo12 lo\n" in text
+    assert text.rstrip("\n") in cert
 
 
 def test_controller_c_is_embedded_coder_shaped_and_compiles(folder, tmp_path):
@@ -78,7 +82,8 @@ def test_verify_reprints_the_controller(folder, capsys):
     code = cli.main(["verify", str(folder), "--model", str(DIAGRAM), "-q"])
     out = capsys.readouterr().out
     assert code == 0, out
-    assert "6 files equal to the proof's" in out
+    assert "7 files equal to the proof's" in out
+    assert "the proved model is the model of landshark_diagram.yaml" in out
     assert f"Ctrl.{NODE}_e2e: Closed under the global context" in out
 
 
@@ -112,6 +117,32 @@ def test_coq_refuses_an_ill_formed_diagram(tmp_path, monkeypatch):
     out = tmp_path / "out"
     with pytest.raises(CoqError):
         generate_model(model, out)
+    assert not out.exists()
+
+
+def test_a_diagram_emitted_wrong_is_refused(tmp_path, monkeypatch):
+    """The seam: an emitter that writes another constant than the model's
+    (the Gain 0.8 as 0.9) yields a well-formed diagram that Coq proves,
+    but the diagram Coq prints differs from the front end's reading of the
+    YAML, so generate stops (exit 2) naming the item, and writes nothing."""
+    require_library()
+    model = load_model(DIAGRAM)
+    real = coqdiagram.emit_diagram
+    k08, k09 = "0x3FE999999999999A", "0x3FECCCCCCCCCCCCD"  # 0.8, 0.9
+
+    def wrong(m):
+        text = real(m)
+        assert k08 in text
+        return text.replace(k08, k09)
+
+    monkeypatch.setattr(coqdiagram, "emit_diagram", wrong)
+    out = tmp_path / "out"
+    from pyrosgen.proof.modeltext import ModelMismatch
+
+    with pytest.raises(ModelMismatch) as exc:
+        generate_model(model, out)
+    assert "eq p_term float64 gain 0x3fe999999999999a err" in "\n".join(exc.value.lines)
+    assert "0x3feccccccccccccd" in "\n".join(exc.value.lines)
     assert not out.exists()
 
 
