@@ -31,7 +31,7 @@ $(VENV)/.installed: pyproject.toml | apt
 proofs: apt
 	@$(MAKE) --no-print-directory -C coq
 
-## demo: the main job on the LandShark example
+## demo: the main job on the LandShark example (DIAGRAM=1: its controller as a proved block diagram)
 demo: deps proofs
 	@scripts/demo.sh
 

@@ -4,12 +4,22 @@
 # check, compile and link), then run it on a private rosmaster against a
 # simulated robot whose GPS is spoofed for part of the run.  Needs no
 # terminal; stops everything it started.
+# With DIAGRAM=1 (`make demo DIAGRAM=1`), the controller is the block
+# diagram of examples/landshark/landshark_diagram.yaml: Coq generates and
+# proves it too, and the node is built without a controller folder.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-MODEL=examples/landshark/landshark_controller.yaml
-CONTROLLER=examples/landshark/controller
-OUT=build/landshark
-echo "demo: pyrosgen build $MODEL --controller $CONTROLLER -o $OUT"
-.venv/bin/pyrosgen build "$MODEL" --controller "$CONTROLLER" -o "$OUT"
+if [ "${DIAGRAM:-0}" = 1 ]; then
+  MODEL=examples/landshark/landshark_diagram.yaml
+  OUT=build/landshark_diagram
+  echo "demo: pyrosgen build $MODEL -o $OUT   (the controller: a block diagram, generated and proved)"
+  .venv/bin/pyrosgen build "$MODEL" -o "$OUT"
+else
+  MODEL=examples/landshark/landshark_controller.yaml
+  CONTROLLER=examples/landshark/controller
+  OUT=build/landshark
+  echo "demo: pyrosgen build $MODEL --controller $CONTROLLER -o $OUT"
+  .venv/bin/pyrosgen build "$MODEL" --controller "$CONTROLLER" -o "$OUT"
+fi
 echo "demo: running $OUT/bin/landshark_controller against a simulated LandShark"
 exec .venv/bin/python -m pyrosgen.ros.demo "$OUT"

@@ -74,3 +74,26 @@ def test_diagram_node_steady_state(ros, diagram_node, tmp_path):
     got = {rosutil.bits_of(r["leaves"]["twist.linear.x"]) for r in tail}
     assert got == {expected}, (f"expected {expected:#x} "
                                f"({struct.unpack('<d', struct.pack('<Q', expected))[0]})")
+
+
+def test_demo_with_the_diagram_controller(diagram_node, tmp_path):
+    """``make demo DIAGRAM=1``'s run phase: the node whose controller is
+    the proved diagram keeps the simulated LandShark at its set speed while
+    the GPS is spoofed, and everything started is stopped."""
+    import re
+    import subprocess
+    import sys
+
+    env = {"CI": "true", "PATH": "/usr/bin:/bin", "HOME": str(tmp_path)}
+    r = subprocess.run([sys.executable, "-m", "pyrosgen.ros.demo", str(diagram_node), "--duration", "7",
+                        "--spoof", "3:6"], cwd=rosutil.ROOT, env=env, stdin=subprocess.DEVNULL,
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stdout + r.stderr
+    out = r.stdout
+    assert "sim: OK: the spoofed GPS was rejected" in out
+    rows = [line.split() for line in out.splitlines() if re.match(r"^\s*\d+\.\d\d\s", line)]
+    spoofed = [row for row in rows if "SPOOFED" in row]
+    assert spoofed and all(float(row[3]) > 2.5 for row in spoofed)
+    assert all(0.85 <= float(row[5]) <= 1.15 for row in spoofed)
+    pids = [int(p) for p in re.findall(r"\(pid (\d+)\)", out)]
+    assert len(pids) == 3 and not any(rosutil.alive(p) for p in pids)
