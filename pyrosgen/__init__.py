@@ -10,13 +10,16 @@ against the rules of DESIGN.md section 4 and returns a typed, immutable
 
 from pyrosgen.errors import Diagnostic, InvalidNodeModel, PyrosgenError
 from pyrosgen.frontend.model import (
+    Block,
     Controller,
     ControllerField,
+    Diagram,
     InputRelation,
     IOStruct,
     NodeModel,
     OutputRelation,
     Pos,
+    Scalar,
     Topic,
 )
 from pyrosgen.frontend.validate import load_model
@@ -27,9 +30,11 @@ __version__ = "0.1.0"
 __all__ = [
     "C_TYPES",
     "PRIMITIVES",
+    "Block",
     "Controller",
     "ControllerField",
     "Diagnostic",
+    "Diagram",
     "FieldPath",
     "IOStruct",
     "InputRelation",
@@ -40,6 +45,7 @@ __all__ = [
     "OutputRelation",
     "Pos",
     "PyrosgenError",
+    "Scalar",
     "Topic",
     "leaf_paths",
     "load_model",

@@ -20,6 +20,12 @@ __all__ = [
     "ControllerField",
     "IOStruct",
     "Controller",
+    "Scalar",
+    "Block",
+    "Diagram",
+    "BLOCK_KINDS",
+    "STATE_KINDS",
+    "SIGNAL_TYPES",
     "Topic",
     "InputRelation",
     "OutputRelation",
@@ -83,14 +89,147 @@ class IOStruct:
         return tuple(f.name for f in self.fields)
 
 
+#: The block kinds of a diagram (rule 4.11), as the model spells them.
+BLOCK_KINDS = (
+    "Constant", "Gain", "Sum", "Product", "Divide", "Abs", "MinMax", "Saturation",
+    "RelationalOperator", "Logic", "Switch", "UnitDelay", "DiscreteIntegrator",
+)
+
+#: The blocks with memory: their output in a step is their state at the
+#: start of the step (so they break algebraic loops).
+STATE_KINDS = ("UnitDelay", "DiscreteIntegrator")
+
+#: The types a diagram's signals may have (``Diagram.sig_prim``).
+SIGNAL_TYPES = ("bool", "int32", "uint32", "int64", "uint64", "float32", "float64")
+
+
+@dataclass(frozen=True)
+class Scalar:
+    """A constant of a diagram: ``prim`` is its type (one of
+    :data:`SIGNAL_TYPES`); ``n`` is its value for the integer types (in
+    the type's range: negative for a negative ``int32``), 0 or 1 for
+    ``bool``, and the IEEE 754 bit pattern for ``float32``/``float64``
+    (the decimal of the model rounded once to the type, to nearest even).
+    ``text`` is the model's text (for messages and comments)."""
+
+    prim: str
+    n: int
+    text: str = field(default="", compare=False)
+
+
+@dataclass(frozen=True)
+class Block:
+    """A block of a diagram (rule 4.11), after validation.
+
+    ``name`` is its output signal, ``kind`` one of :data:`BLOCK_KINDS`,
+    ``prim`` its output type; ``inputs`` are the signals it reads, in the
+    model's order (a Switch's are ``(a, control, b)``).  The other fields
+    are its parameters, ``None`` when the kind has none:
+
+    - ``op``: MinMax ``min``/``max``; RelationalOperator ``== != < <= > >=``
+      (``~=`` is stored as ``!=``); Logic ``AND OR NAND NOR XOR NOT``;
+      Switch ``u2 >= threshold``, ``u2 > threshold`` or ``u2 ~= 0``;
+    - ``signs``: a Sum's ``+``/``-`` per input;
+    - ``value``: a Constant's value; ``gain``: a Gain's factor, and a
+      DiscreteIntegrator's gain (rounded to the type, for information);
+    - ``lower``/``upper``: a Saturation's bounds, a DiscreteIntegrator's
+      limits (both or neither);
+    - ``threshold``: a Switch's (``u2 ~= 0``: none);
+    - ``initial``: a UnitDelay's or DiscreteIntegrator's initial state;
+    - ``kt``: a DiscreteIntegrator's gain times the sample time, rounded
+      once from the exact product (``Diagram.Kintegrator``);
+    - ``input_prim``: the type of a RelationalOperator's inputs, of a
+      Switch's control input.
+    """
+
+    name: str
+    kind: str
+    prim: str
+    inputs: tuple[str, ...]
+    op: str | None = None
+    signs: str | None = None
+    value: Scalar | None = None
+    gain: Scalar | None = None
+    lower: Scalar | None = None
+    upper: Scalar | None = None
+    threshold: Scalar | None = None
+    initial: Scalar | None = None
+    kt: Scalar | None = None
+    input_prim: str | None = None
+    pos: Pos = field(default=_NOPOS, compare=False, repr=False)
+
+    @property
+    def is_state(self) -> bool:
+        """Whether the block has memory (UnitDelay, DiscreteIntegrator)."""
+        return self.kind in STATE_KINDS
+
+
+@dataclass(frozen=True)
+class Diagram:
+    """A controller written as a block diagram (rule 4.11;
+    ``coq/theories/ctrl/Diagram.v`` says what it means).
+
+    ``blocks`` are in the model's order; ``inports`` are the controller
+    inputs the diagram reads (by a block or an outport), in field order;
+    ``outports`` give each controller output field, in field order, with
+    the signal it takes; ``order`` is the evaluation order of the blocks
+    without memory (each after the blocks it reads, the model's order
+    where it allows); ``period_ms`` is the node's period (the integrators'
+    sample time).
+    """
+
+    blocks: tuple[Block, ...]
+    inports: tuple[ControllerField, ...]
+    outports: tuple[tuple[ControllerField, str], ...]
+    order: tuple[str, ...]
+    period_ms: int
+
+    def block(self, name: str) -> Block:
+        """The block called ``name`` (``KeyError`` if none)."""
+        for b in self.blocks:
+            if b.name == name:
+                return b
+        raise KeyError(name)
+
+    @property
+    def states(self) -> tuple[Block, ...]:
+        """The blocks with memory, in the model's order."""
+        return tuple(b for b in self.blocks if b.is_state)
+
+    def evaluation_order(self) -> tuple[str, ...]:
+        """Every signal in the order a step computes it: the inports, the
+        states' outputs, then :attr:`order` (``Diagram.dg_eqs``)."""
+        return tuple(f.name for f in self.inports) + tuple(b.name for b in self.states) + self.order
+
+    def signal_type(self, name: str) -> str:
+        """The type of signal ``name`` (``KeyError`` if none)."""
+        for f in self.inports:
+            if f.name == name:
+                return f.prim
+        return self.block(name).prim
+
+
 @dataclass(frozen=True)
 class Controller:
     """The Simulink-style controller: ``<name>_initialize()``, ``<name>_step()``
-    reading ``inputs`` and writing ``outputs``."""
+    reading ``inputs`` and writing ``outputs``.  ``diagram`` is the block
+    diagram that defines it (rule 4.11), or ``None`` for a controller that
+    the user brings as C."""
 
     name: str
     inputs: IOStruct
     outputs: IOStruct
+    diagram: Diagram | None = None
+
+    @property
+    def state_var(self) -> str:
+        """The state global of a diagram's C: ``<name>_DW``."""
+        return f"{self.name}_DW"
+
+    @property
+    def state_struct(self) -> str:
+        """Its struct: ``DW_<name>_T``."""
+        return f"DW_{self.name}_T"
 
     @property
     def step_fn(self) -> str:

@@ -29,6 +29,7 @@ from pyrosgen.frontend.msgmodel import (
     MAX_LEAVES, MAX_STRUCT_FIELDS, MAX_TOTAL_LEAVES, PRIMITIVES, ROS1_ALIASES, FieldPath, leaf_count,
     widest_struct,
 )
+from pyrosgen.frontend.blocks import check_diagram
 from pyrosgen.frontend.msgload import MsgRegistry, PathError
 from pyrosgen.frontend.names import (
     MAX_NAME_LEN,
@@ -105,6 +106,8 @@ _SECTION_RULES = (
     ("the node model", "4.1"),
     ("node", "4.2"),
     ("type of controller", "4.3"),
+    ("controller.blocks", "4.11"),
+    ("controller.outports", "4.11"),
     ("controller", "4.3"),
     ("topics", "4.4"),
     ("msg_paths", "4.5"),
@@ -266,7 +269,7 @@ class _Checker:
     def controller_section(self, m: YMap | None):
         if m is None:
             return None, None, (None, None), (None, None)
-        self.keys(m, "controller", ("name", "inputs", "outputs"))
+        self.keys(m, "controller", ("name", "inputs", "outputs"), ("blocks", "outports"))
         name = self.ident(m.get("name"), "controller.name", global_scope=True)
         uvar, ufields = self.io_struct(self.mapping(m.get("inputs"), "controller.inputs"), "controller.inputs")
         yvar, yfields = self.io_struct(self.mapping(m.get("outputs"), "controller.outputs"), "controller.outputs")
@@ -616,6 +619,9 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
         else:
             written[key] = r
 
+    # A controller written as a block diagram (rule 4.11).
+    diagram = check_diagram(ck, cm, ctrl_name, ufields, yfields, uvar, yvar, period)
+
     # Derived C names: valid, short enough, pairwise distinct.
     check_c_names(ck, decls, ctrl_name, cm, uvar, yvar, registry)
 
@@ -640,6 +646,7 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
         name=ctrl_name,
         inputs=IOStruct(uvar, f"ExtU_{ctrl_name}_T", tuple(f for _, f in ufields)),
         outputs=IOStruct(yvar, f"ExtY_{ctrl_name}_T", tuple(f for _, f in yfields)),
+        diagram=diagram,
     )
     irs = tuple(
         InputRelation(topic_objs[r.topic.name], r.path, r.ctrl_field, Pos(r.node.line, r.node.col))
@@ -668,13 +675,13 @@ def check_c_names(ck: _Checker, decls, ctrl_name, cm, uvar, yvar, registry: MsgR
     of at most :data:`MAX_NAME_LEN` characters and that no two coincide."""
     seen: dict[str, str] = {}
 
-    def claim(name: str, origin: str, where) -> None:
+    def claim(name: str, origin: str, where, rule: str = "4.9") -> None:
         problem = identifier_problem(name, global_scope=True)
         if problem:
-            ck.err_rule("4.9", where, f"the C name {show(name)} derived from {origin} cannot be used: {problem}")
+            ck.err_rule(rule, where, f"the C name {show(name)} derived from {origin} cannot be used: {problem}")
             return
         if name in seen:
-            ck.err_rule("4.9", where, f"the C name {show(name)} derived from {origin} collides with the one derived from {seen[name]}")
+            ck.err_rule(rule, where, f"the C name {show(name)} derived from {origin} collides with the one derived from {seen[name]}")
             return
         seen[name] = origin
 
@@ -691,6 +698,11 @@ def check_c_names(ck: _Checker, decls, ctrl_name, cm, uvar, yvar, registry: MsgR
             sub = cm.get(key)
             if var is not None and isinstance(sub, YMap):
                 claim(var, f"controller.{key}.name", sub.get("name"))
+    if ctrl_name is not None and cm is not None and cm.get("blocks") is not None:
+        # the state global and struct of a diagram's C (rule 4.11)
+        for n in (f"{ctrl_name}_DW", f"DW_{ctrl_name}_T"):
+            claim(n, f"the block diagram of controller {show(ctrl_name)} (its state)", cm.key_node("blocks"),
+                  rule="4.11")
 
     c_names: dict[str, _TopicDecl] = {}
     for d in decls:

@@ -440,6 +440,9 @@ def _yaml_error_message(exc: yaml.YAMLError) -> str:
             text += f" ({exc.context})"
         if "but got '['" in problem and "flow" in (exc.context or ""):
             text += '; inside {...} a field path with an index must be quoted, e.g. "pose.covariance[35]"'
+        if "found character '>' that cannot start any token" in problem or (
+                "chomping or indentation indicators" in problem):
+            text += "; a value that starts with '>' must be quoted, e.g. operator: '>='"
     else:
         text = f"YAML error: {exc}"
     return escape(" ".join(text.split()), keep_quotes=True)
@@ -535,7 +538,11 @@ class _Walker:
                 return YBad(line, col)
             kind = _SCALAR_TAGS.get(node.tag)
             if kind is None:
-                self.error(node, f"unsupported YAML tag {_tag(node.tag)}: only plain values are allowed")
+                hint = ""
+                if node.tag.startswith("!") and not node.tag.startswith("!!") and node.value == "":
+                    # `operator: !=` reads as the local tag !=
+                    hint = f"; a value that starts with '!' must be quoted, e.g. {show(node.tag)}"
+                self.error(node, f"unsupported YAML tag {_tag(node.tag)}: only plain values are allowed{hint}")
                 return YBad(line, col)
             if kind == "str":
                 return YScalar(line, col, node.value, node.value, kind)
