@@ -121,7 +121,7 @@ def test_existing_main_theorems_are_linked(docs):
         "coq/ROSGen.Main.html#run_program_sound",                            # T5
     ]:
         assert href in index.links, href
-    for group in ("T1", "T2", "T3", "T4", "T5"):
+    for group in ("T1", "T2", "T3", "T4", "T5", "T6", "T7"):
         assert group in index.ids
 
 
@@ -138,7 +138,7 @@ def test_layout_has_one_entry_per_module_in_order(docs):
     # _CoqProject gives it.
     layers = re.findall(r'<h3 id="layer-([a-z]+)"><code>([^<]+)</code>', layout)
     assert layers == [("lib", "theories/lib"), ("clight", "theories/clight"),
-                      ("glue", "theories/glue"), ("top", "theories")]
+                      ("glue", "theories/glue"), ("ctrl", "theories/ctrl"), ("top", "theories")]
     assert "<code>theories/glue</code>: the node model, the generator" in layout
 
 

@@ -35,10 +35,15 @@ Definition ct (q : prim) : type := ctype_of_prim q.
 (** The temporary of signal [x] of type [q]. *)
 Definition tmp (x : ident) (q : prim) : expr := Etempvar (temp_of x) (ct q).
 
-(** A constant. *)
+(** A constant.  A [bool] constant is an [int] constant converted to
+    [unsigned char]: C has no literal of that type, and the conversion
+    is what the printed C ([(unsigned char)1]) does. *)
 Definition const_expr (v : val) (q : prim) : expr :=
   match v with
-  | Vint n => Econst_int n (ct q)
+  | Vint n => match q with
+              | Pbool => Ecast (Econst_int n tint) (ct q)
+              | _ => Econst_int n (ct q)
+              end
   | Vlong n => Econst_long n (ct q)
   | Vfloat f => Econst_float f (ct q)
   | Vsingle f => Econst_single f (ct q)

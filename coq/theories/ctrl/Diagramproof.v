@@ -125,7 +125,14 @@ Definition ev (a : expr) : option val := eval_expr ge [] le m a.
 Lemma ev_const: forall v q, sig_prim q = true -> typed v q -> ev (const_expr v q) = Some v.
 Proof.
   intros v q S T. destruct q; simpl in S; try discriminate; typed_inv; unfold ev; cbn;
-    try reflexivity; congruence.
+    try reflexivity; try congruence.
+  (* bool: (unsigned char)n with 0 <= n < 256 *)
+  assert (B := Z.mod_pos_bound x (2 ^ 8) ltac:(lia)). unfold wrap_unsigned in H0.
+  rewrite H0 in B. change (2 ^ 8) with 256 in B.
+  assert (E: wrap_signed 32 x = x).
+  { unfold wrap_signed. rewrite Z.mod_small by (simpl; lia).
+    destruct (x <? 2 ^ (32 - 1)) eqn:L; [reflexivity|]. apply Z.ltb_ge in L. simpl in L. lia. }
+  unfold norm_int; simpl. rewrite E. unfold wrap_unsigned. rewrite H0. reflexivity.
 Qed.
 
 Lemma arith_typed:
@@ -429,7 +436,7 @@ Proof. reflexivity. Qed.
 Lemma typeof_tmp: forall x q, typeof (tmp x q) = ct q.
 Proof. reflexivity. Qed.
 Lemma typeof_const: forall v q, typeof (const_expr v q) = ct q.
-Proof. intros [] q; reflexivity. Qed.
+Proof. intros [] q; try destruct q; reflexivity. Qed.
 Lemma typeof_arith: forall op q a b, typeof (arith_expr op q a b) = ct q.
 Proof. intros op q a b; unfold arith_expr; destruct (unsigned_of q); reflexivity. Qed.
 Lemma typeof_neg: forall q a, typeof (neg_expr q a) = ct q.
