@@ -39,7 +39,7 @@ from pathlib import Path
 
 from pyrosgen.files import locked_folder, move
 from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
-from pyrosgen.proof.coqmodel import node_file_names, render_node_file
+from pyrosgen.proof.coqmodel import EmitError, node_file_names, render_node_file
 from pyrosgen.errors import ToolFailure, UserError
 from pyrosgen.proof.modeltext import compare_model_texts, model_text
 from pyrosgen.verify.certificate import ProofRecord, sha256_file, tool_versions, write_certificate
@@ -202,7 +202,16 @@ def generate_model(
     drv.check_tools()
     drv.check_library()
     ddc = drv.ddc_available() if ddc_available is None else ddc_available
-    vtext = render_node_file(model, ddc_available=ddc)
+    diagram = ""
+    if getattr(model.controller, "diagram", None) is not None:
+        # The controller's theorems are instances of T7, which needs T2.
+        if not ddc:
+            raise EmitError("the controller is a block diagram, but the ROSGen library has no node "
+                            "DDC theorem (Loopproof) to prove it with")
+        from pyrosgen.proof.coqdiagram import emit_diagram
+
+        diagram = emit_diagram(model)
+    vtext = render_node_file(model, ddc_available=ddc, diagram=diagram)
     theorems = [names.theorem_ddc, names.theorem_wf] if ddc else [names.theorem_wf]
     has_diagram = getattr(model.controller, "diagram", None) is not None
     if has_diagram:

@@ -24,64 +24,19 @@ text means the same whichever of ``Z_scope``/``nat_scope`` is open.
 As :mod:`pyrosgen.proof.coqmodel` does for the node model, every
 identifier is checked again against the C identifier regex before it is
 printed, and comments are reduced to safe characters; what the diagram
-must satisfy is checked by Coq (``Diagram.dg_wf``), not here.  (The
-literal helpers below are those of :mod:`pyrosgen.proof.coqmodel`, with
-the same checks: that module imports this one to put the diagram into
-the per-node file, so this one cannot import it back.)
+must satisfy is checked by Coq (``Diagram.dg_wf``), not here.  The
+literal helpers are :mod:`pyrosgen.proof.coqmodel`'s; the pipeline
+(:mod:`pyrosgen.generate`) hands the emitted text to
+:func:`~pyrosgen.proof.coqmodel.render_node_file`.
 """
 
 from __future__ import annotations
 
-import re
-
-from pyrosgen.errors import ToolFailure
 from pyrosgen.frontend.model import Block, NodeModel, Scalar
+from pyrosgen.proof.coqmodel import EmitError, coq_comment, coq_ident, coq_prim, coq_z
 
 __all__ = ["DIAGRAM_DEF", "ASSUMED_PRELUDE", "EmitError", "emit_diagram", "coq_val"]
 
-
-class EmitError(ToolFailure):
-    """A diagram value the emitter refuses to print into Coq text (the
-    front end should have refused it: a tool failure, exit code 2; the
-    counterpart of :class:`pyrosgen.proof.coqmodel.EmitError`)."""
-
-
-_C_IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
-_MAX_IDENT = 63
-_PRIMS = {"bool": "Pbool", "int8": "Pint8", "uint8": "Puint8", "int16": "Pint16", "uint16": "Puint16",
-          "int32": "Pint32", "uint32": "Puint32", "int64": "Pint64", "uint64": "Puint64",
-          "float32": "Pfloat32", "float64": "Pfloat64"}
-
-
-def coq_ident(name: str, what: str = "identifier") -> str:
-    """A C identifier (checked) as a Coq string literal (read in
-    ``string_scope``; a C identifier has no ``"`` to double)."""
-    if not isinstance(name, str) or not _C_IDENT.fullmatch(name) or len(name) > _MAX_IDENT:
-        raise EmitError(f"refusing to print {name!r} as a C identifier ({what})")
-    return f'"{name}"'
-
-
-def coq_prim(prim: str) -> str:
-    """The ``NodeModel.prim`` constructor of a ROS primitive type name."""
-    try:
-        return _PRIMS[prim]
-    except (KeyError, TypeError):
-        raise EmitError(f"refusing to print {prim!r} as a primitive type") from None
-
-
-def coq_z(n: int) -> str:
-    """An integer literal, negative ones parenthesised (``(-5)``)."""
-    if isinstance(n, bool) or not isinstance(n, int):
-        raise EmitError(f"refusing to print {n!r} as an integer")
-    return str(n) if n >= 0 else f"({n})"
-
-
-def coq_comment(text: str) -> str:
-    """``text`` reduced to characters harmless in a Coq comment: printable
-    ASCII but ``"()*\\``, anything else written ``\\xNN``."""
-    return "".join(ch if " " <= ch <= "~" and ch not in '"()*\\'
-                   else f"\\x{ord(ch):02x}" if ord(ch) < 256 else f"\\u{ord(ch):04x}"
-                   for ch in str(text))
 
 #: The name of the emitted definition.
 DIAGRAM_DEF = "the_diagram"

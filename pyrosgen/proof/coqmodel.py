@@ -354,9 +354,13 @@ def node_file_names(node: str) -> NodeFile:
     )
 
 
-def render_node_file(model: NodeModel, *, ddc_available: bool, source: str | None = None) -> str:
+def render_node_file(model: NodeModel, *, ddc_available: bool, source: str | None = None,
+                     diagram: str = "") -> str:
     """The per-node Coq file of ``model`` (``coq/templates/node.v.j2``).
 
+    ``diagram`` is the controller's block diagram as the Coq definition
+    of ``the_diagram`` (:func:`pyrosgen.proof.coqdiagram.emit_diagram`), or
+    ``""`` for a controller brought in C.
     ``ddc_available`` selects the main theorem: the node DDC theorem
     ``<node>_ddc`` (T2, from ``ROSGen.DDC`` / ``ROSGen.Loopproof``) when true;
     otherwise only ``<node>_wf`` (T4's soundness instance) is proved.
@@ -373,23 +377,8 @@ def render_node_file(model: NodeModel, *, ddc_available: bool, source: str | Non
         names=names,
         guard=coq_string(names.guard, "include guard"),
         ddc_available=bool(ddc_available),
-        diagram=_diagram_text(model, ddc_available),
+        diagram=diagram,
     )
-
-
-def _diagram_text(model: NodeModel, ddc_available: bool) -> str:
-    """The controller's diagram as a Coq definition, or ``""`` when the
-    model brings its own controller.  The end-to-end theorem needs the node
-    DDC theorem of the library: without it a diagram cannot be proved."""
-    diagram = getattr(model.controller, "diagram", None)
-    if diagram is None:
-        return ""
-    if not ddc_available:
-        raise EmitError("the controller is a block diagram, but the ROSGen library "
-                        "has no node DDC theorem (Loopproof) to prove it with")
-    from pyrosgen.proof.coqdiagram import emit_diagram
-
-    return emit_diagram(model)
 
 
 def render_model_definitions(models: list[tuple[str, NodeModel]]) -> str:

@@ -77,9 +77,9 @@ def model_text(model: NodeModel) -> str:
     return "".join(line + "\n" for line in lines)
 
 
-def compare_model_texts(expected: str, proved: str, *, vfile: str, limit: int = 8) -> None:
-    """Raise :class:`ModelMismatch` unless ``proved`` (printed by Coq from
-    the model term of ``vfile``) is ``expected`` (read from the YAML)."""
+def _compare_texts(expected: str, proved: str, what: str, message: str, limit: int) -> None:
+    """Raise :class:`ModelMismatch` naming each differing line unless the
+    two texts are equal (``what``: what the proved text is called)."""
     if proved == expected:
         return
     exp, got = expected.splitlines(), proved.splitlines()
@@ -88,12 +88,16 @@ def compare_model_texts(expected: str, proved: str, *, vfile: str, limit: int = 
         a = exp[i] if i < len(exp) else "(nothing)"
         b = got[i] if i < len(got) else "(nothing)"
         if a != b:
-            diffs.append(f"  item {i + 1}: the model file says {a!r}; the proved model says {b!r}")
+            diffs.append(f"  item {i + 1}: the model file says {a!r}; {what} says {b!r}")
     shown = diffs[:limit] + ([f"  ... {len(diffs) - limit} more"] if len(diffs) > limit else [])
-    raise ModelMismatch(
-        f"the model proved in {vfile} is not the model of the YAML file ({len(diffs)} differing items)",
-        shown,
-    )
+    raise ModelMismatch(f"{message} ({len(diffs)} differing items)", shown)
+
+
+def compare_model_texts(expected: str, proved: str, *, vfile: str, limit: int = 8) -> None:
+    """Raise :class:`ModelMismatch` unless ``proved`` (printed by Coq from
+    the model term of ``vfile``) is ``expected`` (read from the YAML)."""
+    _compare_texts(expected, proved, "the proved model",
+                   f"the model proved in {vfile} is not the model of the YAML file", limit)
 
 
 class MalformedModelText(DetailedFailure):
@@ -291,18 +295,5 @@ def diagram_text(model: NodeModel) -> str:
 def compare_diagram_texts(expected: str, proved: str, *, vfile: str, limit: int = 8) -> None:
     """Raise :class:`ModelMismatch` unless ``proved`` (printed by Coq from
     ``Ctrl.the_diagram`` of ``vfile``) is ``expected`` (read from the YAML)."""
-    if proved == expected:
-        return
-    exp, got = expected.splitlines(), proved.splitlines()
-    diffs = []
-    for i in range(max(len(exp), len(got))):
-        a = exp[i] if i < len(exp) else "(nothing)"
-        b = got[i] if i < len(got) else "(nothing)"
-        if a != b:
-            diffs.append(f"  item {i + 1}: the model file says {a!r}; the proved diagram says {b!r}")
-    shown = diffs[:limit] + ([f"  ... {len(diffs) - limit} more"] if len(diffs) > limit else [])
-    raise ModelMismatch(
-        f"the controller diagram proved in {vfile} is not the diagram of the YAML file "
-        f"({len(diffs)} differing items)",
-        shown,
-    )
+    _compare_texts(expected, proved, "the proved diagram",
+                   f"the controller diagram proved in {vfile} is not the diagram of the YAML file", limit)
