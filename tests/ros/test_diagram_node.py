@@ -10,7 +10,6 @@ median makes it the command for an honest GPS."""
 
 from __future__ import annotations
 
-import struct
 
 import pytest
 
@@ -19,11 +18,8 @@ from pyrosgen.frontend.validate import load_model
 from pyrosgen.ros.build import build
 
 from support import ros as rosutil
-from support.ros import dbits, received, run_driver, start_node
+from support.ros import dbits, start_node
 
-LEFT, RIGHT, GPS = "/landshark/left_wheel_velocity", "/landshark/right_wheel_velocity", "/landshark/gps_velocity"
-BASE = "/landshark_control/base_velocity"
-TS = "geometry_msgs/TwistStamped"
 DIAGRAM = rosutil.ROOT / "examples" / "landshark" / "landshark_diagram.yaml"
 
 pytestmark = pytest.mark.ros
@@ -55,25 +51,8 @@ def test_diagram_node_steady_state(ros, diagram_node, tmp_path):
     assert expected == _steady(diagram, (left, right, 1.55))          # honest GPS: same command
     assert expected != _steady(diagram, ((left + right + gps) / 3,) * 3)  # a mean would differ
     start_node(ros, diagram_node / "bin" / "landshark_controller", tmp_path / "node.log")
-    plan = {
-        "publishers": [{"topic": t, "type": TS} for t in (LEFT, RIGHT, GPS)],
-        "subscribers": [{"topic": BASE, "type": TS}],
-        "wait_messages": True,
-        "steps": [
-            {"publish": {"topic": LEFT, "values": {"twist.linear.x": rosutil.d(dbits(left))}}},
-            {"publish": {"topic": RIGHT, "values": {"twist.linear.x": rosutil.d(dbits(right))}}},
-            {"publish": {"topic": GPS, "values": {"twist.linear.x": rosutil.d(dbits(gps))}}},
-            # the integrator goes from 0 to its bound -0.5 in 100 steps (2 s)
-            {"sleep": 5.0},
-        ],
-    }
-    result = run_driver(ros, plan, tmp_path)
-    t_end = result["steps"][-1]["t1"]
-    tail = received(result, BASE, t_end - 1.0, t_end)
-    assert len(tail) >= 20
-    got = {rosutil.bits_of(r["leaves"]["twist.linear.x"]) for r in tail}
-    assert got == {expected}, (f"expected {expected:#x} "
-                               f"({struct.unpack('<d', struct.pack('<Q', expected))[0]})")
+    # the integrator goes from 0 to its bound -0.5 in 100 steps (2 s)
+    rosutil.landshark_settles_on(ros, tmp_path, (left, right, gps), expected, settle=5.0)
 
 
 def test_demo_with_the_diagram_controller(diagram_node, tmp_path):

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import ctypes
 import random
-import struct
 import subprocess
 
 from pyrosgen.frontend.validate import load_model
@@ -127,22 +126,5 @@ def test_landshark_real_controller_steady_state(ros, landshark_real, tmp_path):
     assert expected == _steady_output(lib, (left, right, 1.55))        # honest GPS: same command
     assert expected != _steady_output(lib, ((left + right + gps) / 3,) * 3)  # a mean would differ
     start_node(ros, landshark_real / "bin" / "landshark_controller", tmp_path / "node.log")
-    plan = {
-        "publishers": [{"topic": t, "type": TS} for t in (LEFT, RIGHT, GPS)],
-        "subscribers": [{"topic": BASE, "type": TS}],
-        "wait_messages": True,
-        "steps": [
-            {"publish": {"topic": LEFT, "values": {"twist.linear.x": rosutil.d(dbits(left))}}},
-            {"publish": {"topic": RIGHT, "values": {"twist.linear.x": rosutil.d(dbits(right))}}},
-            {"publish": {"topic": GPS, "values": {"twist.linear.x": rosutil.d(dbits(gps))}}},
-            # the integrator goes from +0.5 to its bound -0.5 in 200 steps (4 s)
-            {"sleep": 6.0},
-        ],
-    }
-    result = run_driver(ros, plan, tmp_path)
-    t_end = result["steps"][-1]["t1"]
-    tail = received(result, BASE, t_end - 1.0, t_end)
-    assert len(tail) >= 20
-    got = {rosutil.bits_of(r["leaves"]["twist.linear.x"]) for r in tail}
-    assert got == {expected}, (f"expected {expected:#x} "
-                               f"({struct.unpack('<d', struct.pack('<Q', expected))[0]})")
+    # the integrator goes from +0.5 to its bound -0.5 in 200 steps (4 s)
+    rosutil.landshark_settles_on(ros, tmp_path, (left, right, gps), expected, settle=6.0)

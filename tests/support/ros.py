@@ -301,3 +301,28 @@ def wait_until(pred, timeout: float, step: float = 0.05) -> bool:
             return True
         time.sleep(step)
     return pred()
+
+
+LANDSHARK_INPUTS = ("/landshark/left_wheel_velocity", "/landshark/right_wheel_velocity", "/landshark/gps_velocity")
+LANDSHARK_OUTPUT = "/landshark_control/base_velocity"
+
+
+def landshark_settles_on(env, work: Path, readings: tuple[float, float, float], expected: int, settle: float) -> None:
+    """Publish one steady reading on each LandShark input topic of the node
+    running on ``env``, wait ``settle`` seconds, and assert that every
+    command of the last second is the double with bits ``expected``."""
+    ts = "geometry_msgs/TwistStamped"
+    plan = {
+        "publishers": [{"topic": t, "type": ts} for t in LANDSHARK_INPUTS],
+        "subscribers": [{"topic": LANDSHARK_OUTPUT, "type": ts}],
+        "wait_messages": True,
+        "steps": [{"publish": {"topic": t, "values": {"twist.linear.x": d(dbits(x))}}}
+                  for t, x in zip(LANDSHARK_INPUTS, readings)] + [{"sleep": settle}],
+    }
+    result = run_driver(env, plan, work)
+    t_end = result["steps"][-1]["t1"]
+    tail = received(result, LANDSHARK_OUTPUT, t_end - 1.0, t_end)
+    assert len(tail) >= 20
+    got = {bits_of(r["leaves"]["twist.linear.x"]) for r in tail}
+    assert got == {expected}, (f"expected {expected:#x} "
+                               f"({struct.unpack('<d', struct.pack('<Q', expected))[0]}), got {sorted(got)}")
