@@ -322,6 +322,14 @@ Proof.
   - intros H; destruct (HS H) as [_ [_ C]]; eauto.
 Qed.
 
+(** The rules of a diagram as the per-node files compute them
+    ([Diagram.dg_check]: the signals' types in a trie, duplicates found
+    by [find_dup]) imply [dg_wf]: a node file proves [dg_wf the_diagram]
+    from [dg_check the_diagram = true], computed in time about linear in
+    the number of blocks (BENCHMARKS.md section 6). *)
+Theorem dg_check_wf: forall d, Diagram.dg_check d = true -> Diagram.dg_wf d = true.
+Proof. exact Diagram.dg_check_wf. Qed.
+
 (** [Controller_initialize] ([Diagramgen.init_function d]) stores the
     diagram's initial state [Diagram.dg_init d] into the state global, and
     changes no other block. *)

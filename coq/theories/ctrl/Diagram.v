@@ -64,7 +64,7 @@
 
 From Coq Require Import String List ZArith Bool.
 From Flocq Require Import IEEE754.Binary.
-From ROSGen Require Import FloatOps Syntax Values Operators Memory NodeModel.
+From ROSGen Require Import Maps FloatOps Syntax Values Operators Memory NodeModel.
 Import ListNotations.
 Local Open Scope Z_scope.
 Local Open Scope string_scope.
@@ -166,35 +166,41 @@ Section WF.
 
 Variable d : diagram.
 
-(** [ctx]: the signals defined so far, with their types. *)
+(** [ctx]: the signals defined so far, with their types.  The rules
+    below look a signal's type up through a function [lk]: [sig_type ctx]
+    for the specification ([eqs_ok], [dg_wf]), a trie for the check that
+    the per-node files compute ([dg_check], logarithmic lookups). *)
 Definition sig_type (ctx : list (ident * prim)) (x : ident) : option prim := find_assoc x ctx.
 
+Definition has_type_l (lk : ident -> option prim) (x : ident) (q : prim) : bool :=
+  match lk x with Some q' => prim_eqb q q' | None => false end.
+
 Definition has_type (ctx : list (ident * prim)) (x : ident) (q : prim) : bool :=
-  match sig_type ctx x with Some q' => prim_eqb q q' | None => false end.
+  has_type_l (sig_type ctx) x q.
 
 Definition state_type (x : ident) : option prim :=
   option_map st_type (find (fun st => String.eqb (st_name st) x) (dg_states d)).
 
 (** The rule of each block, for an output of type [q]. *)
-Definition block_ok (ctx : list (ident * prim)) (b : dblock) (q : prim) : bool :=
+Definition block_ok (lk : ident -> option prim) (b : dblock) (q : prim) : bool :=
   sig_prim q &&
   match b with
   | Binport x => match find_assoc x (dg_inputs d) with Some q' => prim_eqb q q' | None => false end
   | Bstate x => match state_type x with Some q' => prim_eqb q q' | None => false end
   | Bconst c => val_of_prim c q
-  | Bgain k a => num_prim q && val_of_prim k q && has_type ctx a q
+  | Bgain k a => num_prim q && val_of_prim k q && has_type_l lk a q
   | Bsum terms => num_prim q && negb (Nat.eqb (length terms) 0)
-                  && forallb (fun t => has_type ctx (snd t) q) terms
-  | Bproduct a b => num_prim q && has_type ctx a q && has_type ctx b q
-  | Bdivide a b => float_prim q && has_type ctx a q && has_type ctx b q
-  | Babs a => float_prim q && has_type ctx a q
+                  && forallb (fun t => has_type_l lk (snd t) q) terms
+  | Bproduct a b => num_prim q && has_type_l lk a q && has_type_l lk b q
+  | Bdivide a b => float_prim q && has_type_l lk a q && has_type_l lk b q
+  | Babs a => float_prim q && has_type_l lk a q
   | Bminmax _ args => num_prim q && negb (Nat.eqb (length args) 0)
-                      && forallb (fun a => has_type ctx a q) args
-  | Bsaturation lo hi a => num_prim q && val_of_prim lo q && val_of_prim hi q && has_type ctx a q
+                      && forallb (fun a => has_type_l lk a q) args
+  | Bsaturation lo hi a => num_prim q && val_of_prim lo q && val_of_prim hi q && has_type_l lk a q
   | Brelational _ qa a b =>
-      prim_eqb q Pbool && num_prim qa && has_type ctx a qa && has_type ctx b qa
+      prim_eqb q Pbool && num_prim qa && has_type_l lk a qa && has_type_l lk b qa
   | Blogical op args =>
-      prim_eqb q Pbool && forallb (fun a => has_type ctx a Pbool) args &&
+      prim_eqb q Pbool && forallb (fun a => has_type_l lk a Pbool) args &&
       match op, args with
       | Lnot, [_] => true
       | Lnot, _ => false
@@ -202,7 +208,7 @@ Definition block_ok (ctx : list (ident * prim)) (b : dblock) (q : prim) : bool :
       | _, _ => false
       end
   | Bswitch crit qc thr a c b =>
-      has_type ctx a q && has_type ctx b q && has_type ctx c qc &&
+      has_type_l lk a q && has_type_l lk b q && has_type_l lk c qc &&
       match crit with
       | Cne0 => sig_prim qc
       | _ => num_prim qc && val_of_prim thr qc
@@ -215,14 +221,14 @@ Fixpoint eqs_ok (ctx : list (ident * prim)) (eqs : list equation) : option (list
   match eqs with
   | [] => Some ctx
   | e :: es =>
-      if block_ok ctx (eq_block e) (eq_type e) && negb (in_ident (eq_sig e) (map fst ctx))
+      if block_ok (sig_type ctx) (eq_block e) (eq_type e) && negb (in_ident (eq_sig e) (map fst ctx))
       then eqs_ok ((eq_sig e, eq_type e) :: ctx) es
       else None
   end.
 
-Definition state_ok (ctx : list (ident * prim)) (st : state_decl) : bool :=
+Definition state_ok (lk : ident -> option prim) (st : state_decl) : bool :=
   sig_prim (st_type st) && val_of_prim (st_init st) (st_type st)
-  && has_type ctx (st_input st) (st_type st)
+  && has_type_l lk (st_input st) (st_type st)
   && match st_kind st with
      | Kdelay => true
      | Kintegrator kt lim =>
@@ -234,11 +240,11 @@ Definition state_ok (ctx : list (ident * prim)) (st : state_decl) : bool :=
      end.
 
 (** Every output field takes exactly one signal, of its type. *)
-Definition outs_ok (ctx : list (ident * prim)) : bool :=
+Definition outs_ok (lk : ident -> option prim) : bool :=
   Nat.eqb (length (dg_outs d)) (length (dg_outputs d))
   && nodup_idents (map fst (dg_outs d))
   && forallb (fun fq => match find_assoc (fst fq) (dg_outs d) with
-                        | Some x => has_type ctx x (snd fq)
+                        | Some x => has_type_l lk x (snd fq)
                         | None => false
                         end) (dg_outputs d).
 
@@ -250,7 +256,7 @@ Definition temp_of (x : ident) : ident := "rtb_" ++ x.
 Definition dg_wf : bool :=
   match eqs_ok [] (dg_eqs d) with
   | Some ctx =>
-      forallb (state_ok ctx) (dg_states d) && outs_ok ctx
+      forallb (state_ok (sig_type ctx)) (dg_states d) && outs_ok (sig_type ctx)
       && nodup_idents (map st_name (dg_states d))
       && nodup_idents (map fst (dg_inputs d))
       && nodup_idents (map fst (dg_outputs d))
@@ -264,6 +270,121 @@ Definition dg_wf : bool :=
       && negb (Nat.eqb (length (dg_inputs d)) 0)
   | None => false
   end.
+
+(** ** The same rules, computed fast *)
+
+(** [dg_check] decides what [dg_wf] says ([dg_check_wf]) with the
+    signals' types in a trie ([Maps]) and the distinctness checks by
+    [find_dup]: the per-node file computes it, and [coqchk] checks that
+    computation again with the kernel's reduction, where [dg_wf]'s
+    association lists and pairwise comparisons take time quadratic in the
+    number of blocks (BENCHMARKS.md section 6). *)
+Definition tlook (t : ptree prim) (x : ident) : option prim := tget (enc_string x) t.
+
+Fixpoint eqs_check (t : ptree prim) (eqs : list equation) : option (ptree prim) :=
+  match eqs with
+  | [] => Some t
+  | e :: es =>
+      if block_ok (tlook t) (eq_block e) (eq_type e)
+         && match tlook t (eq_sig e) with Some _ => false | None => true end
+      then eqs_check (tset (enc_string (eq_sig e)) (eq_type e) t) es
+      else None
+  end.
+
+Definition distinct (l : list ident) : bool :=
+  match find_dup enc_string l with Some _ => false | None => true end.
+
+Definition dg_check : bool :=
+  match eqs_check PLeaf (dg_eqs d) with
+  | Some t =>
+      forallb (state_ok (tlook t)) (dg_states d) && outs_ok (tlook t)
+      && distinct (map st_name (dg_states d))
+      && distinct (map fst (dg_inputs d))
+      && distinct (map fst (dg_outputs d))
+      && distinct ([dg_in_var d; dg_out_var d; dg_state_var d;
+                    dg_ctrl d ++ "_initialize"; dg_ctrl d ++ "_step"]
+                   ++ map (fun e => temp_of (eq_sig e)) (dg_eqs d))
+      && distinct [dg_in_struct d; dg_out_struct d; dg_state_struct d]
+      && forallb (fun iq => sig_prim (snd iq)) (dg_inputs d)
+      && forallb (fun oq => sig_prim (snd oq)) (dg_outputs d)
+      && negb (Nat.eqb (length (dg_outputs d)) 0)
+      && negb (Nat.eqb (length (dg_inputs d)) 0)
+  | None => false
+  end.
+
+Lemma forallb_ext_eq:
+  forall (A : Type) (f g : A -> bool) l, (forall a, f a = g a) -> forallb f l = forallb g l.
+Proof. intros A f g l H; induction l as [|a l IH]; simpl; [reflexivity | rewrite H, IH; reflexivity]. Qed.
+
+Lemma has_type_l_ext:
+  forall lk1 lk2, (forall x, lk1 x = lk2 x) -> forall x q, has_type_l lk1 x q = has_type_l lk2 x q.
+Proof. intros lk1 lk2 H x q; unfold has_type_l; rewrite H; reflexivity. Qed.
+
+Lemma block_ok_ext:
+  forall lk1 lk2, (forall x, lk1 x = lk2 x) -> forall b q, block_ok lk1 b q = block_ok lk2 b q.
+Proof.
+  intros lk1 lk2 H b q. assert (E := has_type_l_ext lk1 lk2 H).
+  unfold block_ok. destruct b; rewrite ?E; try reflexivity;
+    try (erewrite forallb_ext_eq; [reflexivity | intros; apply E]).
+Qed.
+
+Lemma state_ok_ext:
+  forall lk1 lk2, (forall x, lk1 x = lk2 x) -> forall st, state_ok lk1 st = state_ok lk2 st.
+Proof. intros lk1 lk2 H st; unfold state_ok; rewrite (has_type_l_ext lk1 lk2 H); reflexivity. Qed.
+
+Lemma outs_ok_ext:
+  forall lk1 lk2, (forall x, lk1 x = lk2 x) -> outs_ok lk1 = outs_ok lk2.
+Proof.
+  intros lk1 lk2 H; unfold outs_ok. f_equal. apply forallb_ext_eq. intros fq.
+  destruct (find_assoc (fst fq) (dg_outs d)); [apply has_type_l_ext; auto | reflexivity].
+Qed.
+
+Lemma enc_string_inj: forall a b, enc_string a = enc_string b -> a = b.
+Proof. apply prefix_free_inj, enc_string_prefix_free. Qed.
+
+Lemma distinct_nodup: forall l, distinct l = nodup_idents l.
+Proof.
+  intros l. unfold distinct.
+  destruct (find_dup enc_string l) eqn:F; destruct (nodup_idents l) eqn:N; auto.
+  - apply nodup_idents_spec in N. apply (find_dup_None _ _ enc_string_inj) in N. congruence.
+  - assert (F' : find_dup enc_string l = None) by exact F.
+    apply (find_dup_None _ _ enc_string_inj) in F'. apply nodup_idents_spec in F'. congruence.
+Qed.
+
+Lemma find_assoc_in_ident:
+  forall (ctx : list (ident * prim)) x,
+  in_ident x (map fst ctx) = match find_assoc x ctx with Some _ => true | None => false end.
+Proof.
+  induction ctx as [|[y q] ctx IH]; intros x; simpl; auto.
+  unfold in_ident in *. simpl. destruct (string_dec x y) as [->|N].
+  - destruct (ident_eq y y); [reflexivity | congruence].
+  - rewrite <- IH. destruct (ident_eq y x); [congruence | reflexivity].
+Qed.
+
+Lemma eqs_check_ok:
+  forall eqs t ctx t', (forall x, tlook t x = sig_type ctx x) -> eqs_check t eqs = Some t' ->
+  exists ctx', eqs_ok ctx eqs = Some ctx' /\ forall x, tlook t' x = sig_type ctx' x.
+Proof.
+  induction eqs as [|e es IH]; intros t ctx t' H C; simpl in C |- *.
+  - inversion C; subst. eauto.
+  - rewrite (block_ok_ext (tlook t) (sig_type ctx) H) in C.
+    rewrite H in C. change (sig_type ctx (eq_sig e)) with (find_assoc (eq_sig e) ctx) in C.
+    rewrite find_assoc_in_ident.
+    destruct (block_ok (sig_type ctx) (eq_block e) (eq_type e)) eqn:B;
+      destruct (find_assoc (eq_sig e) ctx) eqn:F; simpl in C |- *; try discriminate C.
+    apply (IH (tset (enc_string (eq_sig e)) (eq_type e) t) ((eq_sig e, eq_type e) :: ctx) t'); auto.
+    intros x. unfold tlook, sig_type. simpl. destruct (string_dec x (eq_sig e)) as [->|N].
+    + apply tget_tset_same.
+    + rewrite tget_tset_other; [apply H|]. intros E. apply enc_string_inj in E. congruence.
+Qed.
+
+Theorem dg_check_wf: dg_check = true -> dg_wf = true.
+Proof.
+  unfold dg_check, dg_wf. destruct (eqs_check PLeaf (dg_eqs d)) as [t|] eqn:C; [|discriminate].
+  destruct (eqs_check_ok (dg_eqs d) PLeaf [] t (fun x => tget_leaf _ _) C) as [ctx [E H]].
+  rewrite E. rewrite (outs_ok_ext _ _ H), !distinct_nodup.
+  rewrite (forallb_ext_eq _ _ _ _ (state_ok_ext _ _ H)). auto.
+Qed.
 
 End WF.
 

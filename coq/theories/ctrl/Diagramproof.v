@@ -445,7 +445,7 @@ Proof. intros q a; unfold neg_expr; destruct (unsigned_of q); reflexivity. Qed.
 Lemma has_type_spec:
   forall tctx x q, has_type tctx x q = true -> find_assoc x tctx = Some q.
 Proof.
-  unfold has_type, sig_type. intros tctx x q H.
+  unfold has_type, has_type_l, sig_type. intros tctx x q H.
   destruct (find_assoc x tctx) as [q'|]; [|discriminate].
   apply prim_eqb_true in H. subst; reflexivity.
 Qed.
@@ -585,7 +585,7 @@ Qed.
 (** One equation: its statement sets the signal's temporary to the
     block's output, a value of the signal's type. *)
 Lemma exec_eq:
-  forall x q b, block_ok d tctx b q = true -> find_assoc x tctx = None ->
+  forall x q b, block_ok d (sig_type tctx) b q = true -> find_assoc x tctx = None ->
   exec_stmt ctx ge [] le m w (eq_stmt d (mkeq x q b)) []
             (set_assoc (temp_of x) (eval_block s u env b q) le) m w Out_normal
   /\ typed (eval_block s u env b q) q.
@@ -755,7 +755,7 @@ Lemma exec_eqs:
 Proof.
   induction eqs as [|[x q b] eqs IH]; intros tctx env le tctx' OK TOK; simpl in OK |- *.
   - inversion OK; subst. exists le; split; auto. constructor.
-  - destruct (block_ok d tctx b q && negb (in_ident x (map fst tctx))) eqn:B; [|discriminate].
+  - destruct (block_ok d (sig_type tctx) b q && negb (in_ident x (map fst tctx))) eqn:B; [|discriminate].
     apply andb_true_iff in B as [B N]. apply negb_true_iff in N.
     assert (X := find_assoc_none_of_not_in _ _ _ N).
     destruct (exec_eq tctx env le TOK x q b B X) as [E T].
@@ -892,7 +892,7 @@ Variable tyS : type.
 (** One state update, from a block whose member [st_name st] still
     holds the state's value in [s]. *)
 Lemma exec_update:
-  forall st fs mm, state_ok tctx st = true ->
+  forall st fs mm, state_ok (sig_type tctx) st = true ->
   get_block mm bs = Some (tyS, MVstruct fs) ->
   find_assoc (st_name st) fs = Some (MVscalar (field_val s (st_name st))) ->
   typed (field_val s (st_name st)) (st_type st) ->
@@ -966,7 +966,7 @@ Qed.
 
 Lemma exec_states:
   forall L fs mm,
-  (forall st, In st L -> state_ok tctx st = true) -> NoDup (map st_name L) ->
+  (forall st, In st L -> state_ok (sig_type tctx) st = true) -> NoDup (map st_name L) ->
   get_block mm bs = Some (tyS, MVstruct fs) ->
   (forall st, In st L -> find_assoc (st_name st) fs = Some (MVscalar (field_val s (st_name st)))
                         /\ typed (field_val s (st_name st)) (st_type st)) ->
@@ -1008,7 +1008,7 @@ Hypothesis DYS : has_states d = true -> by_ <> bs.
 
 Lemma dg_wf_inv:
   exists tctx, eqs_ok d [] (dg_eqs d) = Some tctx
-  /\ forallb (state_ok tctx) (dg_states d) = true /\ outs_ok d tctx = true
+  /\ forallb (state_ok (sig_type tctx)) (dg_states d) = true /\ outs_ok d (sig_type tctx) = true
   /\ NoDup (map st_name (dg_states d)) /\ NoDup (map fst (dg_outputs d)).
 Proof.
   unfold dg_wf in WF. destruct (eqs_ok d [] (dg_eqs d)) as [tctx|] eqn:EQ; [|discriminate].

@@ -94,7 +94,7 @@ Lemma sig_typed:
 Proof. intros tctx env x q E H. apply E. apply has_type_spec; auto. Qed.
 
 Lemma eval_block_typed:
-  forall tctx env b q, env_typed tctx env -> block_ok d tctx b q = true ->
+  forall tctx env b q, env_typed tctx env -> block_ok d (sig_type tctx) b q = true ->
   typed (eval_block s u env b q) q.
 Proof.
   intros tctx env b q E OK. unfold block_ok in OK. apply andb_true_iff in OK as [SQ OK].
@@ -157,7 +157,7 @@ Lemma eval_eqs_typed:
 Proof.
   intros d s u UT ST. induction eqs as [|[x q b] eqs IH]; intros tctx env tctx' OK E; simpl in OK |- *.
   - inversion OK; subst; auto.
-  - destruct (block_ok d tctx b q && negb (in_ident x (map fst tctx))) eqn:B; [|discriminate].
+  - destruct (block_ok d (sig_type tctx) b q && negb (in_ident x (map fst tctx))) eqn:B; [|discriminate].
     apply andb_true_iff in B as [B _].
     apply (IH _ _ _ OK). intros y qy F. simpl in F. unfold sig; simpl.
     destruct (string_dec y x) as [->|N].
