@@ -253,21 +253,26 @@ Definition outs_ok (lk : ident -> option prim) : bool :=
     members. *)
 Definition temp_of (x : ident) : ident := "rtb_" ++ x.
 
+(** What is checked once the equations are: the states and outputs
+    (their signals looked up by [lk]), the distinctness of names (by
+    [nodup]), the interface. *)
+Definition wf_rest (lk : ident -> option prim) (nodup : list ident -> bool) : bool :=
+  forallb (state_ok lk) (dg_states d) && outs_ok lk
+  && nodup (map st_name (dg_states d))
+  && nodup (map fst (dg_inputs d))
+  && nodup (map fst (dg_outputs d))
+  && nodup (app [dg_in_var d; dg_out_var d; dg_state_var d;
+                 dg_ctrl d ++ "_initialize"; dg_ctrl d ++ "_step"]
+                (map (fun e => temp_of (eq_sig e)) (dg_eqs d)))
+  && nodup [dg_in_struct d; dg_out_struct d; dg_state_struct d]
+  && forallb (fun iq => sig_prim (snd iq)) (dg_inputs d)
+  && forallb (fun oq => sig_prim (snd oq)) (dg_outputs d)
+  && negb (Nat.eqb (length (dg_outputs d)) 0)
+  && negb (Nat.eqb (length (dg_inputs d)) 0).
+
 Definition dg_wf : bool :=
   match eqs_ok [] (dg_eqs d) with
-  | Some ctx =>
-      forallb (state_ok (sig_type ctx)) (dg_states d) && outs_ok (sig_type ctx)
-      && nodup_idents (map st_name (dg_states d))
-      && nodup_idents (map fst (dg_inputs d))
-      && nodup_idents (map fst (dg_outputs d))
-      && nodup_idents ([dg_in_var d; dg_out_var d; dg_state_var d;
-                        dg_ctrl d ++ "_initialize"; dg_ctrl d ++ "_step"]
-                       ++ map (fun e => temp_of (eq_sig e)) (dg_eqs d))
-      && nodup_idents [dg_in_struct d; dg_out_struct d; dg_state_struct d]
-      && forallb (fun iq => sig_prim (snd iq)) (dg_inputs d)
-      && forallb (fun oq => sig_prim (snd oq)) (dg_outputs d)
-      && negb (Nat.eqb (length (dg_outputs d)) 0)
-      && negb (Nat.eqb (length (dg_inputs d)) 0)
+  | Some ctx => wf_rest (sig_type ctx) nodup_idents
   | None => false
   end.
 
@@ -296,19 +301,7 @@ Definition distinct (l : list ident) : bool :=
 
 Definition dg_check : bool :=
   match eqs_check PLeaf (dg_eqs d) with
-  | Some t =>
-      forallb (state_ok (tlook t)) (dg_states d) && outs_ok (tlook t)
-      && distinct (map st_name (dg_states d))
-      && distinct (map fst (dg_inputs d))
-      && distinct (map fst (dg_outputs d))
-      && distinct ([dg_in_var d; dg_out_var d; dg_state_var d;
-                    dg_ctrl d ++ "_initialize"; dg_ctrl d ++ "_step"]
-                   ++ map (fun e => temp_of (eq_sig e)) (dg_eqs d))
-      && distinct [dg_in_struct d; dg_out_struct d; dg_state_struct d]
-      && forallb (fun iq => sig_prim (snd iq)) (dg_inputs d)
-      && forallb (fun oq => sig_prim (snd oq)) (dg_outputs d)
-      && negb (Nat.eqb (length (dg_outputs d)) 0)
-      && negb (Nat.eqb (length (dg_inputs d)) 0)
+  | Some t => wf_rest (tlook t) distinct
   | None => false
   end.
 
@@ -382,7 +375,7 @@ Theorem dg_check_wf: dg_check = true -> dg_wf = true.
 Proof.
   unfold dg_check, dg_wf. destruct (eqs_check PLeaf (dg_eqs d)) as [t|] eqn:C; [|discriminate].
   destruct (eqs_check_ok (dg_eqs d) PLeaf [] t (fun x => tget_leaf _ _) C) as [ctx [E H]].
-  rewrite E. rewrite (outs_ok_ext _ _ H), !distinct_nodup.
+  rewrite E. unfold wf_rest in *. rewrite (outs_ok_ext _ _ H), !distinct_nodup.
   rewrite (forallb_ext_eq _ _ _ _ (state_ok_ext _ _ H)). auto.
 Qed.
 

@@ -1011,7 +1011,7 @@ Lemma dg_wf_inv:
   /\ forallb (state_ok (sig_type tctx)) (dg_states d) = true /\ outs_ok d (sig_type tctx) = true
   /\ NoDup (map st_name (dg_states d)) /\ NoDup (map fst (dg_outputs d)).
 Proof.
-  unfold dg_wf in WF. destruct (eqs_ok d [] (dg_eqs d)) as [tctx|] eqn:EQ; [|discriminate].
+  unfold dg_wf, wf_rest in WF. destruct (eqs_ok d [] (dg_eqs d)) as [tctx|] eqn:EQ; [|discriminate].
   exists tctx. split; auto.
   apply andb_true_iff in WF as [WF _]. apply andb_true_iff in WF as [WF _].
   apply andb_true_iff in WF as [WF _]. apply andb_true_iff in WF as [WF _].
