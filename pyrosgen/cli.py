@@ -49,10 +49,13 @@ def cmd_check(args: argparse.Namespace) -> int:
     from pyrosgen.frontend.validate import load_model
 
     model = load_model(args.model)
+    d = model.controller.diagram
+    ctrl = (f"; controller: a block diagram of {_plural(len(d.blocks), 'block')}"
+            f" ({_plural(len(d.states), 'state')})" if d is not None else "")
     print(
         f"{args.model}: ok: node {model.name}, {_plural(len(model.topics), 'topic')}, "
         f"{_plural(len(model.input_relations), 'input relation')}, "
-        f"{_plural(len(model.output_relations), 'output relation')}"
+        f"{_plural(len(model.output_relations), 'output relation')}{ctrl}"
     )
     return EXIT_OK
 

@@ -176,3 +176,12 @@ def test_every_block_kind_generates_and_compiles(name, tmp_path):
                         "-Wno-unused-but-set-variable", "-c", str(c),
                         "-o", str(tmp_path / "c.o")], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
+
+
+def test_check_says_the_controller_is_a_diagram(capsys):
+    code = cli.main(["check", str(DIAGRAM)])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert out.rstrip().endswith("; controller: a block diagram of 13 blocks (1 state)")
+    code = cli.main(["check", str(LANDSHARK)])
+    assert "block diagram" not in capsys.readouterr().out
