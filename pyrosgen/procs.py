@@ -40,17 +40,29 @@ def stop_group(proc: subprocess.Popen, grace: float = 2.0) -> None:
         return
 
 
+def _raise_stack_limit() -> None:
+    """In the child: the stack's soft limit raised to its hard limit."""
+    import resource
+
+    _soft, hard = resource.getrlimit(resource.RLIMIT_STACK)
+    resource.setrlimit(resource.RLIMIT_STACK, (hard, hard))
+
+
 def run(argv: Sequence[str], *, cwd: str | Path | None = None, timeout: float | None = None,
-        env: Mapping[str, str] | None = None, input: str | None = None) -> subprocess.CompletedProcess:
+        env: Mapping[str, str] | None = None, input: str | None = None,
+        big_stack: bool = False) -> subprocess.CompletedProcess:
     """``subprocess.run(argv, capture_output=True, text=True,
     errors="replace", check=False)`` with standard input from ``input`` (or
     ``/dev/null``), in a process group of its own that is stopped on any
-    exception (``KeyboardInterrupt``, ``subprocess.TimeoutExpired``, ...)."""
+    exception (``KeyboardInterrupt``, ``subprocess.TimeoutExpired``, ...).
+    ``big_stack``: the child's stack limit raised to the hard limit (the
+    OCaml compilers recurse on the depth of the extracted terms: 8 MB is
+    not enough for a diagram of 5,000 blocks, BENCHMARKS.md section 7)."""
     with subprocess.Popen(
         [str(a) for a in argv], cwd=None if cwd is None else str(cwd), env=None if env is None else dict(env),
         stdin=subprocess.PIPE if input is not None else subprocess.DEVNULL,
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, errors="replace",
-        start_new_session=True,
+        start_new_session=True, preexec_fn=_raise_stack_limit if big_stack else None,
     ) as proc:
         try:
             out, err = proc.communicate(input, timeout=timeout)

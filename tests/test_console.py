@@ -79,3 +79,4 @@ def test_verbose_shows_external_commands(tmp_path, capsys):
         assert "pyrosgen: $" not in capsys.readouterr().err
     finally:
         console.VERBOSE = False
+

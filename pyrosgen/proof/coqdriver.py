@@ -359,13 +359,14 @@ class CoqDriver:
 
     # -- running -------------------------------------------------------------
 
-    def run(self, argv: Sequence[str], cwd: Path) -> CoqcResult:
+    def run(self, argv: Sequence[str], cwd: Path, *, big_stack: bool = False) -> CoqcResult:
         """Run a tool (``check=False``); a tool that cannot be started or
-        times out raises :class:`CoqError`."""
+        times out raises :class:`CoqError`.  ``big_stack``: see
+        :func:`pyrosgen.procs.run`."""
         t0 = time.monotonic()
         console.trace_command(argv)
         try:
-            proc = procs.run(argv, cwd=cwd, timeout=self.timeout)
+            proc = procs.run(argv, cwd=cwd, timeout=self.timeout, big_stack=big_stack)
         except OSError as exc:
             raise CoqError(f"cannot run {argv[0]}: {exc.strerror or exc}") from None
         except subprocess.TimeoutExpired:
@@ -447,7 +448,8 @@ class CoqDriver:
         (work / "driver.ml").write_text(driver, encoding="ascii")
         small = (work / "job.ml").stat().st_size < BYTECODE_MAX_BYTES
         compiler = self.ocamlc() if small else self.ocamlopt()
-        res = self.run([*compiler, "-w", "-a", "job.mli", "job.ml", "driver.ml", "-o", "print_job"], work)
+        res = self.run([*compiler, "-w", "-a", "job.mli", "job.ml", "driver.ml", "-o", "print_job"], work,
+                       big_stack=True)
         if not res.ok:
             raise CoqError(f"{Path(compiler[-1]).name} failed on the extracted printer", [_one_line(res.output)])
         times["ocamlopt"] = res.seconds

@@ -97,3 +97,19 @@ def test_sighup_during_coqc(tmp_path):
     time.sleep(0.5)
     assert _processes_mentioning(str(tmp_path)) == []
     assert [p.name for p in tmp_path.iterdir()] == []
+
+
+def test_tools_may_get_the_hard_stack_limit():
+    """procs.run(big_stack=True) (the OCaml compilers, on the deep terms of
+    a 5,000-block diagram) raises the child's stack limit to the hard one;
+    without it the child keeps the soft limit."""
+    import resource
+
+    from pyrosgen import procs
+
+    soft, hard = resource.getrlimit(resource.RLIMIT_STACK)
+    show = ["sh", "-c", "ulimit -s"]
+    def kib(n):
+        return "unlimited" if n == resource.RLIM_INFINITY else str(n // 1024)
+    assert procs.run(show, big_stack=True).stdout.strip() == kib(hard)
+    assert procs.run(show).stdout.strip() == kib(soft)
