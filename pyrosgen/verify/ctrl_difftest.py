@@ -86,7 +86,7 @@ from pyrosgen.frontend.model import NodeModel
 from pyrosgen.frontend.msgmodel import C_TYPES
 from pyrosgen.proof.coqdriver import CoqDriver
 from pyrosgen.render import render, source_label
-from pyrosgen.verify.difftest import GCC_STRICT, DifftestError
+from pyrosgen.verify.difftest import GCC_STRICT, DifftestError, run_tool
 
 __all__ = [
     "C_ISO", "O2", "SANITIZED", "SIDES", "COQ", "GCC_O2", "GCC_SAN", "BLOCKSIM", "Column", "Difference", "CtrlDifftestReport", "CtrlDifftest",
@@ -395,15 +395,6 @@ def harness_source(model: NodeModel, source: str = "the node model") -> str:
         line_max=21 * len(c.inputs.fields) + 64)
 
 
-def _run(argv: list[str], cwd: Path, what: str, timeout: float = 600) -> subprocess.CompletedProcess:
-    proc = subprocess.run(argv, cwd=str(cwd), capture_output=True, text=True, errors="replace",
-                          check=False, timeout=timeout)
-    if proc.returncode != 0:
-        raise DifftestError(f"{what} failed (exit status {proc.returncode})",
-                            (proc.stdout + proc.stderr).splitlines()[-30:])
-    return proc
-
-
 class CtrlDifftest:
     """The sides of the differential test of one node's diagram controller,
     built in ``work``.
@@ -452,10 +443,10 @@ class CtrlDifftest:
         objs = []
         for src, warn in ((ctrl, C_ISO), (harness, GCC_STRICT)):
             obj = out / (src.stem + ".o")
-            _run(["gcc", *warn, *flags, "-c", str(src), "-o", str(obj)], out, f"gcc {' '.join(flags)} on {src.name}")
+            run_tool(["gcc", *warn, *flags, "-c", str(src), "-o", str(obj)], out, f"gcc {' '.join(flags)} on {src.name}")
             objs.append(str(obj))
         exe = out / "ctrl_difftest"
-        _run(["gcc", *flags, *objs, "-o", str(exe)], out, "linking the C side")
+        run_tool(["gcc", *flags, *objs, "-o", str(exe)], out, "linking the C side")
         self.seconds[f"build {name}"] = time.monotonic() - t
         return exe
 

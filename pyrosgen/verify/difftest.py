@@ -196,7 +196,9 @@ def harness_source(sexp_text: str, header_name: str, source: str = "the AST dump
 # ---------------------------------------------------------------------------
 # Building the two sides
 
-def _run(argv: list[str], cwd: Path, what: str, timeout: float = 900) -> subprocess.CompletedProcess:
+def run_tool(argv: list[str], cwd: Path, what: str, timeout: float = 900) -> subprocess.CompletedProcess:
+    """Run a compiler or harness of a differential test; a failure raises
+    :class:`DifftestError` with the end of its output."""
     proc = subprocess.run(argv, cwd=str(cwd), capture_output=True, text=True, errors="replace",
                           check=False, timeout=timeout)
     if proc.returncode != 0:
@@ -218,7 +220,7 @@ def build_c_harness(out_dir: str | Path, node: str, work: str | Path, *, sanitiz
     exe = work / (name or f"{node}_c{'_san' if sanitize else ''}")
     argv = ["gcc", *GCC_STRICT, opt, *(SANITIZE if sanitize else ()), "-I", str(out_dir),
             str(glue), str(src), "-o", str(exe)]
-    _run(argv, work, "gcc (differential-test harness)")
+    run_tool(argv, work, "gcc (differential-test harness)")
     return exe
 
 

@@ -177,33 +177,24 @@ Definition float_binop {F : Type} (add sub mul div : F -> F -> F) (cmp : binary_
 
 (** ** The operators *)
 
+(** The value of an operation's result: a number of the operands' kind
+    ([mk]), or the [int] 0 or 1 of a comparison. *)
+Definition result_val {A : Type} (mk : A -> val) (r : option (A + bool)) : option val :=
+  match r with
+  | Some (inl x) => Some (mk x)
+  | Some (inr b) => Some (int_of_bool b)
+  | None => None
+  end.
+
 (** [e1 op e2] for operands of type [ty] with values [v1], [v2]. *)
 Definition sem_binop (op : binary_operation) (ty : type) (v1 v2 : val) : option val :=
   match ty, v1, v2 with
-  | Tint I32 sg, Vint n1, Vint n2 =>
-      match int_binop 32 sg op n1 n2 with
-      | Some (inl r) => Some (Vint r)
-      | Some (inr b) => Some (int_of_bool b)
-      | None => None
-      end
-  | Tlong sg, Vlong n1, Vlong n2 =>
-      match int_binop 64 sg op n1 n2 with
-      | Some (inl r) => Some (Vlong r)
-      | Some (inr b) => Some (int_of_bool b)
-      | None => None
-      end
+  | Tint I32 sg, Vint n1, Vint n2 => result_val Vint (int_binop 32 sg op n1 n2)
+  | Tlong sg, Vlong n1, Vlong n2 => result_val Vlong (int_binop 64 sg op n1 n2)
   | Tfloat F64, Vfloat x, Vfloat y =>
-      match float_binop add64 sub64 mul64 div64 (fcmp 53 1024) op x y with
-      | Some (inl r) => Some (Vfloat r)
-      | Some (inr b) => Some (int_of_bool b)
-      | None => None
-      end
+      result_val Vfloat (float_binop add64 sub64 mul64 div64 (fcmp 53 1024) op x y)
   | Tfloat F32, Vsingle x, Vsingle y =>
-      match float_binop add32 sub32 mul32 div32 (fcmp 24 128) op x y with
-      | Some (inl r) => Some (Vsingle r)
-      | Some (inr b) => Some (int_of_bool b)
-      | None => None
-      end
+      result_val Vsingle (float_binop add32 sub32 mul32 div32 (fcmp 24 128) op x y)
   | _, _, _ => None
   end.
 
