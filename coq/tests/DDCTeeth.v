@@ -128,17 +128,17 @@ Definition y_out : mval := MVstruct [("Out1", MVscalar (Vfloat f_inf))].
     outputs [Out1 = +inf]. *)
 Definition ctx : ros_context unit :=
   mkctx (fun k => match k with
-                  | O => [(tp_name left_wheel, msg_x f_zero); (tp_name right_wheel, msg_x f_inf)]
+                  | O => [mkarrival (tp_name left_wheel) (msg_x f_zero) 0; mkarrival (tp_name right_wheel) (msg_x f_inf) 0]
                   | S _ => []
                   end)
-        tt (fun _ _ => (tt, y_out)).
+        (fun _ => 0%Z) tt (fun _ _ => (tt, y_out)).
 
 Lemma ctx_arrivals_wt: arrivals_wt landshark ctx.
 Proof.
-  intros k name mv tp H Htp E. destruct k as [|k]; simpl in H; [|contradiction].
+  intros k a tp H Htp E. destruct k as [|k]; simpl in H; [|contradiction].
   simpl in Htp. apply mval_typecheck_iff.
-  destruct H as [H|[H|[]]]; inversion H; subst;
-    destruct Htp as [<-|[<-|[<-|[]]]]; try discriminate E; vm_compute; reflexivity.
+  destruct H as [H|[H|[]]]; subst a;
+    destruct Htp as [<-|[<-|[<-|[]]]]; simpl in E; try discriminate E; vm_compute; reflexivity.
 Qed.
 
 Lemma ctx_controller_wt: controller_wt landshark ctx.

@@ -31,7 +31,7 @@ Definition run_and_read {CS : Type} (p : program) (ctx : ros_context CS) (n : na
 
 (** A context without messages and with a controller that does nothing. *)
 Definition quiet_ctx : ros_context unit :=
-  mkctx (fun _ => []) tt (fun s u => (s, u)).
+  mkctx (fun _ => []) (fun _ => 0%Z) tt (fun s u => (s, u)).
 
 Definition sc (v : val) : mval := MVscalar v.
 Definition ndouble : float64 := B754_zero 53 1024 true.   (**r -0.0 *)
@@ -327,14 +327,18 @@ Definition msg_In (v : Z) : mval := MVstruct [("v", sc (Vint v))].
 
 (** Spin 0: one message (5); spin 1: three messages (6, 7, 8) and one on
     a topic nobody subscribed to; spin 2: nothing. *)
-Definition arrivals (k : nat) : list (string * mval) :=
+Definition arrivals (k : nat) : list arrival :=
   match k with
-  | O => [("sensor", msg_In 5)]
-  | 1%nat => [("sensor", msg_In 6); ("other", msg_In 100); ("sensor", msg_In 7); ("sensor", msg_In 8)]
+  | O => [mkarrival "sensor" (msg_In 5) 10]
+  | 1%nat => [mkarrival "sensor" (msg_In 6) 11; mkarrival "other" (msg_In 100) 12;
+              mkarrival "sensor" (msg_In 7) 13; mkarrival "sensor" (msg_In 8) 14]
   | _ => []
   end.
 
-Definition node_ctx : ros_context Z := mkctx arrivals 0 counter_step.
+(** The ROS time of cycle [k]. *)
+Definition clock (k : nat) : Z := 100 * Z.of_nat k.
+
+Definition node_ctx : ros_context Z := mkctx arrivals clock 0 counter_step.
 
 Definition U (in1 : Z) : mval := MVstruct [("In1", sc (Vint in1)); ("In2", sc (Vint 0))].
 Definition Y (out1 : Z) : mval := MVstruct [("Out1", sc (Vint out1))].
@@ -393,7 +397,7 @@ Proof. vm_compute. reflexivity. Qed.
 (** A controller whose output does not have the type of [Controller_Y]
     makes the step undefined. *)
 Definition bad_ctx : ros_context unit :=
-  mkctx arrivals tt (fun s u => (s, MVstruct [("Out1", sc (Vlong 1))])).
+  mkctx arrivals clock tt (fun s u => (s, MVstruct [("Out1", sc (Vlong 1))])).
 
 Example node_bad_controller: run_trace 1000 (node 1) bad_ctx 3 = None.
 Proof. vm_compute. reflexivity. Qed.
@@ -403,19 +407,19 @@ Proof. vm_compute. reflexivity. Qed.
 Definition sub_q (q : nat) (cb : ident) : subscription := mksub "sensor" "In" q cb.
 
 Example deliverable_queue1:
-  deliverable [sub_q 1 "cb"] (arrivals 1) = [(sub_q 1 "cb", msg_In 8)].
+  deliverable [sub_q 1 "cb"] (arrivals 1) = [(sub_q 1 "cb", mkarrival "sensor" (msg_In 8) 14)].
 Proof. vm_compute. reflexivity. Qed.
 
 Example deliverable_queue2:
-  deliverable [sub_q 2 "cb"] (arrivals 1) = [(sub_q 2 "cb", msg_In 7); (sub_q 2 "cb", msg_In 8)].
+  deliverable [sub_q 2 "cb"] (arrivals 1) = [(sub_q 2 "cb", mkarrival "sensor" (msg_In 7) 13); (sub_q 2 "cb", mkarrival "sensor" (msg_In 8) 14)].
 Proof. vm_compute. reflexivity. Qed.
 
 (** Queue size 0 is unbounded; two subscriptions each get their copy, in
     arrival order. *)
 Example deliverable_two_subs:
   deliverable [sub_q 0 "a"; sub_q 1 "b"] (arrivals 1)
-  = [(sub_q 0 "a", msg_In 6); (sub_q 0 "a", msg_In 7);
-     (sub_q 0 "a", msg_In 8); (sub_q 1 "b", msg_In 8)].
+  = [(sub_q 0 "a", mkarrival "sensor" (msg_In 6) 11); (sub_q 0 "a", mkarrival "sensor" (msg_In 7) 13);
+     (sub_q 0 "a", mkarrival "sensor" (msg_In 8) 14); (sub_q 1 "b", mkarrival "sensor" (msg_In 8) 14)].
 Proof. vm_compute. reflexivity. Qed.
 
 (** An echo node whose callback republishes every message it receives,
@@ -451,6 +455,67 @@ Example echo_run:
           Epublish "echo" (msg_In 5); Esleep 10;
           Epublish "echo" (msg_In 7); Epublish "echo" (msg_In 8); Esleep 10;
           Esleep 10].
+Proof. vm_compute. reflexivity. Qed.
+
+(** ** Time: what [ros_now] answers *)
+
+(** A node whose callback stores [ros_now()] (the receipt time of the
+    message it is called for) into [t_recv], and whose loop publishes, in
+    each cycle, [t_recv] and [ros_now()] read after [ros_spinOnce] (the
+    cycle's time). *)
+Definition tU64 : type := Tlong Unsigned.
+Definition tTimes : type := Tstruct "Times".
+Definition clock_node : program := {|
+  prog_types := [Composite "In" [("v", tint)]; Composite "Times" [("recv", tU64); ("now", tU64)]];
+  prog_defs := [
+    ("ros_ok", Gfun (External EF_ros_ok [] tint));
+    ("ros_now", Gfun (External EF_ros_now [] tU64));
+    ("ros_spinOnce", Gfun (External EF_ros_spinOnce [] Tvoid));
+    ("ros_rate_sleep", Gfun (External (EF_ros_rate_sleep 10) [] Tvoid));
+    ("ros_subscribe_sensor",
+       Gfun (External (EF_ros_subscribe "sensor" "In" 0) [tptr sensor_cb_type] Tvoid));
+    ("ros_advertise_times", Gfun (External (EF_ros_advertise "times" "Times" 1) [] Tvoid));
+    ("ros_publish_times", Gfun (External (EF_ros_publish "times" "Times") [tptr tTimes] Tvoid));
+    ("t_recv", Gvar tU64);
+    ("out", Gvar tTimes);
+    ("cb", fn Tvoid [("msg", tptr tIn)] [] [("t", tU64)] (seq [
+       Scall (Some "t") (Evar "ros_now" (Tfunction [] tU64)) [];
+       Sassign (Evar "t_recv" tU64) (Etempvar "t" tU64);
+       Sreturn None]));
+    ("main", fn tint [] [] [("ok", tint); ("t", tU64)] (seq [
+       Scall None (Evar "ros_subscribe_sensor" (Tfunction [tptr sensor_cb_type] Tvoid))
+             [Eaddrof (Evar "cb" sensor_cb_type) (tptr sensor_cb_type)];
+       call0 "ros_advertise_times";
+       Sloop (seq [
+         Scall (Some "ok") (Evar "ros_ok" (Tfunction [] tint)) [];
+         Sifthenelse (Etempvar "ok" tint) Sskip Sbreak;
+         call0 "ros_spinOnce";
+         Scall (Some "t") (Evar "ros_now" (Tfunction [] tU64)) [];
+         Sassign (Efield (Evar "out" tTimes) "now" tU64) (Etempvar "t" tU64);
+         Sassign (Efield (Evar "out" tTimes) "recv" tU64) (Evar "t_recv" tU64);
+         Scall None (Evar "ros_publish_times" (Tfunction [tptr tTimes] Tvoid))
+               [Eaddrof (Evar "out" tTimes) (tptr tTimes)];
+         call0 "ros_rate_sleep"]);
+       ret0]))];
+  prog_main := "main" |}.
+
+Definition times (recv now : Z) : mval :=
+  MVstruct [("recv", sc (Vlong recv)); ("now", sc (Vlong now))].
+
+(** Cycle 0: the message of spin 0 was received at 10, the cycle's time
+    is [clock 1 = 100]; cycle 1: the last of the four messages of spin 1
+    was received at 14 (the one on "other" is not delivered, so its
+    time 12 is never seen), the cycle's time is 200; cycle 2: nothing
+    arrives, [t_recv] keeps 14, the time is 300. *)
+Example clock_run:
+  run_trace 1000 clock_node node_ctx 3
+  = Some [Esubscribe "sensor" "In" 0; Eadvertise "times" "Times" 1;
+          Epublish "times" (times 10 100); Esleep 10;
+          Epublish "times" (times 14 200); Esleep 10;
+          Epublish "times" (times 14 300); Esleep 10].
+Proof. vm_compute. reflexivity. Qed.
+
+Example clock_wt: check_program clock_node = true.
 Proof. vm_compute. reflexivity. Qed.
 
 (** ** Typing *)

@@ -65,7 +65,8 @@ Definition landshark : node_model := {|
     [mkinrel "landshark_left_wheel_velocity" twist_x "In1";
      mkinrel "landshark_right_wheel_velocity" twist_x "In2";
      mkinrel "landshark_gps_velocity" twist_x "In3"];
-  nm_outrels := [mkoutrel "Out1" "landshark_control_base_velocity" twist_x]
+  nm_outrels := [mkoutrel "Out1" "landshark_control_base_velocity" twist_x];
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []
 |}.
 
 (** ** The generated program *)

@@ -207,19 +207,20 @@ Definition msg_x (x : val) : mval :=
 
 Definition ctx : ros_context unit :=
   mkctx (fun k => match k with
-                  | O => [(tp_name left_wheel, msg_x one); (tp_name right_wheel, msg_x two);
-                          (tp_name gps, msg_x three)]
-                  | 1%nat => [(tp_name left_wheel, msg_x five)]
+                  | O => [mkarrival (tp_name left_wheel) (msg_x one) 0;
+                          mkarrival (tp_name right_wheel) (msg_x two) 0;
+                          mkarrival (tp_name gps) (msg_x three) 0]
+                  | 1%nat => [mkarrival (tp_name left_wheel) (msg_x five) 0]
                   | _ => []
                   end)
-        tt (fun _ _ => (tt, MVstruct [("Out1", MVscalar four)])).
+        (fun _ => 0%Z) tt (fun _ _ => (tt, MVstruct [("Out1", MVscalar four)])).
 
 Lemma ctx_arrivals_wt: arrivals_wt landshark ctx.
 Proof.
-  intros k name mv tp H Htp _. apply mval_typecheck_iff.
+  intros k a tp H Htp _. apply mval_typecheck_iff.
   simpl in Htp. destruct Htp as [<-|[<-|[<-|[]]]];
     destruct k as [|[|k]]; simpl in H; [| |contradiction| | |contradiction| | |contradiction];
-    repeat destruct H as [H|H]; try contradiction; inversion H; subst; vm_compute; reflexivity.
+    repeat destruct H as [H|H]; try contradiction; subst a; vm_compute; reflexivity.
 Qed.
 
 Lemma ctx_controller_wt: controller_wt landshark ctx.

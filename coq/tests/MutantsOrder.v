@@ -43,7 +43,8 @@ Definition landshark2 : node_model := {|
      mkinrel "landshark_right_wheel_velocity" twist_x "In2";
      mkinrel "landshark_gps_velocity" twist_x "In3"];
   nm_outrels := [mkoutrel "Out1" "landshark_control_base_velocity" twist_x;
-                 mkoutrel "Out2" "landshark_control_base_velocity2" twist_x]
+                 mkoutrel "Out2" "landshark_control_base_velocity2" twist_x];
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []
 |}.
 
 Definition landshark2_result : res program := Eval vm_compute in generate landshark2.
@@ -58,18 +59,19 @@ Proof. vm_compute. reflexivity. Qed.
 
 Definition ctx2 : ros_context unit :=
   mkctx (fun k => match k with
-                  | O => [(tp_name left_wheel, msg_x one); (tp_name right_wheel, msg_x two);
-                          (tp_name gps, msg_x three)]
+                  | O => [mkarrival (tp_name left_wheel) (msg_x one) 0;
+                          mkarrival (tp_name right_wheel) (msg_x two) 0;
+                          mkarrival (tp_name gps) (msg_x three) 0]
                   | _ => []
                   end)
-        tt (fun _ _ => (tt, MVstruct [("Out1", MVscalar four); ("Out2", MVscalar five)])).
+        (fun _ => 0%Z) tt (fun _ _ => (tt, MVstruct [("Out1", MVscalar four); ("Out2", MVscalar five)])).
 
 Lemma ctx2_arrivals_wt: arrivals_wt landshark2 ctx2.
 Proof.
-  intros k name mv tp H Htp _. apply mval_typecheck_iff.
+  intros k a tp H Htp _. apply mval_typecheck_iff.
   simpl in Htp. destruct Htp as [<-|[<-|[<-|[]]]];
     destruct k as [|k]; simpl in H; try contradiction;
-    repeat destruct H as [H|H]; try contradiction; inversion H; subst; vm_compute; reflexivity.
+    repeat destruct H as [H|H]; try contradiction; subst a; vm_compute; reflexivity.
 Qed.
 
 Lemma ctx2_controller_wt: controller_wt landshark2 ctx2.

@@ -366,16 +366,16 @@ Qed.
 Theorem diagram_node_ddc:
   forall m p (d : Diagram.diagram), generate m = OK p -> Diagram.dg_wf d = true ->
   Endtoend.dg_matches m d = true ->
-  forall arrivals n, arrivals_wt m (Endtoend.diagram_ctx m d arrivals) ->
-     (exists t, program_behaves p (Endtoend.diagram_ctx m d arrivals) n t)
-  /\ (forall t, program_behaves p (Endtoend.diagram_ctx m d arrivals) n t ->
+  forall arrivals clock n, arrivals_wt m (Endtoend.diagram_ctx m d arrivals clock) ->
+     (exists t, program_behaves p (Endtoend.diagram_ctx m d arrivals clock) n t)
+  /\ (forall t, program_behaves p (Endtoend.diagram_ctx m d arrivals clock) n t ->
       exists (s : nat -> mval) (evs : nat -> trace),
          s O = Diagram.dg_init d
       /\ t = start_events m ++ concat (map evs (seq 0 n))
       /\ forall i, (i < n)%nat ->
            exists u y mvs,
               evs i = Estep u y :: publish_events (published m) mvs ++ [Esleep (nm_period_ms m)]
-           /\ input_values m (Endtoend.diagram_ctx m d arrivals) i u
+           /\ input_values m (Endtoend.diagram_ctx m d arrivals clock) i u
            /\ Diagram.dg_step d (s i) u = (s (S i), y)
            /\ Forall2 (published_value m y) (published m) mvs).
 Proof. exact Endtoend.diagram_node_ddc. Qed.

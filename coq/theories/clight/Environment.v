@@ -138,16 +138,28 @@ Record subscription : Type := mksub {
   sub_callback : ident     (**r the callback function *)
 }.
 
-(** What the environment of a run fixes: the message arrivals and the
-    controller. *)
+(** A message arrival: its topic, its value and the ROS time (in
+    nanoseconds, as [ros::Time::toNSec] gives it) at which the node
+    received it, which is what [ros::MessageEvent::getReceiptTime] tells
+    the callback. *)
+Record arrival : Type := mkarrival {
+  ar_topic : string;
+  ar_msg : mval;
+  ar_time : Z
+}.
+
+(** What the environment of a run fixes: the message arrivals with their
+    receipt times, the ROS time of each cycle and the controller. *)
 Record ros_context (CS : Type) : Type := mkctx {
-  ctx_arrivals : nat -> list (string * mval);
+  ctx_arrivals : nat -> list arrival;
+  ctx_time : nat -> Z;
   ctx_init : CS;
   ctx_step : CS -> mval -> CS * mval
 }.
 
-Arguments mkctx {CS} ctx_arrivals ctx_init ctx_step.
+Arguments mkctx {CS} ctx_arrivals ctx_time ctx_init ctx_step.
 Arguments ctx_arrivals {CS} r _.
+Arguments ctx_time {CS} r _.
 Arguments ctx_init {CS} r.
 Arguments ctx_step {CS} r _ _.
 
@@ -157,38 +169,47 @@ Record world (CS : Type) : Type := mkworld {
   w_advertised : list string;   (**r advertised topics *)
   w_spins : nat;                (**r calls of [ros_spinOnce] so far *)
   w_ok : nat;                   (**r remaining [true] answers of [ros_ok] *)
-  w_ctrl : option CS            (**r the controller's state; [None]: not initialised *)
+  w_ctrl : option CS;           (**r the controller's state; [None]: not initialised *)
+  w_time : Z                    (**r what [ros_now] answers *)
 }.
 
-Arguments mkworld {CS} w_subs w_advertised w_spins w_ok w_ctrl.
+Arguments mkworld {CS} w_subs w_advertised w_spins w_ok w_ctrl w_time.
 Arguments w_subs {CS} w.
 Arguments w_advertised {CS} w.
 Arguments w_spins {CS} w.
 Arguments w_ok {CS} w.
 Arguments w_ctrl {CS} w.
+Arguments w_time {CS} w.
 
-(** The world at the start of [main]. *)
+(** The world at the start of [main]: the time is the one read by
+    [ros_init], [ctx_time ctx 0]. *)
 Definition initial_world {CS : Type} (ctx : ros_context CS) (n : nat) : world CS :=
-  mkworld [] [] O n None.
+  mkworld [] [] O n None (ctx_time ctx O).
 
 Definition add_subscription {CS} (w : world CS) (s : subscription) : world CS :=
-  mkworld (w_subs w ++ [s]) (w_advertised w) (w_spins w) (w_ok w) (w_ctrl w).
+  mkworld (w_subs w ++ [s]) (w_advertised w) (w_spins w) (w_ok w) (w_ctrl w) (w_time w).
 Definition add_advertised {CS} (w : world CS) (topic : string) : world CS :=
-  mkworld (w_subs w) (w_advertised w ++ [topic]) (w_spins w) (w_ok w) (w_ctrl w).
+  mkworld (w_subs w) (w_advertised w ++ [topic]) (w_spins w) (w_ok w) (w_ctrl w) (w_time w).
 Definition set_ok {CS} (w : world CS) (k : nat) : world CS :=
-  mkworld (w_subs w) (w_advertised w) (w_spins w) k (w_ctrl w).
-Definition next_spin {CS} (w : world CS) : world CS :=
-  mkworld (w_subs w) (w_advertised w) (S (w_spins w)) (w_ok w) (w_ctrl w).
+  mkworld (w_subs w) (w_advertised w) (w_spins w) k (w_ctrl w) (w_time w).
 Definition set_ctrl {CS} (w : world CS) (s : option CS) : world CS :=
-  mkworld (w_subs w) (w_advertised w) (w_spins w) (w_ok w) s.
+  mkworld (w_subs w) (w_advertised w) (w_spins w) (w_ok w) s (w_time w).
+Definition set_time {CS} (w : world CS) (t : Z) : world CS :=
+  mkworld (w_subs w) (w_advertised w) (w_spins w) (w_ok w) (w_ctrl w) t.
+
+(** The end of a [ros_spinOnce]: one more spin, and the time is the
+    cycle's, read when [ros::spinOnce] returned. *)
+Definition next_spin {CS} (ctx : ros_context CS) (w : world CS) : world CS :=
+  mkworld (w_subs w) (w_advertised w) (S (w_spins w)) (w_ok w) (w_ctrl w)
+          (ctx_time ctx (S (w_spins w))).
 
 Definition topic_eqb (a b : string) : bool := if string_dec a b then true else false.
 
 (** The number of messages on [topic] in [msgs]. *)
-Fixpoint count_topic (topic : string) (msgs : list (string * mval)) : nat :=
+Fixpoint count_topic (topic : string) (msgs : list arrival) : nat :=
   match msgs with
   | [] => O
-  | (tp, _) :: rest => (if topic_eqb tp topic then 1 else 0) + count_topic topic rest
+  | a :: rest => (if topic_eqb (ar_topic a) topic then 1 else 0) + count_topic topic rest
   end%nat.
 
 (** Whether subscription [s] still holds a message after which [newer]
@@ -202,13 +223,14 @@ Definition keeps (s : subscription) (newer : nat) : bool :=
     arrival order, one invocation per subscription of its topic whose
     queue still holds it (subscriptions in registration order).  Messages
     of topics without subscription are dropped. *)
-Fixpoint deliverable (subs : list subscription) (msgs : list (string * mval))
-  : list (subscription * mval) :=
+Fixpoint deliverable (subs : list subscription) (msgs : list arrival)
+  : list (subscription * arrival) :=
   match msgs with
   | [] => []
-  | (tp, mv) :: rest =>
-      map (fun s => (s, mv))
-          (filter (fun s => topic_eqb (sub_topic s) tp && keeps s (count_topic tp rest)) subs)
+  | a :: rest =>
+      map (fun s => (s, a))
+          (filter (fun s => topic_eqb (sub_topic s) (ar_topic a)
+                            && keeps s (count_topic (ar_topic a) rest)) subs)
       ++ deliverable subs rest
   end.
 
@@ -232,6 +254,7 @@ Definition external_call (ef : external_function) (vargs : list val) (m : mem) (
       | S k => Some (Vint 1, [], m, set_ok w k)
       | O => Some (Vint 0, [], m, w)
       end
+  | EF_ros_now, [] => Some (Vlong (norm_long Unsigned (w_time w)), [], m, w)
   | EF_ros_rate_sleep period, [] => Some (Vundef, [Esleep period], m, w)
   | EF_ros_subscribe topic msgty q, [Vfptr cb] =>
       Some (Vundef, [Esubscribe topic msgty q], m, add_subscription w (mksub topic msgty q cb))
@@ -265,7 +288,7 @@ Definition external_call (ef : external_function) (vargs : list val) (m : mem) (
   end.
 
 (** The messages one [ros_spinOnce] delivers. *)
-Definition spin_messages (w : world CS) : list (subscription * mval) :=
+Definition spin_messages (w : world CS) : list (subscription * arrival) :=
   deliverable (w_subs w) (ctx_arrivals ctx (w_spins w)).
 
 Lemma external_call_not_spin:

@@ -121,7 +121,7 @@ with call_fuel (fuel : nat) (m : mem) (w : world CS) (fd : fundef) (vargs : list
           match vargs with
           | [] =>
               match deliver_fuel fuel' m w (spin_messages ctx w) with
-              | Some (t, m', w') => Some (t, m', next_spin w', Vundef)
+              | Some (t, m', w') => Some (t, m', next_spin ctx w', Vundef)
               | None => None
               end
           | _ => None
@@ -134,7 +134,7 @@ with call_fuel (fuel : nat) (m : mem) (w : world CS) (fd : fundef) (vargs : list
       end
   end
 
-with deliver_fuel (fuel : nat) (m : mem) (w : world CS) (msgs : list (subscription * mval))
+with deliver_fuel (fuel : nat) (m : mem) (w : world CS) (msgs : list (subscription * arrival))
                   {struct fuel}
   : option (trace * mem * world CS) :=
   match fuel with
@@ -142,11 +142,11 @@ with deliver_fuel (fuel : nat) (m : mem) (w : world CS) (msgs : list (subscripti
   | S fuel' =>
       match msgs with
       | [] => Some ([], m, w)
-      | (s, mv) :: rest =>
-          let (m1, b) := alloc m (Tstruct (sub_msgty s)) mv in
+      | (s, a) :: rest =>
+          let (m1, b) := alloc m (Tstruct (sub_msgty s)) (ar_msg a) in
           match find_funct ge (sub_callback s) with
           | Some fd =>
-              match call_fuel fuel' m1 w fd [Vptr b []] with
+              match call_fuel fuel' m1 (set_time w (ar_time a)) fd [Vptr b []] with
               | Some (t1, m2, w1, _) =>
                   match deliver_fuel fuel' (free m2 b) w1 rest with
                   | Some (t2, m3, w2) => Some (t1 ++ t2, m3, w2)

@@ -749,6 +749,7 @@ Definition sexp_ef (ef : external_function) : string :=
   | EF_ros_init => "(ros_init)"
   | EF_ros_ok => "(ros_ok)"
   | EF_ros_spinOnce => "(ros_spinOnce)"
+  | EF_ros_now => "(ros_now)"
   | EF_ros_rate_sleep p => sexp_list ["ros_rate_sleep"; string_of_Z p]
   | EF_ros_subscribe t m q => sexp_list ["ros_subscribe"; sexp_string t; m; sexp_nat q]
   | EF_ros_advertise t m q => sexp_list ["ros_advertise"; sexp_string t; m; sexp_nat q]

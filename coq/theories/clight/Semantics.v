@@ -373,18 +373,18 @@ with eval_funcall : mem -> world CS -> fundef -> list val ->
       eval_funcall m w (External ef targs tres) vargs t m' w' vres
   | eval_funcall_spinOnce: forall targs tres m w t m' w',
       deliver m w (spin_messages ctx w) t m' w' ->
-      eval_funcall m w (External EF_ros_spinOnce targs tres) [] t m' (next_spin w') Vundef
+      eval_funcall m w (External EF_ros_spinOnce targs tres) [] t m' (next_spin ctx w') Vundef
 
-with deliver : mem -> world CS -> list (subscription * mval) ->
+with deliver : mem -> world CS -> list (subscription * arrival) ->
                trace -> mem -> world CS -> Prop :=
   | deliver_nil: forall m w,
       deliver m w [] [] m w
-  | deliver_cons: forall m w s mv rest m1 b fd t1 m2 w1 v t2 m3 w2,
-      alloc m (Tstruct (sub_msgty s)) mv = (m1, b) ->
+  | deliver_cons: forall m w s a rest m1 b fd t1 m2 w1 v t2 m3 w2,
+      alloc m (Tstruct (sub_msgty s)) (ar_msg a) = (m1, b) ->
       find_funct ge (sub_callback s) = Some fd ->
-      eval_funcall m1 w fd [Vptr b []] t1 m2 w1 v ->
+      eval_funcall m1 (set_time w (ar_time a)) fd [Vptr b []] t1 m2 w1 v ->
       deliver (free m2 b) w1 rest t2 m3 w2 ->
-      deliver m w ((s, mv) :: rest) (t1 ++ t2) m3 w2.
+      deliver m w ((s, a) :: rest) (t1 ++ t2) m3 w2.
 
 Scheme exec_stmt_ind3 := Minimality for exec_stmt Sort Prop
   with eval_funcall_ind3 := Minimality for eval_funcall Sort Prop

@@ -170,6 +170,7 @@ Inductive external_function : Type :=
   | EF_ros_init                      (**r [void ros_init(void)] *)
   | EF_ros_ok                        (**r [int ros_ok(void)] *)
   | EF_ros_spinOnce                  (**r [void ros_spinOnce(void)]: runs callbacks *)
+  | EF_ros_now                       (**r [unsigned long long ros_now(void)]: ROS time, ns *)
   | EF_ros_rate_sleep (period_ms : Z)
       (**r [void ros_rate_sleep(void)]: sleeps until the end of the cycle
            of [period_ms] milliseconds (the period is part of the

@@ -178,29 +178,34 @@ Definition output_glue_ddc (m : node_model) (p : program) (tp : topic) : Prop :=
 
 (** *** The newest message *)
 
-(** The last message on the topic named [name] in [msgs], if any. *)
-Fixpoint last_on (name : string) (msgs : list (string * mval)) : option mval :=
+(** The last arrival on the topic named [name] in [msgs], if any. *)
+Fixpoint last_on (name : string) (msgs : list arrival) : option arrival :=
   match msgs with
   | [] => None
-  | (tp, mv) :: rest =>
+  | a :: rest =>
       match last_on name rest with
       | Some v => Some v
-      | None => if string_dec tp name then Some mv else None
+      | None => if string_dec (ar_topic a) name then Some a else None
       end
   end.
 
 (** The messages that arrived up to the [i]-th call of [ros_spinOnce]
     (calls counted from 0), in arrival order. *)
-Definition arrivals_upto {CS : Type} (ctx : ros_context CS) (i : nat) : list (string * mval) :=
+Definition arrivals_upto {CS : Type} (ctx : ros_context CS) (i : nat) : list arrival :=
   flat_map (ctx_arrivals ctx) (seq 0 (S i)).
 
+(** The newest arrival on topic [tp] up to the [i]-th spin, if any.
+    This is defined from the raw arrivals, not from what the queues
+    deliver: that the queues of size at least 1 always keep the newest
+    message is part of what T2 proves. *)
+Definition newest_arrival {CS : Type} (ctx : ros_context CS) (tp : topic) (i : nat) : option arrival :=
+  last_on (tp_name tp) (arrivals_upto ctx i).
+
 (** The newest message that arrived on topic [tp] up to the [i]-th spin,
-    or the zero message if none did.  This is defined from the raw
-    arrivals, not from what the queues deliver: that the queues of size
-    at least 1 always keep the newest message is part of what T2 proves. *)
+    or the zero message if none did. *)
 Definition newest {CS : Type} (m : node_model) (ctx : ros_context CS) (tp : topic) (i : nat) : mval :=
-  match last_on (tp_name tp) (arrivals_upto ctx i) with
-  | Some mv => mv
+  match newest_arrival ctx tp i with
+  | Some a => ar_msg a
   | None => zero_mval (composites m) (Tstruct (tp_msg tp))
   end.
 
@@ -209,9 +214,9 @@ Definition newest {CS : Type} (m : node_model) (ctx : ros_context CS) (tp : topi
 (** Every message arriving on a subscribed topic is a value of the
     topic's message type. *)
 Definition arrivals_wt {CS : Type} (m : node_model) (ctx : ros_context CS) : Prop :=
-  forall k name mv tp,
-  In (name, mv) (ctx_arrivals ctx k) -> In tp (subscribed m) -> tp_name tp = name ->
-  mval_has_type (composites m) (Tstruct (tp_msg tp)) mv.
+  forall k a tp,
+  In a (ctx_arrivals ctx k) -> In tp (subscribed m) -> tp_name tp = ar_topic a ->
+  mval_has_type (composites m) (Tstruct (tp_msg tp)) (ar_msg a).
 
 (** The controller's step returns outputs of the outputs' type.  Nothing
     else is assumed about it: it is any function of its state and

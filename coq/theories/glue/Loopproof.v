@@ -30,7 +30,7 @@ Lemma last_on_app:
   forall name l1 l2,
   last_on name (l1 ++ l2) = match last_on name l2 with Some v => Some v | None => last_on name l1 end.
 Proof.
-  induction l1 as [|[tp mv] l1 IH]; intros l2; simpl.
+  induction l1 as [|a l1 IH]; intros l2; simpl.
   - destruct (last_on name l2); auto.
   - rewrite IH. destruct (last_on name l2); auto.
 Qed.
@@ -38,9 +38,9 @@ Qed.
 Lemma last_on_none_count:
   forall name l, last_on name l = None -> count_topic name l = O.
 Proof.
-  induction l as [|[tp mv] l IH]; simpl; intros H; auto.
+  induction l as [|a l IH]; simpl; intros H; auto.
   destruct (last_on name l); try discriminate.
-  unfold topic_eqb. destruct (string_dec tp name); try discriminate. rewrite IH; auto.
+  unfold topic_eqb. destruct (string_dec (ar_topic a) name); try discriminate. rewrite IH; auto.
 Qed.
 
 (** The message held after cycle [k]: the newest one of the first [k]
@@ -54,9 +54,9 @@ Definition held {CS : Type} (m : node_model) (ctx : ros_context CS) (tp : topic)
 Lemma newest_step:
   forall CS m (ctx : ros_context CS) tp k,
   newest m ctx tp k
-  = match last_on (tp_name tp) (ctx_arrivals ctx k) with Some v => v | None => held m ctx tp k end.
+  = match last_on (tp_name tp) (ctx_arrivals ctx k) with Some a => ar_msg a | None => held m ctx tp k end.
 Proof.
-  intros CS m ctx tp k. unfold newest, arrivals_upto.
+  intros CS m ctx tp k. unfold newest, newest_arrival, arrivals_upto.
   rewrite seq_S, flat_map_app. simpl. rewrite app_nil_r, last_on_app.
   destruct (last_on (tp_name tp) (ctx_arrivals ctx k)); auto.
   destruct k as [|i]; simpl; auto.
@@ -66,7 +66,7 @@ Definition sub_eq (a b : subscription) : {a = b} + {a <> b}.
 Proof. decide equality; first [apply string_dec | apply Nat.eq_dec]. Defined.
 
 (** The last message delivered to subscription [s] in [D]. *)
-Fixpoint last_delivered (s : subscription) (D : list (subscription * mval)) : option mval :=
+Fixpoint last_delivered (s : subscription) (D : list (subscription * arrival)) : option arrival :=
   match D with
   | [] => None
   | (s', mv) :: rest =>
@@ -102,7 +102,7 @@ Theorem last_delivered_deliverable:
   forall subs s msgs, In s subs -> (1 <= sub_queue s)%nat ->
   last_delivered s (deliverable subs msgs) = last_on (sub_topic s) msgs.
 Proof.
-  intros subs s msgs Hs Hq. induction msgs as [|[tpn mv] rest IH]; simpl; auto.
+  intros subs s msgs Hs Hq. induction msgs as [|[tpn mv tm] rest IH]; simpl; auto.
   rewrite last_delivered_app, IH.
   destruct (last_on (sub_topic s) rest) as [v|] eqn:L; auto.
   rewrite last_delivered_map.
@@ -119,15 +119,15 @@ Proof.
 Qed.
 
 Lemma In_deliverable:
-  forall subs msgs s mv, In (s, mv) (deliverable subs msgs) ->
-  In s subs /\ In (sub_topic s, mv) msgs.
+  forall subs msgs s a, In (s, a) (deliverable subs msgs) ->
+  In s subs /\ In a msgs /\ ar_topic a = sub_topic s.
 Proof.
-  induction msgs as [|[tpn mv'] rest IH]; simpl; intros s mv H; [contradiction|].
+  induction msgs as [|a' rest IH]; simpl; intros s a H; [contradiction|].
   apply in_app_iff in H. destruct H as [H|H].
   - apply in_map_iff in H. destruct H as (s' & E & H). inversion E; subst.
     apply filter_In in H. destruct H as [Hs H]. apply andb_true_iff in H. destruct H as [H _].
-    unfold topic_eqb in H. destruct (string_dec (sub_topic s) tpn); try discriminate. subst; auto.
-  - destruct (IH _ _ H); auto.
+    unfold topic_eqb in H. destruct (string_dec (sub_topic s) (ar_topic a)); try discriminate. auto.
+  - destruct (IH _ _ H) as (? & ? & ?); auto.
 Qed.
 
 (** ** Sequences *)
@@ -338,7 +338,7 @@ Definition advs_of : list string := map tp_name (published m).
 
 (** The world after [k] cycles, with [r] answers of [ros_ok] left and
     controller state [s]. *)
-Definition wld (k r : nat) (s : CS) : world CS := mkworld subs_of advs_of k r (Some s).
+Definition wld (k r : nat) (s : CS) : world CS := mkworld subs_of advs_of k r (Some s) (ctx_time ctx k).
 
 (** *** Facts on the program *)
 
@@ -458,24 +458,26 @@ Qed.
 (** *** [ros_spinOnce] *)
 
 Lemma deliver_run:
-  forall (w : world CS) D mm (G : topic -> mval),
+  forall D (w : world CS) mm (G : topic -> mval),
   mem_wf mm -> globals_typed p mm ->
   (forall tp, In tp (subscribed m) -> global_value p mm (msg_var (tp_cname tp)) = Some (G tp)) ->
-  (forall s mv, In (s, mv) D ->
-     exists tp, In tp (subscribed m) /\ s = sub_of tp /\ mval_has_type ce (Tstruct (tp_msg tp)) mv) ->
-  exists mm',
-     deliver ctx ge mm w D [] mm' w
+  (forall s a, In (s, a) D ->
+     exists tp, In tp (subscribed m) /\ s = sub_of tp /\ mval_has_type ce (Tstruct (tp_msg tp)) (ar_msg a)) ->
+  exists mm' w',
+     deliver ctx ge mm w D [] mm' w'
+  /\ next_spin ctx w' = next_spin ctx w
   /\ mem_wf mm' /\ globals_typed p mm'
   /\ (forall tp, In tp (subscribed m) ->
         global_value p mm' (msg_var (tp_cname tp))
-        = Some (match last_delivered (sub_of tp) D with Some v => v | None => G tp end))
+        = Some (match last_delivered (sub_of tp) D with Some a => ar_msg a | None => G tp end))
   /\ (forall b, get_block mm b <> None ->
         (forall tp bg ty, In tp (subscribed m) -> find_var ge (msg_var (tp_cname tp)) = Some (bg, ty) -> bg <> b) ->
         get_block mm' b = get_block mm b).
 Proof.
-  intros w D; induction D as [|[s mv] D IH]; intros mm G Wm GT HG HD.
-  - exists mm. repeat split; auto. apply deliver_nil.
-  - destruct (HD s mv (or_introl eq_refl)) as (tp' & Htp' & -> & Tmv).
+  intros D; induction D as [|[s a] D IH]; intros w mm G Wm GT HG HD.
+  - exists mm, w. repeat split; auto. apply deliver_nil.
+  - set (mv := ar_msg a).
+    destruct (HD s a (or_introl eq_refl)) as (tp' & Htp' & -> & Tmv).
     destruct (generate_callback_ddc m p GEN tp' Htp') as (f' & Ff' & Spec).
     destruct (msg_global tp' Htp') as [bg Vg].
     destruct (alloc mm (Tstruct (tp_msg tp')) mv) as [m1 bn] eqn:AL.
@@ -488,7 +490,7 @@ Proof.
       apply (GT _ _ _ V). }
     assert (G1: get_block m1 bn = Some (Tstruct (tp_msg tp'), mv)) by (eapply get_block_alloc_same; eauto).
     assert (W1: mem_wf m1) by (eapply mem_wf_alloc; eauto).
-    destruct (Spec m1 bn mv GT1 Glob G1 ltac:(rewrite types_eq; auto) CS ctx w)
+    destruct (Spec m1 bn mv GT1 Glob G1 ltac:(rewrite types_eq; auto) CS ctx (set_time w (ar_time a)))
       as [[t1 [m2 [w1 [v1 X1]]]] All].
     destruct (All t1 m2 w1 v1 X1) as (-> & -> & -> & (bg' & ty' & Vg' & G2 & [N2 O2])).
     rewrite Vg in Vg'. inversion Vg'; subst bg' ty'.
@@ -514,9 +516,10 @@ Proof.
         + rewrite (get_block_alloc_other _ _ _ _ _ _ AL) by (eapply Glob; eauto). auto.
         + intros Eb; subst bt. destruct (find_var_same_block _ _ _ _ _ Vt Vg) as [Ex _].
           apply E. f_equal. apply msg_var_inj; auto. }
-    destruct (IH m3 G1f (mem_wf_free _ _ W2) GT3 HG3) as (mm' & X & W' & GT' & HG' & Fr').
+    destruct (IH (set_time w (ar_time a)) m3 G1f (mem_wf_free _ _ W2) GT3 HG3)
+      as (mm' & w' & X & NS & W' & GT' & HG' & Fr').
     { intros s0 mv0 H0. apply HD; simpl; auto. }
-    exists mm'. repeat split; auto.
+    exists mm', w'. repeat split; auto.
     + change (@nil event) with (@nil event ++ @nil event). econstructor; eauto.
     + intros tp Htp. rewrite HG' by auto. cbn [last_delivered]. unfold G1f.
       destruct (last_delivered (sub_of tp) D); auto.
@@ -544,13 +547,14 @@ Lemma spin_run:
 Proof.
   intros k r s e mm I.
   set (D := deliverable subs_of (ctx_arrivals ctx k)).
-  destruct (deliver_run (wld k r s) D mm (fun tp => held m ctx tp k) (li_wf I) (li_globals I)
-              (li_msgs I)) as (mm' & X & W' & GT' & HG' & Fr').
-  { intros s0 mv H0. apply In_deliverable in H0. destruct H0 as [Hs Ha].
+  destruct (deliver_run D (wld k r s) mm (fun tp => held m ctx tp k) (li_wf I) (li_globals I)
+              (li_msgs I)) as (mm' & w' & X & NS & W' & GT' & HG' & Fr').
+  { intros s0 a H0. apply In_deliverable in H0. destruct H0 as (Hs & Ha & Et).
     unfold subs_of in Hs. apply in_map_iff in Hs. destruct Hs as (tp & <- & Htp).
     exists tp; repeat split; auto. eapply AWT; eauto. }
   exists mm'. split.
-  - change (wld (S k) r s) with (next_spin (wld k r s)). apply eval_funcall_spinOnce. exact X.
+  - change (wld (S k) r s) with (next_spin ctx (wld k r s)). rewrite <- NS.
+    apply eval_funcall_spinOnce. exact X.
   - constructor; auto.
     + intros tp Htp. rewrite HG' by auto. unfold D.
       rewrite last_delivered_deliverable.
@@ -915,9 +919,9 @@ Qed.
 
 Lemma subs_run:
   forall tps l le mm s0 n, incl tps (subscribed m) ->
-  exec_stmt ctx ge [] le mm (mkworld l [] O n s0) (seq_of (map subscribe_stmt tps))
+  exec_stmt ctx ge [] le mm (mkworld l [] O n s0 (ctx_time ctx O)) (seq_of (map subscribe_stmt tps))
             (map subscribe_event tps) le mm
-            (mkworld (l ++ map sub_of tps) [] O n s0) Out_normal.
+            (mkworld (l ++ map sub_of tps) [] O n s0 (ctx_time ctx O)) Out_normal.
 Proof.
   induction tps as [|tp tps IH]; intros l le mm s0 n Inc.
   - simpl. rewrite app_nil_r. apply exec_Sskip.
@@ -931,7 +935,7 @@ Proof.
     change (subscribe_event tp :: map subscribe_event tps)
       with ([subscribe_event tp] ++ map subscribe_event tps).
     rewrite app_assoc. simpl seq_of.
-    apply exec_Sseq_1 with (le1 := le) (m1 := mm) (w1 := mkworld (l ++ [sub_of tp]) [] O n s0).
+    apply exec_Sseq_1 with (le1 := le) (m1 := mm) (w1 := mkworld (l ++ [sub_of tp]) [] O n s0 (ctx_time ctx O)).
     + unfold subscribe_stmt. eapply exec_call_none.
       * reflexivity.
       * eapply fun_not_var; eauto.
@@ -945,9 +949,9 @@ Qed.
 
 Lemma advs_run:
   forall tps l l' le mm s0 n, incl tps (published m) ->
-  exec_stmt ctx ge [] le mm (mkworld l l' O n s0) (seq_of (map advertise_stmt tps))
+  exec_stmt ctx ge [] le mm (mkworld l l' O n s0 (ctx_time ctx O)) (seq_of (map advertise_stmt tps))
             (map advertise_event tps) le mm
-            (mkworld l (l' ++ map tp_name tps) O n s0) Out_normal.
+            (mkworld l (l' ++ map tp_name tps) O n s0 (ctx_time ctx O)) Out_normal.
 Proof.
   induction tps as [|tp tps IH]; intros l l' le mm s0 n Inc.
   - simpl. rewrite app_nil_r. apply exec_Sskip.
@@ -960,7 +964,7 @@ Proof.
     change (advertise_event tp :: map advertise_event tps)
       with ([advertise_event tp] ++ map advertise_event tps).
     rewrite app_assoc. simpl seq_of.
-    apply exec_Sseq_1 with (le1 := le) (m1 := mm) (w1 := mkworld l (l' ++ [tp_name tp]) O n s0).
+    apply exec_Sseq_1 with (le1 := le) (m1 := mm) (w1 := mkworld l (l' ++ [tp_name tp]) O n s0 (ctx_time ctx O)).
     + unfold advertise_stmt. eapply call0_exec.
       * reflexivity.
       * eapply fun_not_var; eauto.
@@ -1008,7 +1012,7 @@ Proof.
                            | simpl; unfold type_of_function; rewrite Pl, Rl; reflexivity |].
         change (wld O n (ctx_init ctx)) with
           (mkworld ([] ++ map sub_of (subscribed m)) ([] ++ map tp_name (published m)) O n
-                   (Some (ctx_init ctx))) in X.
+                   (Some (ctx_init ctx)) (ctx_time ctx O)) in X.
         eapply eval_funcall_internal.
         -- unfold function_entry. rewrite (gen_comp m p GEN), AV, Pl, Tl. reflexivity.
         -- rewrite Bl. exact X.

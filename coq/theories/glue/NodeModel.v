@@ -9,7 +9,7 @@
     program of [Syntax]. *)
 
 From Coq Require Import String List ZArith Bool.
-From ROSGen Require Import Syntax.
+From ROSGen Require Import Syntax Values.
 Import ListNotations.
 
 Local Open Scope string_scope.
@@ -145,6 +145,25 @@ Record outrel : Type := mkoutrel {
   or_path : path
 }.
 
+(** ** Freshness *)
+
+(** A derived input (rule 4.12): a controller input computed from when
+    messages arrived on a subscribed topic rather than from their
+    contents.  [Dis_new]: whether a message arrived on the topic since the
+    previous cycle ([bool]); [Dreceived]: whether one ever arrived
+    ([bool]); [Dage_ms]: the age in milliseconds of the newest one, at the
+    cycle's time, saturating at [2^32 - 1], also when none arrived
+    ([uint32]). *)
+Inductive derived : Type := Dis_new | Dreceived | Dage_ms.
+
+(** A derived relation: the derived input [dr_kind] of the topic whose
+    C name is [dr_topic] feeds the controller input field [dr_input]. *)
+Record drel : Type := mkdrel {
+  dr_topic : ident;
+  dr_kind : derived;
+  dr_input : ident
+}.
+
 (** ** Node models *)
 
 (** [nm_name] is the node's name, [nm_period_ms] its period.  The
@@ -153,7 +172,15 @@ Record outrel : Type := mkoutrel {
     are the global [nm_in_var] ([Controller_U]) of type [struct nm_in_struct]
     ([ExtU_Controller_T]) with fields [nm_inputs] in C order, and likewise
     for the outputs.  [nm_msgs] lists the message definitions in dependency
-    order (a message only refers to messages defined before it). *)
+    order (a message only refers to messages defined before it).
+
+    Freshness (rule 4.12): [nm_timeouts] gives some subscribed topics (by
+    C name) a timeout in milliseconds; a message older than that at the
+    cycle's time is stale.  [nm_fallbacks] gives some controller inputs
+    fed by an input relation of such a topic the value they take while
+    the topic is stale (the others keep the newest message's field:
+    "hold").  [nm_drels] are the derived relations; they feed controller
+    inputs like input relations do, and are not in [nm_inrels]. *)
 Record node_model : Type := mknode_model {
   nm_name : ident;
   nm_period_ms : Z;
@@ -167,7 +194,10 @@ Record node_model : Type := mknode_model {
   nm_msgs : list msgdef;
   nm_topics : list topic;
   nm_inrels : list inrel;
-  nm_outrels : list outrel
+  nm_outrels : list outrel;
+  nm_timeouts : list (ident * Z);
+  nm_fallbacks : list (ident * val);
+  nm_drels : list drel
 }.
 
 (** ** Lookups *)

@@ -389,6 +389,14 @@ Definition outrel_ok (m : node_model) (tb : tables) (o : outrel) : bool :=
 Definition fed_inputs (m : node_model) : ptree unit :=
   tset_of_list enc_string (map ir_input (nm_inrels m)).
 
+(** Rule 4.12 (freshness: timeouts, fallbacks, derived inputs) is not
+    generated yet: the generator refuses a model that uses it, rather
+    than generating glue that ignores it.  The environment model already
+    has the times it needs ([Environment.ctx_time], [ar_time],
+    [ros_now]). *)
+Definition no_freshness (m : node_model) : bool :=
+  null (nm_timeouts m) && null (nm_fallbacks m) && null (nm_drels m).
+
 (** The well-formedness of a node model, as a boolean. *)
 Definition wf (m : node_model) : bool :=
   let tb := make_tables m in
@@ -409,6 +417,7 @@ Definition wf (m : node_model) : bool :=
   && nodup_keys enc_string (map ir_input (nm_inrels m))
   && forallb (fun xq => tmem enc_string (fst xq) fed) (nm_inputs m)
   && forallb (outrel_ok m tb) (nm_outrels m)
+  && no_freshness m
   && nodup_keys enc_target (map (fun o => (or_topic o, or_path o)) (nm_outrels m)).
 
 (** ** The same rules, failing with a message that names the culprit *)
@@ -536,6 +545,8 @@ Definition wf_check (m : node_model) : res unit :=
                                  (gen_error "controller input not fed by any input relation: " (fst xq)))
             (nm_inputs m);
   do _ <- check_all (outrel_check m tb) (nm_outrels m);
+  do _ <- assertion (no_freshness m)
+            [MSG "Generator: timeouts and derived inputs (rule 4.12) are not generated yet"];
   check_nodup_keys enc_target
     (fun tp => gen_error "published field fed twice: " (fst tp ++ string_of_path (snd tp))%string)
     (map (fun o => (or_topic o, or_path o)) (nm_outrels m)).
