@@ -52,6 +52,10 @@ def cmd_check(args: argparse.Namespace) -> int:
     d = model.controller.diagram
     ctrl = (f"; controller: a block diagram of {_plural(len(d.blocks), 'block')}"
             f" ({_plural(len(d.states), 'state')})" if d is not None else "")
+    timed = model.timed_topics
+    if timed:
+        ctrl += (f"; freshness: {_plural(len(timed), 'timed topic')}, "
+                 f"{_plural(len(model.derived_relations), 'derived input')}")
     print(
         f"{args.model}: ok: node {model.name}, {_plural(len(model.topics), 'topic')}, "
         f"{_plural(len(model.input_relations), 'input relation')}, "

@@ -3,8 +3,10 @@
 A :class:`NodeModel` is only ever built by :func:`pyrosgen.frontend.validate.load_model` (see
 :mod:`pyrosgen.frontend.validate`), after every rule of DESIGN.md section 4 has been
 checked, so emitters may rely on it: names are safe C/Coq identifiers, every
-controller input is fed by exactly one relation, relation types match, field
-paths name carried scalar leaves, and all derived C names are distinct.
+controller input is fed by exactly one relation (an input relation or a
+derived input, rule 4.12), relation types match, fallbacks have the type of
+their input, field paths name carried scalar leaves, and all derived C names
+are distinct.
 """
 
 from __future__ import annotations
@@ -28,6 +30,11 @@ __all__ = [
     "SIGNAL_TYPES",
     "Topic",
     "InputRelation",
+    "DerivedRelation",
+    "DERIVED_KINDS",
+    "DERIVED_PRIMS",
+    "ON_TIMEOUT_POLICIES",
+    "MAX_TIMEOUT_MS",
     "OutputRelation",
     "NodeModel",
 ]
@@ -105,9 +112,10 @@ SIGNAL_TYPES = ("bool", "int32", "uint32", "int64", "uint64", "float32", "float6
 
 @dataclass(frozen=True)
 class Scalar:
-    """A constant of a diagram: ``prim`` is its type (one of
-    :data:`SIGNAL_TYPES`); ``n`` is its value for the integer types (in
-    the type's range: negative for a negative ``int32``), 0 or 1 for
+    """A constant of a diagram or a fallback of an input relation (rule
+    4.12): ``prim`` is its type (one of :data:`SIGNAL_TYPES` in a diagram,
+    any ROS primitive for a fallback); ``n`` is its value for the integer
+    types (in the type's range: negative for a negative ``int32``), 0 or 1 for
     ``bool``, and the IEEE 754 bit pattern for ``float32``/``float64``
     (the decimal of the model rounded once to the type, to nearest even).
     ``text`` is the model's text (for messages and comments)."""
@@ -284,6 +292,27 @@ class TopicNames:
         """Message built by the output glue before publishing: ``<c>_cmd``."""
         return f"{self.c_name}_cmd"
 
+    @property
+    def time_var(self) -> str:
+        """Receipt time (ns) of the newest message on a timed topic: ``<c>_time``."""
+        return f"{self.c_name}_time"
+
+    @property
+    def new_var(self) -> str:
+        """Whether a message arrived on a timed topic since the previous
+        cycle: ``<c>_new``."""
+        return f"{self.c_name}_new"
+
+    @property
+    def rcvd_var(self) -> str:
+        """Whether a message ever arrived on a timed topic: ``<c>_rcvd``."""
+        return f"{self.c_name}_rcvd"
+
+    def timed_names(self) -> tuple[str, ...]:
+        """The globals the glue keeps for a *timed* topic (one with a
+        timeout or a derived input, rule 4.12)."""
+        return (self.time_var, self.new_var, self.rcvd_var)
+
 
 
 @dataclass(frozen=True)
@@ -301,6 +330,11 @@ class Topic(TopicNames):
     msg_type: str
     queue_size: int
     pos: Pos = field(default=_NOPOS, compare=False, repr=False)
+    #: the topic's ``timeout_ms`` (rule 4.12), ``None`` when it has none
+    timeout_ms: int | None = None
+    #: the topic's ``on_timeout`` policy, ``'hold'`` or ``'zero'`` (the
+    #: default), when it has a timeout; ``None`` otherwise
+    on_timeout: str | None = None
 
     @property
     def is_subscribed(self) -> bool:
@@ -330,13 +364,49 @@ class Topic(TopicNames):
         )
 
 
+#: Longest accepted ``timeout_ms`` (one day; rule 4.12).
+MAX_TIMEOUT_MS = 86_400_000
+
+#: A topic's ``on_timeout`` policies (rule 4.12); ``zero`` is the default.
+ON_TIMEOUT_POLICIES = ("hold", "zero")
+
+#: The kinds of derived inputs (rule 4.12), as the model spells them.
+DERIVED_KINDS = ("is_new", "received", "age_ms")
+
+#: The type of the controller input each derived kind feeds.
+DERIVED_PRIMS = {"is_new": "bool", "received": "bool", "age_ms": "uint32"}
+
+
 @dataclass(frozen=True)
 class InputRelation:
     """An SI row: field ``path`` of the last message on ``topic`` (a
-    subscribed :class:`Topic`) feeds controller input ``input_field``."""
+    subscribed :class:`Topic`) feeds controller input ``input_field``.
+
+    ``fallback`` is the value the input gets when the topic's newest
+    message is older than its ``timeout_ms`` (or none arrived yet; rule
+    4.12): a :class:`Scalar` of the input's type (``zero``: the type's
+    zero, ``+0.0`` for floats), or ``None`` when the input keeps the
+    newest message's field (``hold``, or a topic without a timeout)."""
 
     topic: Topic
     path: FieldPath
+    input_field: str
+    pos: Pos = field(default=_NOPOS, compare=False, repr=False)
+    fallback: Scalar | None = None
+
+
+@dataclass(frozen=True)
+class DerivedRelation:
+    """A derived input (rule 4.12): controller input ``input_field`` gets
+    a fact about the messages on ``topic`` (a subscribed :class:`Topic`),
+    not one of their fields.  ``kind`` is one of :data:`DERIVED_KINDS`:
+    ``is_new`` (``bool``: a message arrived since the previous cycle),
+    ``received`` (``bool``: one ever arrived), ``age_ms`` (``uint32``:
+    milliseconds since the newest one's receipt, saturating at
+    4294967295, also when none arrived yet)."""
+
+    topic: Topic
+    kind: str
     input_field: str
     pos: Pos = field(default=_NOPOS, compare=False, repr=False)
 
@@ -371,6 +441,9 @@ class NodeModel:
     messages: tuple[MsgType, ...]
     source: Path
     msg_paths: tuple[Path, ...] = ()
+    #: derived inputs (rule 4.12), in the model's order; they are not
+    #: among :attr:`input_relations`
+    derived_relations: tuple[DerivedRelation, ...] = ()
 
     @property
     def subscribed(self) -> tuple[Topic, ...]:
@@ -399,6 +472,33 @@ class NodeModel:
     def leaf_paths(self, msg_name: str) -> tuple[FieldPath, ...]:
         """Every carried scalar leaf of message type ``msg_name``."""
         return leaf_paths(msg_name, {m.name: m for m in self.messages})
+
+    @property
+    def timed_topics(self) -> tuple[Topic, ...]:
+        """The *timed* topics (rule 4.12), in declaration order: those with
+        a ``timeout_ms`` or a derived input.  The glue keeps the globals
+        :meth:`Topic.timed_names` for each."""
+        derived = {r.topic.name for r in self.derived_relations}
+        return tuple(t for t in self.topics if t.timeout_ms is not None or t.name in derived)
+
+    @property
+    def timeouts(self) -> tuple[tuple[str, int], ...]:
+        """``(topic C name, timeout_ms)`` of each topic with a timeout, in
+        topic order (``NodeModel.nm_timeouts``)."""
+        return tuple((t.c_name, t.timeout_ms) for t in self.topics if t.timeout_ms is not None)
+
+    @property
+    def fallbacks(self) -> tuple[tuple[str, Scalar], ...]:
+        """``(controller input, value when stale)`` of each input relation
+        with a fallback, in relation order (``NodeModel.nm_fallbacks``)."""
+        return tuple((r.input_field, r.fallback) for r in self.input_relations if r.fallback is not None)
+
+    def derived_relation(self, input_field: str) -> DerivedRelation:
+        """The derived relation feeding controller input ``input_field``."""
+        for r in self.derived_relations:
+            if r.input_field == input_field:
+                return r
+        raise KeyError(input_field)
 
     def input_relation(self, input_field: str) -> InputRelation:
         """The relation feeding controller input ``input_field``."""

@@ -9,27 +9,33 @@ any, :class:`pyrosgen.errors.InvalidNodeModel` is raised with all of them.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from pyrosgen.errors import Diagnostic, InvalidNodeModel, show
 from pyrosgen.frontend.model import (
+    DERIVED_KINDS,
+    DERIVED_PRIMS,
+    MAX_TIMEOUT_MS,
+    ON_TIMEOUT_POLICIES,
     PUBLISH,
     SUBSCRIBE,
     Controller,
     ControllerField,
+    DerivedRelation,
     InputRelation,
     IOStruct,
     NodeModel,
     OutputRelation,
     Pos,
+    Scalar,
     Topic,
 )
 from pyrosgen.frontend.msgmodel import (
     MAX_LEAVES, MAX_STRUCT_FIELDS, MAX_TOTAL_LEAVES, PRIMITIVES, ROS1_ALIASES, FieldPath, leaf_count,
     widest_struct,
 )
-from pyrosgen.frontend.blocks import check_diagram
+from pyrosgen.frontend.blocks import check_diagram, scalar_of, zero
 from pyrosgen.frontend.msgload import MsgRegistry, PathError
 from pyrosgen.frontend.names import (
     MAX_NAME_LEN,
@@ -60,6 +66,7 @@ FIXED_C_NAMES = (
     "ros_ok",
     "ros_spinOnce",
     "ros_rate_sleep",
+    "ros_now",
 )
 
 #: Local names of the generated functions (parameters of the callbacks and
@@ -79,12 +86,15 @@ class _TopicDecl:
     name: str
     node: YMap
     name_node: YNode
+    what: str = "topics"  # topics[i]
     direction: str | None = None
     msg_type: str | None = None
     type_node: YNode | None = None
     queue_size: int | None = None
     usable: bool = False  # name, direction and type all valid
     type_ok: bool = False  # message type resolved and carries fields
+    timeout_ms: int | None = None  # a valid timeout_ms (rule 4.12)
+    policy: str = "zero"           # its on_timeout: hold or zero
 
 
 @dataclass
@@ -98,6 +108,9 @@ class _Rel:
     ctrl_node: YNode | None = None
     path_node: YNode | None = None
     ok: bool = True
+    derived: str | None = None       # the kind of a derived input (rule 4.12)
+    is_derived: bool = False         # the row has a `derived` key
+    fallback: Scalar | None = None   # its value when stale (rule 4.12)
 
 
 #: The rule of DESIGN.md section 4 that governs each section of the model,
@@ -338,7 +351,7 @@ class _Checker:
             m = self.mapping(item, what)
             if m is None:
                 continue
-            self.keys(m, what, ("name", "direction", "type", "queue_size"))
+            self.keys(m, what, ("name", "direction", "type", "queue_size"), ("timeout_ms", "on_timeout"))
             name_node = m.get("name")
             name = self.string(name_node, f"{what}.name")
             usable = name is not None
@@ -351,7 +364,7 @@ class _Checker:
                     first = by_name[name]
                     self.err_rule("4.4", name_node, f"{what}.name: topic {show(name)} is declared twice (first at line {first.name_node.line})")
                     continue
-            d = _TopicDecl(name if name is not None else f"<topics[{i}]>", m, name_node or m)
+            d = _TopicDecl(name if name is not None else f"<topics[{i}]>", m, name_node or m, what)
             if name is not None:
                 by_name[name] = d
             decls.append(d)
@@ -454,9 +467,15 @@ class _Checker:
             m = self.mapping(item, w)
             if m is None:
                 continue
-            keys = ("topic", "field", "input") if kind == "input" else ("output", "topic", "field")
-            self.keys(m, w, keys)
             rel = _Rel(m)
+            if kind == "input":
+                # a derived input (rule 4.12) has no field; `field` and
+                # `on_timeout` with it are refused by check_freshness
+                rel.is_derived = m.get("derived") is not None
+                required = ("topic", "derived", "input") if rel.is_derived else ("topic", "field", "input")
+                self.keys(m, w, required, tuple(k for k in _INPUT_KEYS if k not in required))
+            else:
+                self.keys(m, w, ("output", "topic", "field"))
             out.append(rel)
             # topic
             tnode = m.get("topic")
@@ -473,11 +492,15 @@ class _Checker:
             else:
                 decl = topics[tname]
                 if decl.direction is not None and decl.direction != want_dir:
-                    if kind == "input":
-                        msg = f"{w}.topic: topic {show(tname)} is published by the node; an input relation reads a subscribed topic"
+                    if rel.is_derived:
+                        self.err_rule("4.12", tnode, f"{w}.topic: topic {show(tname)} is published by the node; "
+                                                     "a derived input reads a subscribed topic")
+                    elif kind == "input":
+                        self.err(tnode, f"{w}.topic: topic {show(tname)} is published by the node; "
+                                        "an input relation reads a subscribed topic")
                     else:
-                        msg = f"{w}.topic: topic {show(tname)} is subscribed by the node; an output relation writes a published topic"
-                    self.err(tnode, msg)
+                        self.err(tnode, f"{w}.topic: topic {show(tname)} is subscribed by the node; "
+                                        "an output relation writes a published topic")
                     rel.ok = False
                 elif not decl.usable:
                     rel.ok = False
@@ -508,6 +531,8 @@ class _Checker:
                     rel.ok = False
             else:
                 rel.ok = False
+            if rel.is_derived:
+                continue  # its kind and type: check_freshness
             # field path
             pnode = m.get("field")
             rel.path_node = pnode
@@ -541,6 +566,159 @@ class _Checker:
                     self.err_rule("4.7", m, msg)
                     rel.ok = False
         return out
+
+
+#: The keys of an input relation: `field` for a plain one, `derived` for a
+#: derived input (rule 4.12).
+_INPUT_KEYS = ("topic", "field", "input", "on_timeout", "derived")
+
+
+def check_freshness(ck: _Checker, decls: list[_TopicDecl], in_rels: list[_Rel],
+                    inputs: dict[str, ControllerField] | None, period: int | None) -> set[str]:
+    """Rule 4.12: topics' ``timeout_ms`` and ``on_timeout``, input
+    relations' ``on_timeout`` (their fallbacks, set on each relation) and
+    derived inputs.  Returns the names of the *timed* topics (a
+    ``timeout_ms`` or a derived input): the glue keeps the globals
+    ``<c>_time``, ``<c>_new`` and ``<c>_rcvd`` for each (rule 4.9)."""
+    rule = "4.12"
+    timed: set[str] = set()
+    for d in decls:
+        what = d.what
+        tnode, pnode = d.node.get("timeout_ms"), d.node.get("on_timeout")
+        if tnode is not None:
+            timed.add(d.name)
+            d.timeout_ms = _timeout(ck, d, tnode, what, period)
+        if pnode is not None and not isinstance(pnode, YBad):
+            if tnode is None:
+                ck.err_rule(rule, pnode, f"{what}.on_timeout is only allowed together with timeout_ms "
+                                         "(the topic has no timeout)")
+            if isinstance(pnode, YScalar) and pnode.kind == "str" and pnode.value in ON_TIMEOUT_POLICIES:
+                d.policy = pnode.value
+            else:
+                hint = (did_you_mean(pnode.value, ON_TIMEOUT_POLICIES) if isinstance(pnode, YScalar)
+                        and pnode.kind == "str" else "")
+                if not hint and isinstance(pnode, YScalar) and pnode.kind in ("int", "float", "bool"):
+                    hint = " (a constant fallback is given by an input relation's on_timeout)"
+                ck.err_rule(rule, pnode, f"{what}.on_timeout must be 'hold' or 'zero', got {pnode.describe()}{hint}")
+
+    for i, r in enumerate(in_rels):
+        w = f"relations.inputs[{i}]"
+        m = r.node
+        onode = m.get("on_timeout")
+        if r.is_derived:
+            fnode = m.get("field")
+            if fnode is not None:
+                ck.err_rule(rule, fnode, f"{w}.field: a derived input reads no message field "
+                                         "(a relation has either field or derived)")
+                r.ok = False
+            if onode is not None:
+                ck.err_rule(rule, onode, f"{w}.on_timeout: a derived input has no fallback "
+                                         "(it does not read a message field)")
+                r.ok = False
+            dnode = m.get("derived")
+            if isinstance(dnode, YBad):
+                r.ok = False
+            elif isinstance(dnode, YScalar) and dnode.kind == "str" and dnode.value in DERIVED_KINDS:
+                r.derived = dnode.value
+            else:
+                hint = (did_you_mean(dnode.value, DERIVED_KINDS)
+                        if isinstance(dnode, YScalar) and dnode.kind == "str" else "")
+                ck.err_rule(rule, dnode, f"{w}.derived must be 'is_new', 'received' or 'age_ms', "
+                                         f"got {dnode.describe()}{hint}")
+                r.ok = False
+            if r.derived is not None and r.ctrl_field is not None and inputs is not None:
+                need, prim = DERIVED_PRIMS[r.derived], inputs[r.ctrl_field].prim
+                if prim != need:
+                    ck.err_rule(rule, r.ctrl_node,
+                                f"{w}.input: {r.derived} related to a non-{need} field: controller input "
+                                f"{show(r.ctrl_field)} is {prim} ({r.derived} is a {need})")
+                    r.ok = False
+            if r.topic is not None:
+                timed.add(r.topic.name)
+            continue
+        if onode is None or isinstance(onode, YBad):
+            continue
+        if r.topic is not None and r.topic.node.get("timeout_ms") is None:
+            ck.err_rule(rule, onode, f"{w}.on_timeout: topic {show(r.topic.name)} has no timeout_ms; "
+                                     "a fallback needs one")
+            r.ok = False
+        if isinstance(onode, YScalar) and onode.kind == "str" and onode.value in ON_TIMEOUT_POLICIES:
+            continue
+        if r.ctrl_field is None or inputs is None:
+            continue  # the input is reported, and its type unknown
+        prim = inputs[r.ctrl_field].prim
+        value, problem = fallback_constant(onode, prim)
+        if problem is not None:
+            hint = (did_you_mean(onode.value, ON_TIMEOUT_POLICIES)
+                    if isinstance(onode, YScalar) and onode.kind == "str" else "")
+            if hint or (isinstance(onode, YScalar) and onode.kind == "str" and "YAML 1.1" not in problem):
+                ck.err_rule(rule, onode, f"{w}.on_timeout must be 'hold', 'zero' or a constant of type {prim} "
+                                         f"(the type of controller input {show(r.ctrl_field)}), "
+                                         f"got {onode.describe()}{hint}")
+            else:
+                ck.err_rule(rule, onode, f"{w}.on_timeout: the fallback of controller input "
+                                         f"{show(r.ctrl_field)} ({prim}): {problem}")
+            r.ok = False
+        else:
+            r.fallback = value
+    return timed
+
+
+def _timeout(ck: _Checker, d: _TopicDecl, node: YNode, what: str, period: int | None) -> int | None:
+    """The ``timeout_ms`` of topic ``d`` written at ``node``, or ``None``
+    (reported) when it is not a valid one (rule 4.12)."""
+    rule = "4.12"
+    if isinstance(node, YBad):
+        return None
+    if d.direction == PUBLISH:
+        ck.err_rule(rule, node, f"{what}.timeout_ms: topic {show(d.name)} is published by the node; "
+                                "a timeout is for a subscribed topic")
+        return None
+    if not (isinstance(node, YScalar) and node.kind == "int"):
+        ck.err_rule(rule, node, f"{what}.timeout_ms must be an integer number of milliseconds, "
+                                f"got {node.describe()}")
+        return None
+    v = node.value
+    if v <= 0:
+        ck.err_rule(rule, node, f"{what}.timeout_ms must be a positive number of milliseconds, got {show(node.text)}")
+        return None
+    if v > MAX_TIMEOUT_MS:
+        ck.err_rule(rule, node, f"{what}.timeout_ms: {node.text} ms is longer than a day "
+                                f"(at most {MAX_TIMEOUT_MS})")
+        return None
+    if period is not None and v < period:
+        ck.err_rule(rule, node, f"{what}.timeout_ms: {node.text} ms is a timeout shorter than the period "
+                                f"(node.period_ms is {period})")
+        return None
+    return v
+
+
+#: The ranges of the integer types that a fallback may have but a
+#: diagram's constant may not (:func:`pyrosgen.frontend.blocks.scalar_of`
+#: reads the others).
+_NARROW_INT_RANGES = {
+    "int8": (-(1 << 7), (1 << 7) - 1),
+    "uint8": (0, (1 << 8) - 1),
+    "int16": (-(1 << 15), (1 << 15) - 1),
+    "uint16": (0, (1 << 16) - 1),
+}
+
+
+def fallback_constant(node: YNode, prim: str) -> tuple[Scalar | None, str | None]:
+    """The constant of type ``prim`` (any ROS primitive) written at
+    ``node``, or why it is not one: read as rule 4.11 reads a diagram's
+    constants (:func:`pyrosgen.frontend.blocks.scalar_of`): an integer in
+    the type's range (a float is refused for an integer type), a float
+    rounded once, to nearest even, from the exact decimal, ``true`` or
+    ``false`` for ``bool``."""
+    if prim in _NARROW_INT_RANGES and isinstance(node, YScalar) and node.kind in ("int", "float"):
+        if node.kind != "int":
+            return None, f"{show(node.text)} is not an integer, and the type is {prim}"
+        lo, hi = _NARROW_INT_RANGES[prim]
+        if not lo <= node.value <= hi:
+            return None, f"{node.text} is out of the range of {prim} ({lo} to {hi})"
+        return Scalar(prim, node.value, node.text), None
+    return scalar_of(node, prim)
 
 
 def _list(names) -> str:
@@ -581,7 +759,11 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
     in_rels, out_rels = ck.relations_section(root.get("relations"), topics, inputs, outputs, registry)
     ck.diags.extend(registry.diagnostics)
 
-    # Every controller input is fed by exactly one relation.
+    # Timeouts, fallbacks and derived inputs (rule 4.12).
+    timed = check_freshness(ck, decls, in_rels, inputs, period)
+
+    # Every controller input is fed by exactly one relation, plain or
+    # derived.
     fed: dict[str, _Rel] = {}
     for r in in_rels:
         if r.ctrl_field is None:
@@ -623,7 +805,7 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
     diagram = check_diagram(ck, cm, ctrl_name, ufields, yfields, uvar, yvar, period)
 
     # Derived C names: valid, short enough, pairwise distinct.
-    check_c_names(ck, decls, ctrl_name, cm, uvar, yvar, registry)
+    check_c_names(ck, decls, ctrl_name, cm, uvar, yvar, registry, timed)
 
     if ck.diags:
         raise InvalidNodeModel(_sorted(ck.diags, file))
@@ -641,6 +823,8 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
             msg_type=d.msg_type,
             queue_size=d.queue_size,
             pos=Pos(d.node.line, d.node.col),
+            timeout_ms=d.timeout_ms,
+            on_timeout=d.policy if d.timeout_ms is not None else None,
         )
     controller = Controller(
         name=ctrl_name,
@@ -649,8 +833,13 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
         diagram=diagram,
     )
     irs = tuple(
-        InputRelation(topic_objs[r.topic.name], r.path, r.ctrl_field, Pos(r.node.line, r.node.col))
-        for r in in_rels
+        InputRelation(topic_objs[r.topic.name], r.path, r.ctrl_field, Pos(r.node.line, r.node.col),
+                      fallback=_fallback(r, inputs[r.ctrl_field].prim))
+        for r in in_rels if not r.is_derived
+    )
+    drs = tuple(
+        DerivedRelation(topic_objs[r.topic.name], r.derived, r.ctrl_field, Pos(r.node.line, r.node.col))
+        for r in in_rels if r.is_derived
     )
     ors = tuple(
         OutputRelation(r.ctrl_field, topic_objs[r.topic.name], r.path, Pos(r.node.line, r.node.col))
@@ -667,12 +856,30 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
         messages=messages,
         source=path,
         msg_paths=tuple(msg_paths),
+        derived_relations=drs,
     )
 
 
-def check_c_names(ck: _Checker, decls, ctrl_name, cm, uvar, yvar, registry: MsgRegistry) -> None:
+def _fallback(r: _Rel, prim: str) -> Scalar | None:
+    """The value a plain input relation's input gets when its topic is
+    stale (rule 4.12): the relation's ``on_timeout`` or else its topic's
+    (default ``zero``: the zero of the input's type); ``None`` for
+    ``hold`` and for a topic without a timeout."""
+    if r.topic.timeout_ms is None:
+        return None
+    if r.fallback is not None:
+        return r.fallback
+    onode = r.node.get("on_timeout")
+    policy = onode.value if isinstance(onode, YScalar) and onode.kind == "str" else r.topic.policy
+    return replace(zero(prim), text="zero") if policy == "zero" else None
+
+
+def check_c_names(ck: _Checker, decls, ctrl_name, cm, uvar, yvar, registry: MsgRegistry,
+                  timed: set[str] = frozenset()) -> None:
     """Check that every C name the generators derive is a usable identifier
-    of at most :data:`MAX_NAME_LEN` characters and that no two coincide."""
+    of at most :data:`MAX_NAME_LEN` characters and that no two coincide
+    (``timed``: the names of the timed topics, whose glue has three more
+    globals, rule 4.12)."""
     seen: dict[str, str] = {}
 
     def claim(name: str, origin: str, where, rule: str = "4.9") -> None:
@@ -737,6 +944,9 @@ def check_c_names(ck: _Checker, decls, ctrl_name, cm, uvar, yvar, registry: MsgR
         t = Topic(d.name, c, d.direction or SUBSCRIBE, "", 1)
         for n in t.derived_names():
             claim(n, f"topic {show(d.name)}", d.name_node)
+        if d.name in timed:
+            for n in t.timed_names():
+                claim(n, f"topic {show(d.name)} (its receipt time and flags, rule 4.12)", d.name_node)
 
     used = registry.used_types(d.msg_type for d in decls if d.type_ok and d.msg_type)
     type_nodes = {}

@@ -29,7 +29,7 @@ import jinja2
 from pyrosgen.errors import ToolFailure
 from pyrosgen.render import environment, source_label
 from pyrosgen.resources import coq_templates_dir
-from pyrosgen.frontend.model import NodeModel
+from pyrosgen.frontend.model import NodeModel, Scalar
 from pyrosgen.frontend.msgmodel import PRIMITIVES, FieldPath, MsgField, MsgType, msg_c_name
 
 __all__ = [
@@ -46,6 +46,8 @@ __all__ = [
     "coq_prim",
     "coq_path",
     "coq_ftype",
+    "coq_fallback",
+    "DERIVED_CONSTRUCTORS",
     "CoqMsgdef",
     "CoqTopic",
     "CoqNodeModel",
@@ -180,6 +182,38 @@ def coq_ftype(f: MsgField) -> str:
     return f"FTarray ({base}) {coq_z(f.array_len)}"
 
 
+#: ``ROSGen.NodeModel.derived`` constructor of each derived input kind
+#: (rule 4.12).
+DERIVED_CONSTRUCTORS: dict[str, str] = {"is_new": "Dis_new", "received": "Dreceived", "age_ms": "Dage_ms"}
+
+#: The 8- and 16-bit integer types, whose values are ``Vint`` as the
+#: 32-bit ones' (``Values.val``: a C value as its type reads it, a signed
+#: char holding -1 is ``Vint (-1)``).
+_VINT_AS = {"int8": "int32", "int16": "int32", "uint8": "uint32", "uint16": "uint32"}
+
+
+def coq_fallback(s: Scalar) -> str:
+    """A fallback (rule 4.12) as a ``Values.val``, printed by the very
+    helper that prints a diagram's constants
+    (:func:`pyrosgen.proof.coqdiagram.coq_val`): ``Vint n%Z`` for ``bool``
+    to ``uint32``, ``Vlong n%Z`` for the 64-bit integers, ``Vfloat``/
+    ``Vsingle`` of the bit pattern for the floats."""
+    # imported here: coqdiagram imports this module's literal helpers
+    from pyrosgen.proof.coqdiagram import coq_val
+
+    if isinstance(s, Scalar) and s.prim in _VINT_AS:
+        s = Scalar(_VINT_AS[s.prim], s.n, s.text)
+    return coq_val(s)
+
+
+def coq_derived(kind: str) -> str:
+    """The ``derived`` constructor of a derived input kind."""
+    try:
+        return DERIVED_CONSTRUCTORS[kind]
+    except (KeyError, TypeError):
+        raise EmitError(f"refusing to print {kind!r} as a derived input kind") from None
+
+
 def _msg_name(name: str) -> str:
     if not isinstance(name, str) or not _MSG_NAME.fullmatch(name):
         raise EmitError(f"refusing to print {name!r} as a message type name")
@@ -231,6 +265,9 @@ class CoqNodeModel:
     topics: tuple[CoqTopic, ...]
     inrels: tuple[tuple[str, str, str, str], ...]   #: (topic, path, input, comment)
     outrels: tuple[tuple[str, str, str, str], ...]  #: (output, topic, path, comment)
+    timeouts: tuple[tuple[str, str], ...] = ()       #: (topic C name, ms as ``Z``)
+    fallbacks: tuple[tuple[str, str, str], ...] = ()  #: (input, val, comment)
+    drels: tuple[tuple[str, str, str, str], ...] = ()  #: (topic C name, kind, input, comment)
 
 
 def _msgdef(m: MsgType) -> CoqMsgdef:
@@ -292,6 +329,26 @@ def emit_model(model: NodeModel) -> CoqNodeModel:
                 coq_comment(f"{r.output_field} -> {r.topic.name} {r.path}"),
             )
             for r in model.output_relations
+        ),
+        timeouts=tuple(
+            (coq_ident(c_name, "topic C name"), f"{coq_z(ms)}%Z") for c_name, ms in model.timeouts
+        ),
+        fallbacks=tuple(
+            (
+                coq_ident(f, "controller input"),
+                coq_fallback(s),
+                coq_comment(f"{f} when stale: {s.text}" if s.text else f"{f} when stale"),
+            )
+            for f, s in model.fallbacks
+        ),
+        drels=tuple(
+            (
+                coq_ident(r.topic.c_name, "topic C name"),
+                coq_derived(r.kind),
+                coq_ident(r.input_field, "controller input"),
+                coq_comment(f"{r.topic.name} {r.kind} -> {r.input_field}"),
+            )
+            for r in model.derived_relations
         ),
     )
 

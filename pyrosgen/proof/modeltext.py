@@ -15,10 +15,11 @@ Coq literals, so that an emitter bug cannot hide itself.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 
 from pyrosgen.errors import DetailedFailure
-from pyrosgen.frontend.model import NodeModel, TopicNames
+from pyrosgen.frontend.model import DERIVED_KINDS, NodeModel, TopicNames
 from pyrosgen.frontend.msgmodel import MsgField, msg_c_name
 
 __all__ = [
@@ -74,6 +75,11 @@ def model_text(model: NodeModel) -> str:
               for r in model.input_relations]
     lines += [f"output_relation {r.output_field} {r.topic.c_name} {_path(r.path.steps)}"
               for r in model.output_relations]
+    # rule 4.12: timeouts (topic order), fallbacks (input-relation order),
+    # derived inputs (the model's order)
+    lines += [f"timeout {c_name} {ms}" for c_name, ms in model.timeouts]
+    lines += [f"fallback {f} {_val_text(s)}" for f, s in model.fallbacks]
+    lines += [f"derived_input {r.topic.c_name} {r.kind} {r.input_field}" for r in model.derived_relations]
     return "".join(line + "\n" for line in lines)
 
 
@@ -155,12 +161,23 @@ class ProvedModel:
     input_relations: list[tuple[str, str, str]] = field(default_factory=list)
     #: (controller output, topic C name, path)
     output_relations: list[tuple[str, str, str]] = field(default_factory=list)
+    #: (topic C name, timeout in ms), rule 4.12
+    timeouts: list[tuple[str, int]] = field(default_factory=list)
+    #: (controller input, its value when stale as ``DiagramText.val_text``
+    #: prints it: decimal integers, ``0x`` and the bits of a float)
+    fallbacks: list[tuple[str, str]] = field(default_factory=list)
+    #: (topic C name, ``is_new``/``received``/``age_ms``, controller input)
+    derived_inputs: list[tuple[str, str, str]] = field(default_factory=list)
 
     def topic(self, c_name: str) -> ProvedTopic:
         for t in self.topics:
             if t.c_name == c_name:
                 return t
         raise MalformedModelText(f"the proved model has no topic {c_name!r}")
+
+
+#: A value as ``DiagramText.val_text`` prints it (a fallback's, rule 4.12).
+_VAL_TEXT = re.compile(r"-?[0-9]+|0x[0-9a-fA-F]{8}|0x[0-9a-fA-F]{16}")
 
 
 def parse_model_text(text: str, *, origin: str = "the proved model text") -> ProvedModel:
@@ -171,7 +188,8 @@ def parse_model_text(text: str, *, origin: str = "the proved model text") -> Pro
         raise MalformedModelText(f"{origin} does not start with {HEADER!r}")
     pm = ProvedModel()
     arity = {"node": 2, "period_ms": 2, "controller": 2, "inputs": 3, "input": 3, "outputs": 3,
-             "output": 3, "message": 2, "topic": 6, "input_relation": 4, "output_relation": 4}
+             "output": 3, "message": 2, "topic": 6, "input_relation": 4, "output_relation": 4,
+             "timeout": 3, "fallback": 3, "derived_input": 4}
     message: list[tuple[str, str]] | None = None
     seen: set[str] = set()
     for n, line in enumerate(lines[1:], start=2):
@@ -206,8 +224,18 @@ def parse_model_text(text: str, *, origin: str = "the proved model text") -> Pro
                 pm.topics.append(ProvedTopic(parts[1], parts[2], parts[3], parts[4], int(parts[5])))
             elif kw == "input_relation":
                 pm.input_relations.append((parts[1], parts[2], parts[3]))
-            else:
+            elif kw == "output_relation":
                 pm.output_relations.append((parts[1], parts[2], parts[3]))
+            elif kw == "timeout":
+                pm.timeouts.append((parts[1], int(parts[2])))
+            elif kw == "fallback":
+                if not _VAL_TEXT.fullmatch(parts[2]):
+                    raise ValueError(parts[2])
+                pm.fallbacks.append((parts[1], parts[2]))
+            else:
+                if parts[2] not in DERIVED_KINDS:
+                    raise ValueError(parts[2])
+                pm.derived_inputs.append((parts[1], parts[2], parts[3]))
         except ValueError:
             raise MalformedModelText(f"{origin}, line {n}: not an item of the grammar: {line!r}") from None
     missing = [k for k in ("node", "period_ms", "controller", "inputs", "outputs") if k not in seen]
