@@ -64,7 +64,7 @@ from pyrosgen.ros import wrapper as ros
 from pyrosgen.errors import Context, DetailedFailure, UserError, escape
 from pyrosgen.proof.modeltext import parse_model_text
 from pyrosgen.verify.certificate import certificate_files, write_certificate
-from pyrosgen.verify.wrapper_check import check_wrapper
+from pyrosgen.verify.wrapper_check import check_glue_externals, check_wrapper
 from pyrosgen.generate import GenerateResult, OutputDirError, generate_model
 from pyrosgen.proof.coqmodel import node_file_names
 from pyrosgen.frontend.model import NodeModel
@@ -576,6 +576,10 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
             if fname == names.api_source:
                 # The node registers and sleeps as the proved model says.
                 check_wrapper(text, gen.proved_model, wrapper_name=fname)
+            if fname == names.api_header:
+                # The ROS functions the glue calls, with the glue's C types.
+                check_glue_externals((stage / glue_c).read_text(encoding="utf-8"), text,
+                                     glue_name=glue_c, header_name=fname)
             (stage / fname).write_text(text, encoding="ascii")
         include = stage / "include"
         try:

@@ -11,6 +11,7 @@ from pyrosgen.verify.printer_types import (
     F64,
     INT,
     LLONG,
+    ULLONG,
     UNOPS,
     ValidationReport,
     _Diff,
@@ -195,6 +196,38 @@ class _DumpFunction:
         return tuple(out)
 
 
+#: The external functions whose C name is fixed, with their meaning tag and
+#: signature ([Typing.ef_signature]): the C text shows only the name and the
+#: type, and the wrapper over roscpp defines the function of that name, so
+#: the tag, the name and the type must agree.  ``ros_now``: ROS time in
+#: nanoseconds, ``unsigned long long ros_now(void)``.
+FIXED_EXTERNALS: dict[str, tuple[list, tuple]] = {
+    "ros_now": (["ros_now"], ("fun", (), ULLONG)),
+}
+
+
+def _check_fixed_external(name: str, ef, ty: tuple) -> None:
+    """An external of :data:`FIXED_EXTERNALS`, by name or by tag, has the
+    other two (name, tag, type) of that entry."""
+    tag = ef[0] if isinstance(ef, list) and ef and isinstance(ef[0], str) else None
+    for fixed, (want_ef, want_ty) in FIXED_EXTERNALS.items():
+        if name != fixed and tag != want_ef[0]:
+            continue
+        if name != fixed:
+            raise _Diff(f"external {name} of the dump has the meaning tag ({tag}) of {fixed}")
+        if ef != want_ef:
+            raise _Diff(f"external {name} of the dump has the meaning tag {_show_ef(ef)}, not "
+                        f"{_show_ef(want_ef)}")
+        if ty != want_ty:
+            raise _Diff(f"external {name} of the dump has the type {show_type(ty)}, not {show_type(want_ty)}")
+
+
+def _show_ef(ef) -> str:
+    if isinstance(ef, list):
+        return "(" + " ".join(_show_ef(x) for x in ef) + ")"
+    return str(ef)
+
+
 class _DumpProgram:
     def __init__(self, sexp_text: str, report: ValidationReport):
         self.report = report
@@ -209,6 +242,8 @@ class _DumpProgram:
         self.gvars = {n: _dump_type(t) for n, t in it["gvars"].items()}
         self.externals = {n: ("fun", tuple(_dump_type(a) for a in v[1]), _dump_type(v[2]))
                           for n, v in it["externals"].items()}
+        for n, v in it["externals"].items():
+            _check_fixed_external(n, v[0], self.externals[n])
         self.functions = {n: _DumpFunction(self, item) for n, item in it["functions"].items()}
         self.funcs = set(self.externals) | set(self.functions)
         names = [n for k, n in it["order"] if k != "struct"]

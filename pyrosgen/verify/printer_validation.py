@@ -104,7 +104,13 @@ exit code 2, nothing written).
 
 What the C text cannot show is not compared: the meaning tags of the
 external functions (``ros_subscribe "/odom" ...``: the C text only has
-their names and types) and the dump's item order between kinds.
+their names and types) and the dump's item order between kinds.  Except
+where the name says the meaning: the wrapper over roscpp defines
+``ros_now`` (ROS time, ``unsigned long long ros_now(void);``), so in the
+dump the external named ``ros_now`` must have the tag ``(ros_now)`` and
+that type, and the tag ``(ros_now)`` must be on the external of that name
+(:data:`printer_dump.FIXED_EXTERNALS`); its prototype and its calls
+(``_now = ros_now();``) are then compared like any other.
 """
 
 
