@@ -143,10 +143,10 @@ Proof.
 Qed.
 
 Lemma take_publishes_ok:
-  forall m y tps mvs rest, Forall2 (published_value m y) tps mvs ->
+  forall m y now tps mvs rest, Forall2 (published_value m y now) tps mvs ->
   take_publishes m y tps (publish_events tps mvs ++ rest) = Some rest.
 Proof.
-  intros m y tps mvs rest F. induction F as [|tp mv tps mvs PV F IH]; simpl; auto.
+  intros m y now tps mvs rest F. induction F as [|tp mv tps mvs PV F IH]; simpl; auto.
   rewrite String.eqb_refl. simpl.
   replace (published_okb m y tp mv) with true; [exact IH|].
   symmetry. apply forallb_forall. intros o Ho.
@@ -173,7 +173,7 @@ Proof.
   intros CS m ctx s evs r. induction r as [|r IH]; intros i C; simpl; auto.
   destruct (C i ltac:(lia)) as (u & y & mvs & E & IV & _ & PV). rewrite E.
   simpl. rewrite (inputs_ok _ _ _ _ _ IV). simpl.
-  rewrite <- app_assoc, take_publishes_ok by exact PV. simpl.
+  rewrite <- app_assoc, (take_publishes_ok _ _ _ _ _ _ PV). simpl.
   rewrite Z.eqb_refl. simpl. apply IH. intros j Hj. apply C. lia.
 Qed.
 

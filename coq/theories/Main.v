@@ -69,9 +69,10 @@ Proof. exact Glueproof.generate_input_glue_ddc. Qed.
     block (not a global) that holds an object of the topic's message type,
     initialised or not, terminates, emits nothing, changes only that
     block, and leaves there the message [published_value] prescribes for
-    the outputs [y] held by [Controller_Y]: every field named by an output
-    relation of the topic holds the related field of [y], every other
-    scalar field is zero. *)
+    the outputs [y] held by [Controller_Y] and the ROS time [now] of the
+    world it runs in: every field named by an output relation of the
+    topic holds the related field of [y], the stamp of a stamped topic
+    holds [now]'s [sec] and [nsec], every other scalar field is zero. *)
 Theorem generate_output_glue_ddc:
   forall m p, generate m = OK p ->
   forall tp, In tp (published m) -> output_glue_ddc m p tp.
@@ -377,7 +378,7 @@ Theorem diagram_node_ddc:
               evs i = Estep u y :: publish_events (published m) mvs ++ [Esleep (nm_period_ms m)]
            /\ input_values m (Endtoend.diagram_ctx m d arrivals clock) i u
            /\ Diagram.dg_step d (s i) u = (s (S i), y)
-           /\ Forall2 (published_value m y) (published m) mvs).
+           /\ Forall2 (published_value m y (clock (S i))) (published m) mvs).
 Proof. exact Endtoend.diagram_node_ddc. Qed.
 
 (** ** The semantics *)
@@ -489,7 +490,9 @@ Proof. exact Generatorproof.generate_input_glue. Qed.
 
 (** For each published topic [tp], [output_glue_c] zeroes every leaf of
     [*command], then performs the copies of the topic's output relations,
-    in model order. *)
+    in model order ([output_base]), then, if the topic is stamped (rule
+    4.13), writes the time's [sec] and [nsec] into the stamp
+    ([stamp_stmts]). *)
 Theorem generate_output_glue:
   forall m p tp, generate m = OK p -> In tp (published m) ->
   let c := tp_cname tp in
@@ -501,15 +504,16 @@ Theorem generate_output_glue:
   /\ fn_params f = [(command_param, tptr (Tstruct M))]
   /\ fn_vars f = []
   /\ fn_body f
-     = Ssequence
-         (seq_of (map (leaf_zero (prog_types p) (deref_param command_param M)) (leaves (nm_msgs m) M)))
-         (seq_of (copies (map (fun o => output_prim (make_tables m) (or_output o)) lor)
-                         (gen_list_message_expr_output_glue m M lor)
-                         (gen_list_controller_expr_output_glue m lor)))
+     = match topic_stamp m c with
+       | None => output_base m tp
+       | Some sp => Ssequence (output_base m tp) (stamp_stmts m M sp)
+       end
   /\ NoDup (map fst (fn_temps f))
   /\ (forall o, In o lor ->
         find_assoc (temp_name (output_prim (make_tables m) (or_output o))) (fn_temps f)
-        = Some (ctype_of_prim (output_prim (make_tables m) (or_output o)))).
+        = Some (ctype_of_prim (output_prim (make_tables m) (or_output o))))
+  /\ (forall sp, topic_stamp m c = Some sp ->
+        find_assoc (temp_name Puint32) (fn_temps f) = Some (ctype_of_prim Puint32)).
 Proof. exact Generatorproof.generate_output_glue. Qed.
 
 (** [loop]: one local message [c_cmd] per published topic, and a cycle

@@ -37,6 +37,9 @@
     - [ros_init()]: nothing.
     - [ros_ok()]: returns 1 and consumes one [true] answer if one is left,
       otherwise returns 0.
+    - [ros_time_sec()], [ros_time_nsec()]: the [sec] and [nsec] fields
+      of that same time ([time_sec], [time_nsec]), as [unsigned int]s;
+      no event.  The generated glue stamps published headers with them.
     - [ros_subscribe_T(cb)] ([EF_ros_subscribe topic msgty q]), with
       argument the function pointer [Vfptr cb]: registers the subscription
       [(topic, msgty, q, cb)] and emits [Esubscribe topic msgty q].
@@ -236,6 +239,14 @@ Fixpoint deliverable (subs : list subscription) (msgs : list arrival)
 
 (** ** The external functions *)
 
+(** The two fields of a ROS time given in nanoseconds (as [ros::Time]
+    holds it: [sec] and [nsec], both [uint32]): for every ROS time
+    ([0 <= t < 2^32 * 10^9]) exactly its [sec] and [nsec]; beyond, the
+    time is first read modulo [2^64], as [ros_now] returns it, and the
+    seconds modulo [2^32], as the [uint32] field holds them. *)
+Definition time_sec (t : Z) : Z := norm_int I32 Unsigned (norm_long Unsigned t / 1000000000).
+Definition time_nsec (t : Z) : Z := norm_int I32 Unsigned (norm_long Unsigned t mod 1000000000).
+
 Section EXTERNAL.
 
 Context {CS : Type}.
@@ -255,6 +266,8 @@ Definition external_call (ef : external_function) (vargs : list val) (m : mem) (
       | O => Some (Vint 0, [], m, w)
       end
   | EF_ros_now, [] => Some (Vlong (norm_long Unsigned (w_time w)), [], m, w)
+  | EF_ros_time_sec, [] => Some (Vint (time_sec (w_time w)), [], m, w)
+  | EF_ros_time_nsec, [] => Some (Vint (time_nsec (w_time w)), [], m, w)
   | EF_ros_rate_sleep period, [] => Some (Vundef, [Esleep period], m, w)
   | EF_ros_subscribe topic msgty q, [Vfptr cb] =>
       Some (Vundef, [Esubscribe topic msgty q], m, add_subscription w (mksub topic msgty q cb))

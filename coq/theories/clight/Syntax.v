@@ -171,6 +171,8 @@ Inductive external_function : Type :=
   | EF_ros_ok                        (**r [int ros_ok(void)] *)
   | EF_ros_spinOnce                  (**r [void ros_spinOnce(void)]: runs callbacks *)
   | EF_ros_now                       (**r [unsigned long long ros_now(void)]: ROS time, ns *)
+  | EF_ros_time_sec                  (**r [unsigned int ros_time_sec(void)]: its seconds *)
+  | EF_ros_time_nsec                 (**r [unsigned int ros_time_nsec(void)]: its nanoseconds *)
   | EF_ros_rate_sleep (period_ms : Z)
       (**r [void ros_rate_sleep(void)]: sleeps until the end of the cycle
            of [period_ms] milliseconds (the period is part of the

@@ -327,6 +327,7 @@ Definition ef_signature (ef : external_function) : list type * type :=
   | EF_ros_init | EF_ros_spinOnce | EF_ros_rate_sleep _ => ([], Tvoid)
   | EF_ros_ok => ([], tint)
   | EF_ros_now => ([], Tlong Unsigned)
+  | EF_ros_time_sec | EF_ros_time_nsec => ([], Tint I32 Unsigned)
   | EF_ros_subscribe _ msgty _ => ([tptr (Tfunction [tptr (Tstruct msgty)] Tvoid)], Tvoid)
   | EF_ros_advertise _ _ _ => ([], Tvoid)
   | EF_ros_publish _ msgty => ([tptr (Tstruct msgty)], Tvoid)

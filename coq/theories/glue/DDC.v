@@ -103,6 +103,15 @@ Definition quiet_call (p : program) (fd : fundef) (args : list val) (mm : mem)
   /\ (forall t mm' w' v, eval_funcall ctx (globalenv p) mm w fd args t mm' w' v ->
         t = [] /\ w' = w /\ v = Vundef /\ post mm').
 
+(** The same for a function whose effect depends on the time the world
+    gives [ros_now] and the time functions: [post] is given that time. *)
+Definition quiet_call_at (p : program) (fd : fundef) (args : list val) (mm : mem)
+                         (post : Z -> mem -> Prop) : Prop :=
+  forall (CS : Type) (ctx : ros_context CS) (w : world CS),
+     (exists t mm' w' v, eval_funcall ctx (globalenv p) mm w fd args t mm' w' v)
+  /\ (forall t mm' w' v, eval_funcall ctx (globalenv p) mm w fd args t mm' w' v ->
+        t = [] /\ w' = w /\ v = Vundef /\ post (w_time w) mm').
+
 (** ** Functions (theorem T1) *)
 
 (** The callback of a subscribed topic [tp] (the paper's Figure 10): called
@@ -142,23 +151,30 @@ Definition input_glue_ddc (m : node_model) (p : program) : Prop :=
               /\ mval_get u [Sfield (ir_input ir)] = Some (MVscalar v)).
 
 (** The message that a published topic [tp] carries when the controller's
-    outputs are [y]: a message of the topic's type in which every field
-    that an output relation of the topic names holds the related output
-    field of [y], and every other scalar field is zero. *)
-Definition published_value (m : node_model) (y : mval) (tp : topic) (mv : mval) : Prop :=
+    outputs are [y] and the ROS time is [now]: a message of the topic's
+    type in which every field that an output relation of the topic names
+    holds the related output field of [y], the stamp, if the topic has
+    one (rule 4.13), holds the [sec] and [nsec] of [now], and every other
+    scalar field is zero. *)
+Definition published_value (m : node_model) (y : mval) (now : Z) (tp : topic) (mv : mval) : Prop :=
   mval_has_type (composites m) (Tstruct (tp_msg tp)) mv
   /\ (forall o, In o (nm_outrels m) -> or_topic o = tp_cname tp ->
         exists v, mval_get y [Sfield (or_output o)] = Some (MVscalar v)
                /\ mval_get mv (path_steps (or_path o)) = Some (MVscalar v))
+  /\ (forall sp, find_assoc (tp_cname tp) (nm_stamps m) = Some sp ->
+        mval_get mv (path_steps (sp ++ [PField "sec"%string])) = Some (MVscalar (Vint (time_sec now)))
+     /\ mval_get mv (path_steps (sp ++ [PField "nsec"%string])) = Some (MVscalar (Vint (time_nsec now))))
   /\ (forall lp q, resolve (nm_msgs m) (FTmsg (tp_msg tp)) lp = Some (FTprim q) ->
         (forall o, In o (nm_outrels m) -> or_topic o = tp_cname tp -> or_path o <> lp) ->
+        (forall sp, find_assoc (tp_cname tp) (nm_stamps m) = Some sp ->
+           lp <> sp ++ [PField "sec"%string] /\ lp <> sp ++ [PField "nsec"%string]) ->
         mval_get mv (path_steps lp) = Some (zero_mval (composites m) (ctype_of_prim q))).
 
 (** [output_glue_c(&cmd)] for a published topic [tp]: called with a
     pointer to a block (not a global) holding an object of the topic's
     type, initialised or not, it writes there the message that the
-    outputs [y] held by [Controller_Y] call for, and changes nothing
-    else. *)
+    outputs [y] held by [Controller_Y] and the world's time call for, and
+    changes nothing else. *)
 Definition output_glue_ddc (m : node_model) (p : program) (tp : topic) : Prop :=
   exists f,
      find_funct (globalenv p) (output_glue_name (tp_cname tp)) = Some (Internal f)
@@ -168,10 +184,10 @@ Definition output_glue_ddc (m : node_model) (p : program) (tp : topic) : Prop :=
        get_block mm b = Some (Tstruct (tp_msg tp), mv0) ->
        mval_shape mv0 = undef_mval (prog_types p) (Tstruct (tp_msg tp)) ->
        global_value p mm (nm_out_var m) = Some y ->
-       quiet_call p (Internal f) [Vptr b []] mm (fun mm' =>
+       quiet_call_at p (Internal f) [Vptr b []] mm (fun now mm' =>
          exists mv,
             get_block mm' b = Some (Tstruct (tp_msg tp), mv)
-         /\ published_value m y tp mv
+         /\ published_value m y now tp mv
          /\ unchanged_except mm mm' b).
 
 (** ** Nodes (theorem T2) *)
@@ -248,15 +264,16 @@ Definition publish_events (tps : list topic) (mvs : list mval) : trace :=
     is stepped once, from [s] to [s'], on the inputs [u] that
     [input_values] prescribes, giving outputs [y]; then each published
     topic of the model, in model order, publishes the message that
-    [published_value] prescribes for [y]; then the cycle ends with a
-    sleep of the model's period [nm_period_ms m]. *)
+    [published_value] prescribes for [y] at the cycle's time
+    [ctx_time ctx (S i)] (read when the [i]-th spin returned); then the
+    cycle ends with a sleep of the model's period [nm_period_ms m]. *)
 Definition cycle_ok {CS : Type} (m : node_model) (ctx : ros_context CS) (i : nat)
                     (s : CS) (evs : trace) (s' : CS) : Prop :=
   exists u y mvs,
      evs = Estep u y :: publish_events (published m) mvs ++ [Esleep (nm_period_ms m)]
   /\ input_values m ctx i u
   /\ ctx_step ctx s u = (s', y)
-  /\ Forall2 (published_value m y) (published m) mvs.
+  /\ Forall2 (published_value m y (ctx_time ctx (S i))) (published m) mvs.
 
 (** *** Before the first cycle *)
 

@@ -222,15 +222,37 @@ Definition output_dst (M : ident) (o : outrel) : expr :=
 Definition output_copy (M : ident) (o : outrel) : statement :=
   copy (output_prim (or_output o)) (output_dst M o) (output_src o).
 
+(** The stamp path of the topic with C name [c], if it is stamped. *)
+Definition topic_stamp (c : ident) : option path := find_assoc c (nm_stamps m).
+
+(** The [uint32] temporary and a time function's call. *)
+Definition tuint : type := Tint I32 Unsigned.
+Definition time_call (f : ident) : statement :=
+  Scall (Some (temp_name Puint32)) (Evar f (Tfunction [] tuint)) [].
+
+(** [_t_uint = ros_time_sec(); command->sp.sec = _t_uint;
+     _t_uint = ros_time_nsec(); command->sp.nsec = _t_uint;] *)
+Definition stamp_stmts (M : ident) (sp : path) : statement :=
+  let dst f := path_expr ce (deref_param command_param M) (sp ++ [PField f]) in
+  seq_of [time_call ros_time_sec_name;
+          Sassign (dst "sec") (Etempvar (temp_name Puint32) tuint);
+          time_call ros_time_nsec_name;
+          Sassign (dst "nsec") (Etempvar (temp_name Puint32) tuint)].
+
 (** [void output_glue_c(struct M *command)]: zero every leaf of
-    [*command], then one copy per output relation of the topic. *)
+    [*command], then one copy per output relation of the topic, then,
+    if the topic is stamped, the stamp. *)
 Definition output_glue_function (tp : topic) : function :=
   let M := tp_msg tp in
   let os := topic_outrels (tp_cname tp) in
-  mkfunction Tvoid [(command_param, tptr (Tstruct M))] []
-    (temps_of (map (fun o => output_prim (or_output o)) os))
-    (Ssequence (seq_of (map (leaf_zero ce (deref_param command_param M)) (leaves (nm_msgs m) M)))
-               (seq_of (map (output_copy M) os))).
+  let qs := map (fun o => output_prim (or_output o)) os in
+  let body := Ssequence (seq_of (map (leaf_zero ce (deref_param command_param M)) (leaves (nm_msgs m) M)))
+                        (seq_of (map (output_copy M) os)) in
+  match topic_stamp (tp_cname tp) with
+  | None => mkfunction Tvoid [(command_param, tptr (Tstruct M))] [] (temps_of qs) body
+  | Some sp => mkfunction Tvoid [(command_param, tptr (Tstruct M))] [] (temps_of (Puint32 :: qs))
+                 (Ssequence body (stamp_stmts M sp))
+  end.
 
 (** ** The loop and main (Figures 2, 7) *)
 
@@ -282,13 +304,22 @@ Definition main_function : function :=
 
 (** ** Global definitions *)
 
+(** The time functions, declared by a node that stamps messages. *)
+Definition time_externals : list (ident * globdef) :=
+  match nm_stamps m with
+  | [] => []
+  | _ :: _ => [(ros_time_sec_name, Gfun (External EF_ros_time_sec [] tuint));
+               (ros_time_nsec_name, Gfun (External EF_ros_time_nsec [] tuint))]
+  end.
+
 (** The ROS API functions that do not depend on the topics ([ros_rate_sleep]
-    carries the node's period). *)
+    carries the node's period), and the time functions if needed. *)
 Definition ros_externals : list (ident * globdef) :=
   [(ros_init_name, Gfun (External EF_ros_init [] Tvoid));
    (ros_ok_name, Gfun (External EF_ros_ok [] tint));
    (ros_spinOnce_name, Gfun (External EF_ros_spinOnce [] Tvoid));
-   (ros_rate_sleep_name, Gfun (External (EF_ros_rate_sleep (nm_period_ms m)) [] Tvoid))].
+   (ros_rate_sleep_name, Gfun (External (EF_ros_rate_sleep (nm_period_ms m)) [] Tvoid))]
+  ++ time_externals.
 
 (** The ROS API functions of a topic. *)
 Definition topic_externals (tp : topic) : list (ident * globdef) :=

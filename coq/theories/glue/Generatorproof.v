@@ -149,8 +149,10 @@ Proof. intros tp; unfold topic_externals, topic_extern_names; destruct (tp_dir t
 (** The global names of [build_defs] are [global_names]. *)
 Lemma build_defs_names: forall m, map fst (build_defs m (make_tables m)) = global_names m.
 Proof.
-  intros m; unfold build_defs, global_names.
-  rewrite !map_app, map_fst_flat_map, !map_map.
+  intros m; unfold build_defs, global_names, ros_externals.
+  rewrite !map_app, map_fst_flat_map, !map_map, <- !app_assoc.
+  replace (map fst (time_externals m)) with (time_extern_names m)
+    by (unfold time_externals, time_extern_names; destruct (nm_stamps m); reflexivity).
   replace (flat_map (fun x => map fst (topic_externals x)) (nm_topics m))
     with (flat_map topic_extern_names (nm_topics m)); [reflexivity|].
   induction (nm_topics m) as [|tp l IH]; simpl; auto. rewrite IH, topic_externals_names; auto.
@@ -236,6 +238,17 @@ Proof.
   intros m p H.
   repeat split; apply (generate_find_def m p _ _ H); apply in_build_defs_externals;
     rewrite !in_app_iff; simpl; tauto.
+Qed.
+
+(** A node that stamps messages declares the time functions. *)
+Theorem generate_time_externals:
+  forall m p, generate m = OK p -> nm_stamps m <> [] ->
+     find_def p ros_time_sec_name = Some (Gfun (External EF_ros_time_sec [] tuint))
+  /\ find_def p ros_time_nsec_name = Some (Gfun (External EF_ros_time_nsec [] tuint)).
+Proof.
+  intros m p H NE. split; apply (generate_find_def m p _ _ H), in_build_defs_externals;
+    rewrite !in_app_iff; left; unfold ros_externals, time_externals;
+    (destruct (nm_stamps m); [contradiction|]); simpl; tauto.
 Qed.
 
 Theorem generate_topic_externals:
@@ -398,22 +411,40 @@ Proof.
     apply expr_place_path_expr with (q := []); auto.
 Qed.
 
-(** The body of [output_glue_c]: zero every leaf of [*command], then the
-    copies of the topic's output relations, in order. *)
-Lemma output_glue_body:
-  forall m tp,
+(** The zeroing and the copies of [output_glue_c]. *)
+Definition output_base (m : node_model) (tp : topic) : statement :=
   let M := tp_msg tp in
   let lor := topic_outrels (make_tables m) (tp_cname tp) in
-  fn_body (output_glue_function m (make_tables m) tp)
-  = Ssequence
-      (seq_of (map (leaf_zero (composites m) (deref_param command_param M)) (leaves (nm_msgs m) M)))
-      (seq_of (copies (map (fun o => output_prim (make_tables m) (or_output o)) lor)
-                      (gen_list_message_expr_output_glue m M lor)
-                      (gen_list_controller_expr_output_glue m lor))).
+  Ssequence
+    (seq_of (map (leaf_zero (composites m) (deref_param command_param M)) (leaves (nm_msgs m) M)))
+    (seq_of (copies (map (fun o => output_prim (make_tables m) (or_output o)) lor)
+                    (gen_list_message_expr_output_glue m M lor)
+                    (gen_list_controller_expr_output_glue m lor))).
+
+Lemma output_copies_eq:
+  forall m M l,
+  seq_of (map (output_copy m (make_tables m) M) l)
+  = seq_of (copies (map (fun o => output_prim (make_tables m) (or_output o)) l)
+                   (gen_list_message_expr_output_glue m M l)
+                   (gen_list_controller_expr_output_glue m l)).
 Proof.
-  intros m tp M lor; simpl; f_equal. f_equal.
-  unfold gen_list_controller_expr_output_glue, gen_list_message_expr_output_glue.
-  fold lor. induction lor as [|o l IH]; simpl; auto. rewrite IH; auto.
+  intros m M l. unfold gen_list_controller_expr_output_glue, gen_list_message_expr_output_glue.
+  induction l as [|o l IH]; simpl; auto. rewrite IH; auto.
+Qed.
+
+(** The body of [output_glue_c]: zero every leaf of [*command], then the
+    copies of the topic's output relations, in order, then the stamp if
+    the topic has one. *)
+Lemma output_glue_body:
+  forall m tp,
+  fn_body (output_glue_function m (make_tables m) tp)
+  = match topic_stamp m (tp_cname tp) with
+    | None => output_base m tp
+    | Some sp => Ssequence (output_base m tp) (stamp_stmts m (tp_msg tp) sp)
+    end.
+Proof.
+  intros m tp. unfold output_glue_function, output_base.
+  destruct (topic_stamp m (tp_cname tp)); simpl; rewrite output_copies_eq; reflexivity.
 Qed.
 
 (** The copy of an input relation, concretely. *)
@@ -496,23 +527,29 @@ Theorem generate_output_glue:
   /\ fn_params f = [(command_param, tptr (Tstruct M))]
   /\ fn_vars f = []
   /\ fn_body f
-     = Ssequence
-         (seq_of (map (leaf_zero (prog_types p) (deref_param command_param M)) (leaves (nm_msgs m) M)))
-         (seq_of (copies (map (fun o => output_prim (make_tables m) (or_output o)) lor)
-                         (gen_list_message_expr_output_glue m M lor)
-                         (gen_list_controller_expr_output_glue m lor)))
+     = match topic_stamp m c with
+       | None => output_base m tp
+       | Some sp => Ssequence (output_base m tp) (stamp_stmts m M sp)
+       end
   /\ NoDup (map fst (fn_temps f))
   /\ (forall o, In o lor ->
         find_assoc (temp_name (output_prim (make_tables m) (or_output o))) (fn_temps f)
-        = Some (ctype_of_prim (output_prim (make_tables m) (or_output o)))).
+        = Some (ctype_of_prim (output_prim (make_tables m) (or_output o))))
+  /\ (forall sp, topic_stamp m c = Some sp ->
+        find_assoc (temp_name Puint32) (fn_temps f) = Some (ctype_of_prim Puint32)).
 Proof.
   intros m p tp H Hin c M lor. exists (output_glue_function m (make_tables m) tp); repeat split.
   - apply (generate_find_def m p _ _ H). unfold build_defs; rewrite !in_app_iff.
     do 6 right; left. change (output_glue_name c, Gfun (Internal (output_glue_function m (make_tables m) tp)))
       with (output_glue_def m (make_tables m) tp). apply in_map; auto.
-  - rewrite (generate_types m p H). apply output_glue_body.
-  - apply temps_of_nodup.
-  - intros o Ho. apply temps_of_find. apply in_map_iff; eauto.
+  - unfold output_glue_function; destruct (topic_stamp m (tp_cname tp)); reflexivity.
+  - unfold output_glue_function; destruct (topic_stamp m (tp_cname tp)); reflexivity.
+  - unfold output_glue_function; destruct (topic_stamp m (tp_cname tp)); reflexivity.
+  - apply output_glue_body.
+  - unfold output_glue_function; destruct (topic_stamp m (tp_cname tp)); apply temps_of_nodup.
+  - intros o Ho. unfold output_glue_function; destruct (topic_stamp m (tp_cname tp)); apply temps_of_find;
+      [right|]; apply in_map_iff; eauto.
+  - intros sp E. unfold output_glue_function. unfold c in E. rewrite E. apply temps_of_find; left; auto.
 Qed.
 
 Lemma wf_cmd_vars_nodup:
@@ -696,6 +733,45 @@ Proof.
   eapply nth_error_In; eauto.
 Qed.
 
+Lemma ros_externals_not_internal: forall m id f, ~ In (id, Gfun (Internal f)) (ros_externals m).
+Proof.
+  intros m id f H. unfold ros_externals, time_externals in H.
+  destruct (nm_stamps m); simpl in H; intuition discriminate.
+Qed.
+
+Lemma output_temps:
+  forall m tp o, In o (topic_outrels (make_tables m) (tp_cname tp)) ->
+  find_assoc (temp_name (output_prim (make_tables m) (or_output o)))
+             (fn_temps (output_glue_function m (make_tables m) tp))
+  = Some (ctype_of_prim (output_prim (make_tables m) (or_output o))).
+Proof.
+  intros m tp o Ho. unfold output_glue_function.
+  destruct (topic_stamp m (tp_cname tp)); apply temps_of_find; [right|]; apply in_map_iff; eauto.
+Qed.
+
+Lemma output_temp_uint:
+  forall m tp sp, topic_stamp m (tp_cname tp) = Some sp ->
+  find_assoc (temp_name Puint32) (fn_temps (output_glue_function m (make_tables m) tp))
+  = Some (ctype_of_prim Puint32).
+Proof.
+  intros m tp sp E. unfold output_glue_function. rewrite E. apply temps_of_find; left; auto.
+Qed.
+
+(** The stamp statements of a stamped topic are valid assignments. *)
+Lemma valid_stamp:
+  forall m tp sp temps, wf_facts m -> In tp (published m) -> topic_stamp m (tp_cname tp) = Some sp ->
+  find_assoc (temp_name Puint32) temps = Some (ctype_of_prim Puint32) ->
+  valid_assignments (composites m) temps (stamp_stmts m (tp_msg tp) sp).
+Proof.
+  intros m tp sp temps W Htp ST TU.
+  destruct (wf_stamp m tp sp W Htp ST) as (Rs & Rn & _).
+  destruct (leaf_path_expr_typed m _ _ _ (deref_param command_param (tp_msg tp)) Rs)
+    as [T1 W1]; auto; [constructor|].
+  destruct (leaf_path_expr_typed m _ _ _ (deref_param command_param (tp_msg tp)) Rn)
+    as [T2 W2]; auto; [constructor|].
+  unfold stamp_stmts. simpl. rewrite T1, T2. repeat split; auto.
+Qed.
+
 (** Every function of the generated program makes only valid assignments. *)
 Theorem generate_valid_assignments:
   forall m p id f, generate m = OK p -> find_def p id = Some (Gfun (Internal f)) ->
@@ -707,7 +783,7 @@ Proof.
   apply find_def_build with (m := m) in F; auto.
   unfold build_defs in F; rewrite !in_app_iff in F.
   destruct F as [F|[F|[F|[F|[F|[F|[F|F]]]]]]].
-  - simpl in F; intuition discriminate.
+  - exfalso; eapply ros_externals_not_internal; eauto.
   - apply in_flat_map in F; destruct F as (tp & _ & F).
     unfold topic_externals in F; destruct (tp_dir tp); simpl in F; intuition discriminate.
   - simpl in F; intuition discriminate.
@@ -730,8 +806,13 @@ Proof.
     repeat split; auto. apply temps_of_find. apply in_map_iff; eauto.
   - (* output_glue *)
     apply in_map_iff in F; destruct F as (tp & E & Htp); inversion E; subst f; clear E.
+    assert (Hpub := Htp).
     apply in_published in Htp; destruct Htp as [Htp _].
-    rewrite output_glue_body. split.
+    assert (BASE: valid_assignments (composites m) (fn_temps (output_glue_function m (make_tables m) tp))
+                    (output_base m tp)).
+    2:{ rewrite output_glue_body. destruct (topic_stamp m (tp_cname tp)) as [sp|] eqn:ST; auto.
+        split; auto. apply valid_stamp; auto. eapply output_temp_uint; eauto. }
+    unfold output_base. split.
     + apply valid_assignments_seq. intros st Hst.
       apply in_map_iff in Hst; destruct Hst as ([pa q] & <- & Hl).
       apply leaves_spec in Hl as R; auto.
@@ -742,7 +823,7 @@ Proof.
     + apply valid_copies. intros i q d s E1 E2 E3.
       destruct (nth_error_map3 _ _ _ _ _ _ _ _ _ E1 E2 E3) as (o & Ho & -> & -> & ->).
       destruct (output_copy_typed m W tp o Htp Ho) as (? & ? & ? & ?).
-      repeat split; auto. apply temps_of_find. apply in_map_iff; eauto.
+      repeat split; auto. apply output_temps; auto.
   - (* loop and main *)
     simpl in F; destruct F as [E|[E|[]]]; inversion E; subst f; clear E.
     + simpl. repeat split; auto.
@@ -816,7 +897,7 @@ Proof.
   apply find_def_build with (m := m) in F; auto.
   unfold build_defs in F; rewrite !in_app_iff in F.
   destruct F as [F|[F|[F|[F|[F|[F|[F|F]]]]]]].
-  - simpl in F; intuition discriminate.
+  - exfalso; eapply ros_externals_not_internal; eauto.
   - apply in_flat_map in F; destruct F as (tp & _ & F).
     unfold topic_externals in F; destruct (tp_dir tp); simpl in F; intuition discriminate.
   - simpl in F; intuition discriminate.
@@ -833,17 +914,27 @@ Proof.
     apply in_map_iff in Hd; destruct Hd as (ir & <- & _).
     exists (ir_input ir); split; auto.
   - apply in_map_iff in F; destruct F as (tp & E & Htp); inversion E; subst; clear E.
-    right; right. rewrite output_glue_body in Hpl. simpl in Hpl. apply in_app_iff in Hpl.
-    destruct Hpl as [Hpl|Hpl].
-    + rewrite assigned_places_seq in Hpl. apply in_flat_map in Hpl.
-      destruct Hpl as (st & Hst & Hpl).
-      apply in_map_iff in Hst; destruct Hst as ([pa q] & <- & _).
-      simpl in Hpl; destruct Hpl as [<-|[]].
-      exists tp, pa; repeat split; auto. apply expr_place_path_expr with (q := []); auto.
-    + apply assigned_places_copies in Hpl. destruct Hpl as (d & Hd & ->).
-      unfold gen_list_message_expr_output_glue in Hd.
-      apply in_map_iff in Hd; destruct Hd as (o & <- & _).
-      exists tp, (or_path o); repeat split; auto. apply expr_place_path_expr with (q := []); auto.
+    right; right. rewrite output_glue_body in Hpl.
+    assert (BASE: forall pl, In pl (assigned_places (output_base m tp)) ->
+                  exists path, pl = Some (Rderef command_param, path)).
+    { clear Hpl. intros pl0 Hpl. unfold output_base in Hpl. simpl in Hpl. apply in_app_iff in Hpl.
+      destruct Hpl as [Hpl|Hpl].
+      + rewrite assigned_places_seq in Hpl. apply in_flat_map in Hpl.
+        destruct Hpl as (st & Hst & Hpl).
+        apply in_map_iff in Hst; destruct Hst as ([pa q] & <- & _).
+        simpl in Hpl; destruct Hpl as [<-|[]].
+        exists pa. apply expr_place_path_expr with (q := []); auto.
+      + apply assigned_places_copies in Hpl. destruct Hpl as (d & Hd & ->).
+        unfold gen_list_message_expr_output_glue in Hd.
+        apply in_map_iff in Hd; destruct Hd as (o & <- & _).
+        exists (or_path o). apply expr_place_path_expr with (q := []); auto. }
+    destruct (topic_stamp m (tp_cname tp)) as [sp|] eqn:ST.
+    + simpl in Hpl. apply in_app_iff in Hpl. destruct Hpl as [Hpl|Hpl].
+      * destruct (BASE pl Hpl) as (pa & ->). exists tp, pa; auto.
+      * unfold stamp_stmts in Hpl. simpl in Hpl.
+        destruct Hpl as [<-|[<-|[]]]; eexists tp, _; repeat split; auto;
+          apply expr_place_path_expr with (q := []); auto.
+    + destruct (BASE pl Hpl) as (pa & ->). exists tp, pa; auto.
   - exfalso. simpl in F; destruct F as [E|[E|[]]]; inversion E; subst; clear E.
     + simpl in Hpl. rewrite assigned_places_seq, flat_map_app in Hpl.
       apply in_app_iff in Hpl; destruct Hpl as [Hpl|Hpl]; [|simpl in Hpl; tauto].
@@ -873,7 +964,7 @@ Lemma names_split:
   forall m,
   global_names m ++ local_names m
   = ([ros_init_name; ros_ok_name; ros_spinOnce_name; ros_rate_sleep_name]
-     ++ flat_map topic_extern_names (nm_topics m) ++ [init_name m; step_name m])
+     ++ time_extern_names m ++ flat_map topic_extern_names (nm_topics m) ++ [init_name m; step_name m])
     ++ nm_in_var m :: nm_out_var m :: names_after_controller m.
 Proof.
   intros m; unfold global_names, names_after_controller. rewrite <- !app_assoc. reflexivity.
@@ -1015,7 +1106,7 @@ Proof.
   apply find_def_build with (m := m) in F; auto.
   unfold build_defs in F; rewrite !in_app_iff in F.
   destruct F as [F|[F|[F|[F|[F|[F|[F|F]]]]]]].
-  - simpl in F; intuition discriminate.
+  - exfalso; eapply ros_externals_not_internal; eauto.
   - apply in_flat_map in F; destruct F as (tp & _ & F).
     unfold topic_externals in F; destruct (tp_dir tp); simpl in F; intuition discriminate.
   - simpl in F; intuition discriminate.
@@ -1033,18 +1124,22 @@ Proof.
       apply in_map_iff in Hs; destruct Hs as (ir & <- & _). unfold input_src.
       rewrite expr_takes_addr_path; auto.
   - exfalso. apply in_map_iff in F; destruct F as (tp & E & Htp); inversion E; subst; clear E.
-    rewrite output_glue_body in T. simpl in T. rewrite !stmt_takes_addr_seq in T.
+    rewrite output_glue_body in T.
+    destruct (topic_stamp m (tp_cname tp)) as [sp|]; [simpl in T; apply orb_true_iff in T; destruct T as [T|T]|].
+    2:{ unfold stamp_stmts in T. simpl in T. rewrite !expr_takes_addr_path in T. simpl in T. discriminate. }
+    all: unfold output_base in T; simpl in T; rewrite !stmt_takes_addr_seq in T;
     apply orb_true_iff in T; destruct T as [T|T].
-    + apply existsb_exists in T. destruct T as (st & Hst & T).
-      apply in_map_iff in Hst; destruct Hst as ([pa q] & <- & _).
-      unfold leaf_zero in T; simpl in T. rewrite expr_takes_addr_path in T. simpl in T.
-      destruct q; discriminate.
-    + rewrite copies_take_no_addr in T; [discriminate| |].
-      * intros d Hd. unfold gen_list_message_expr_output_glue in Hd.
-        apply in_map_iff in Hd; destruct Hd as (o & <- & _). unfold output_dst.
-        rewrite expr_takes_addr_path; auto.
-      * intros s Hs. unfold gen_list_controller_expr_output_glue in Hs.
-        apply in_map_iff in Hs; destruct Hs as (o & <- & _). unfold output_src; auto.
+    all: first
+      [ apply existsb_exists in T; destruct T as (st & Hst & T);
+        apply in_map_iff in Hst; destruct Hst as ([pa q] & <- & _);
+        unfold leaf_zero in T; simpl in T; rewrite expr_takes_addr_path in T; simpl in T;
+        destruct q; discriminate
+      | rewrite copies_take_no_addr in T; [discriminate| |];
+        [ intros d Hd; unfold gen_list_message_expr_output_glue in Hd;
+          apply in_map_iff in Hd; destruct Hd as (o & <- & _); unfold output_dst;
+          rewrite expr_takes_addr_path; auto
+        | intros s Hs; unfold gen_list_controller_expr_output_glue in Hs;
+          apply in_map_iff in Hs; destruct Hs as (o & <- & _); unfold output_src; auto ] ].
   - simpl in F; destruct F as [E|[E|[]]]; inversion E; subst; clear E.
     + left. simpl in T. rewrite stmt_takes_addr_seq, existsb_app in T. simpl in T.
       rewrite orb_false_r in T.

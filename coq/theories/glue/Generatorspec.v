@@ -206,7 +206,10 @@ Record wf_facts (m : node_model) : Prop := {
   wf_inrel_inputs_nodup: NoDup (map ir_input (nm_inrels m));
   wf_inputs_fed: forall x q, In (x, q) (nm_inputs m) -> In x (map ir_input (nm_inrels m));
   wf_outrels: forall o, In o (nm_outrels m) -> outrel_ok m (make_tables m) o = true;
-  wf_out_targets: NoDup (map (fun o => (or_topic o, or_path o)) (nm_outrels m))
+  wf_out_targets: NoDup (map (fun o => (or_topic o, or_path o)) (nm_outrels m));
+  wf_time_msg: nm_stamps m <> [] -> time_msg_ok (nm_msgs m) = true;
+  wf_stamps: forall st, In st (nm_stamps m) -> stamp_ok m (make_tables m) st = true;
+  wf_stamps_nodup: NoDup (map fst (nm_stamps m))
 }.
 
 Lemma null_false: forall (A : Type) (l : list A), negb (null l) = true -> l <> [].
@@ -225,6 +228,9 @@ Proof.
     match goal with Hf : forall xq, In xq (nm_inputs m) -> tmem _ _ _ = true |- _ =>
       generalize (Hf (x, q) Hin) end.
     unfold fed_inputs; rewrite (tmem_of_list _ _ enc_string_inj); auto.
+  - intros NE. destruct (nm_stamps m) as [|st l] eqn:E; [congruence|].
+    repeat match goal with H : context [nm_stamps m] |- _ => rewrite E in H end.
+    simpl in *. auto.
 Qed.
 
 (** ** The lookup tables *)
@@ -987,4 +993,61 @@ Proof.
   apply filter_In in Ho'. destruct Ho' as [Ho' Ec]. apply Hn.
   apply in_map_iff. exists o'; split; auto.
   apply ident_eqb_true in E; apply ident_eqb_true in Ec. congruence.
+Qed.
+
+(** ** Stamps (rule 4.13) *)
+
+Lemma resolve_app:
+  forall msgs p q t,
+  resolve msgs t (p ++ q) = match resolve msgs t p with Some t' => resolve msgs t' q | None => None end.
+Proof.
+  induction p as [|s p IH]; intros q t; simpl; auto.
+  destruct s as [f|i].
+  - destruct t as [|id|]; auto. destruct (find_msg msgs id) as [md|]; auto.
+    destruct (find_assoc f (md_fields md)); auto.
+  - destruct t as [| |t' n]; auto. destruct ((0 <=? i)%Z && (i <? n)%Z); auto.
+Qed.
+
+Lemma pstep_eqb_true: forall a b, pstep_eqb a b = true -> a = b.
+Proof.
+  intros [f|i] [g|j]; simpl; intros H; try discriminate.
+  - apply ident_eqb_true in H; subst; auto.
+  - apply Z.eqb_eq in H; subst; auto.
+Qed.
+
+Lemma path_prefixb_app: forall p q, path_prefixb p (p ++ q) = true.
+Proof.
+  induction p as [|[f|i] p IH]; intros q; simpl; auto.
+  - rewrite ident_eqb_refl; simpl; auto.
+  - rewrite Z.eqb_refl; simpl; auto.
+Qed.
+
+(** A stamped topic is a published topic whose stamp path leads to a
+    [time] field of two [uint32] fields [sec] and [nsec], and no output
+    relation of the topic writes inside the stamp. *)
+Lemma wf_stamp:
+  forall m tp sp, wf_facts m -> In tp (published m) ->
+  find_assoc (tp_cname tp) (nm_stamps m) = Some sp ->
+     resolve (nm_msgs m) (FTmsg (tp_msg tp)) (sp ++ [PField "sec"]) = Some (FTprim Puint32)
+  /\ resolve (nm_msgs m) (FTmsg (tp_msg tp)) (sp ++ [PField "nsec"]) = Some (FTprim Puint32)
+  /\ forall o q, In o (nm_outrels m) -> or_topic o = tp_cname tp -> or_path o <> sp ++ q.
+Proof.
+  intros m tp sp W Htp F.
+  assert (Hin: In (tp_cname tp, sp) (nm_stamps m)) by (apply find_assoc_In; auto).
+  generalize (wf_stamps m W _ Hin). unfold stamp_ok; cbn [fst snd].
+  assert (Htop: In tp (nm_topics m)) by (unfold published in Htp; apply filter_In in Htp; tauto).
+  rewrite tables_topics, (In_find_topic _ tp (wf_cnames_nodup m W) Htop).
+  rewrite !andb_true_iff. intros [[_ R] NO].
+  destruct (resolve (nm_msgs m) (FTmsg (tp_msg tp)) sp) as [[| id |]|] eqn:Rs; try discriminate.
+  apply ident_eqb_true in R; subst id.
+  assert (TM: time_msg_ok (nm_msgs m) = true) by (apply (wf_time_msg m W); intros E; rewrite E in Hin; contradiction).
+  unfold time_msg_ok in TM.
+  destruct (find_msg (nm_msgs m) "ros_time") as [md|] eqn:Fm; [|discriminate].
+  destruct (md_fields md) as [|[s [q1| |] ] [|[n [q2| |]] [|]]] eqn:Fd; try discriminate;
+    destruct q1; try discriminate; destruct q2; try discriminate.
+  apply andb_true_iff in TM; destruct TM as [Es En].
+  apply ident_eqb_true in Es, En; subst s n.
+  rewrite !resolve_app, Rs. simpl. rewrite Fm, Fd. simpl. split; [|split]; auto.
+  intros o q Ho Eo Ep. rewrite forallb_forall in NO. generalize (NO o Ho).
+  rewrite Eo, ident_eqb_refl, Ep, path_prefixb_app. discriminate.
 Qed.

@@ -59,6 +59,25 @@ Proof.
   destruct (D _ _ _ _ _ _ _ _ EV _ _ _ _ EV2) as (<- & <- & <- & <-). auto.
 Qed.
 
+Lemma quiet_call_at_intro:
+  forall p f args mm le post,
+  function_entry (ge_comp (globalenv p)) f args mm = Some ([], le, mm) ->
+  fn_return f = Tvoid ->
+  (forall (CS : Type) (ctx : ros_context CS) (w : world CS),
+     exists le' mm', exec_stmt ctx (globalenv p) [] le mm w (fn_body f) [] le' mm' w Out_normal
+                     /\ post (w_time w) mm') ->
+  quiet_call_at p (Internal f) args mm post.
+Proof.
+  intros p f args mm le post FE R X CS ctx w.
+  destruct (X CS ctx w) as (le' & mm' & E & P).
+  assert (EV: eval_funcall ctx (globalenv p) mm w (Internal f) args [] mm' w Vundef).
+  { change mm' with (free_vars mm' []). econstructor; eauto; rewrite R; auto. }
+  split; [eauto|].
+  intros t mm2 w2 v2 EV2.
+  destruct (semantics_determ ctx (globalenv p)) as [_ [D _]].
+  destruct (D _ _ _ _ _ _ _ _ EV _ _ _ _ EV2) as (<- & <- & <- & <-). auto.
+Qed.
+
 Lemma eval_lvalue_global_struct:
   forall ge le mm x id b ty,
   find_var ge x = Some (b, ty) -> eval_lvalue ge [] le mm (Evar x (Tstruct id)) = Some (b, []).
@@ -540,6 +559,18 @@ Proof.
     + apply ftype_ok_msg, HM.
 Qed.
 
+(** What the zeroing and the copies leave in [*command]: a message of
+    the topic's type, the related outputs in their fields, zero in every
+    other leaf. *)
+Definition base_value (mv : mval) : Prop :=
+  mval_has_type ce (Tstruct M) mv
+  /\ (forall o, In o (nm_outrels m) -> or_topic o = c ->
+        exists v, mval_get y [Sfield (or_output o)] = Some (MVscalar v)
+               /\ mval_get mv (path_steps (or_path o)) = Some (MVscalar v))
+  /\ (forall lp q, resolve msgs (FTmsg M) lp = Some (FTprim q) ->
+        (forall o, In o (nm_outrels m) -> or_topic o = c -> or_path o <> lp) ->
+        mval_get mv (path_steps lp) = Some (zero_mval ce (ctype_of_prim q))).
+
 Lemma output_body:
   forall (CS : Type) (ctx : ros_context CS) (w : world CS) le mv0,
   le_ok le ->
@@ -550,8 +581,9 @@ Lemma output_body:
        (Ssequence (seq_of (map (leaf_zero ce cmdE) (leaves msgs M)))
                   (seq_of (map (fun o => copy (output_prim (make_tables m) (or_output o)) (output_dst m M o) (output_src m (make_tables m) o))
                                (topic_outrels (make_tables m) c)))) [] le' mm' w Out_normal
+  /\ le_ok le'
   /\ get_block mm' b = Some (Tstruct M, mv)
-  /\ published_value m y tp mv
+  /\ base_value mv
   /\ unchanged_except mm mm' b.
 Proof.
   intros CS ctx w le mv0 Hle G0 S0.
@@ -580,8 +612,8 @@ Proof.
   destruct (exec_copies ctx ge [] w ce _ (fun o => output_prim (make_tables m) (or_output o)) (output_dst m M) (output_src m (make_tables m))
               (fun o => path_steps (or_path o)) sv le_ok output_le_ok_set mm b (Tstruct M)
               (topic_outrels (make_tables m) c) le mm1 z Hle Fr1 G1 Hz output_item_ok ND1 DJ1)
-    as (le' & mm' & mv & X2 & _ & Fr & G' & Hmv & Set' & Keep').
-  exists le', mm', mv. split; [|split; [auto|split]].
+    as (le' & mm' & mv & X2 & Hle' & Fr & G' & Hmv & Set' & Keep').
+  exists le', mm', mv. split; [|split; [auto|split; [auto|split]]].
     + change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; eauto.
     + split; [exact Hmv|split].
       * intros o Ho Eo.
@@ -596,13 +628,117 @@ Proof.
     + destruct Fr as [Fn Fo]. split; auto.
 Qed.
 
+(** The stamp: [_t_uint = ros_time_sec(); command->sp.sec = _t_uint;]
+    and the same for [nsec]. *)
+Lemma exec_time_call:
+  forall (CS : Type) (ctx : ros_context CS) (w : world CS) le mm1 f ef x,
+  find_def p f = Some (Gfun (External ef [] tuint)) ->
+  (forall mm0, external_call ctx ge ef [] mm0 w = Some (Vint x, [], mm0, w)) ->
+  exec_stmt ctx ge [] le mm1 w (time_call f) [] (set_assoc (temp_name Puint32) (Vint x) le) mm1 w Out_normal.
+Proof.
+  intros CS ctx w le mm1 f ef x F EC.
+  change (set_assoc (temp_name Puint32) (Vint x) le) with (set_opttemp (Some (temp_name Puint32)) (Vint x) le).
+  eapply exec_Scall.
+  - cbn [eval_expr]. unfold eval_funcname. simpl.
+    destruct (find_var ge f) as [[bf tf]|] eqn:V.
+    + apply find_var_globalenv in V; [congruence|exact ND].
+    + rewrite (gen_funct _ _ F). reflexivity.
+  - apply gen_funct; exact F.
+  - reflexivity.
+  - reflexivity.
+  - reflexivity.
+  - apply eval_funcall_external. apply EC.
+Qed.
+
+Lemma exec_assign_uint:
+  forall (CS : Type) (ctx : ros_context CS) (w : world CS) le mm1 v1 lp x,
+  le_ok le -> find_assoc (temp_name Puint32) le = Some (Vint x) ->
+  norm_int I32 Unsigned x = x ->
+  resolve msgs (FTmsg M) lp = Some (FTprim Puint32) ->
+  get_block mm1 b = Some (Tstruct M, v1) -> mval_has_type ce (Tstruct M) v1 ->
+  exists mm2 v2,
+     exec_stmt ctx ge [] le mm1 w (Sassign (path_expr ce cmdE lp) (Etempvar (temp_name Puint32) tuint))
+               [] le mm2 w Out_normal
+  /\ get_block mm2 b = Some (Tstruct M, v2) /\ mval_has_type ce (Tstruct M) v2
+  /\ mval_set v1 (path_steps lp) (MVscalar (Vint x)) = Some v2
+  /\ mem_next mm2 = mem_next mm1 /\ (forall b', b' <> b -> get_block mm2 b' = get_block mm1 b').
+Proof.
+  intros CS ctx w le mm1 v1 lp x Hle Tx Nx R G1 H1.
+  destruct (eval_leaf m W ge [] le mm1 M lp Puint32 cmdE b [] R) as (L & T & _); auto.
+  { apply eval_lvalue_deref_param; auto. }
+  assert (Tp: type_at ce (Tstruct M) (path_steps lp) = Some (ctype_of_prim Puint32)).
+  { change (Tstruct M) with (ctype_of_ftype (FTmsg M)). rewrite type_at_ctype; auto.
+    - rewrite R; reflexivity.
+    - apply ftype_ok_msg. eapply resolve_leaf_msg; eauto. }
+  assert (Hx: mval_has_type ce (ctype_of_prim Puint32) (MVscalar (Vint x))) by (constructor; auto).
+  destruct (store_typed ce mm1 b (Tstruct M) v1 (path_steps lp) _ _ G1 H1 Tp Hx)
+    as (mm2 & v2 & S & Sv & G2 & H2 & N2 & O2).
+  exists mm2, v2. repeat split; auto.
+  apply exec_Sassign.
+  rewrite (eval_assign_scalar ge [] le mm1 _ _ b ([] ++ path_steps lp) (Vint x) L).
+  - rewrite T. unfold store. rewrite sem_cast_same by exact Nx. exact S.
+  - rewrite T. reflexivity.
+  - exact Tx.
+Qed.
+
+Lemma time_sec_norm: forall t, norm_int I32 Unsigned (time_sec t) = time_sec t.
+Proof. intros; unfold time_sec; apply norm_int_idem. Qed.
+Lemma time_nsec_norm: forall t, norm_int I32 Unsigned (time_nsec t) = time_nsec t.
+Proof. intros; unfold time_nsec; apply norm_int_idem. Qed.
+
+Lemma stamp_run:
+  forall (CS : Type) (ctx : ros_context CS) (w : world CS) le mm1 v1 sp,
+  le_ok le -> topic_stamp m c = Some sp ->
+  get_block mm1 b = Some (Tstruct M, v1) -> mval_has_type ce (Tstruct M) v1 ->
+  exists le' mm2 v2,
+     exec_stmt ctx ge [] le mm1 w (stamp_stmts m M sp) [] le' mm2 w Out_normal
+  /\ get_block mm2 b = Some (Tstruct M, v2) /\ mval_has_type ce (Tstruct M) v2
+  /\ mem_next mm2 = mem_next mm1 /\ (forall b', b' <> b -> get_block mm2 b' = get_block mm1 b')
+  /\ mval_get v2 (path_steps (sp ++ [PField "sec"%string])) = Some (MVscalar (Vint (time_sec (w_time w))))
+  /\ mval_get v2 (path_steps (sp ++ [PField "nsec"%string])) = Some (MVscalar (Vint (time_nsec (w_time w))))
+  /\ (forall p', path_disjoint (path_steps (sp ++ [PField "sec"%string])) p' ->
+                  path_disjoint (path_steps (sp ++ [PField "nsec"%string])) p' ->
+                  mval_get v2 p' = mval_get v1 p').
+Proof.
+  intros CS ctx w le mm1 v1 sp Hle ST G1 H1.
+  destruct (wf_stamp m tp sp W Htp ST) as (Rs & Rn & _).
+  assert (NE: nm_stamps m <> []).
+  { unfold topic_stamp in ST. intros E; rewrite E in ST; discriminate. }
+  destruct (generate_time_externals m p GEN NE) as [Fs Fn].
+  set (le1 := set_assoc (temp_name Puint32) (Vint (time_sec (w_time w))) le).
+  assert (Hle1: le_ok le1) by (apply output_le_ok_set; auto).
+  destruct (exec_assign_uint CS ctx w le1 mm1 v1 _ _ Hle1 (find_assoc_set_same _ _ _ _)
+              (time_sec_norm _) Rs G1 H1) as (mm2 & v2 & X2 & G2 & H2 & S2 & N2 & O2).
+  set (le2 := set_assoc (temp_name Puint32) (Vint (time_nsec (w_time w))) le1).
+  assert (Hle2: le_ok le2) by (apply output_le_ok_set; auto).
+  destruct (exec_assign_uint CS ctx w le2 mm2 v2 _ _ Hle2 (find_assoc_set_same _ _ _ _)
+              (time_nsec_norm _) Rn G2 H2) as (mm3 & v3 & X3 & G3 & H3 & S3 & N3 & O3).
+  assert (Dsn: path_disjoint (path_steps (sp ++ [PField "sec"%string])) (path_steps (sp ++ [PField "nsec"%string]))).
+  { apply (leaves_disjoint m _ _ (FTmsg M) Puint32 Puint32 Rs Rn).
+    intros E. apply app_inv_head in E. discriminate. }
+  exists le2, mm3, v3. repeat split; auto.
+  - unfold stamp_stmts, seq_of. simpl fold_right.
+    change (@nil event) with (@nil event ++ @nil event ++ @nil event ++ @nil event ++ @nil event).
+    eapply exec_Sseq_1; [eapply exec_time_call; [exact Fs | reflexivity]|].
+    eapply exec_Sseq_1; [exact X2|].
+    eapply exec_Sseq_1; [eapply exec_time_call; [exact Fn | reflexivity]|].
+    eapply exec_Sseq_1; [exact X3|]. apply exec_Sskip.
+  - congruence.
+  - intros b' N. rewrite O3, O2; auto.
+  - rewrite (mval_get_set_disjoint _ _ _ _ _ (path_disjoint_sym _ _ Dsn) S3).
+    eapply mval_get_set_same; eauto.
+  - eapply mval_get_set_same; eauto.
+  - intros p' D1 D2. rewrite (mval_get_set_disjoint _ _ _ _ _ D2 S3).
+    apply (mval_get_set_disjoint _ _ _ _ _ D1 S2).
+Qed.
+
 End OUTPUT.
 
 Lemma generate_output_glue_ddc_aux:
   forall tp, In tp (published m) -> output_glue_ddc m p tp.
 Proof.
   intros tp Htp.
-  destruct (generate_output_glue m p tp GEN Htp) as (f & Ff & Fret & Fpar & Fvars & Fbody & _ & _).
+  destruct (generate_output_glue m p tp GEN Htp) as (f & Ff & Fret & Fpar & Fvars & Fbody & _ & _ & _).
   exists f. split; [apply gen_funct; auto|].
   intros mm b mv0 y GT NG G0 S0 GV.
   rewrite gen_types in S0.
@@ -611,15 +747,47 @@ Proof.
   destruct (GT _ _ _ Vy) as (y' & Gy & Hy). rewrite gen_types in Hy.
   unfold global_value in GV. rewrite Vy, Gy in GV. inversion GV; subst y'.
   set (le0 := set_assoc command_param (Vptr b []) (create_undef_temps (fn_temps f))).
-  apply quiet_call_intro with (le := le0); auto.
+  apply quiet_call_at_intro with (le := le0); auto.
   - unfold function_entry. rewrite Fvars, Fpar. reflexivity.
   - intros CS ctx w.
-    destruct (output_body tp Htp mm b by_ y NG Vy Gy Hy CS ctx w le0 mv0) as (le' & mm' & mv & X & G' & PV & U); auto.
-    + unfold le0. apply find_assoc_set_same.
-    + exists le', mm'. split; [|exists mv; auto].
-      rewrite Fbody, gen_types.
-      unfold gen_list_message_expr_output_glue, gen_list_controller_expr_output_glue.
-      rewrite copies_map. exact X.
+    destruct (output_body tp Htp mm b by_ y NG Vy Gy Hy CS ctx w le0 mv0)
+      as (le' & mm' & mv & X & Hle' & G' & [Tm [Rel Zero]] & [U1 U2]); auto.
+    { unfold le0. apply find_assoc_set_same. }
+    assert (Xb: exec_stmt ctx ge [] le0 mm w (output_base m tp) [] le' mm' w Out_normal).
+    { unfold output_base, gen_list_message_expr_output_glue, gen_list_controller_expr_output_glue.
+      rewrite copies_map. exact X. }
+    assert (Htop: In tp (nm_topics m)) by (apply in_published in Htp; tauto).
+    assert (FT: find_topic (nm_topics m) (tp_cname tp) = Some tp)
+      by (apply In_find_topic; [apply (wf_cnames_nodup m W)|auto]).
+    assert (ROUT: forall o, In o (nm_outrels m) -> or_topic o = tp_cname tp ->
+                  exists q, resolve msgs (FTmsg (tp_msg tp)) (or_path o) = Some (FTprim q)).
+    { intros o Ho Eo. destruct (wf_outrel m o W Ho) as (tp' & q & Ft & _ & _ & R).
+      rewrite Eo, FT in Ft. inversion Ft; subst tp'. eauto. }
+    destruct (topic_stamp m (tp_cname tp)) as [sp|] eqn:ST.
+    + destruct (stamp_run tp Htp b CS ctx w le' mm' mv sp Hle' ST G' Tm)
+        as (le2 & mm2 & v2 & X2 & G2 & H2 & N2 & O2 & Gs & Gn & Keep).
+      destruct (wf_stamp m tp sp W Htp ST) as (Rs & Rn & NO).
+      assert (DJ: forall lp q, resolve msgs (FTmsg (tp_msg tp)) lp = Some (FTprim q) ->
+                  lp <> sp ++ [PField "sec"%string] -> lp <> sp ++ [PField "nsec"%string] ->
+                  mval_get v2 (path_steps lp) = mval_get mv (path_steps lp)).
+      { intros lp q R N1 N2'. apply Keep.
+        - apply (leaves_disjoint m _ _ (FTmsg (tp_msg tp)) Puint32 q Rs R). auto.
+        - apply (leaves_disjoint m _ _ (FTmsg (tp_msg tp)) Puint32 q Rn R). auto. }
+      exists le2, mm2. split.
+      * rewrite Fbody. change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; eauto.
+      * exists v2. split; [auto|split].
+        -- split; [exact H2|split; [|split]].
+           ++ intros o Ho Eo. destruct (Rel o Ho Eo) as (v & Yv & Mv). exists v. split; auto.
+              destruct (ROUT o Ho Eo) as (q & R). rewrite DJ with (q := q); auto;
+                intros E; apply (NO o _ Ho Eo E).
+           ++ intros sp' E. unfold topic_stamp in ST. rewrite ST in E. inversion E; subst sp'. auto.
+           ++ intros lp q R NOUT NS. destruct (NS sp ST) as [N1 N2']. rewrite DJ with (q := q); auto.
+        -- split; [congruence|]. intros b' Nb. rewrite O2, U2; auto.
+    + exists le', mm'. split; [rewrite Fbody; exact Xb|].
+      exists mv. split; [auto|split; [|split; auto]].
+      split; [exact Tm|split; [exact Rel|split]].
+      * intros sp E. unfold topic_stamp in ST. rewrite ST in E. discriminate.
+      * intros lp q R NOUT _. apply Zero; auto.
 Qed.
 
 End GENERATED.

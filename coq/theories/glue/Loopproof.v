@@ -378,7 +378,7 @@ Lemma msg_var_inj:
 Proof.
   intros tp1 tp2 H1 H2 E.
   generalize global_names_nodup; unfold global_names; intros N.
-  do 3 apply NoDup_app_right in N. apply NoDup_app_left in N.
+  do 4 apply NoDup_app_right in N. apply NoDup_app_left in N.
   apply (NoDup_map_inj_in _ _ _ _ _ _ N H1 H2 E).
 Qed.
 
@@ -388,7 +388,7 @@ Lemma callback_inj:
 Proof.
   intros tp1 tp2 H1 H2 E.
   generalize global_names_nodup; unfold global_names; intros N.
-  do 4 apply NoDup_app_right in N. apply NoDup_app_left in N.
+  do 5 apply NoDup_app_right in N. apply NoDup_app_left in N.
   apply (NoDup_map_inj_in _ _ _ _ _ _ N H1 H2 E).
 Qed.
 
@@ -703,7 +703,7 @@ Lemma publishes_run:
      exec_stmt ctx ge e le mm (wld (S k) r s)
        (seq_of (flat_map publish_stmts tps ++ [call0 ros_rate_sleep_name]))
        (publish_events tps mvs ++ [Esleep (nm_period_ms m)]) le mm' (wld (S k) r s) Out_normal
-  /\ Forall2 (published_value m y) tps mvs
+  /\ Forall2 (published_value m y (ctx_time ctx (S k))) tps mvs
   /\ loop_inv (S k) e mm'.
 Proof.
   intros k r s e y tps; induction tps as [|tp tps IH]; intros le mm Inc I GY.
@@ -874,7 +874,8 @@ Proof.
   apply (find_def_build m p x _ GEN) in V.
   unfold build_defs in V. rewrite !in_app_iff in V.
   destruct V as [V|[V|[V|[V|[V|[V|[V|V]]]]]]].
-  - simpl in V; intuition discriminate.
+  - unfold ros_externals, time_externals in V.
+    destruct (nm_stamps m); simpl in V; intuition discriminate.
   - apply in_flat_map in V; destruct V as (tp & _ & V).
     unfold topic_externals in V; destruct (tp_dir tp); simpl in V; intuition discriminate.
   - simpl in V. destruct V as [V|[V|[V|[V|[]]]]]; inversion V; subst; apply complete_struct; auto.

@@ -180,7 +180,11 @@ Record drel : Type := mkdrel {
     fed by an input relation of such a topic the value they take while
     the topic is stale (the others keep the newest message's field:
     "hold").  [nm_drels] are the derived relations; they feed controller
-    inputs like input relations do, and are not in [nm_inrels]. *)
+    inputs like input relations do, and are not in [nm_inrels].
+
+    Stamps (rule 4.13): [nm_stamps] names published topics (by C name)
+    whose messages carry the cycle's ROS time in the field of type
+    [time] at the given path (the topic's [header.stamp]). *)
 Record node_model : Type := mknode_model {
   nm_name : ident;
   nm_period_ms : Z;
@@ -197,7 +201,8 @@ Record node_model : Type := mknode_model {
   nm_outrels : list outrel;
   nm_timeouts : list (ident * Z);
   nm_fallbacks : list (ident * val);
-  nm_drels : list drel
+  nm_drels : list drel;
+  nm_stamps : list (ident * path)
 }.
 
 (** ** Lookups *)

@@ -43,6 +43,8 @@ Definition ros_init_name : ident := "ros_init".
 Definition ros_ok_name : ident := "ros_ok".
 Definition ros_spinOnce_name : ident := "ros_spinOnce".
 Definition ros_rate_sleep_name : ident := "ros_rate_sleep".
+Definition ros_time_sec_name : ident := "ros_time_sec".
+Definition ros_time_nsec_name : ident := "ros_time_nsec".
 Definition input_glue_name : ident := "input_glue".
 Definition loop_name : ident := "loop".
 Definition main_name : ident := "main".
@@ -124,8 +126,14 @@ Definition topic_extern_names (tp : topic) : list ident :=
   | Publish => [advertise_name (tp_cname tp); publish_name (tp_cname tp)]
   end.
 
+(** The time functions are declared only by a node that stamps
+    messages (rule 4.13), so the C of other nodes is unchanged. *)
+Definition time_extern_names : list ident :=
+  match nm_stamps m with [] => [] | _ :: _ => [ros_time_sec_name; ros_time_nsec_name] end.
+
 Definition global_names : list ident :=
   [ros_init_name; ros_ok_name; ros_spinOnce_name; ros_rate_sleep_name]
+  ++ time_extern_names
   ++ flat_map topic_extern_names (nm_topics m)
   ++ [init_name m; step_name m; nm_in_var m; nm_out_var m]
   ++ map (fun tp => msg_var (tp_cname tp)) (subscribed m)
@@ -389,6 +397,48 @@ Definition outrel_ok (m : node_model) (tb : tables) (o : outrel) : bool :=
 Definition fed_inputs (m : node_model) : ptree unit :=
   tset_of_list enc_string (map ir_input (nm_inrels m)).
 
+(** Rule 4.13: a stamp is written in a published topic's message, at a
+    field of type [time] (the message [ros_time] of two [uint32] fields
+    [sec] and [nsec]) that no output relation writes into. *)
+Definition pstep_eqb (a b : pstep) : bool :=
+  match a, b with
+  | PField f, PField g => ident_eqb f g
+  | PIndex i, PIndex j => Z.eqb i j
+  | _, _ => false
+  end.
+
+Fixpoint path_prefixb (p q : path) : bool :=
+  match p, q with
+  | [], _ => true
+  | s :: p', t :: q' => pstep_eqb s t && path_prefixb p' q'
+  | _ :: _, [] => false
+  end.
+
+Definition ros_time_fields : list (ident * ftype) := [("sec", FTprim Puint32); ("nsec", FTprim Puint32)].
+
+Definition time_msg_ok (msgs : list msgdef) : bool :=
+  match find_msg msgs "ros_time" with
+  | Some md =>
+      match md_fields md with
+      | [(s, FTprim Puint32); (n, FTprim Puint32)] => ident_eqb s "sec" && ident_eqb n "nsec"
+      | _ => false
+      end
+  | None => false
+  end.
+
+Definition stamp_ok (m : node_model) (tb : tables) (st : ident * path) : bool :=
+  match lookup_topic tb (fst st) with
+  | None => false
+  | Some tp =>
+      is_published tp
+      && match resolve (nm_msgs m) (FTmsg (tp_msg tp)) (snd st) with
+         | Some (FTmsg id) => ident_eqb id "ros_time"
+         | _ => false
+         end
+      && forallb (fun o => negb (ident_eqb (or_topic o) (fst st) && path_prefixb (snd st) (or_path o)))
+                 (nm_outrels m)
+  end.
+
 (** Rule 4.12 (freshness: timeouts, fallbacks, derived inputs) is not
     generated yet: the generator refuses a model that uses it, rather
     than generating glue that ignores it.  The environment model already
@@ -418,6 +468,9 @@ Definition wf (m : node_model) : bool :=
   && forallb (fun xq => tmem enc_string (fst xq) fed) (nm_inputs m)
   && forallb (outrel_ok m tb) (nm_outrels m)
   && no_freshness m
+  && (null (nm_stamps m) || time_msg_ok (nm_msgs m))
+  && forallb (stamp_ok m tb) (nm_stamps m)
+  && nodup_keys enc_string (map fst (nm_stamps m))
   && nodup_keys enc_target (map (fun o => (or_topic o, or_path o)) (nm_outrels m)).
 
 (** ** The same rules, failing with a message that names the culprit *)
@@ -547,6 +600,14 @@ Definition wf_check (m : node_model) : res unit :=
   do _ <- check_all (outrel_check m tb) (nm_outrels m);
   do _ <- assertion (no_freshness m)
             [MSG "Generator: timeouts and derived inputs (rule 4.12) are not generated yet"];
+  do _ <- assertion (null (nm_stamps m) || time_msg_ok (nm_msgs m))
+            [MSG "Generator: stamps need the message ros_time with the uint32 fields sec and nsec"];
+  do _ <- check_all (fun st => assertion (stamp_ok m tb st)
+                                 [MSG "Generator: bad stamp (rule 4.13) on topic "; CTX (fst st);
+                                  MSG ": "; CTX (string_of_path (snd st));
+                                  MSG " must be a time field of a published message that no output relation writes"])
+            (nm_stamps m);
+  do _ <- check_nodup_keys enc_string (gen_error "topic stamped twice: ") (map fst (nm_stamps m));
   check_nodup_keys enc_target
     (fun tp => gen_error "published field fed twice: " (fst tp ++ string_of_path (snd tp))%string)
     (map (fun o => (or_topic o, or_path o)) (nm_outrels m)).
