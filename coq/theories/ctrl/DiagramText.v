@@ -35,19 +35,12 @@
 
 From Coq Require Import String List ZArith Bool.
 From Flocq Require Import IEEE754.Bits.
-From ROSGen Require Import FloatBits Syntax Values Printer NodeModel Diagram.
+From ROSGen Require Import FloatBits Syntax Values Printer NodeModel ModelText Diagram.
 Import ListNotations.
 Local Open Scope string_scope.
 
-(** A constant. *)
-Definition val_text (v : val) : string :=
-  match v with
-  | Vint n | Vlong n => string_of_Z n
-  | Vfloat f => "0x" ++ hex_digits 16 (bits_of_b64 f)
-  | Vsingle f => "0x" ++ hex_digits 8 (bits_of_b32 f)
-  | Vundef => "undef"
-  | Vptr _ _ | Vfptr _ => "pointer"
-  end.
+(** A constant, as the model text prints it ([ModelText.val_text]). *)
+Definition val_text (v : val) : string := ModelText.val_text v.
 
 Definition words (l : list string) : string := String.concat " " l.
 

@@ -26,11 +26,18 @@
     topic ROSNAME CNAME subscribe|publish TYPE QUEUE   (TYPE: the ROS type pkg/Type)
     input_relation TOPIC PATH INPUT       (PATH: twist.linear.x, covariance[35])
     output_relation OUTPUT TOPIC PATH
+    timeout TOPIC MS                      (rule 4.12, in topic order)
+    fallback INPUT VALUE                  (VALUE: decimal integer, or a float's
+                                           bits: 0x and 16 or 8 hex digits)
+    derived_input TOPIC KIND INPUT        (KIND: is_new | received | age_ms)
+    stamp TOPIC PATH                      (rule 4.13)
 >>
+    TOPIC is a topic's C name.
 *)
 
 From Coq Require Import String Ascii List ZArith Bool.
-From ROSGen Require Import Syntax Printer NodeModel.
+From Flocq Require Import IEEE754.Bits.
+From ROSGen Require Import FloatBits Syntax Values Printer NodeModel.
 Import ListNotations.
 Local Open Scope string_scope.
 
@@ -72,6 +79,32 @@ Definition inrel_line (r : inrel) : string :=
 Definition outrel_line (r : outrel) : string :=
   "output_relation " ++ or_output r ++ " " ++ or_topic r ++ " " ++ path_text (or_path r).
 
+(** A constant: an integer in decimal, a float as its IEEE bit pattern
+    (also the diagram text's notation, [DiagramText]). *)
+Definition val_text (v : val) : string :=
+  match v with
+  | Vint n | Vlong n => string_of_Z n
+  | Vfloat f => "0x" ++ hex_digits 16 (bits_of_b64 f)
+  | Vsingle f => "0x" ++ hex_digits 8 (bits_of_b32 f)
+  | Vundef => "undef"
+  | Vptr _ _ | Vfptr _ => "pointer"
+  end.
+
+Definition derived_text (k : derived) : string :=
+  match k with Dis_new => "is_new" | Dreceived => "received" | Dage_ms => "age_ms" end.
+
+Definition timeout_line (t : ident * Z) : string :=
+  "timeout " ++ fst t ++ " " ++ string_of_Z (snd t).
+
+Definition fallback_line (f : ident * val) : string :=
+  "fallback " ++ fst f ++ " " ++ val_text (snd f).
+
+Definition drel_line (r : drel) : string :=
+  "derived_input " ++ dr_topic r ++ " " ++ derived_text (dr_kind r) ++ " " ++ dr_input r.
+
+Definition stamp_line (s : ident * NodeModel.path) : string :=
+  "stamp " ++ fst s ++ " " ++ path_text (snd s).
+
 (** The lines of the model. *)
 Definition model_lines (m : node_model) : list string :=
   [ "pyrosgen-model 1";
@@ -85,7 +118,11 @@ Definition model_lines (m : node_model) : list string :=
   ++ flat_map msg_lines (nm_msgs m)
   ++ map topic_line (nm_topics m)
   ++ map inrel_line (nm_inrels m)
-  ++ map outrel_line (nm_outrels m).
+  ++ map outrel_line (nm_outrels m)
+  ++ map timeout_line (nm_timeouts m)
+  ++ map fallback_line (nm_fallbacks m)
+  ++ map drel_line (nm_drels m)
+  ++ map stamp_line (nm_stamps m).
 
 (** The text: every line followed by a newline. *)
 Definition print_model (m : node_model) : string := concat_lines (model_lines m).

@@ -1,0 +1,243 @@
+(** * Stamps (rule 4.13): the generator, the interpreter, and mutants *)
+
+(** The LandShark node with its published [TwistStamped] stamped with
+    the cycle's ROS time: [generate] accepts it and refuses bad stamps
+    naming the culprit; the interpreter runs it in an environment whose
+    cycles have known times, and the published stamp is the cycle's
+    [sec] and [nsec]; two mutants of the stamp code (the two fields
+    swapped, the stamp left out) are refuted against T2. *)
+
+From Coq Require Import String List ZArith Lia.
+From Flocq Require Import IEEE754.Binary IEEE754.Bits.
+From ROSGen Require Import FloatBits Errors Syntax Values Memory Environment Semantics Interp Interpproof
+  NodeModel Wellformed Generator Generatorspec DDC Loopproof.
+From ROSGenTests Require Import LandShark.
+Import ListNotations.
+Local Open Scope string_scope.
+Local Open Scope list_scope.
+
+Definition with_stamps (m : node_model) (l : list (ident * path)) : node_model :=
+  {| nm_name := nm_name m; nm_period_ms := nm_period_ms m; nm_ctrl := nm_ctrl m;
+     nm_in_var := nm_in_var m; nm_in_struct := nm_in_struct m; nm_inputs := nm_inputs m;
+     nm_out_var := nm_out_var m; nm_out_struct := nm_out_struct m; nm_outputs := nm_outputs m;
+     nm_msgs := nm_msgs m; nm_topics := nm_topics m; nm_inrels := nm_inrels m;
+     nm_outrels := nm_outrels m; nm_timeouts := nm_timeouts m; nm_fallbacks := nm_fallbacks m;
+     nm_drels := nm_drels m; nm_stamps := l |}.
+
+Definition header_stamp : path := [PField "header"; PField "stamp"].
+
+Definition stamped : node_model :=
+  with_stamps landshark [("landshark_control_base_velocity", header_stamp)].
+
+Definition refused (m : node_model) (msg : string) : Prop :=
+  match generate m with
+  | Error e => string_of_errmsg e = msg
+  | OK _ => False
+  end.
+
+(** ** The generator *)
+
+Example stamped_wf: wf stamped = true.
+Proof. vm_compute. reflexivity. Qed.
+
+Definition stamped_result : res program := Eval vm_compute in generate stamped.
+Definition stamped_prog : program :=
+  Eval vm_compute in match stamped_result with OK p => p | Error _ => mkprogram [] [] "" end.
+
+Lemma stamped_generates: generate stamped = OK stamped_prog.
+Proof. vm_compute. reflexivity. Qed.
+
+(** The time functions are declared, and only by a stamping node. *)
+Example time_externals_declared:
+  find_def stamped_prog "ros_time_sec" = Some (Gfun (External EF_ros_time_sec [] (Tint I32 Unsigned)))
+  /\ find_def landshark_prog "ros_time_sec" = None.
+Proof. vm_compute. split; reflexivity. Qed.
+
+Example refuse_stamp_subscribed:
+  refused (with_stamps landshark [("landshark_gps_velocity", header_stamp)])
+    "Generator: bad stamp (rule 4.13) on topic 'landshark_gps_velocity': '.header.stamp' must be a time field of a published message that no output relation writes".
+Proof. vm_compute. reflexivity. Qed.
+
+Example refuse_stamp_not_time:
+  refused (with_stamps landshark [("landshark_control_base_velocity", [PField "header"])])
+    "Generator: bad stamp (rule 4.13) on topic 'landshark_control_base_velocity': '.header' must be a time field of a published message that no output relation writes".
+Proof. vm_compute. reflexivity. Qed.
+
+Example refuse_stamp_twice:
+  refused (with_stamps landshark [("landshark_control_base_velocity", header_stamp);
+                                  ("landshark_control_base_velocity", header_stamp)])
+    "Generator: topic stamped twice: 'landshark_control_base_velocity'".
+Proof. vm_compute. reflexivity. Qed.
+
+(** An output relation writing into the stamp conflicts with it. *)
+Definition stamp_and_relation : node_model :=
+  {| nm_name := nm_name stamped; nm_period_ms := nm_period_ms stamped; nm_ctrl := nm_ctrl stamped;
+     nm_in_var := nm_in_var stamped; nm_in_struct := nm_in_struct stamped;
+     nm_inputs := nm_inputs stamped; nm_out_var := nm_out_var stamped;
+     nm_out_struct := nm_out_struct stamped; nm_outputs := [("Out1", Pfloat64); ("Sec", Puint32)];
+     nm_msgs := nm_msgs stamped; nm_topics := nm_topics stamped; nm_inrels := nm_inrels stamped;
+     nm_outrels := nm_outrels stamped ++
+                   [mkoutrel "Sec" "landshark_control_base_velocity" (header_stamp ++ [PField "sec"])%list];
+     nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := nm_stamps stamped |}.
+
+Example refuse_stamp_overwritten:
+  refused stamp_and_relation
+    "Generator: bad stamp (rule 4.13) on topic 'landshark_control_base_velocity': '.header.stamp' must be a time field of a published message that no output relation writes".
+Proof. vm_compute. reflexivity. Qed.
+
+(** ** A run with known times *)
+
+Definition f_one : float64 := float64_of_bits 0x3FF0000000000000.
+
+Definition ce : composite_env := composites stamped.
+Definition TS : type := Tstruct "geometry_msgs_TwistStamped".
+
+Definition msg_x (x : float64) : mval :=
+  match mval_set (zero_mval ce TS) (path_steps twist_x) (MVscalar (Vfloat x)) with
+  | Some v => v
+  | None => MVscalar Vundef
+  end.
+
+Definition y_one : mval := MVstruct [("Out1", MVscalar (Vfloat f_one))].
+
+(** Cycle [k] is read at [k] s + 250 ms (and 1,000 s + 1 ns for the
+    fourth, so that [sec] has more than one digit and [nsec] is odd). *)
+Definition clock (k : nat) : Z :=
+  match k with
+  | 3%nat => 1000000000001
+  | _ => Z.of_nat k * 1000000000 + 250000000
+  end.
+
+Definition ctx : ros_context unit :=
+  mkctx (fun k => match k with
+                  | O => [mkarrival (tp_name left_wheel) (msg_x f_one) 7]
+                  | _ => []
+                  end)
+        clock tt (fun _ _ => (tt, y_one)).
+
+Lemma ctx_arrivals_wt: arrivals_wt stamped ctx.
+Proof.
+  intros k a tp H Htp _. apply mval_typecheck_iff.
+  destruct k as [|k]; simpl in H; [|contradiction].
+  destruct H as [<-|[]]. simpl in Htp.
+  destruct Htp as [<-|[<-|[<-|[]]]]; vm_compute; reflexivity.
+Qed.
+
+Lemma ctx_controller_wt: controller_wt stamped ctx.
+Proof. intros s u. apply mval_typecheck_iff. vm_compute. reflexivity. Qed.
+
+(** The stamps ([sec], [nsec]) of the published messages of a trace. *)
+Definition int_at (mv : mval) (p : path) : option Z :=
+  match mval_get mv (path_steps p) with Some (MVscalar (Vint n)) => Some n | _ => None end.
+
+Definition stamps_of (t : trace) : list (option Z * option Z) :=
+  flat_map (fun e => match e with
+                     | Epublish _ mv => [(int_at mv (header_stamp ++ [PField "sec"])%list,
+                                          int_at mv (header_stamp ++ [PField "nsec"])%list)]
+                     | _ => []
+                     end) t.
+
+(** Three cycles: stamps (1 s, 250 ms), (2 s, 250 ms), (1,000 s, 1 ns). *)
+Example stamped_run:
+  match run_trace 2000 stamped_prog ctx 3 with
+  | Some t => stamps_of t = [(Some 1%Z, Some 250000000%Z); (Some 2%Z, Some 250000000%Z); (Some 1000%Z, Some 1%Z)]
+  | None => False
+  end.
+Proof. vm_compute. reflexivity. Qed.
+
+(** ** Mutants *)
+
+(** What T2 says of the stamps of a run of [n] cycles of this node: the
+    [i]-th publication carries the time of cycle [i]. *)
+Definition stamps_expected (n : nat) : list (option Z * option Z) :=
+  map (fun i => (Some (time_sec (clock (S i))), Some (time_nsec (clock (S i))))) (seq 0 n).
+
+Lemma stamps_of_app: forall t1 t2 : trace, stamps_of (t1 ++ t2)%list = (stamps_of t1 ++ stamps_of t2)%list.
+Proof. intros; unfold stamps_of; apply flat_map_app. Qed.
+
+Lemma run_ok_stamps:
+  forall n t, run_ok stamped ctx n t -> stamps_of t = stamps_expected n.
+Proof.
+  intros n t (s & evs & _ & -> & C).
+  rewrite stamps_of_app. replace (stamps_of (start_events stamped)) with (@nil (option Z * option Z))
+    by (vm_compute; reflexivity).
+  simpl app. unfold stamps_expected.
+  assert (G: forall k, (k <= n)%nat ->
+             stamps_of (concat (map evs (seq (n - k) k)))
+             = map (fun i => (Some (time_sec (clock (S i))), Some (time_nsec (clock (S i)))))
+                   (seq (n - k) k)).
+  { induction k as [|k IH]; intros Hk; simpl; auto.
+    rewrite stamps_of_app.
+    destruct (C (n - S k)%nat ltac:(lia)) as (u & y & mvs & E & _ & _ & PV).
+    rewrite E. simpl published in PV.
+    inversion PV as [|tp mv tps mvs' P F]; subst. inversion F; subst.
+    destruct P as (_ & _ & ST & _).
+    destruct (ST header_stamp eq_refl) as [Gs Gn].
+    simpl in Gs, Gn. simpl. unfold int_at. simpl. rewrite Gs, Gn. f_equal.
+    replace (S (n - S k)) with (n - k)%nat by lia. apply IH. lia. }
+  specialize (G n (le_n n)). rewrite Nat.sub_diag in G. exact G.
+Qed.
+
+Definition stamp_eq_dec : forall a b : option Z * option Z, {a = b} + {a <> b}.
+Proof. decide equality; decide equality; apply Z.eq_dec. Defined.
+
+Definition check (p : program) (n : nat) : bool :=
+  match run_trace 2000 p ctx n with
+  | Some t => if list_eq_dec stamp_eq_dec (stamps_of t) (stamps_expected n) then true else false
+  | None => true
+  end.
+
+Lemma refute: forall p n, check p n = false -> ~ node_ddc stamped p.
+Proof.
+  intros p n H D. unfold check in H.
+  destruct (run_trace 2000 p ctx n) as [t|] eqn:R; [|discriminate].
+  destruct (D unit ctx n ctx_arrivals_wt ctx_controller_wt) as [_ All].
+  rewrite (run_ok_stamps n t (All t (run_trace_sound _ ctx 2000 p n t R))) in H.
+  destruct (list_eq_dec stamp_eq_dec (stamps_expected n) (stamps_expected n)); congruence.
+Qed.
+
+(** The generated program passes (as T2 says it must). *)
+Example stamped_passes: check stamped_prog 3 = true.
+Proof. vm_compute. reflexivity. Qed.
+
+(** The output glue's body changed by [g]. *)
+Definition on_output_glue (g : statement -> statement) (p : program) : program :=
+  mkprogram (prog_types p)
+    (map (fun d : ident * globdef => if string_dec (fst d) "output_glue_landshark_control_base_velocity"
+                   then match snd d with
+                        | Gfun (Internal f) =>
+                            (fst d, Gfun (Internal (mkfunction (fn_return f) (fn_params f) (fn_vars f)
+                                                                (fn_temps f) (g (fn_body f)))))
+                        | _ => d
+                        end
+                   else d) (prog_defs p))
+    (prog_main p).
+
+(** [ros_time_sec] and [ros_time_nsec] exchanged in the stamp code. *)
+Fixpoint swap_time (s : statement) : statement :=
+  match s with
+  | Ssequence a b => Ssequence (swap_time a) (swap_time b)
+  | Scall o (Evar f ty) args =>
+      Scall o (Evar (if string_dec f "ros_time_sec" then "ros_time_nsec"
+                     else if string_dec f "ros_time_nsec" then "ros_time_sec" else f) ty) args
+  | _ => s
+  end.
+
+(** (s1) the seconds and nanoseconds swapped *)
+Definition m_stamp_swapped : program :=
+  on_output_glue (fun b => match b with Ssequence base st => Ssequence base (swap_time st) | _ => b end)
+                 stamped_prog.
+Example m_stamp_swapped_refuted: ~ node_ddc stamped m_stamp_swapped.
+Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.
+
+(** (s2) the stamp left out: the header keeps the zero time *)
+Definition m_stamp_missing : program :=
+  on_output_glue (fun b => match b with Ssequence base _ => base | _ => b end) stamped_prog.
+Example m_stamp_missing_refuted: ~ node_ddc stamped m_stamp_missing.
+Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.
+
+(** (s3) the stamp written before the zeroing, which then erases it *)
+Definition m_stamp_first : program :=
+  on_output_glue (fun b => match b with Ssequence base st => Ssequence st base | _ => b end) stamped_prog.
+Example m_stamp_first_refuted: ~ node_ddc stamped m_stamp_first.
+Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.
