@@ -25,15 +25,16 @@ As :mod:`pyrosgen.proof.coqmodel` does for the node model, every
 identifier is checked again against the C identifier regex before it is
 printed, and comments are reduced to safe characters; what the diagram
 must satisfy is checked by Coq (``Diagram.dg_wf``), not here.  The
-literal helpers are :mod:`pyrosgen.proof.coqmodel`'s; the pipeline
+literal helpers are :mod:`pyrosgen.proof.coqmodel`'s (the constants'
+:func:`~pyrosgen.proof.coqmodel.coq_val` too, re-exported here); the pipeline
 (:mod:`pyrosgen.generate`) hands the emitted text to
 :func:`~pyrosgen.proof.coqmodel.render_node_file`.
 """
 
 from __future__ import annotations
 
-from pyrosgen.frontend.model import Block, NodeModel, Scalar
-from pyrosgen.proof.coqmodel import EmitError, coq_comment, coq_ident, coq_prim, coq_z
+from pyrosgen.frontend.model import Block, NodeModel
+from pyrosgen.proof.coqmodel import EmitError, coq_comment, coq_ident, coq_prim, coq_val
 
 __all__ = ["DIAGRAM_DEF", "ASSUMED_PRELUDE", "EmitError", "emit_diagram", "coq_val"]
 
@@ -52,40 +53,6 @@ ASSUMED_PRELUDE = (
 _RELOPS = {"==": "Req", "!=": "Rne", "<": "Rlt", ">": "Rgt", "<=": "Rle", ">=": "Rge"}
 _LOGOPS = {"AND": "Land", "OR": "Lor", "NAND": "Lnand", "NOR": "Lnor", "XOR": "Lxor", "NOT": "Lnot"}
 _CRITERIA = {"u2 >= threshold": "Cge", "u2 > threshold": "Cgt", "u2 ~= 0": "Cne0"}
-_RANGES = {
-    "bool": (0, 1),
-    "int32": (-(1 << 31), (1 << 31) - 1),
-    "uint32": (0, (1 << 32) - 1),
-    "int64": (-(1 << 63), (1 << 63) - 1),
-    "uint64": (0, (1 << 64) - 1),
-    "float32": (0, (1 << 32) - 1),
-    "float64": (0, (1 << 64) - 1),
-}
-
-
-def _zlit(n: int) -> str:
-    """``n%Z``, a negative number in parentheses: ``(-5)%Z``."""
-    return f"{coq_z(n)}%Z"
-
-
-def coq_val(s: Scalar) -> str:
-    """A constant as a ``Values.val``: ``Vfloat (float64_of_bits 0x...%Z)``,
-    ``Vsingle (float32_of_bits 0x...%Z)``, ``Vint n%Z`` (``int32``,
-    ``uint32``, ``bool`` 0/1), ``Vlong n%Z`` (``int64``, ``uint64``)."""
-    if not isinstance(s, Scalar) or s.prim not in _RANGES or isinstance(s.n, bool) or not isinstance(s.n, int):
-        raise EmitError(f"refusing to print {s!r} as a diagram constant")
-    lo, hi = _RANGES[s.prim]
-    if not lo <= s.n <= hi:
-        raise EmitError(f"refusing to print {s!r}: out of the range of {s.prim}")
-    if s.prim == "float64":
-        return f"Vfloat (float64_of_bits 0x{s.n:016X}%Z)"
-    if s.prim == "float32":
-        return f"Vsingle (float32_of_bits 0x{s.n:08X}%Z)"
-    if s.prim in ("int64", "uint64"):
-        return f"Vlong {_zlit(s.n)}"
-    return f"Vint {_zlit(s.n)}"
-
-
 def _sig(name: str) -> str:
     return coq_ident(name, "signal name")
 

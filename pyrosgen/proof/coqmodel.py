@@ -46,6 +46,7 @@ __all__ = [
     "coq_prim",
     "coq_path",
     "coq_ftype",
+    "coq_val",
     "coq_fallback",
     "DERIVED_CONSTRUCTORS",
     "CoqMsgdef",
@@ -182,6 +183,44 @@ def coq_ftype(f: MsgField) -> str:
     return f"FTarray ({base}) {coq_z(f.array_len)}"
 
 
+#: The types of a diagram's constants (``Diagram.sig_prim``) and the
+#: range of each one's ``Scalar.n`` (a float's bit pattern).
+_VAL_RANGES = {
+    "bool": (0, 1),
+    "int32": (-(1 << 31), (1 << 31) - 1),
+    "uint32": (0, (1 << 32) - 1),
+    "int64": (-(1 << 63), (1 << 63) - 1),
+    "uint64": (0, (1 << 64) - 1),
+    "float32": (0, (1 << 32) - 1),
+    "float64": (0, (1 << 64) - 1),
+}
+
+
+def _zlit(n: int) -> str:
+    """``n%Z``, a negative number in parentheses: ``(-5)%Z``."""
+    return f"{coq_z(n)}%Z"
+
+
+def coq_val(s: Scalar) -> str:
+    """A diagram's constant as a ``Values.val``: ``Vfloat (float64_of_bits
+    0x...%Z)``, ``Vsingle (float32_of_bits 0x...%Z)``, ``Vint n%Z``
+    (``int32``, ``uint32``, ``bool`` 0/1), ``Vlong n%Z`` (``int64``,
+    ``uint64``).  Every integer carries its ``%Z``, so the text means the
+    same whichever scope is open (:mod:`pyrosgen.proof.coqdiagram`)."""
+    if not isinstance(s, Scalar) or s.prim not in _VAL_RANGES or isinstance(s.n, bool) or not isinstance(s.n, int):
+        raise EmitError(f"refusing to print {s!r} as a diagram constant")
+    lo, hi = _VAL_RANGES[s.prim]
+    if not lo <= s.n <= hi:
+        raise EmitError(f"refusing to print {s!r}: out of the range of {s.prim}")
+    if s.prim == "float64":
+        return f"Vfloat (float64_of_bits 0x{s.n:016X}%Z)"
+    if s.prim == "float32":
+        return f"Vsingle (float32_of_bits 0x{s.n:08X}%Z)"
+    if s.prim in ("int64", "uint64"):
+        return f"Vlong {_zlit(s.n)}"
+    return f"Vint {_zlit(s.n)}"
+
+
 #: ``ROSGen.NodeModel.derived`` constructor of each derived input kind
 #: (rule 4.12).
 DERIVED_CONSTRUCTORS: dict[str, str] = {"is_new": "Dis_new", "received": "Dreceived", "age_ms": "Dage_ms"}
@@ -194,13 +233,9 @@ _VINT_AS = {"int8": "int32", "int16": "int32", "uint8": "uint32", "uint16": "uin
 
 def coq_fallback(s: Scalar) -> str:
     """A fallback (rule 4.12) as a ``Values.val``, printed by the very
-    helper that prints a diagram's constants
-    (:func:`pyrosgen.proof.coqdiagram.coq_val`): ``Vint n%Z`` for ``bool``
-    to ``uint32``, ``Vlong n%Z`` for the 64-bit integers, ``Vfloat``/
-    ``Vsingle`` of the bit pattern for the floats."""
-    # imported here: coqdiagram imports this module's literal helpers
-    from pyrosgen.proof.coqdiagram import coq_val
-
+    helper that prints a diagram's constants (:func:`coq_val`): ``Vint
+    n%Z`` for ``bool`` to ``uint32``, ``Vlong n%Z`` for the 64-bit
+    integers, ``Vfloat``/``Vsingle`` of the bit pattern for the floats."""
     if isinstance(s, Scalar) and s.prim in _VINT_AS:
         s = Scalar(_VINT_AS[s.prim], s.n, s.text)
     return coq_val(s)

@@ -660,6 +660,16 @@ def test_emitted_values_of_every_type(tmp_path):
     assert e.timeouts == tuple((f'"t_{p}"', "1000%Z") for p in CONSTANTS)
 
 
+def test_one_constant_printer():
+    """Fallbacks and diagram constants are printed by the same helper."""
+    from pyrosgen.proof import coqdiagram, coqmodel
+
+    assert coqdiagram.coq_val is coqmodel.coq_val
+    assert coq_fallback(Scalar("float32", 0x3DCCCCCD)) == coqmodel.coq_val(Scalar("float32", 0x3DCCCCCD))
+    assert coq_fallback(Scalar("int8", -1)) == coqmodel.coq_val(Scalar("int32", -1)) == "Vint (-1)%Z"
+    assert coq_fallback(Scalar("uint16", 65535)) == "Vint 65535%Z"
+
+
 def test_emitter_refuses_unprintable_freshness(tmp_path):
     m = load(tmp_path, VELOCITY_GUARD)
     bad_kind = dataclasses.replace(m, derived_relations=(
