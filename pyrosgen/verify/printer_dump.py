@@ -11,6 +11,7 @@ from pyrosgen.verify.printer_types import (
     F64,
     INT,
     LLONG,
+    UINT,
     ULLONG,
     UNOPS,
     ValidationReport,
@@ -200,9 +201,12 @@ class _DumpFunction:
 #: signature ([Typing.ef_signature]): the C text shows only the name and the
 #: type, and the wrapper over roscpp defines the function of that name, so
 #: the tag, the name and the type must agree.  ``ros_now``: ROS time in
-#: nanoseconds, ``unsigned long long ros_now(void)``.
+#: nanoseconds, ``unsigned long long ros_now(void)``; ``ros_time_sec`` and
+#: ``ros_time_nsec``: its seconds and nanoseconds, ``unsigned int``.
 FIXED_EXTERNALS: dict[str, tuple[list, tuple]] = {
     "ros_now": (["ros_now"], ("fun", (), ULLONG)),
+    "ros_time_sec": (["ros_time_sec"], ("fun", (), UINT)),
+    "ros_time_nsec": (["ros_time_nsec"], ("fun", (), UINT)),
 }
 
 

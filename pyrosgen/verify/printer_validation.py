@@ -108,8 +108,10 @@ their names and types) and the dump's item order between kinds.  Except
 where the name says the meaning: the wrapper over roscpp defines
 ``ros_now`` (ROS time, ``unsigned long long ros_now(void);``), so in the
 dump the external named ``ros_now`` must have the tag ``(ros_now)`` and
-that type, and the tag ``(ros_now)`` must be on the external of that name
-(:data:`printer_dump.FIXED_EXTERNALS`); its prototype and its calls
+that type, and the tag ``(ros_now)`` must be on the external of that name;
+likewise ``ros_time_sec`` and ``ros_time_nsec`` (its seconds and
+nanoseconds, ``unsigned int ros_time_sec(void);``) with their tags
+(:data:`printer_dump.FIXED_EXTERNALS`); their prototypes and calls
 (``_now = ros_now();``) are then compared like any other.
 """
 

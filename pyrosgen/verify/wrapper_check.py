@@ -17,7 +17,9 @@ assumes (``ros_now``, TIME_DESIGN): the wrapper keeps one variable
 registered with a ``ros::MessageEvent`` whose callback sets it to the
 event's receipt time before it converts the message and calls the glue's
 callback, ``ros_spinOnce`` sets it to ``ros::Time::now()`` right after
-``ros::spinOnce()`` returned, and nothing else assigns it.
+``ros::spinOnce()`` returned, and nothing else assigns it;
+``ros_time_sec()`` and ``ros_time_nsec()`` return its seconds (as an
+``unsigned int``) and nanoseconds, the stamp of a published header.
 
 With the glue and the wrapper's header (:func:`check_glue_externals`), the
 ROS functions the glue declares are declared by the header with the same C
@@ -60,6 +62,10 @@ _ANY_REG = re.compile(r"->subscribe<|ops\.init<|->advertise<")
 # ROS time (ros_now): the one variable, its definition, and where it is set.
 _NOW_VAR = re.compile(r"^unsigned long long g_now_ns = 0;$", re.M)
 _NOW_DEF = re.compile(r"^unsigned long long ros_now\(void\)\n\{\n    return g_now_ns;\n\}$", re.M)
+_SEC_DEF = re.compile(r"^unsigned int ros_time_sec\(void\)\n\{\n"
+                      r"    return \(unsigned int\)\(g_now_ns / 1000000000ULL\);\n\}$", re.M)
+_NSEC_DEF = re.compile(r"^unsigned int ros_time_nsec\(void\)\n\{\n"
+                       r"    return \(unsigned int\)\(g_now_ns % 1000000000ULL\);\n\}$", re.M)
 _NOW_SET = re.compile(r"\bg_now_ns\s*(?:=(?!=)|\+=|-=|\*=|/=|%=|&=|\|=|\^=|<<=|>>=|\+\+|--)|(?:\+\+|--)\s*g_now_ns\b|&\s*g_now_ns\b")
 _NOW_INIT = re.compile(
     r"^void ros_init\(void\)\n\{\n(?:    [^\n]*\n)*?"
@@ -96,6 +102,10 @@ def _time_problems(cpp: str, n_subs: int) -> list[str]:
         problems.append("  the wrapper does not define its time once as `unsigned long long g_now_ns = 0;`")
     if len(_NOW_DEF.findall(cpp)) != 1 or len(re.findall(r"\bros_now\s*\(", cpp)) != 1:
         problems.append("  the wrapper does not define ros_now() once, returning g_now_ns")
+    if len(_SEC_DEF.findall(cpp)) != 1 or len(re.findall(r"\bros_time_sec\s*\(", cpp)) != 1:
+        problems.append("  the wrapper does not define ros_time_sec() once, returning the seconds of g_now_ns")
+    if len(_NSEC_DEF.findall(cpp)) != 1 or len(re.findall(r"\bros_time_nsec\s*\(", cpp)) != 1:
+        problems.append("  the wrapper does not define ros_time_nsec() once, returning the nanoseconds of g_now_ns")
     if not _NOW_INIT.search(cpp):
         problems.append("  ros_init does not set the time to ros::Time::now() once the node handle exists")
     if not _NOW_SPIN.search(cpp):

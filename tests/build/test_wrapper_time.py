@@ -3,14 +3,17 @@ assumes it, and the ROS functions the glue declares against the wrapper's
 header (pyrosgen.verify.wrapper_check).
 
 - every rendered wrapper (with or without subscriptions) defines
-  ``ros_now`` and passes; its header declares ``unsigned long long
-  ros_now(void);`` whether or not the glue uses it;
+  ``ros_now`` (and ``ros_time_sec``/``ros_time_nsec``, the stamp's) and
+  passes; its header declares ``unsigned long long ros_now(void);``
+  whether or not the glue uses it;
 - a wrapper whose time departs from the design is refused, each way:
   not set by ``ros_init``, set before ``ros::spinOnce()`` or not at all by
   ``ros_spinOnce``, a callback that sets it after the glue's callback or
   from the clock instead of the receipt time, or is registered without a
   ``ros::MessageEvent``, ``ros_now`` that reads the clock, an extra
-  assignment, a second ``ros_now``;
+  assignment, a second ``ros_now``,
+  ``ros_time_sec``/``ros_time_nsec`` that read the clock, or swapped, or
+  not the seconds and nanoseconds of the same time;
 - the glue's prototypes of the ROS functions (as Coq prints them, e.g.
   ``unsigned long long ros_now(void);``) must be the header's: another
   result type, another parameter, a function the header lacks, refused.
@@ -64,6 +67,16 @@ MUTATIONS = {
     "extra assignment in ros_rate_sleep": ("    g_rate->sleep();\n", "    g_rate->sleep();\n    g_now_ns += 1;\n"),
     "time reset by ros_ok": ("    return ros::ok() ? 1 : 0;\n", "    g_now_ns = 0;\n    return ros::ok() ? 1 : 0;\n"),
     "time initialised to another value": ("unsigned long long g_now_ns = 0;\n", "unsigned long long g_now_ns = 5;\n"),
+    "ros_time_sec from the clock": ("    return (unsigned int)(g_now_ns / 1000000000ULL);\n",
+                                    "    return (unsigned int)ros::Time::now().sec;\n"),
+    "ros_time_nsec: microseconds": ("    return (unsigned int)(g_now_ns % 1000000000ULL);\n",
+                                    "    return (unsigned int)(g_now_ns % 1000000ULL);\n"),
+    "ros_time_sec and nsec swapped": ("    return (unsigned int)(g_now_ns / 1000000000ULL);\n}\n\n"
+                                      "unsigned int ros_time_nsec(void)\n{\n"
+                                      "    return (unsigned int)(g_now_ns % 1000000000ULL);\n",
+                                      "    return (unsigned int)(g_now_ns % 1000000000ULL);\n}\n\n"
+                                      "unsigned int ros_time_nsec(void)\n{\n"
+                                      "    return (unsigned int)(g_now_ns / 1000000000ULL);\n"),
     "a second ros_now": ("int ros_ok(void)\n", "unsigned long long ros_now2(void) { return ros_now(); }\n\nint ros_ok(void)\n"),
 }
 
@@ -80,6 +93,7 @@ def test_rendered_wrappers_define_ros_now(path):
     names = wrapper.wrapper_files(m)
     cpp, h = files[names.api_source], files[names.api_header]
     assert "\nunsigned long long ros_now(void);\n" in h
+    assert "\nunsigned int ros_time_sec(void);\nunsigned int ros_time_nsec(void);\n" in h
     assert "\nunsigned long long ros_now(void)\n{\n    return g_now_ns;\n}\n" in cpp
     check_wrapper(cpp, model_text(m), wrapper_name="w.cpp")
 

@@ -14,7 +14,9 @@ each ``ros_spinOnce()`` (the previous and this cycle's time) and after
 - otherwise the time read right after the last ``ros_spinOnce()`` returned:
   before cycle i's spin, cycle i-1's time; before the first, ros_init's;
 - ROS time: wall time normally; with ``use_sim_time`` and a /clock
-  publisher, exactly the simulated time (roscpp's own), not wall time.
+  publisher, exactly the simulated time (roscpp's own), not wall time;
+- ``ros_time_sec()``/``ros_time_nsec()`` (a stamp's fields) are the
+  seconds and nanoseconds of ``ros_now()``.
 
 Measured here: with wall time, cycle times 20 ms apart (median) and every
 message's receipt time at most its delivering cycle's time; with a /clock
@@ -121,6 +123,7 @@ def cycles(result: dict) -> list[dict]:
             "unstable": int(_num(lv, "pose.covariance[11]")),
             "backwards": int(_num(lv, "pose.covariance[12]")),
             "first_before": _time(lv, 13),
+            "split_errors": int(_num(lv, "pose.covariance[15]")),
             "t": r["t"],
         })
     return out
@@ -139,6 +142,8 @@ def check_common(cs: list[dict], sent: int) -> None:
     assert init <= cs[0]["before"] <= cs[0]["now"]
     # ros_now() inside a callback: the same on every read; receipts in order
     assert cs[-1]["unstable"] == 0 and cs[-1]["backwards"] == 0
+    # ros_time_sec()/ros_time_nsec() (the stamp, header.stamp here): the same time
+    assert cs[-1]["split_errors"] == 0
     # receipt time <= the time of the cycle whose spin delivered the message
     for c in cs:
         if c["spin_callbacks"]:

@@ -306,3 +306,79 @@ def test_ros_now_called_where_the_ast_reads_the_clock_once():
     the age was computed) is a statement the AST lacks."""
     c = _once(C_TEXT, "    teleop_cmd_vel_new = 0;\n}", "    teleop_cmd_vel_new = 0;\n    _now = ros_now();\n}")
     refused(r"function input_glue, statement 10: the C text has a statement the AST lacks", c)
+
+
+STAMP_C = """\
+struct ros_time {
+    unsigned int sec;
+    unsigned int nsec;
+};
+
+struct ros_time stamp;
+
+unsigned int ros_time_sec(void);
+unsigned int ros_time_nsec(void);
+
+void output_glue(void);
+
+void output_glue(void)
+{
+    unsigned int _t_uint;
+    _t_uint = ros_time_sec();
+    stamp.sec = _t_uint;
+    _t_uint = ros_time_nsec();
+    stamp.nsec = _t_uint;
+}
+"""
+
+RT = "(struct ros_time)"
+STAMP_DUMP = f"""\
+(program
+(externs)
+(main output_glue)
+(struct ros_time (sec {UI}) (nsec {UI}))
+(gvar stamp {RT})
+(external ros_time_sec (ros_time_sec) () {UI})
+(external ros_time_nsec (ros_time_nsec) () {UI})
+(function output_glue void
+  (params)
+  (vars)
+  (temps (_t_uint {UI}))
+  (body
+    (seq
+      (call (_t_uint) {_v('ros_time_sec', f'(fun () {UI})')} ())
+      (assign (field {_v('stamp', RT)} sec {UI}) {_t('_t_uint', UI)})
+      (call (_t_uint) {_v('ros_time_nsec', f'(fun () {UI})')} ())
+      (assign (field {_v('stamp', RT)} nsec {UI}) {_t('_t_uint', UI)})
+      (skip))))
+)
+"""
+
+
+def test_stamp_externals_validate():
+    """The stamp's externals (rule 4.13): ``unsigned int ros_time_sec(void);``
+    and ``ros_time_nsec``, tagged ``(ros_time_sec)`` and ``(ros_time_nsec)``."""
+    rep = validate_program(STAMP_C, STAMP_DUMP, name="stamp.c")
+    assert rep.externals == 2 and rep.statements == 4
+
+
+@pytest.mark.parametrize("old,new,match", [
+    ("(external ros_time_sec (ros_time_sec)", "(external ros_time_sec (ros_time_nsec)",
+     r"external ros_time_sec of the dump has the meaning tag \(ros_time_nsec\)"),
+    ("(external ros_time_nsec (ros_time_nsec)", "(external ros_time_nsec (ros_now)",
+     r"external ros_time_nsec of the dump has the meaning tag \(ros_now\) of ros_now"),
+    ("(external ros_time_sec (ros_time_sec) () (int I32 unsigned))",
+     "(external ros_time_sec (ros_time_sec) () (int I32 signed))",
+     r"external ros_time_sec of the dump has the type"),
+])
+def test_stamp_external_tags_are_checked(old, new, match):
+    with pytest.raises(PrinterValidationError, match=match):
+        validate_program(STAMP_C, _once(STAMP_DUMP, old, new), name="stamp.c")
+
+
+def test_stamp_calls_swapped_are_refused():
+    c = STAMP_C.replace("_t_uint = ros_time_sec();", "_t_uint = ros_time_XXX();").replace(
+        "_t_uint = ros_time_nsec();", "_t_uint = ros_time_sec();").replace(
+        "_t_uint = ros_time_XXX();", "_t_uint = ros_time_nsec();")
+    with pytest.raises(PrinterValidationError, match=r"function output_glue, statement 1 differs"):
+        validate_program(c, STAMP_DUMP, name="stamp.c")
