@@ -55,7 +55,9 @@ def cmd_check(args: argparse.Namespace) -> int:
     timed = model.timed_topics
     if timed:
         ctrl += (f"; freshness: {_plural(len(timed), 'timed topic')}, "
-                 f"{_plural(len(model.derived_relations), 'derived input')}")
+                 f"{_plural(len(model.derived_relations), 'derived input')} (checked; not generated yet)")
+    if model.stamps:
+        ctrl += f"; stamped: {_plural(len(model.stamps), 'published topic')}"
     print(
         f"{args.model}: ok: node {model.name}, {_plural(len(model.topics), 'topic')}, "
         f"{_plural(len(model.input_relations), 'input relation')}, "

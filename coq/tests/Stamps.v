@@ -227,17 +227,17 @@ Fixpoint swap_time (s : statement) : statement :=
 Definition m_stamp_swapped : program :=
   on_output_glue (fun b => match b with Ssequence base st => Ssequence base (swap_time st) | _ => b end)
                  stamped_prog.
-Example m_stamp_swapped_refuted: ~ node_ddc stamped m_stamp_swapped.
+Theorem m_stamp_swapped_refuted: ~ node_ddc stamped m_stamp_swapped.
 Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.
 
 (** (s2) the stamp left out: the header keeps the zero time *)
 Definition m_stamp_missing : program :=
   on_output_glue (fun b => match b with Ssequence base _ => base | _ => b end) stamped_prog.
-Example m_stamp_missing_refuted: ~ node_ddc stamped m_stamp_missing.
+Theorem m_stamp_missing_refuted: ~ node_ddc stamped m_stamp_missing.
 Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.
 
 (** (s3) the stamp written before the zeroing, which then erases it *)
 Definition m_stamp_first : program :=
   on_output_glue (fun b => match b with Ssequence base st => Ssequence st base | _ => b end) stamped_prog.
-Example m_stamp_first_refuted: ~ node_ddc stamped m_stamp_first.
+Theorem m_stamp_first_refuted: ~ node_ddc stamped m_stamp_first.
 Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.

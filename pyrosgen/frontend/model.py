@@ -332,6 +332,9 @@ class Topic(TopicNames):
     pos: Pos = field(default=_NOPOS, compare=False, repr=False)
     #: the topic's ``timeout_ms`` (rule 4.12), ``None`` when it has none
     timeout_ms: int | None = None
+    #: ``stamp: now`` (rule 4.13): a published message carries the cycle's
+    #: ROS time in ``header.stamp``
+    stamped: bool = False
     #: the topic's ``on_timeout`` policy, ``'hold'`` or ``'zero'`` (the
     #: default), when it has a timeout; ``None`` otherwise
     on_timeout: str | None = None
@@ -492,6 +495,13 @@ class NodeModel:
         """``(controller input, value when stale)`` of each input relation
         with a fallback, in relation order (``NodeModel.nm_fallbacks``)."""
         return tuple((r.input_field, r.fallback) for r in self.input_relations if r.fallback is not None)
+
+    @property
+    def stamps(self) -> tuple[tuple[str, tuple[str, ...]], ...]:
+        """``(topic C name, path of the stamp)`` of each stamped topic
+        (rule 4.13), in topic order (``NodeModel.nm_stamps``); the path is
+        always ``header.stamp``."""
+        return tuple((t.c_name, ("header", "stamp")) for t in self.topics if t.stamped)
 
     def derived_relation(self, input_field: str) -> DerivedRelation:
         """The derived relation feeding controller input ``input_field``."""

@@ -67,6 +67,8 @@ FIXED_C_NAMES = (
     "ros_spinOnce",
     "ros_rate_sleep",
     "ros_now",
+    "ros_time_sec",
+    "ros_time_nsec",
 )
 
 #: Local names of the generated functions (parameters of the callbacks and
@@ -95,6 +97,7 @@ class _TopicDecl:
     type_ok: bool = False  # message type resolved and carries fields
     timeout_ms: int | None = None  # a valid timeout_ms (rule 4.12)
     policy: str = "zero"           # its on_timeout: hold or zero
+    stamped: bool = False          # a valid `stamp: now` (rule 4.13)
 
 
 @dataclass
@@ -351,7 +354,7 @@ class _Checker:
             m = self.mapping(item, what)
             if m is None:
                 continue
-            self.keys(m, what, ("name", "direction", "type", "queue_size"), ("timeout_ms", "on_timeout"))
+            self.keys(m, what, ("name", "direction", "type", "queue_size"), ("timeout_ms", "on_timeout", "stamp"))
             name_node = m.get("name")
             name = self.string(name_node, f"{what}.name")
             usable = name is not None
@@ -573,6 +576,48 @@ class _Checker:
 _INPUT_KEYS = ("topic", "field", "input", "on_timeout", "derived")
 
 
+#: The field a stamped topic's message carries the time in (rule 4.13).
+STAMP_FIELD = ("header", "stamp")
+
+
+def check_stamps(ck: _Checker, decls: list[_TopicDecl], out_rels: list[_Rel], registry: MsgRegistry) -> None:
+    """Rule 4.13: ``stamp: now`` on a published topic whose message has a
+    ``header.stamp`` of type ``time``, which no output relation writes.
+    Sets ``stamped`` on the topics that pass."""
+    rule = "4.13"
+    for d in decls:
+        snode = d.node.get("stamp")
+        if snode is None or isinstance(snode, YBad):
+            continue
+        what = f"{d.what}.stamp"
+        if not (isinstance(snode, YScalar) and snode.kind == "str" and snode.value == "now"):
+            hint = (did_you_mean(snode.value, ("now",)) if isinstance(snode, YScalar) and snode.kind == "str" else "")
+            ck.err_rule(rule, snode, f"{what} must be 'now' (the cycle's ROS time), got {snode.describe()}{hint}; "
+                                     "copying another topic's stamp is not supported yet")
+            continue
+        if d.direction is not None and d.direction != "publish":
+            ck.err_rule(rule, snode, f"{what}: topic {show(d.name)} is subscribed by the node; "
+                                     "only a published message is stamped")
+            continue
+        if not (d.usable and d.type_ok and d.msg_type is not None):
+            continue
+        raw = registry.raw(d.msg_type)
+        header = raw.field("header") if raw is not None else None
+        hraw = registry.raw(header.base) if header is not None and header.card == "scalar" else None
+        stamp = hraw.field("stamp") if hraw is not None else None
+        if stamp is None or stamp.card != "scalar" or stamp.base != "time":
+            ck.err_rule(rule, snode, f"{what}: message type {d.msg_type} of topic {show(d.name)} has no "
+                                     "header.stamp of type time to stamp")
+            continue
+        ok = True
+        for r in out_rels:
+            if r.topic is d and r.path is not None and tuple(r.path.steps[:2]) == STAMP_FIELD:
+                ck.err_rule(rule, r.path_node, f"field {show(str(r.path))} of topic {show(d.name)} is written "
+                                               "by the stamp (stamp: now); an output relation may not write it too")
+                ok = False
+        d.stamped = ok
+
+
 def check_freshness(ck: _Checker, decls: list[_TopicDecl], in_rels: list[_Rel],
                     inputs: dict[str, ControllerField] | None, period: int | None) -> set[str]:
     """Rule 4.12: topics' ``timeout_ms`` and ``on_timeout``, input
@@ -762,6 +807,9 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
     # Timeouts, fallbacks and derived inputs (rule 4.12).
     timed = check_freshness(ck, decls, in_rels, inputs, period)
 
+    # Stamps (rule 4.13).
+    check_stamps(ck, decls, out_rels, registry)
+
     # Every controller input is fed by exactly one relation, plain or
     # derived.
     fed: dict[str, _Rel] = {}
@@ -825,6 +873,7 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
             pos=Pos(d.node.line, d.node.col),
             timeout_ms=d.timeout_ms,
             on_timeout=d.policy if d.timeout_ms is not None else None,
+            stamped=d.stamped,
         )
     controller = Controller(
         name=ctrl_name,

@@ -303,6 +303,7 @@ class CoqNodeModel:
     timeouts: tuple[tuple[str, str], ...] = ()       #: (topic C name, ms as ``Z``)
     fallbacks: tuple[tuple[str, str, str], ...] = ()  #: (input, val, comment)
     drels: tuple[tuple[str, str, str, str], ...] = ()  #: (topic C name, kind, input, comment)
+    stamps: tuple[tuple[str, str], ...] = ()          #: (topic C name, path), rule 4.13
 
 
 def _msgdef(m: MsgType) -> CoqMsgdef:
@@ -385,6 +386,7 @@ def emit_model(model: NodeModel) -> CoqNodeModel:
             )
             for r in model.derived_relations
         ),
+        stamps=tuple((coq_ident(c_name, "topic C name"), coq_path(p)) for c_name, p in model.stamps),
     )
 
 

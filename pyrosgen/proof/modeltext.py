@@ -80,6 +80,8 @@ def model_text(model: NodeModel) -> str:
     lines += [f"timeout {c_name} {ms}" for c_name, ms in model.timeouts]
     lines += [f"fallback {f} {_val_text(s)}" for f, s in model.fallbacks]
     lines += [f"derived_input {r.topic.c_name} {r.kind} {r.input_field}" for r in model.derived_relations]
+    # rule 4.13: stamped topics (topic order)
+    lines += [f"stamp {c_name} {_path(path)}" for c_name, path in model.stamps]
     return "".join(line + "\n" for line in lines)
 
 
@@ -168,6 +170,8 @@ class ProvedModel:
     fallbacks: list[tuple[str, str]] = field(default_factory=list)
     #: (topic C name, ``is_new``/``received``/``age_ms``, controller input)
     derived_inputs: list[tuple[str, str, str]] = field(default_factory=list)
+    #: (topic C name, path of the stamp), rule 4.13
+    stamps: list[tuple[str, str]] = field(default_factory=list)
 
     def topic(self, c_name: str) -> ProvedTopic:
         for t in self.topics:
@@ -189,7 +193,7 @@ def parse_model_text(text: str, *, origin: str = "the proved model text") -> Pro
     pm = ProvedModel()
     arity = {"node": 2, "period_ms": 2, "controller": 2, "inputs": 3, "input": 3, "outputs": 3,
              "output": 3, "message": 2, "topic": 6, "input_relation": 4, "output_relation": 4,
-             "timeout": 3, "fallback": 3, "derived_input": 4}
+             "timeout": 3, "fallback": 3, "derived_input": 4, "stamp": 3}
     message: list[tuple[str, str]] | None = None
     seen: set[str] = set()
     for n, line in enumerate(lines[1:], start=2):
@@ -232,6 +236,8 @@ def parse_model_text(text: str, *, origin: str = "the proved model text") -> Pro
                 if not _VAL_TEXT.fullmatch(parts[2]):
                     raise ValueError(parts[2])
                 pm.fallbacks.append((parts[1], parts[2]))
+            elif kw == "stamp":
+                pm.stamps.append((parts[1], parts[2]))
             else:
                 if parts[2] not in DERIVED_KINDS:
                     raise ValueError(parts[2])

@@ -451,7 +451,7 @@ def test_misspelt_keys_get_suggestions(tmp_path):
                        "{topic: /a, derivd: is_new, input: N}"))
     ds = diags(tmp_path, text)
     assert (*at(text, "timout_ms"), "topics[0]: unknown key 'timout_ms' (did you mean 'timeout_ms'?); "
-            "expected name, direction, type, queue_size, timeout_ms, on_timeout", "4.4") in ds
+            "expected name, direction, type, queue_size, timeout_ms, on_timeout, stamp", "4.4") in ds
     assert (*at(text, "on_timout"), "relations.inputs[0]: unknown key 'on_timout' (did you mean "
             "'on_timeout'?); expected topic, field, input, on_timeout, derived", "4.7") in ds
     assert (*at(text, "derivd"), "relations.inputs[1]: unknown key 'derivd' (did you mean 'derived'?); "
@@ -494,7 +494,7 @@ def test_check_summary(tmp_path, capsys):
     assert cli.main(["check", str(path)]) == 0
     out, _ = capsys.readouterr()
     assert out == (f"{path}: ok: node velocity_guard, 3 topics, 3 input relations, 1 output relation; "
-                   "freshness: 1 timed topic, 3 derived inputs\n")
+                   "freshness: 1 timed topic, 3 derived inputs (checked; not generated yet)\n")
 
 
 # --------------------------------------------------------------------------
@@ -632,7 +632,9 @@ def test_emitted_coq_fields(tmp_path):
         '       (* /teleop/cmd_vel received -> Rcv1 *)\n'
         '       mkdrel "teleop_cmd_vel" Dreceived "Rcv1";\n'
         '       (* /teleop/cmd_vel age_ms -> Age1 *)\n'
-        '       mkdrel "teleop_cmd_vel" Dage_ms "Age1"]\n'
+        '       mkdrel "teleop_cmd_vel" Dage_ms "Age1"];\n'
+        '    nm_stamps :=\n'
+        '      []\n'
     )
     # the fields come last in the record, after nm_outrels
     assert v.index("nm_outrels :=") < i
@@ -643,8 +645,8 @@ def test_emitted_coq_fields(tmp_path):
 def test_emitted_coq_fields_are_always_there():
     v = render_node_file(load_model(LANDSHARK), ddc_available=True)
     i = v.index("nm_outrels :=")
-    assert "\n    nm_timeouts :=\n      [];\n    nm_fallbacks :=\n      [];\n    nm_drels :=\n      []\n  |}" \
-        in v[i:]
+    assert ("\n    nm_timeouts :=\n      [];\n    nm_fallbacks :=\n      [];\n    nm_drels :=\n      [];"
+            "\n    nm_stamps :=\n      []\n  |}") in v[i:]
 
 
 def test_emitted_values_of_every_type(tmp_path):
