@@ -172,6 +172,21 @@ def _copy_lines(lines: list[str], span: tuple[int, int], dst: str) -> list[tuple
     raise CertificateError(f"certificate: no copy into {dst} in lines {first}-{last}")
 
 
+def _stamps(pm: ProvedModel, c_text: str) -> list[dict]:
+    """The rows of the stamps section (rule 4.13): each stamped topic with
+    the four lines of its output glue that write the time."""
+    lines = c_text.splitlines()
+    spans = _function_spans(c_text)
+    out = []
+    for topic_c, path in pm.stamps:
+        t = pm.topic(topic_c)
+        span = _span(spans, t.output_glue)
+        out.append({"topic": t.name, "path": path, "function": t.output_glue,
+                    "lines": (_copy_lines(lines, span, f"(*command).{path}.sec")
+                              + _copy_lines(lines, span, f"(*command).{path}.nsec"))})
+    return out
+
+
 def _relations(pm: ProvedModel, c_text: str) -> tuple[list[dict], list[dict]]:
     """The rows of the relation sections, from the proved model and the
     printed C."""
@@ -210,7 +225,9 @@ def write_certificate(rec: ProofRecord, folder: Path, files: list[str]) -> list[
     cert_name, manifest_name, sums_name = certificate_files(rec.node)
     proved = (folder / rec.model_file).read_text(encoding="utf-8")
     pm = parse_model_text(proved, origin=rec.model_file)
-    inputs, outputs = _relations(pm, (folder / rec.glue_c).read_text(encoding="utf-8"))
+    glue_text = (folder / rec.glue_c).read_text(encoding="utf-8")
+    inputs, outputs = _relations(pm, glue_text)
+    stamps = _stamps(pm, glue_text)
     hashes = _hashes(folder, files)
     built = any(name.startswith("bin/") for name, _ in hashes)
     # the proved diagram as Coq printed it (names checked by the front end
@@ -220,7 +237,7 @@ def write_certificate(rec: ProofRecord, folder: Path, files: list[str]) -> list[
     text = render(
         "CERTIFICATE.md.j2",
         rec=rec, pm=pm, md=md_code, source=md_code(source_label(rec.source_name)), diagram=diagram,
-        inputs=inputs, outputs=outputs, hashes=hashes, built=built,
+        inputs=inputs, outputs=outputs, stamps=stamps, hashes=hashes, built=built,
         manifest=manifest_name, sums=sums_name, certificate=cert_name,
     )
     manifest = {

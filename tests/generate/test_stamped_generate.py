@@ -1,0 +1,83 @@
+"""A stamped node through the whole pipeline (rule 4.13): ``generate`` on
+examples/landshark/landshark_stamped.yaml proves its theorem, prints the
+stamp code after the output relation's copy, shows it in the certificate
+with its C lines, and ``verify`` accepts the folder; the seam catches a
+per-node file that drops the stamp (it still proves a theorem, about an
+unstamped node) or stamps another topic."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+import pyrosgen.generate as gen
+from pyrosgen import cli
+
+from support.generate import REPO as ROOT, require_library
+
+STAMPED = ROOT / "examples" / "landshark" / "landshark_stamped.yaml"
+STAMPS = '[("landshark_control_base_velocity", [PField "header"; PField "stamp"])]'
+
+
+@pytest.fixture(scope="module")
+def stamped(tmp_path_factory):
+    require_library()
+    out = tmp_path_factory.mktemp("stamped") / "out"
+    assert cli.main(["generate", str(STAMPED), "-o", str(out), "-q"]) == 0
+    return out
+
+
+def test_glue_stamps_after_the_copies(stamped):
+    c = (stamped / "landshark_stamped_glue.c").read_text()
+    body = c[c.index("void output_glue_landshark_control_base_velocity(struct geometry_msgs_TwistStamped *command)\n{"):]
+    body = body[:body.index("\n}\n")]
+    lines = [ln.strip() for ln in body.splitlines()]
+    copy = lines.index("(*command).twist.linear.x = _t_double;")
+    assert lines[copy + 1:copy + 5] == [
+        "_t_uint = ros_time_sec();", "(*command).header.stamp.sec = _t_uint;",
+        "_t_uint = ros_time_nsec();", "(*command).header.stamp.nsec = _t_uint;"]
+    # the zeroing comes first
+    assert lines.index("(*command).header.stamp.sec = 0U;") < copy
+    assert re.search(r"^unsigned int ros_time_sec\(void\);$", c, re.M)
+
+
+def test_certificate_shows_the_stamp(stamped):
+    cert = (stamped / "landshark_stamped.certificate.md").read_text()
+    section = cert[cert.index("## Stamps"):cert.index("## Trusted, not proved")]
+    assert "`/landshark_control/base_velocity header.stamp` (time)" in section
+    assert "_t_uint = ros_time_nsec();" in section
+    assert "landshark_stamped.model" in cert or "stamp landshark_control_base_velocity header.stamp" in \
+        (stamped / "landshark_stamped.model").read_text()
+
+
+def test_verify_accepts_the_folder(stamped, capsys):
+    assert cli.main(["verify", str(stamped)]) == 0, capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name, new", [
+    ("stamp dropped", "[]"),
+    ("another topic stamped", STAMPS.replace("landshark_control_base_velocity", "landshark_gps_velocity")),
+])
+def test_tampered_stamp_is_refused(name, new, monkeypatch, capsys, tmp_path):
+    require_library()
+    original = gen.render_node_file
+
+    def tampered(model, **kw):
+        text = original(model, **kw)
+        assert STAMPS in text
+        return text.replace(STAMPS, new, 1)
+
+    monkeypatch.setattr(gen, "render_node_file", tampered)
+    out = tmp_path / "out"
+    code = cli.main(["generate", str(STAMPED), "-o", str(out), "-q"])
+    err = capsys.readouterr().err
+    assert not out.exists()
+    if name == "stamp dropped":
+        assert code == 2, err
+        # the node still proves its theorem, about an unstamped node: the seam refuses it
+        assert "is not the model of the YAML file" in err and "stamp" in err
+    else:
+        # Coq refuses a stamp on a subscribed topic (Wellformed.stamp_ok)
+        assert code == 1, err
+        assert "bad stamp (rule 4.13)" in err
