@@ -586,6 +586,8 @@ Definition wf_check (m : node_model) : res unit :=
   do _ <- check_nodup_keys enc_string (gen_error "name defined twice: ") (global_names m ++ local_names m);
   do _ <- check_nodup_keys enc_string (gen_error "struct defined twice: ") (struct_names m);
   do _ <- msgs_check [] (nm_msgs m);
+  do _ <- assertion (no_freshness m)
+            [MSG "Generator: timeouts and derived inputs (rule 4.12) are not generated yet"];
   do _ <- assertion (negb (null (nm_inputs m))) (gen_error "controller has no input: " (nm_ctrl m));
   do _ <- check_nodup_keys enc_string (gen_error "controller input declared twice: ") (map fst (nm_inputs m));
   do _ <- assertion (negb (null (nm_outputs m))) (gen_error "controller has no output: " (nm_ctrl m));
@@ -598,8 +600,6 @@ Definition wf_check (m : node_model) : res unit :=
                                  (gen_error "controller input not fed by any input relation: " (fst xq)))
             (nm_inputs m);
   do _ <- check_all (outrel_check m tb) (nm_outrels m);
-  do _ <- assertion (no_freshness m)
-            [MSG "Generator: timeouts and derived inputs (rule 4.12) are not generated yet"];
   do _ <- assertion (null (nm_stamps m) || time_msg_ok (nm_msgs m))
             [MSG "Generator: stamps need the message ros_time with the uint32 fields sec and nsec"];
   do _ <- check_all (fun st => assertion (stamp_ok m tb st)
