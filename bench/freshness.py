@@ -59,7 +59,9 @@ def build_node() -> tuple[Path, dict]:
     """``pyrosgen build`` of the velocity guard; its binary and timings."""
     out = FR / "node"
     log(f"pyrosgen build {MODEL.relative_to(REPO)}")
-    p = run([PYROSGEN, "build", MODEL, "-o", out, "-q"], env=dict(os.environ), timeout=1800)
+    p = run([PYROSGEN, "build", MODEL, "-o", out, "-q"], env=dict(os.environ), timeout=1800, check=False)
+    if p.rc != 0:
+        raise SystemExit(f"freshness: pyrosgen build failed (exit {p.rc}):\n{p.stderr.strip()[-3000:]}")
     return out / "bin" / "velocity_guard", {"wall": p.wall, "cpu": p.cpu}
 
 
