@@ -19,8 +19,8 @@ cycle's own jitter.  Goal: every trial within [500 ms, 500 + 20 + 2 ms].
 usage: .venv/bin/python bench/freshness.py [--trials 200] [--node BINARY]
        [--seed 12345] [--quiet-ms 0]
 ``--node`` measures a node already built (otherwise it is built into
-build/bench/freshness/).  Writes bench/results/freshness.json and prints a
-Markdown table.
+build/bench/freshness/).  Writes freshness.json into bench/results/ and
+prints a Markdown table.
 """
 
 from __future__ import annotations

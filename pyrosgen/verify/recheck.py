@@ -252,12 +252,19 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
         wrapper = next((n for n in files if n.endswith("_ros.cpp") and "/" not in n), None)
         if wrapper is not None:
             begin(f"wrapper: {wrapper}")
-            from pyrosgen.verify.wrapper_check import WrapperMismatch, check_wrapper
+            from pyrosgen.verify.wrapper_check import WrapperMismatch, check_glue_externals, check_wrapper
 
             text = proved_text if proved_text is not None else (folder / rec.model_file).read_text(encoding="utf-8")
+            header = wrapper[: -len(".cpp")] + ".h"
             try:
                 check_wrapper((folder / wrapper).read_text(encoding="utf-8"), text, wrapper_name=wrapper)
-                checks.append(Check("wrapper", True, "registers and sleeps as the proved model says"))
+                if header in files:
+                    # the ROS functions the glue calls, with the glue's C types
+                    check_glue_externals((folder / rec.glue_c).read_text(encoding="utf-8"),
+                                         (folder / header).read_text(encoding="utf-8"),
+                                         glue_name=rec.glue_c, header_name=header)
+                checks.append(Check("wrapper", True, "registers, sleeps and tells the time as the proved model says"
+                                    + (", and declares the glue's ROS functions with its types" if header in files else "")))
             except WrapperMismatch as exc:
                 checks.append(Check("wrapper", False, exc.summary, list(exc.lines)))
             except OSError as exc:

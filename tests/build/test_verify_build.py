@@ -31,7 +31,8 @@ def test_verify_a_build_folder(landshark_build, tmp_path):
     _, out = landshark_build
     run = pyrosgen("verify", out, "-q")
     assert run.returncode == 0, run.stdout + run.stderr
-    assert "  ok      wrapper   registers and sleeps as the proved model says" in run.stdout
+    assert ("  ok      wrapper   registers, sleeps and tells the time as the proved model says, "
+            "and declares the glue's ROS functions with its types") in run.stdout
     # a wrapper that subscribes with another queue size, digests updated
     c = tmp_path / "c"
     shutil.copytree(out, c, symlinks=True)
@@ -48,6 +49,21 @@ def test_verify_a_build_folder(landshark_build, tmp_path):
     assert run.returncode == 1
     assert "  FAILED  wrapper" in run.stdout and "/landshark/gps_velocity" in run.stdout, run.stdout
     assert "  ok      hashes" in run.stdout
+    # a header that declares a ROS function with another type than the glue's
+    h = tmp_path / "h"
+    shutil.copytree(out, h, symlinks=True)
+    hdr = h / f"{NODE}_ros.h"
+    text = hdr.read_text()
+    assert "void ros_spinOnce(void);" in text
+    hdr.write_text(text.replace("void ros_spinOnce(void);", "int ros_spinOnce(void);"))
+    m = h / f"{NODE}.manifest.json"
+    data = json.loads(m.read_text())
+    data["files"][hdr.name] = hashlib.sha256(hdr.read_bytes()).hexdigest()
+    m.write_text(json.dumps(data))
+    (h / f"{NODE}.sha256").write_text("".join(f"{v}  {n}\n" for n, v in sorted(data["files"].items())))
+    run = pyrosgen("verify", h, "-q")
+    assert run.returncode == 1
+    assert "  FAILED  wrapper" in run.stdout and "ros_spinOnce" in run.stdout, run.stdout
 
 
 def test_build_into_a_mount_point(mount_point):

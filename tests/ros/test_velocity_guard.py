@@ -52,7 +52,7 @@ def guard(nodes_dir):
         # refuses rule-4.12 models it checks; any other refusal is a failure
         if "not generated yet" not in str(exc):
             raise
-        pytest.skip("timeouts and derived inputs are not generated yet (rule 4.12)")
+        pytest.xfail("timeouts and derived inputs are checked but not generated yet (rule 4.12, issue 16 slice 2)")
     binary = out / "bin" / "velocity_guard"
     assert binary.is_file()
     return binary
