@@ -27,6 +27,22 @@ def test_certificate_covers_the_build(landshark_build):
     assert ok.returncode == 0 and ok.stdout.count(": OK") == len(files), ok.stdout + ok.stderr
 
 
+def _tampered(out, copy, name: str, old: str, new: str):
+    """A copy of build folder ``out`` with ``old`` replaced by ``new`` in
+    file ``name``, its digests updated (only the checks can refuse it)."""
+    shutil.copytree(out, copy, symlinks=True)
+    f = copy / name
+    text = f.read_text()
+    assert old in text
+    f.write_text(text.replace(old, new))
+    m = copy / f"{NODE}.manifest.json"
+    data = json.loads(m.read_text())
+    data["files"][name] = hashlib.sha256(f.read_bytes()).hexdigest()
+    m.write_text(json.dumps(data))
+    (copy / f"{NODE}.sha256").write_text("".join(f"{v}  {n}\n" for n, v in sorted(data["files"].items())))
+    return copy
+
+
 def test_verify_a_build_folder(landshark_build, tmp_path):
     _, out = landshark_build
     run = pyrosgen("verify", out, "-q")
@@ -34,33 +50,14 @@ def test_verify_a_build_folder(landshark_build, tmp_path):
     assert ("  ok      wrapper   registers, sleeps and tells the time as the proved model says, "
             "and declares the glue's ROS functions with its types") in run.stdout
     # a wrapper that subscribes with another queue size, digests updated
-    c = tmp_path / "c"
-    shutil.copytree(out, c, symlinks=True)
-    cpp = c / f"{NODE}_ros.cpp"
-    text = cpp.read_text()
-    assert '("/landshark/gps_velocity", 1, f)' in text
-    cpp.write_text(text.replace('("/landshark/gps_velocity", 1, f)', '("/landshark/gps_velocity", 2, f)'))
-    m = c / f"{NODE}.manifest.json"
-    data = json.loads(m.read_text())
-    data["files"][cpp.name] = hashlib.sha256(cpp.read_bytes()).hexdigest()
-    m.write_text(json.dumps(data))
-    (c / f"{NODE}.sha256").write_text("".join(f"{v}  {n}\n" for n, v in sorted(data["files"].items())))
+    c = _tampered(out, tmp_path / "c", f"{NODE}_ros.cpp",
+                  '("/landshark/gps_velocity", 1, f)', '("/landshark/gps_velocity", 2, f)')
     run = pyrosgen("verify", c, "-q")
     assert run.returncode == 1
     assert "  FAILED  wrapper" in run.stdout and "/landshark/gps_velocity" in run.stdout, run.stdout
     assert "  ok      hashes" in run.stdout
     # a header that declares a ROS function with another type than the glue's
-    h = tmp_path / "h"
-    shutil.copytree(out, h, symlinks=True)
-    hdr = h / f"{NODE}_ros.h"
-    text = hdr.read_text()
-    assert "void ros_spinOnce(void);" in text
-    hdr.write_text(text.replace("void ros_spinOnce(void);", "int ros_spinOnce(void);"))
-    m = h / f"{NODE}.manifest.json"
-    data = json.loads(m.read_text())
-    data["files"][hdr.name] = hashlib.sha256(hdr.read_bytes()).hexdigest()
-    m.write_text(json.dumps(data))
-    (h / f"{NODE}.sha256").write_text("".join(f"{v}  {n}\n" for n, v in sorted(data["files"].items())))
+    h = _tampered(out, tmp_path / "h", f"{NODE}_ros.h", "void ros_spinOnce(void);", "int ros_spinOnce(void);")
     run = pyrosgen("verify", h, "-q")
     assert run.returncode == 1
     assert "  FAILED  wrapper" in run.stdout and "ros_spinOnce" in run.stdout, run.stdout

@@ -39,26 +39,7 @@ Proof.
 Qed.
 
 (** A function whose body runs quietly from its entry state meets
-    [quiet_call]. *)
-Lemma quiet_call_intro:
-  forall p f args mm le post,
-  function_entry (ge_comp (globalenv p)) f args mm = Some ([], le, mm) ->
-  fn_return f = Tvoid ->
-  (forall (CS : Type) (ctx : ros_context CS) (w : world CS),
-     exists le' mm', exec_stmt ctx (globalenv p) [] le mm w (fn_body f) [] le' mm' w Out_normal
-                     /\ post mm') ->
-  quiet_call p (Internal f) args mm post.
-Proof.
-  intros p f args mm le post FE R X CS ctx w.
-  destruct (X CS ctx w) as (le' & mm' & E & P).
-  assert (EV: eval_funcall ctx (globalenv p) mm w (Internal f) args [] mm' w Vundef).
-  { change mm' with (free_vars mm' []). econstructor; eauto; rewrite R; auto. }
-  split; [eauto|].
-  intros t mm2 w2 v2 EV2.
-  destruct (semantics_determ ctx (globalenv p)) as [_ [D _]].
-  destruct (D _ _ _ _ _ _ _ _ EV _ _ _ _ EV2) as (<- & <- & <- & <-). auto.
-Qed.
-
+    [quiet_call_at] (its [post] sees the world's time), and [quiet_call]. *)
 Lemma quiet_call_at_intro:
   forall p f args mm le post,
   function_entry (ge_comp (globalenv p)) f args mm = Some ([], le, mm) ->
@@ -76,6 +57,19 @@ Proof.
   intros t mm2 w2 v2 EV2.
   destruct (semantics_determ ctx (globalenv p)) as [_ [D _]].
   destruct (D _ _ _ _ _ _ _ _ EV _ _ _ _ EV2) as (<- & <- & <- & <-). auto.
+Qed.
+
+Lemma quiet_call_intro:
+  forall p f args mm le post,
+  function_entry (ge_comp (globalenv p)) f args mm = Some ([], le, mm) ->
+  fn_return f = Tvoid ->
+  (forall (CS : Type) (ctx : ros_context CS) (w : world CS),
+     exists le' mm', exec_stmt ctx (globalenv p) [] le mm w (fn_body f) [] le' mm' w Out_normal
+                     /\ post mm') ->
+  quiet_call p (Internal f) args mm post.
+Proof.
+  intros p f args mm le post FE R X.
+  exact (quiet_call_at_intro p f args mm le (fun _ => post) FE R X).
 Qed.
 
 Lemma eval_lvalue_global_struct:
