@@ -44,3 +44,16 @@ def snapshot(root: Path) -> dict[str, tuple[bytes, int]]:
     """Every file under ``root``: content and mode."""
     return {str(p.relative_to(root)): (p.read_bytes(), p.stat().st_mode)
             for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+def assert_wrapper_refused(cpp: str, old: str, new: str, proved: str) -> None:
+    """The wrapper ``cpp`` with ``old`` replaced by ``new`` (once) is
+    refused by the wrapper check against the proved model text ``proved``,
+    with the reasons listed."""
+    from pyrosgen.verify.wrapper_check import WrapperMismatch, check_wrapper
+
+    assert old in cpp, f"the wrapper template changed shape: {old!r}"
+    with pytest.raises(WrapperMismatch) as info:
+        check_wrapper(cpp.replace(old, new, 1), proved, wrapper_name="w.cpp")
+    assert "does not implement the proved model's interface" in info.value.summary
+    assert info.value.lines
