@@ -16,11 +16,21 @@ cycle where its age reaches 500 ms, so the latency is at least the timeout
 and at most the timeout plus one period, plus the two transports and the
 cycle's own jitter.  Goal: every trial within [500 ms, 500 + 20 + 2 ms].
 
+What the timed glue costs: the instructions per cycle of the glue
+(callgrind, exact, as bench/runtime.py counts LandShark's: the glue linked
+with a fake ROS, ``-O2 -fno-inline``, only the callbacks, ``input_glue``
+and ``output_glue_*`` counted; ``ros_now``, a ROS function, is not) of
+LandShark against LandShark with a timeout and a derived input
+(bench/models/landshark_fresh.yaml: the GPS topic times out after 100 ms,
+its age feeds a fourth input).  Both run the same fake ROS: the GPS
+message arrives in 8 cycles of 16, so the timed node sees its topic
+fresh, and stale in 3 cycles of 16; both with the same stub controller.
+
 usage: .venv/bin/python bench/freshness.py [--trials 200] [--node BINARY]
-       [--seed 12345] [--quiet-ms 0]
+       [--seed 12345] [--quiet-ms 0] [--no-latency] [--no-instructions]
 ``--node`` measures a node already built (otherwise it is built into
 build/bench/freshness/).  Writes freshness.json into bench/results/ and
-prints a Markdown table.
+prints Markdown tables.
 """
 
 from __future__ import annotations
@@ -35,9 +45,11 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from common import BENCH, PYROSGEN, REPO, WORK, loadavg, machine, median, run, save_json  # noqa: E402
+from common import BENCH, PYROSGEN, REPO, WORK, load_json, loadavg, machine, median, run, save_json  # noqa: E402
 
 MODEL = REPO / "examples" / "velocity_guard" / "velocity_guard.yaml"
+LANDSHARK = REPO / "examples" / "landshark" / "landshark_controller.yaml"
+LANDSHARK_FRESH = BENCH / "models" / "landshark_fresh.yaml"
 DRIVER_SRC = BENCH / "runtime" / "freshness_driver.cpp"
 FR = WORK / "freshness"
 TIMEOUT_MS = 500
@@ -123,6 +135,75 @@ def measure(node: Path, driver: Path, trials: int, seed: int, quiet_ms: float) -
             "seed": seed, "quiet_ms": quiet_ms, "period_ms": PERIOD_MS, "timeout_ms": TIMEOUT_MS}
 
 
+def check_fresh_model() -> None:
+    """bench/models/landshark_fresh.yaml is the example plus the GPS
+    topic's timeout and the derived input GpsAge, and nothing else."""
+    import yaml
+
+    a = yaml.safe_load(LANDSHARK.read_text())
+    b = yaml.safe_load(LANDSHARK_FRESH.read_text())
+    a["controller"]["inputs"]["fields"]["GpsAge"] = "uint32"
+    gps = a["topics"][2]
+    assert gps["name"] == "/landshark/gps_velocity"
+    gps.update(timeout_ms=100, on_timeout="zero")
+    a["relations"]["inputs"].append({"topic": "/landshark/gps_velocity", "derived": "age_ms", "input": "GpsAge"})
+    if a != b:
+        raise SystemExit(f"freshness: {LANDSHARK_FRESH} differs from {LANDSHARK} in more than the timed GPS topic")
+
+
+def instructions() -> dict:
+    """Glue instructions per cycle of LandShark without and with the timed
+    GPS topic (see the module's documentation)."""
+    from runtime import RT, _callgrind, _short  # bench/runtime.py
+
+    check_fresh_model()
+    RT.mkdir(parents=True, exist_ok=True)
+    fake, stub = BENCH / "runtime" / "fake_ros_landshark.c", BENCH / "runtime" / "stub_controller_landshark.c"
+    out = {}
+    for label, model, fresh in (("plain", LANDSHARK, False), ("timed", LANDSHARK_FRESH, True)):
+        d = FR / f"glue_{label}"
+        log(f"pyrosgen generate {model.relative_to(REPO)}")
+        p = run([PYROSGEN, "generate", model, "-o", d, "-q"], env=dict(os.environ), timeout=1800, check=False)
+        if p.rc != 0:
+            raise SystemExit(f"freshness: pyrosgen generate failed (exit {p.rc}):\n{p.stderr.strip()[-3000:]}")
+        defs = ["-DBENCH_GPS_GAPS"] + (["-DBENCH_FRESH"] if fresh else [])
+        objs = []
+        for src, flags in ((d / "landshark_controller_glue.c", ["-fno-inline"]), (fake, defs), (stub, defs)):
+            o = FR / f"{label}_{src.stem}.o"
+            run(["gcc", "-std=c11", "-O2", *flags, "-I", d, "-c", src, "-o", o])
+            objs.append(o)
+        exe = FR / f"landshark_{label}_fake"
+        run(["gcc", *objs, "-o", exe])
+        check = run([exe]).stdout.strip()
+        toggles = ["input_glue", "*_callback", "output_glue_*"]
+        c1, c2 = _callgrind(exe, 1000, toggles), _callgrind(exe, 2000, toggles)
+        funcs = {_short(f): (c2.get(f, 0) - c1.get(f, 0)) / 1000 for f in set(c1) | set(c2)
+                 if _short(f) != "ros_now"}
+        out[label] = {"model": str(model.relative_to(REPO)), "per_cycle": sum(funcs.values()), "functions": funcs,
+                      "ros_now_per_cycle": sum((c2.get(f, 0) - c1.get(f, 0)) / 1000 for f in set(c1) | set(c2)
+                                               if _short(f) == "ros_now"),
+                      "check": check}
+        log(f"  glue instructions per cycle, {label}: {sum(funcs.values()):.1f} "
+            f"({', '.join(f'{k} {v:.1f}' for k, v in sorted(funcs.items()))})")
+    return out
+
+
+def instructions_table(ins: dict) -> str:
+    p, t = ins["plain"], ins["timed"]
+    names = sorted(set(p["functions"]) | set(t["functions"]), key=lambda f: (f != "input_glue", f))
+    lines = [
+        "| glue function | LandShark | with the timed GPS topic | difference |",
+        "|---|---|---|---|",
+    ]
+    for f in names:
+        a, b = p["functions"].get(f, 0.0), t["functions"].get(f, 0.0)
+        lines.append(f"| `{f}` | {a:.1f} | {b:.1f} | {b - a:+.1f} |")
+    lines.append(f"| **per cycle** | **{p['per_cycle']:.1f}** | **{t['per_cycle']:.1f}** | "
+                 f"**{t['per_cycle'] - p['per_cycle']:+.1f}** ({t['per_cycle'] / p['per_cycle'] - 1:+.0%}) |")
+    return "\n".join(lines) + (f"\n\n(`ros_now`, the ROS API's, not counted: {t['ros_now_per_cycle']:.1f} "
+                                "instructions per cycle in the fake ROS.)")
+
+
 def table(res: dict) -> str:
     s = res["latency_ms"]
     lo, hi = res["goal_ms"]
@@ -149,25 +230,37 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seed", type=int, default=12345)
     ap.add_argument("--quiet-ms", type=float, default=0.0,
                     help="the last teleop command at least this long after the one before it")
+    ap.add_argument("--no-latency", action="store_true", help="only count the instructions")
+    ap.add_argument("--no-instructions", action="store_true", help="only measure the latency")
     a = ap.parse_args(argv)
     if a.trials < 1:
         ap.error("--trials must be positive")
     FR.mkdir(parents=True, exist_ok=True)
-    mach = machine()
-    build = None
-    node = a.node
-    if node is None:
-        node, build = build_node()
-    driver = build_driver()
-    log(f"{a.trials} trials (about {a.trials * 0.7:.0f} s)")
-    res = measure(node, driver, a.trials, a.seed, a.quiet_ms)
-    res["node"] = str(node)
-    res["build"] = build
-    res["machine"] = mach
+    # a part not run keeps its last results
+    res: dict = dict(load_json("freshness.json") or {})
+    res["machine"] = machine()
+    ok = True
+    if not a.no_latency:
+        build = None
+        node = a.node
+        if node is None:
+            node, build = build_node()
+        driver = build_driver()
+        log(f"{a.trials} trials (about {a.trials * 0.7:.0f} s)")
+        res.update(measure(node, driver, a.trials, a.seed, a.quiet_ms))
+        res["node"] = str(node)
+        res["build"] = build
+        ok = res["outside_goal"] == 0 and res["lost"] == 0 and res["not_nav"] == 0
+    if not a.no_instructions:
+        res["instructions"] = instructions()
     save_json("freshness.json", res)
-    print()
-    print(table(res))
-    return 0 if res["outside_goal"] == 0 and res["lost"] == 0 and res["not_nav"] == 0 else 1
+    if not a.no_latency:
+        print()
+        print(table(res))
+    if not a.no_instructions:
+        print()
+        print(instructions_table(res["instructions"]))
+    return 0 if ok else 1
 
 
 if __name__ == "__main__":

@@ -55,7 +55,7 @@ def cmd_check(args: argparse.Namespace) -> int:
     timed = model.timed_topics
     if timed:
         ctrl += (f"; freshness: {_plural(len(timed), 'timed topic')}, "
-                 f"{_plural(len(model.derived_relations), 'derived input')} (checked; not generated yet)")
+                 f"{_plural(len(model.derived_relations), 'derived input')}")
     if model.stamps:
         ctrl += f"; stamped: {_plural(len(model.stamps), 'published topic')}"
     print(

@@ -40,7 +40,7 @@ from pathlib import Path
 from pyrosgen.files import locked_folder, move
 from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
 from pyrosgen.proof.coqmodel import EmitError, node_file_names, render_node_file
-from pyrosgen.errors import Diagnostic, InvalidNodeModel, ToolFailure, UserError, show
+from pyrosgen.errors import ToolFailure, UserError
 from pyrosgen.proof.modeltext import compare_model_texts, model_text
 from pyrosgen.verify.certificate import ProofRecord, sha256_file, tool_versions, write_certificate
 from pyrosgen.frontend.model import NodeModel
@@ -171,26 +171,6 @@ def generate(
     )
 
 
-def refuse_freshness(model: NodeModel) -> None:
-    """Timeouts, fallbacks and derived inputs (rule 4.12) are checked by
-    the front end but not generated yet (Coq's ``generate`` refuses them
-    too, [Wellformed.no_freshness]): refuse a model that uses them with
-    the position of each use, exit 1, before anything runs."""
-    uses: list[tuple[int | None, int | None, str]] = []
-    for t in model.topics:
-        if t.timeout_ms is not None:
-            uses.append((t.pos.line, t.pos.col, f"topic {show(t.name)} has a timeout_ms"))
-    for r in model.derived_relations:
-        uses.append((r.pos.line, r.pos.col, f"controller input {show(r.input_field)} is a derived input ({r.kind})"))
-    if uses:
-        file = str(model.source) if model.source is not None else "<model>"
-        raise InvalidNodeModel([
-            Diagnostic(file, line, col, f"{what}: timeouts and derived inputs are checked by the front end "
-                                        "but not generated yet (issue 16, slice 2); remove them to generate this node",
-                       rule="4.12")
-            for line, col, what in uses])
-
-
 def generate_model(
     model: NodeModel,
     out_dir: str | Path,
@@ -213,7 +193,6 @@ def generate_model(
     times: dict[str, float] = {}
     t_start = _t_start if _t_start is not None else time.monotonic()
     out_dir = Path(out_dir)
-    refuse_freshness(model)
 
     # 1. front end (continued): output folder, tools, library, the .v
     if out_dir.exists() and not out_dir.is_dir():

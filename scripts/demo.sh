@@ -2,8 +2,12 @@
 # The main job on the LandShark example (`make demo`, after deps and proofs):
 # build the node (glue generated and proved by Coq, C API over roscpp, layout
 # check, compile and link), then run it on a private rosmaster against a
-# simulated robot whose GPS is spoofed for part of the run.  Needs no
-# terminal; stops everything it started.
+# simulated robot whose GPS is spoofed for part of the run.  Then the
+# timeouts (rule 4.12): build the velocity guard (examples/velocity_guard)
+# and run it on a private rosmaster while its two command sources fall
+# silent one after the other: the command before and after each stops.
+# Needs no terminal; stops everything it started; builds rewrite only what
+# changed.
 # With DIAGRAM=1 (`make demo DIAGRAM=1`), the controller is the block
 # diagram of examples/landshark/landshark_diagram.yaml: Coq generates and
 # proves it too, and the node is built without a controller folder.
@@ -22,4 +26,12 @@ else
   .venv/bin/pyrosgen build "$MODEL" --controller "$CONTROLLER" -o "$OUT"
 fi
 echo "demo: running $OUT/bin/landshark_controller against a simulated LandShark"
-exec .venv/bin/python -m pyrosgen.ros.demo "$OUT"
+.venv/bin/python -m pyrosgen.ros.demo "$OUT"
+
+GUARD=examples/velocity_guard/velocity_guard.yaml
+GUARD_OUT=build/velocity_guard
+echo
+echo "demo: pyrosgen build $GUARD -o $GUARD_OUT   (timeouts: a silent source is replaced, rule 4.12)"
+.venv/bin/pyrosgen build "$GUARD" -o "$GUARD_OUT"
+echo "demo: running $GUARD_OUT/bin/velocity_guard: teleop falls silent at 2 s, nav at 4 s"
+exec .venv/bin/python -m pyrosgen.ros.demo_guard "$GUARD_OUT"

@@ -6,7 +6,12 @@
  * 1000); each ros_spinOnce() delivers one new message on each of the three
  * subscribed topics (values change every cycle); ros_publish_* folds the
  * published command into a checksum printed at exit, so that nothing is
- * optimised away.  The glue's own main() and loop() drive everything. */
+ * optimised away.  The glue's own main() and loop() drive everything.
+ *
+ * For bench/freshness.py: -DBENCH_GPS_GAPS delivers the GPS message only
+ * in the first 8 cycles of every 16 (with a 100 ms timeout and 20 ms
+ * cycles the topic is then stale in 3 cycles of 16); -DBENCH_FRESH adds
+ * ros_now(), the time of a fake clock that advances 20 ms per cycle. */
 #include <stdio.h>
 #include <stdlib.h>
 #include "landshark_controller_types.h"
@@ -44,8 +49,18 @@ void ros_spinOnce(void)
     m_gps.twist.linear.x = v - 0.125;
     cb_left(&m_left);
     cb_right(&m_right);
+#ifdef BENCH_GPS_GAPS
+    if (cycle % 16 < 8)
+#endif
     cb_gps(&m_gps);
 }
+
+#ifdef BENCH_FRESH
+unsigned long long ros_now(void)
+{
+    return 1000000000ULL + (unsigned long long)cycle * 20000000ULL;
+}
+#endif
 
 void ros_rate_sleep(void)
 {

@@ -172,7 +172,7 @@ Proof.
   intros D.
   destruct (D unit ctx 1%nat ctx_arrivals_wt ctx_controller_wt) as [_ All].
   destruct (All t' p'_behaves) as (s & evs & _ & Et & C).
-  destruct (C O (le_n 1)) as (u & y & mvs & Ee & [_ IV] & _ & _).
+  destruct (C O (le_n 1)) as (u & y & mvs & Ee & [_ [IV _]] & _ & _).
   change (concat (map evs (seq 0 1))) with (evs O ++ []) in Et.
   rewrite app_nil_r, Ee in Et.
   assert (Hu: mval_get u [Sfield "In1"] = Some (MVscalar (Vfloat f_inf))).
@@ -181,6 +181,7 @@ Proof.
   { simpl; auto. }
   simpl in Htp. destruct Htp as [<-|[<-|[<-|[]]]]; try discriminate Ec.
   simpl ir_path in Gn. rewrite newest_left in Gn. simpl ir_input in Gu. rewrite Hu in Gu.
+  unfold fed_value, stale, timeout_of in Gu. simpl in Gu.
   rewrite <- Gu in Gn. unfold f_zero, f_inf in Gn. discriminate Gn.
 Qed.
 
@@ -231,7 +232,7 @@ Proof.
   intros i Hi. assert (i = O) by (inversion Hi; [reflexivity|inversion H0]). subst i.
   exists u_expected, y_out, [msg_x f_inf]. split; [|split; [|split]].
   - reflexivity.
-  - split; [apply mval_typecheck_iff; vm_compute; reflexivity|].
+  - split; [apply mval_typecheck_iff; vm_compute; reflexivity|split; [|intros dr Hdr; destruct Hdr]].
     intros ir Hir. simpl in Hir.
     destruct Hir as [<-|[<-|[<-|[]]]].
     + exists left_wheel, (Vfloat f_zero). split; [simpl; auto|]. split; [reflexivity|]. split; vm_compute; reflexivity.

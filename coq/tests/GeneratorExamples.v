@@ -157,14 +157,14 @@ Definition with_inrels (m : node_model) (l : list inrel) : node_model :=
      nm_in_var := nm_in_var m; nm_in_struct := nm_in_struct m; nm_inputs := nm_inputs m;
      nm_out_var := nm_out_var m; nm_out_struct := nm_out_struct m; nm_outputs := nm_outputs m;
      nm_msgs := nm_msgs m; nm_topics := nm_topics m; nm_inrels := l; nm_outrels := nm_outrels m;
-  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := [] |}.
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [] |}.
 
 Definition with_outrels (m : node_model) (l : list outrel) : node_model :=
   {| nm_name := nm_name m; nm_period_ms := nm_period_ms m; nm_ctrl := nm_ctrl m;
      nm_in_var := nm_in_var m; nm_in_struct := nm_in_struct m; nm_inputs := nm_inputs m;
      nm_out_var := nm_out_var m; nm_out_struct := nm_out_struct m; nm_outputs := nm_outputs m;
      nm_msgs := nm_msgs m; nm_topics := nm_topics m; nm_inrels := nm_inrels m; nm_outrels := l;
-  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := [] |}.
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [] |}.
 
 Definition with_inputs (m : node_model) (l : list (ident * prim)) : node_model :=
   {| nm_name := nm_name m; nm_period_ms := nm_period_ms m; nm_ctrl := nm_ctrl m;
@@ -172,7 +172,7 @@ Definition with_inputs (m : node_model) (l : list (ident * prim)) : node_model :
      nm_out_var := nm_out_var m; nm_out_struct := nm_out_struct m; nm_outputs := nm_outputs m;
      nm_msgs := nm_msgs m; nm_topics := nm_topics m; nm_inrels := nm_inrels m;
      nm_outrels := nm_outrels m;
-  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := [] |}.
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [] |}.
 
 Definition with_topics_msgs (m : node_model) (tps : list topic) (msgs : list msgdef) : node_model :=
   {| nm_name := nm_name m; nm_period_ms := nm_period_ms m; nm_ctrl := nm_ctrl m;
@@ -180,7 +180,7 @@ Definition with_topics_msgs (m : node_model) (tps : list topic) (msgs : list msg
      nm_out_var := nm_out_var m; nm_out_struct := nm_out_struct m; nm_outputs := nm_outputs m;
      nm_msgs := msgs; nm_topics := tps; nm_inrels := nm_inrels m;
      nm_outrels := nm_outrels m;
-  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := [] |}.
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [] |}.
 
 (** An input fed twice. *)
 Example refuse_input_fed_twice:
@@ -330,7 +330,7 @@ Example refuse_global_hidden_by_local:
              nm_out_struct := "ExtY_Controller_T"; nm_outputs := nm_outputs landshark;
              nm_msgs := landshark_msgs; nm_topics := nm_topics landshark;
              nm_inrels := nm_inrels landshark; nm_outrels := nm_outrels landshark;
-  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := [] |}
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [] |}
     "Generator: name defined twice: 'msg'".
 Proof. vm_compute. split; reflexivity. Qed.
 
@@ -372,13 +372,13 @@ Example refuse_period_0:
              nm_out_struct := "ExtY_Controller_T"; nm_outputs := nm_outputs landshark;
              nm_msgs := landshark_msgs; nm_topics := nm_topics landshark;
              nm_inrels := nm_inrels landshark; nm_outrels := nm_outrels landshark;
-  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := [] |}
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [] |}
     "Generator: period_ms must be positive".
 Proof. vm_compute. split; reflexivity. Qed.
 
-(** Timeouts and derived inputs (rule 4.12) are refused until the
-    generator implements them. *)
-Example refuse_freshness:
+(** A timeout shorter than the period is refused (rule 4.12; the other
+    refusals of the rule are in [Freshness.v]). *)
+Example refuse_short_timeout:
   refused {| nm_name := nm_name landshark; nm_period_ms := nm_period_ms landshark;
              nm_ctrl := nm_ctrl landshark; nm_in_var := nm_in_var landshark;
              nm_in_struct := nm_in_struct landshark; nm_inputs := nm_inputs landshark;
@@ -386,6 +386,6 @@ Example refuse_freshness:
              nm_outputs := nm_outputs landshark; nm_msgs := nm_msgs landshark;
              nm_topics := nm_topics landshark; nm_inrels := nm_inrels landshark;
              nm_outrels := nm_outrels landshark;
-             nm_timeouts := [("landshark_gps_velocity", 500%Z)]; nm_fallbacks := []; nm_drels := []; nm_stamps := [] |}
-    "Generator: timeouts and derived inputs (rule 4.12) are not generated yet".
+             nm_timeouts := [("landshark_gps_velocity", 1%Z)]; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [] |}
+    "Generator: bad timeout (rule 4.12) on topic 'landshark_gps_velocity': 1 ms must be on a subscribed topic, from the period to 86400000 ms".
 Proof. vm_compute. split; reflexivity. Qed.

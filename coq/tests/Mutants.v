@@ -63,14 +63,25 @@ Definition same_scalar (a b : option val) : bool :=
   match a, b with Some v, Some w => val_eqb v w | _, _ => false end.
 
 (** Every input related to a topic holds the related field of the newest
-    message of the topic (the scalar part of [input_values]). *)
+    message of the topic, or its fallback if the topic is stale, and every
+    derived input holds its value (the scalar part of [input_values]). *)
 Definition inputs_okb {CS} (m : node_model) (ctx : ros_context CS) (i : nat) (u : mval) : bool :=
   forallb (fun ir =>
     existsb (fun tp => String.eqb (tp_cname tp) (ir_topic ir)
-                       && same_scalar (scalar_at (newest m ctx tp i) (path_steps (ir_path ir)))
-                                      (scalar_at u [Sfield (ir_input ir)]))
+                       && match scalar_at (newest m ctx tp i) (path_steps (ir_path ir)) with
+                          | Some v => same_scalar (Some (fed_value m ir v (newest_time ctx tp i) (ctx_time ctx (S i))))
+                                                  (scalar_at u [Sfield (ir_input ir)])
+                          | None => false
+                          end)
             (subscribed m))
-    (nm_inrels m).
+    (nm_inrels m)
+  && forallb (fun dr =>
+    existsb (fun tp => String.eqb (tp_cname tp) (dr_topic dr)
+                       && same_scalar (Some (derived_value (dr_kind dr) (arrived ctx tp i) (newest_time ctx tp i)
+                                                           (ctx_time ctx (S i))))
+                                      (scalar_at u [Sfield (dr_input dr)]))
+            (subscribed m))
+    (nm_drels m).
 
 (** Every field of a published message fed by an output relation holds
     the related output (the related part of [published_value]). *)
@@ -143,10 +154,10 @@ Proof.
 Qed.
 
 Lemma take_publishes_ok:
-  forall m y now tps mvs rest, Forall2 (published_value m y now) tps mvs ->
+  forall m y now g tps mvs rest, Forall2 (published_value m y now g) tps mvs ->
   take_publishes m y tps (publish_events tps mvs ++ rest) = Some rest.
 Proof.
-  intros m y now tps mvs rest F. induction F as [|tp mv tps mvs PV F IH]; simpl; auto.
+  intros m y now g tps mvs rest F. induction F as [|tp mv tps mvs PV F IH]; simpl; auto.
   rewrite String.eqb_refl. simpl.
   replace (published_okb m y tp mv) with true; [exact IH|].
   symmetry. apply forallb_forall. intros o Ho.
@@ -159,10 +170,15 @@ Qed.
 Lemma inputs_ok:
   forall CS m (ctx : ros_context CS) i u, input_values m ctx i u -> inputs_okb m ctx i u = true.
 Proof.
-  intros CS m ctx i u [_ IV]. apply forallb_forall. intros ir Hir.
-  destruct (IV ir Hir) as (tp & v & Htp & Ec & Gn & Gu).
-  apply existsb_exists. exists tp. split; auto.
-  rewrite Ec, String.eqb_refl. unfold same_scalar, scalar_at. rewrite Gn, Gu. apply val_eqb_refl.
+  intros CS m ctx i u [_ [IV DV]]. unfold inputs_okb. apply andb_true_iff. split.
+  - apply forallb_forall. intros ir Hir.
+    destruct (IV ir Hir) as (tp & v & Htp & Ec & Gn & Gu).
+    apply existsb_exists. exists tp. split; auto.
+    rewrite Ec, String.eqb_refl. unfold scalar_at. rewrite Gn, Gu. apply val_eqb_refl.
+  - apply forallb_forall. intros dr Hdr.
+    destruct (DV dr Hdr) as (tp & Htp & Ec & Gu).
+    apply existsb_exists. exists tp. split; auto.
+    rewrite Ec, String.eqb_refl. unfold same_scalar, scalar_at. rewrite Gu. apply val_eqb_refl.
 Qed.
 
 Lemma cycles_ok_okb:
@@ -173,7 +189,7 @@ Proof.
   intros CS m ctx s evs r. induction r as [|r IH]; intros i C; simpl; auto.
   destruct (C i ltac:(lia)) as (u & y & mvs & E & IV & _ & PV). rewrite E.
   simpl. rewrite (inputs_ok _ _ _ _ _ IV). simpl.
-  rewrite <- app_assoc, (take_publishes_ok _ _ _ _ _ _ PV). simpl.
+  rewrite <- app_assoc, (take_publishes_ok _ _ _ _ _ _ _ PV). simpl.
   rewrite Z.eqb_refl. simpl. apply IH. intros j Hj. apply C. lia.
 Qed.
 

@@ -22,7 +22,7 @@ Definition with_stamps (m : node_model) (l : list (ident * path)) : node_model :
      nm_out_var := nm_out_var m; nm_out_struct := nm_out_struct m; nm_outputs := nm_outputs m;
      nm_msgs := nm_msgs m; nm_topics := nm_topics m; nm_inrels := nm_inrels m;
      nm_outrels := nm_outrels m; nm_timeouts := nm_timeouts m; nm_fallbacks := nm_fallbacks m;
-     nm_drels := nm_drels m; nm_stamps := l |}.
+     nm_drels := nm_drels m; nm_stamps := l; nm_stamp_from := nm_stamp_from m |}.
 
 Definition header_stamp : path := [PField "header"; PField "stamp"].
 
@@ -78,7 +78,7 @@ Definition stamp_and_relation : node_model :=
      nm_msgs := nm_msgs stamped; nm_topics := nm_topics stamped; nm_inrels := nm_inrels stamped;
      nm_outrels := nm_outrels stamped ++
                    [mkoutrel "Sec" "landshark_control_base_velocity" (header_stamp ++ [PField "sec"])%list];
-     nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := nm_stamps stamped |}.
+     nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := nm_stamps stamped; nm_stamp_from := nm_stamp_from stamped |}.
 
 Example refuse_stamp_overwritten:
   refused stamp_and_relation
@@ -241,3 +241,153 @@ Definition m_stamp_first : program :=
   on_output_glue (fun b => match b with Ssequence base st => Ssequence st base | _ => b end) stamped_prog.
 Theorem m_stamp_first_refuted: ~ node_ddc stamped m_stamp_first.
 Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.
+
+(** ** Stamps copied from a subscribed topic *)
+
+(** [copied]: LandShark whose command carries the [header.stamp] of the
+    newest GPS message (zero before the first). *)
+Definition copied : node_model :=
+  {| nm_name := nm_name stamped; nm_period_ms := nm_period_ms stamped; nm_ctrl := nm_ctrl stamped;
+     nm_in_var := nm_in_var stamped; nm_in_struct := nm_in_struct stamped;
+     nm_inputs := nm_inputs stamped; nm_out_var := nm_out_var stamped;
+     nm_out_struct := nm_out_struct stamped; nm_outputs := nm_outputs stamped;
+     nm_msgs := nm_msgs stamped; nm_topics := nm_topics stamped; nm_inrels := nm_inrels stamped;
+     nm_outrels := nm_outrels stamped; nm_timeouts := []; nm_fallbacks := []; nm_drels := [];
+     nm_stamps := nm_stamps stamped;
+     nm_stamp_from := [("landshark_control_base_velocity", ("landshark_gps_velocity", header_stamp))] |}.
+
+Definition copied_result : res program := Eval vm_compute in generate copied.
+Definition copied_prog : program :=
+  Eval vm_compute in match copied_result with OK p => p | Error _ => mkprogram [] [] "" end.
+
+Lemma copied_generates: generate copied = OK copied_prog.
+Proof. vm_compute. reflexivity. Qed.
+
+Definition with_stamp_from (l : list (ident * (ident * path))) : node_model :=
+  {| nm_name := nm_name copied; nm_period_ms := nm_period_ms copied; nm_ctrl := nm_ctrl copied;
+     nm_in_var := nm_in_var copied; nm_in_struct := nm_in_struct copied;
+     nm_inputs := nm_inputs copied; nm_out_var := nm_out_var copied;
+     nm_out_struct := nm_out_struct copied; nm_outputs := nm_outputs copied;
+     nm_msgs := nm_msgs copied; nm_topics := nm_topics copied; nm_inrels := nm_inrels copied;
+     nm_outrels := nm_outrels copied; nm_timeouts := []; nm_fallbacks := []; nm_drels := [];
+     nm_stamps := nm_stamps copied; nm_stamp_from := l |}.
+
+(** A source that is published, or not a [time] field. *)
+Example refuse_source_published:
+  refused (with_stamp_from [("landshark_control_base_velocity", ("landshark_control_base_velocity", header_stamp))])
+    "Generator: bad stamp source (rule 4.13) for topic 'landshark_control_base_velocity': 'landshark_control_base_velocity.header.stamp' must be a time field of a subscribed topic's message, for a stamped topic".
+Proof. vm_compute. reflexivity. Qed.
+
+Example refuse_source_not_time:
+  refused (with_stamp_from [("landshark_control_base_velocity", ("landshark_gps_velocity", [PField "header"]))])
+    "Generator: bad stamp source (rule 4.13) for topic 'landshark_control_base_velocity': 'landshark_gps_velocity.header' must be a time field of a subscribed topic's message, for a stamped topic".
+Proof. vm_compute. reflexivity. Qed.
+
+(** A message whose [header.stamp] is [(sec, nsec)]. *)
+Definition msg_stamp (sec nsec : Z) : mval :=
+  match mval_set (zero_mval ce TS) (path_steps (header_stamp ++ [PField "sec"])) (MVscalar (Vint sec)) with
+  | Some v => match mval_set v (path_steps (header_stamp ++ [PField "nsec"])) (MVscalar (Vint nsec)) with
+              | Some v' => v'
+              | None => MVscalar Vundef
+              end
+  | None => MVscalar Vundef
+  end.
+
+(** The left wheel's stamp (1 s, 1 ns) and the GPS's (5 s, 7 ns) for the
+    first cycle, the GPS's (6 s, 8 ns) for the second, nothing for the
+    third. *)
+Definition cctx : ros_context unit :=
+  mkctx (fun k => match k with
+                  | O => [mkarrival (tp_name left_wheel) (msg_stamp 1 1) 3;
+                          mkarrival (tp_name gps) (msg_stamp 5 7) 4]
+                  | 1%nat => [mkarrival (tp_name gps) (msg_stamp 6 8) 5]
+                  | _ => []
+                  end)
+        clock tt (fun _ _ => (tt, y_one)).
+
+Lemma cctx_arrivals_wt: arrivals_wt copied cctx.
+Proof.
+  intros k a tp H Htp _. apply mval_typecheck_iff.
+  simpl in Htp. destruct Htp as [<-|[<-|[<-|[]]]];
+    destruct k as [|[|k]]; simpl in H; repeat destruct H as [H|H]; try contradiction;
+    subst a; vm_compute; reflexivity.
+Qed.
+
+Lemma cctx_controller_wt: controller_wt copied cctx.
+Proof. intros s u. apply mval_typecheck_iff. vm_compute. reflexivity. Qed.
+
+Example copied_run:
+  match run_trace 2000 copied_prog cctx 3 with
+  | Some t => stamps_of t = [(Some 5%Z, Some 7%Z); (Some 6%Z, Some 8%Z); (Some 6%Z, Some 8%Z)]
+  | None => False
+  end.
+Proof. vm_compute. reflexivity. Qed.
+
+(** What T2 says: the [i]-th publication carries the stamp of the newest
+    GPS message up to spin [i]. *)
+Definition copied_expected (n : nat) : list (option Z * option Z) :=
+  map (fun i => (int_at (newest_by copied cctx i "landshark_gps_velocity") (header_stamp ++ [PField "sec"]),
+                 int_at (newest_by copied cctx i "landshark_gps_velocity") (header_stamp ++ [PField "nsec"])))
+      (seq 0 n).
+
+Lemma run_ok_copied:
+  forall n t, run_ok copied cctx n t -> stamps_of t = copied_expected n.
+Proof.
+  intros n t (s & evs & _ & -> & C).
+  rewrite stamps_of_app. replace (stamps_of (start_events copied)) with (@nil (option Z * option Z))
+    by (vm_compute; reflexivity).
+  simpl app. unfold copied_expected.
+  assert (G: forall k, (k <= n)%nat ->
+             stamps_of (concat (map evs (seq (n - k) k)))
+             = map (fun i => (int_at (newest_by copied cctx i "landshark_gps_velocity") (header_stamp ++ [PField "sec"]),
+                              int_at (newest_by copied cctx i "landshark_gps_velocity") (header_stamp ++ [PField "nsec"])))
+                   (seq (n - k) k)).
+  { induction k as [|k IH]; intros Hk; simpl; auto.
+    rewrite stamps_of_app.
+    destruct (C (n - S k)%nat ltac:(lia)) as (u & y & mvs & E & _ & _ & PV).
+    rewrite E. simpl published in PV.
+    inversion PV as [|tp mv tps mvs' P F]; subst. inversion F; subst.
+    destruct P as (_ & _ & ST & _).
+    destruct (ST header_stamp eq_refl) as [Gs Gn].
+    simpl. unfold int_at. simpl in Gs, Gn |- *. rewrite Gs, Gn. f_equal.
+    replace (S (n - S k)) with (n - k)%nat by lia. apply IH. lia. }
+  specialize (G n (le_n n)). rewrite Nat.sub_diag in G. exact G.
+Qed.
+
+Definition ccheck (p : program) (n : nat) : bool :=
+  match run_trace 2000 p cctx n with
+  | Some t => if list_eq_dec stamp_eq_dec (stamps_of t) (copied_expected n) then true else false
+  | None => true
+  end.
+
+Lemma crefute: forall p n, ccheck p n = false -> ~ node_ddc copied p.
+Proof.
+  intros p n H D. unfold ccheck in H.
+  destruct (run_trace 2000 p cctx n) as [t|] eqn:R; [|discriminate].
+  destruct (D unit cctx n cctx_arrivals_wt cctx_controller_wt) as [_ All].
+  rewrite (run_ok_copied n t (All t (run_trace_sound _ cctx 2000 p n t R))) in H.
+  destruct (list_eq_dec stamp_eq_dec (copied_expected n) (copied_expected n)); congruence.
+Qed.
+
+Example copied_passes: ccheck copied_prog 3 = true.
+Proof. vm_compute. reflexivity. Qed.
+
+(** (s4) the stamp copied from the wrong topic: the left wheel's. *)
+Fixpoint rename_msg (x x' : ident) (e : expr) : expr :=
+  match e with
+  | Evar y ty => Evar (if string_dec y x then x' else y) ty
+  | Efield a f ty => Efield (rename_msg x x' a) f ty
+  | _ => e
+  end.
+
+Fixpoint from_left (s : statement) : statement :=
+  match s with
+  | Ssequence a b => Ssequence (from_left a) (from_left b)
+  | Sset t e => Sset t (rename_msg "landshark_gps_velocity_msg" "landshark_left_wheel_velocity_msg" e)
+  | _ => s
+  end.
+
+Definition m_stamp_wrong_topic : program :=
+  on_output_glue (fun b => match b with Ssequence base st => Ssequence base (from_left st) | _ => b end) copied_prog.
+Theorem m_stamp_wrong_topic_refuted: ~ node_ddc copied m_stamp_wrong_topic.
+Proof. apply (crefute _ 1). vm_compute. reflexivity. Qed.

@@ -378,7 +378,7 @@ Theorem diagram_node_ddc:
               evs i = Estep u y :: publish_events (published m) mvs ++ [Esleep (nm_period_ms m)]
            /\ input_values m (Endtoend.diagram_ctx m d arrivals clock) i u
            /\ Diagram.dg_step d (s i) u = (s (S i), y)
-           /\ Forall2 (published_value m y (clock (S i))) (published m) mvs).
+           /\ Forall2 (published_value m y (clock (S i)) (newest_by m (Endtoend.diagram_ctx m d arrivals clock) i)) (published m) mvs).
 Proof. exact Endtoend.diagram_node_ddc. Qed.
 
 (** ** The semantics *)
@@ -453,7 +453,9 @@ Proof. exact Generatorproof.generate_locals_fresh. Qed.
 (** For each subscribed topic [tp] (C name [c], message type [M]): [p]
     has the global [c_msg] of type [struct M] and the function
     [c_callback], whose body copies every leaf of [*msg] into [c_msg], in
-    the order of [leaves], through temporaries of the leaves' types. *)
+    the order of [leaves], through temporaries of the leaves' types, and
+    then, if the topic is timed (rule 4.12), updates its clock
+    ([clock_stmts]: [c_time = ros_now(); c_new = 1; c_rcvd = 1;]). *)
 Theorem generate_callback:
   forall m p tp, generate m = OK p -> In tp (subscribed m) ->
   let c := tp_cname tp in
@@ -464,29 +466,53 @@ Theorem generate_callback:
   /\ fn_return f = Tvoid
   /\ fn_params f = [(msg_param, tptr (Tstruct M))]
   /\ fn_vars f = []
-  /\ fn_body f = seq_of (map (leaf_copy (prog_types p) (Evar (msg_var c) (Tstruct M))
-                                                     (deref_param msg_param M))
-                             (leaves (nm_msgs m) M))
+  /\ fn_body f = (let base := seq_of (map (leaf_copy (prog_types p) (Evar (msg_var c) (Tstruct M))
+                                                                (deref_param msg_param M))
+                                        (leaves (nm_msgs m) M)) in
+                  if is_timed m c then Ssequence base (clock_stmts c) else base)
   /\ NoDup (map fst (fn_temps f))
   /\ (forall l, In l (leaves (nm_msgs m) M) ->
-        find_assoc (temp_name (snd l)) (fn_temps f) = Some (ctype_of_prim (snd l))).
+        find_assoc (temp_name (snd l)) (fn_temps f) = Some (ctype_of_prim (snd l)))
+  /\ (is_timed m c = true -> find_assoc (temp_name Puint64) (fn_temps f) = Some (Tlong Unsigned)).
 Proof. exact Generatorproof.generate_callback. Qed.
 
 (** [input_glue] is the sequence of the copies of the input relations,
-    in model order. *)
+    in model order ([input_base]), then, if some topic is timed (rule
+    4.12), [timed_stmts]: [_now = ros_now();], the fallbacks, the derived
+    inputs, and the [c_new] flags cleared. *)
 Theorem generate_input_glue:
   forall m p, generate m = OK p ->
   exists f,
      find_def p input_glue_name = Some (Gfun (Internal f))
   /\ fn_return f = Tvoid /\ fn_params f = [] /\ fn_vars f = []
-  /\ fn_body f = seq_of (copies (map (fun ir => input_prim (make_tables m) (ir_input ir)) (nm_inrels m))
-                                (gen_list_controller_expr_input_glue m (nm_inrels m))
-                                (gen_list_global_expr_input_glue m (nm_inrels m)))
+  /\ fn_body f = match timed m with
+                 | [] => input_base m
+                 | _ :: _ => Ssequence (input_base m) (timed_stmts m (make_tables m))
+                 end
   /\ NoDup (map fst (fn_temps f))
   /\ (forall ir, In ir (nm_inrels m) ->
         find_assoc (temp_name (input_prim (make_tables m) (ir_input ir))) (fn_temps f)
-        = Some (ctype_of_prim (input_prim (make_tables m) (ir_input ir)))).
+        = Some (ctype_of_prim (input_prim (make_tables m) (ir_input ir))))
+  /\ (timed m <> [] ->
+        find_assoc now_temp (fn_temps f) = Some (Tlong Unsigned)
+     /\ find_assoc age_temp (fn_temps f) = Some (Tlong Unsigned)
+     /\ find_assoc (temp_name Pbool) (fn_temps f) = Some (ctype_of_prim Pbool)).
 Proof. exact Generatorproof.generate_input_glue. Qed.
+
+(** A node with a timed topic declares [ros_now], and each timed topic
+    has its clock: [unsigned long long c_time; unsigned char c_new,
+    c_rcvd;] (rule 4.12). *)
+Theorem generate_now_external:
+  forall m p, generate m = OK p -> timed m <> [] ->
+  find_def p ros_now_name = Some (Gfun (External EF_ros_now [] (Tlong Unsigned))).
+Proof. exact Generatorproof.generate_now_external. Qed.
+
+Theorem generate_clock_globals:
+  forall m p tp, generate m = OK p -> In tp (timed m) ->
+     find_def p (time_var (tp_cname tp)) = Some (Gvar (Tlong Unsigned))
+  /\ find_def p (new_var (tp_cname tp)) = Some (Gvar (Tint I8 Unsigned))
+  /\ find_def p (rcvd_var (tp_cname tp)) = Some (Gvar (Tint I8 Unsigned)).
+Proof. exact Generatorproof.generate_clock_globals. Qed.
 
 (** For each published topic [tp], [output_glue_c] zeroes every leaf of
     [*command], then performs the copies of the topic's output relations,
@@ -506,7 +532,7 @@ Theorem generate_output_glue:
   /\ fn_body f
      = match topic_stamp m c with
        | None => output_base m tp
-       | Some sp => Ssequence (output_base m tp) (stamp_stmts m M sp)
+       | Some sp => Ssequence (output_base m tp) (stamp_stmts m (make_tables m) c M sp)
        end
   /\ NoDup (map fst (fn_temps f))
   /\ (forall o, In o lor ->
@@ -592,15 +618,19 @@ Theorem generate_topic_externals:
 Proof. exact Generatorproof.generate_topic_externals. Qed.
 
 (** Which generated function assigns what: a callback assigns only its
-    topic's global message, [input_glue] only fields of [Controller_U],
-    [output_glue_c] only through its pointer parameter [command]; [loop]
-    and [main] assign nothing. *)
+    topic's global message and, if the topic is timed, its clock;
+    [input_glue] only fields of [Controller_U] and the [c_new] flags of
+    the timed topics; [output_glue_c] only through its pointer parameter
+    [command]; [loop] and [main] assign nothing. *)
 Theorem generate_assigned_places:
   forall m p id f, generate m = OK p -> find_def p id = Some (Gfun (Internal f)) ->
   forall pl, In pl (assigned_places (fn_body f)) ->
      (exists tp path, In tp (subscribed m) /\ id = callback_name (tp_cname tp)
                       /\ pl = Some (Rvar (msg_var (tp_cname tp)), path))
+  \/ (exists tp x, In tp (timed m) /\ id = callback_name (tp_cname tp)
+                   /\ In x (clock_names tp) /\ pl = Some (Rvar x, []))
   \/ (exists x, id = input_glue_name /\ pl = Some (Rvar (nm_in_var m), [PField x]))
+  \/ (exists tp, In tp (timed m) /\ id = input_glue_name /\ pl = Some (Rvar (new_var (tp_cname tp)), []))
   \/ (exists tp path, In tp (published m) /\ id = output_glue_name (tp_cname tp)
                       /\ pl = Some (Rderef command_param, path)).
 Proof. exact Generatorproof.generate_assigned_places. Qed.

@@ -332,9 +332,11 @@ class Topic(TopicNames):
     pos: Pos = field(default=_NOPOS, compare=False, repr=False)
     #: the topic's ``timeout_ms`` (rule 4.12), ``None`` when it has none
     timeout_ms: int | None = None
-    #: ``stamp: now`` (rule 4.13): a published message carries the cycle's
-    #: ROS time in ``header.stamp``
+    #: ``stamp`` (rule 4.13): a published message carries the cycle's ROS
+    #: time in ``header.stamp`` (``stamp: now``), or the stamp of the newest
+    #: message of the subscribed topic named ``stamp_from``
     stamped: bool = False
+    stamp_from: str | None = None
     #: the topic's ``on_timeout`` policy, ``'hold'`` or ``'zero'`` (the
     #: default), when it has a timeout; ``None`` otherwise
     on_timeout: str | None = None
@@ -502,6 +504,15 @@ class NodeModel:
         (rule 4.13), in topic order (``NodeModel.nm_stamps``); the path is
         always ``header.stamp``."""
         return tuple((t.c_name, ("header", "stamp")) for t in self.topics if t.stamped)
+
+    @property
+    def stamp_from(self) -> tuple[tuple[str, tuple[str, tuple[str, ...]]], ...]:
+        """``(topic C name, (source topic C name, path of its stamp))`` of
+        each topic whose stamp is copied from a subscribed topic (rule
+        4.13), in topic order (``NodeModel.nm_stamp_from``)."""
+        by_name = {t.name: t for t in self.topics}
+        return tuple((t.c_name, (by_name[t.stamp_from].c_name, ("header", "stamp")))
+                     for t in self.topics if t.stamped and t.stamp_from is not None)
 
     def derived_relation(self, input_field: str) -> DerivedRelation:
         """The derived relation feeding controller input ``input_field``."""

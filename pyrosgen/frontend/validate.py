@@ -69,12 +69,18 @@ FIXED_C_NAMES = (
     "ros_now",
     "ros_time_sec",
     "ros_time_nsec",
+    # temporaries: loop's answer of ros_ok; input_glue's cycle time and a
+    # timed topic's age (rule 4.12)
+    "_ok",
+    "_now",
+    "_age",
 )
 
 #: Local names of the generated functions (parameters of the callbacks and
 #: output glues).  Coq's ``generate`` requires every global name to differ
 #: from every local one, so that no local hides a global.  (The temporaries
-#: ``_ok`` and ``_t_<type>`` start with '_', which no global may.)
+#: ``_t_<type>``, like those of :data:`FIXED_C_NAMES`, start with '_',
+#: which no global may.)
 LOCAL_C_NAMES = ("msg", "command")
 
 _TOP_REQUIRED = ("node", "controller", "topics", "relations")
@@ -97,7 +103,8 @@ class _TopicDecl:
     type_ok: bool = False  # message type resolved and carries fields
     timeout_ms: int | None = None  # a valid timeout_ms (rule 4.12)
     policy: str = "zero"           # its on_timeout: hold or zero
-    stamped: bool = False          # a valid `stamp: now` (rule 4.13)
+    stamped: bool = False          # a valid `stamp` (rule 4.13)
+    stamp_from: str | None = None  # `stamp: {from: topic}`: the source topic's name
 
 
 @dataclass
@@ -580,20 +587,63 @@ _INPUT_KEYS = ("topic", "field", "input", "on_timeout", "derived")
 STAMP_FIELD = ("header", "stamp")
 
 
+def _has_stamp(registry: MsgRegistry, msg_type: str) -> bool:
+    """Whether messages of ``msg_type`` have a ``header.stamp`` of type ``time``."""
+    raw = registry.raw(msg_type)
+    header = raw.field("header") if raw is not None else None
+    hraw = registry.raw(header.base) if header is not None and header.card == "scalar" else None
+    stamp = hraw.field("stamp") if hraw is not None else None
+    return stamp is not None and stamp.card == "scalar" and stamp.base == "time"
+
+
+def _stamp_source(ck: _Checker, d: _TopicDecl, snode: YMap, what: str,
+                  decls: list[_TopicDecl], registry: MsgRegistry) -> tuple[bool, str | None]:
+    """``stamp: {from: <topic>}``: the named topic is subscribed by the node
+    and its message has a ``header.stamp`` of type ``time``.  Returns
+    whether it passed and the source topic's name."""
+    rule = "4.13"
+    ck.keys(snode, what, ("from",))
+    fnode = snode.get("from")
+    name = ck.string(fnode, f"{what}.from")
+    if name is None:
+        return False, None
+    by_name = {e.name: e for e in decls if e.name is not None}
+    src = by_name.get(name)
+    if src is None:
+        ck.err_rule(rule, fnode, f"{what}.from: {show(name)} is not a topic of the node"
+                                 f"{did_you_mean(name, list(by_name))}")
+        return False, None
+    if src.direction is not None and src.direction != "subscribe":
+        ck.err_rule(rule, fnode, f"{what}.from: topic {show(name)} is published by the node; "
+                                 "a stamp is copied from a subscribed topic")
+        return False, None
+    if src.usable and src.type_ok and src.msg_type is not None and not _has_stamp(registry, src.msg_type):
+        ck.err_rule(rule, fnode, f"{what}.from: message type {src.msg_type} of topic {show(name)} has no "
+                                 "header.stamp of type time to copy")
+        return False, None
+    return src.usable and src.type_ok, name
+
+
 def check_stamps(ck: _Checker, decls: list[_TopicDecl], out_rels: list[_Rel], registry: MsgRegistry) -> None:
-    """Rule 4.13: ``stamp: now`` on a published topic whose message has a
-    ``header.stamp`` of type ``time``, which no output relation writes.
-    Sets ``stamped`` on the topics that pass."""
+    """Rule 4.13: ``stamp: now`` or ``stamp: {from: <subscribed topic>}``
+    on a published topic whose message has a ``header.stamp`` of type
+    ``time``, which no output relation writes.  Sets ``stamped`` (and
+    ``stamp_from``) on the topics that pass."""
     rule = "4.13"
     for d in decls:
         snode = d.node.get("stamp")
         if snode is None or isinstance(snode, YBad):
             continue
         what = f"{d.what}.stamp"
-        if not (isinstance(snode, YScalar) and snode.kind == "str" and snode.value == "now"):
+        source = None
+        if isinstance(snode, YMap):
+            ok_src, source = _stamp_source(ck, d, snode, what, decls, registry)
+            if not ok_src:
+                continue
+        elif not (isinstance(snode, YScalar) and snode.kind == "str" and snode.value == "now"):
             hint = (did_you_mean(snode.value, ("now",)) if isinstance(snode, YScalar) and snode.kind == "str" else "")
-            ck.err_rule(rule, snode, f"{what} must be 'now' (the cycle's ROS time), got {snode.describe()}{hint}; "
-                                     "copying another topic's stamp is not supported yet")
+            ck.err_rule(rule, snode, f"{what} must be 'now' (the cycle's ROS time) or {{from: <topic>}} "
+                                     f"(the stamp of a subscribed topic's newest message), got {snode.describe()}{hint}")
             continue
         if d.direction is not None and d.direction != "publish":
             ck.err_rule(rule, snode, f"{what}: topic {show(d.name)} is subscribed by the node; "
@@ -601,11 +651,7 @@ def check_stamps(ck: _Checker, decls: list[_TopicDecl], out_rels: list[_Rel], re
             continue
         if not (d.usable and d.type_ok and d.msg_type is not None):
             continue
-        raw = registry.raw(d.msg_type)
-        header = raw.field("header") if raw is not None else None
-        hraw = registry.raw(header.base) if header is not None and header.card == "scalar" else None
-        stamp = hraw.field("stamp") if hraw is not None else None
-        if stamp is None or stamp.card != "scalar" or stamp.base != "time":
+        if not _has_stamp(registry, d.msg_type):
             ck.err_rule(rule, snode, f"{what}: message type {d.msg_type} of topic {show(d.name)} has no "
                                      "header.stamp of type time to stamp")
             continue
@@ -613,9 +659,10 @@ def check_stamps(ck: _Checker, decls: list[_TopicDecl], out_rels: list[_Rel], re
         for r in out_rels:
             if r.topic is d and r.path is not None and tuple(r.path.steps[:2]) == STAMP_FIELD:
                 ck.err_rule(rule, r.path_node, f"field {show(str(r.path))} of topic {show(d.name)} is written "
-                                               "by the stamp (stamp: now); an output relation may not write it too")
+                                               "by the stamp; an output relation may not write it too")
                 ok = False
         d.stamped = ok
+        d.stamp_from = source if ok else None
 
 
 def check_freshness(ck: _Checker, decls: list[_TopicDecl], in_rels: list[_Rel],
@@ -874,6 +921,7 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
             timeout_ms=d.timeout_ms,
             on_timeout=d.policy if d.timeout_ms is not None else None,
             stamped=d.stamped,
+            stamp_from=d.stamp_from,
         )
     controller = Controller(
         name=ctrl_name,
@@ -942,7 +990,7 @@ def check_c_names(ck: _Checker, decls, ctrl_name, cm, uvar, yvar, registry: MsgR
         seen[name] = origin
 
     for n in FIXED_C_NAMES:
-        seen[n] = "the generated glue"
+        seen[n] = "the generated glue (a temporary)" if n.startswith("_") else "the generated glue"
     for n in LOCAL_C_NAMES:
         seen[n] = "the generated glue (a parameter name)"
     if ctrl_name is not None:

@@ -304,6 +304,7 @@ class CoqNodeModel:
     fallbacks: tuple[tuple[str, str, str], ...] = ()  #: (input, val, comment)
     drels: tuple[tuple[str, str, str, str], ...] = ()  #: (topic C name, kind, input, comment)
     stamps: tuple[tuple[str, str], ...] = ()          #: (topic C name, path), rule 4.13
+    stamp_from: tuple[tuple[str, str, str], ...] = ()  #: (topic C name, source C name, path), rule 4.13
 
 
 def _msgdef(m: MsgType) -> CoqMsgdef:
@@ -387,6 +388,8 @@ def emit_model(model: NodeModel) -> CoqNodeModel:
             for r in model.derived_relations
         ),
         stamps=tuple((coq_ident(c_name, "topic C name"), coq_path(p)) for c_name, p in model.stamps),
+        stamp_from=tuple((coq_ident(c_name, "topic C name"), coq_ident(src, "topic C name"), coq_path(p))
+                         for c_name, (src, p) in model.stamp_from),
     )
 
 

@@ -82,6 +82,7 @@ def model_text(model: NodeModel) -> str:
     lines += [f"derived_input {r.topic.c_name} {r.kind} {r.input_field}" for r in model.derived_relations]
     # rule 4.13: stamped topics (topic order)
     lines += [f"stamp {c_name} {_path(path)}" for c_name, path in model.stamps]
+    lines += [f"stamp_from {c_name} {src} {_path(path)}" for c_name, (src, path) in model.stamp_from]
     return "".join(line + "\n" for line in lines)
 
 
@@ -172,6 +173,8 @@ class ProvedModel:
     derived_inputs: list[tuple[str, str, str]] = field(default_factory=list)
     #: (topic C name, path of the stamp), rule 4.13
     stamps: list[tuple[str, str]] = field(default_factory=list)
+    #: (topic C name, source topic C name, path of the source's stamp)
+    stamp_from: list[tuple[str, str, str]] = field(default_factory=list)
 
     def topic(self, c_name: str) -> ProvedTopic:
         for t in self.topics:
@@ -193,7 +196,7 @@ def parse_model_text(text: str, *, origin: str = "the proved model text") -> Pro
     pm = ProvedModel()
     arity = {"node": 2, "period_ms": 2, "controller": 2, "inputs": 3, "input": 3, "outputs": 3,
              "output": 3, "message": 2, "topic": 6, "input_relation": 4, "output_relation": 4,
-             "timeout": 3, "fallback": 3, "derived_input": 4, "stamp": 3}
+             "timeout": 3, "fallback": 3, "derived_input": 4, "stamp": 3, "stamp_from": 4}
     message: list[tuple[str, str]] | None = None
     seen: set[str] = set()
     for n, line in enumerate(lines[1:], start=2):
@@ -238,6 +241,8 @@ def parse_model_text(text: str, *, origin: str = "the proved model text") -> Pro
                 pm.fallbacks.append((parts[1], parts[2]))
             elif kw == "stamp":
                 pm.stamps.append((parts[1], parts[2]))
+            elif kw == "stamp_from":
+                pm.stamp_from.append((parts[1], parts[2], parts[3]))
             else:
                 if parts[2] not in DERIVED_KINDS:
                     raise ValueError(parts[2])

@@ -22,6 +22,25 @@ For each generated function (``pyrosgen/templates/wp_contracts.c.j2``):
   every leaf named by an output relation equals the related field of
   ``Controller_Y`` and every other leaf is zero.
 
+Timed topics (rule 4.12).  ``ros_now`` gets the contract ``assigns
+\\nothing; ensures \\result == rosgen_wp_clock;``: the time is the value of
+a global the glue never writes, so that the contracts can name the time
+it reads.  The callback of a timed topic ``c`` also assigns ``c_time``,
+``c_new`` and ``c_rcvd`` and ensures ``c_time == \\old(rosgen_wp_clock)``
+(the receipt time), ``c_new == 1`` and ``c_rcvd == 1``.  ``input_glue``
+also assigns every ``c_new`` and ensures, with ``AGE(c)`` the rule's age
+in ns (``\\old(rosgen_wp_clock) - \\old(c_time)`` if ``\\old(c_rcvd)`` and
+the clock did not go back, 0 if it did, 2^64 - 1 if nothing arrived): an
+input with a fallback equals the fallback if ``T * 10^6 < AGE(c)``, else
+the message's field; ``is_new`` and ``received`` inputs equal
+``\\old(c_new)`` and ``\\old(c_rcvd)``; an ``age_ms`` input equals
+``AGE(c) / 10^6`` if ``AGE(c) <= 4294967295999999``, else 4294967295; and
+``c_new == 0``.  A float fallback is compared with a ``static const``
+global initialised with its exact (hexadecimal) C literal, which WP reads
+(constant globals' initialisers).  WP's simplifier reads float constants
+as real numbers, so to it a fallback ``-0.0`` is ``+0.0``: the sign of a
+zero fallback is left to the differential tests, which compare bits.
+
 Equality of leaves.  ACSL's ``==`` on floating-point values compares their
 *real* values (WP translates ``a == b`` to ``of_f64(a) = of_f64(b)``): it
 identifies +0.0 with -0.0 and says nothing about NaN, so it is too weak for
@@ -161,12 +180,55 @@ def _zero(prim: str) -> str:
     return {"float64": "(double)0", "float32": "(float)0"}.get(prim, "0")
 
 
+#: The global whose value ``ros_now`` returns in the contracts (rule 4.12).
+CLOCK = "rosgen_wp_clock"
+#: The largest ``unsigned long long``: the age of a topic without message.
+_NO_AGE = (1 << 64) - 1
+#: The largest age in ns whose milliseconds fit in a ``uint32``.
+_MAX_AGE = 4294967295999999
+
+
 def _globals(model: NodeModel) -> list[tuple[str, str]]:
-    """(declaration, name) of every global of the glue."""
+    """(declaration, name) of every global of the glue (and, with a timed
+    topic, of :data:`CLOCK`)."""
     c = model.controller
     out = [(f"struct {c.inputs.struct_name} {c.inputs.var_name}", c.inputs.var_name),
            (f"struct {c.outputs.struct_name} {c.outputs.var_name}", c.outputs.var_name)]
     out += [(f"struct {t.msg_struct} {t.msg_var}", t.msg_var) for t in model.subscribed]
+    for t in model.timed_topics:
+        out += [(f"unsigned long long {t.time_var}", t.time_var), (f"unsigned char {t.new_var}", t.new_var),
+                (f"unsigned char {t.rcvd_var}", t.rcvd_var)]
+    if model.timed_topics:
+        out.append((f"unsigned long long {CLOCK}", CLOCK))
+    return out
+
+
+def _age(t) -> str:
+    """The age in ns of timed topic ``t`` at the time ``input_glue`` reads
+    (a term of mathematical integers over the state before the call)."""
+    now, time_ = f"\\old({CLOCK})", f"\\old({t.time_var})"
+    return f"(\\old({t.rcvd_var}) != 0 ? ({time_} <= {now} ? {now} - {time_} : 0) : {_NO_AGE})"
+
+
+def _c_float(prim: str, bits: int) -> str:
+    """The exact C literal of a float fallback (hexadecimal)."""
+    import struct
+
+    if prim == "float32":
+        x = struct.unpack("<f", struct.pack("<I", bits))[0]
+        return x.hex() + "f"
+    return struct.unpack("<d", struct.pack("<Q", bits))[0].hex()
+
+
+def fallback_constants(model: NodeModel) -> list[tuple[str, str]]:
+    """(declaration with its initialiser, name) of the ``static const``
+    globals holding the float fallbacks, one per input."""
+    out = []
+    for r in model.input_relations:
+        fb = r.fallback
+        if fb is not None and r.path.prim in _BOXES:
+            name = f"rosgen_wp_fallback_{r.input_field}"
+            out.append((f"static const {_BOXES[r.path.prim].c_type} {name} = {_c_float(r.path.prim, fb.n)}", name))
     return out
 
 
@@ -174,24 +236,47 @@ def contracts(model: NodeModel) -> list[Contract]:
     """The contracts of the callbacks, ``input_glue`` and the output glues,
     in the order of the glue."""
     globs = [name for _, name in _globals(model)] + [b.var for b in _BOXES.values()]
+    timed = {t.name for t in model.timed_topics}
     out: list[Contract] = []
     for t in model.subscribed:
         sep = tuple(f"&{g}" for g in globs)
         ens = tuple(_same(p.prim, p.c_access(t.msg_var), f"\\old({p.c_access('msg', arrow=True)})")
                     for p in model.leaf_paths(t.msg_type))
+        clock = ((f"{t.time_var} == \\old({CLOCK})", f"{t.new_var} == 1", f"{t.rcvd_var} == 1")
+                 if t.name in timed else ())
         out.append(Contract(
             name=t.callback,
             proto=f"void {t.callback}(struct {t.msg_struct} *msg)",
             requires=("\\valid_read(msg)", f"\\separated(msg, {', '.join(sep)})",
                       *(f"\\valid_read(&{p.c_access('msg', arrow=True)})" for p in model.leaf_paths(t.msg_type))),
-            assigns=(t.msg_var,),
-            ensures=ens, pointer="msg", separated=sep))
+            assigns=(t.msg_var, *((t.time_var, t.new_var, t.rcvd_var) if t.name in timed else ())),
+            ensures=ens + clock, pointer="msg", separated=sep))
     u = model.controller.inputs
     ens, assigned = [], []
     for r in model.input_relations:
         dst = f"{u.var_name}.{r.input_field}"
         assigned.append(dst)
-        ens.append(_same(r.path.prim, dst, f"\\old({r.path.c_access(r.topic.msg_var)})"))
+        same = _same(r.path.prim, dst, f"\\old({r.path.c_access(r.topic.msg_var)})")
+        fb = r.fallback
+        if fb is not None and r.topic.timeout_ms is not None:
+            value = (f"rosgen_wp_fallback_{r.input_field}" if r.path.prim in _BOXES else str(fb.n))
+            ens.append(f"({r.topic.timeout_ms * 1000000} < {_age(r.topic)} ? {_same(r.path.prim, dst, value)} "
+                       f": {same})")
+        else:
+            ens.append(same)
+    for r in model.derived_relations:
+        dst = f"{u.var_name}.{r.input_field}"
+        assigned.append(dst)
+        if r.kind == "is_new":
+            ens.append(f"{dst} == \\old({r.topic.new_var})")
+        elif r.kind == "received":
+            ens.append(f"{dst} == \\old({r.topic.rcvd_var})")
+        else:
+            a = _age(r.topic)
+            ens.append(f"{dst} == ({a} <= {_MAX_AGE} ? {a} / 1000000 : 4294967295)")
+    for t in model.timed_topics:
+        assigned.append(t.new_var)
+        ens.append(f"{t.new_var} == 0")
     out.append(Contract(name="input_glue", proto="void input_glue(void)", requires=(),
                         assigns=tuple(assigned) or ("\\nothing",), ensures=tuple(ens)))
     y = model.controller.outputs
@@ -219,7 +304,8 @@ def render_wrapper(model: NodeModel, glue_name: str, header_name: str,
     cs = contracts(model) if contract_list is None else contract_list
     return render("wp_contracts.c.j2",
         template=WRAPPER_TEMPLATE, source=source_label(Path(model.source).name), header=header_name,
-        glue=glue_name, externs=_globals(model), boxes=list(_BOXES.values()), functions=cs)
+        glue=glue_name, externs=_globals(model), boxes=list(_BOXES.values()), functions=cs,
+        clock=CLOCK if model.timed_topics else None, constants=fallback_constants(model))
 
 
 # ---------------------------------------------------------------------------

@@ -30,6 +30,7 @@ import hashlib
 import json
 import re
 import shutil
+import struct
 import subprocess
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -178,13 +179,157 @@ def _stamps(pm: ProvedModel, c_text: str) -> list[dict]:
     lines = c_text.splitlines()
     spans = _function_spans(c_text)
     out = []
+    sources = {c: (src, p) for c, src, p in pm.stamp_from}
     for topic_c, path in pm.stamps:
         t = pm.topic(topic_c)
         span = _span(spans, t.output_glue)
+        src = sources.get(topic_c)
         out.append({"topic": t.name, "path": path, "function": t.output_glue,
+                    "source": pm.topic(src[0]).name if src else None, "source_path": src[1] if src else None,
                     "lines": (_copy_lines(lines, span, f"(*command).{path}.sec")
                               + _copy_lines(lines, span, f"(*command).{path}.nsec"))})
     return out
+
+
+def _block(lines: list[str], start: int) -> list[tuple[int, str]]:
+    """The statement starting at line ``start`` (1-based) through the line
+    that closes its braces (an ``if`` with its ``else``), numbered."""
+    out, depth, n = [], 0, start
+    while n <= len(lines):
+        text = lines[n - 1].strip()
+        out.append((n, text))
+        depth += text.count("{") - text.count("}")
+        if depth <= 0:
+            return out
+        n += 1
+    raise CertificateError(f"certificate: unbalanced braces from line {start}")
+
+
+def _value_text(prim: str, val: str) -> str:
+    """A fallback as the proved model prints it (``DiagramText.val_text``:
+    decimal integers, the bits of a float), for a reader."""
+    if prim in ("float32", "float64") and val.startswith("0x"):
+        fmt, ifmt = ("<f", "<I") if prim == "float32" else ("<d", "<Q")
+        x = struct.unpack(fmt, struct.pack(ifmt, int(val, 16)))[0]
+        return f"{x!r} (bits {val})"
+    if prim == "bool":
+        return {"0": "false", "1": "true"}.get(val, val)
+    return val
+
+
+def _indented(lines: list[str], numbered: list[tuple[int, str]]) -> list[tuple[int, str]]:
+    """The numbered lines as printed, less the function body's indentation."""
+    return [(n, lines[n - 1][4:] if lines[n - 1].startswith("    ") else lines[n - 1]) for n, _ in numbered]
+
+
+#: The largest ``unsigned long long``: ``_age`` of a topic with no message yet.
+_NO_AGE = "18446744073709551615ULL"
+
+
+def _freshness(pm: ProvedModel, c_text: str) -> dict:
+    """The freshness section (rule 4.12), empty without timed topics:
+    ``now``, the line of ``input_glue`` that reads the cycle's time (none
+    when no age is read), and ``topics``, each timed topic
+    (a timeout or a derived input), in topic order, with its timeout, its
+    inputs' fallbacks (or ``hold``), its derived inputs and the C lines
+    that implement them: the clock update at the end of its callback, its
+    fallbacks and derived inputs in ``input_glue`` (a fallback or an
+    ``age_ms`` first computes its topic's age into ``_age``), and the
+    reset of its ``_new`` flag.  A line the proved model calls for and the
+    printed C lacks is a :class:`CertificateError`."""
+    lines = c_text.splitlines()
+    spans = _function_spans(c_text)
+    timeouts = dict(pm.timeouts)
+    fallbacks = dict(pm.fallbacks)
+    in_prim = dict(pm.inputs)
+    derived_topics = {c for c, _, _ in pm.derived_inputs}
+    timed = [t for t in pm.topics if t.c_name in timeouts or t.c_name in derived_topics]
+    if not timed:
+        return {}
+    first, last = _span(spans, "input_glue")
+    glue = [(n, lines[n - 1].strip()) for n in range(first, last + 1)]
+    u = pm.inputs_var
+
+    def find(text: str, lo: int = first, hi: int = last, what: str = "") -> int:
+        for n, t in glue:
+            if lo <= n <= hi and t == text:
+                return n
+        raise CertificateError(f"certificate: input_glue has no line {text!r}" + (f" ({what})" if what else ""),
+                               [f"  lines {lo}-{hi} of the printed C"])
+
+    def age_before(c: str, end: int, name: str) -> list[tuple[int, str]]:
+        """The age computation of topic ``c`` that ends at line ``end``
+        (each fallback and ``age_ms`` computes its topic's age just before
+        it reads ``_age``)."""
+        for a in range(end, first - 1, -1):
+            if lines[a - 1].strip() == f"if ({c}_rcvd) {{":
+                block = _block(lines, a)
+                if block[-1][0] == end and block[-2][1] == f"_age = {_NO_AGE};":
+                    return block
+                break
+        raise CertificateError(f"certificate: the age of {name} is not computed as proved before line {end + 1}")
+
+    age_starts: list[int] = []
+    out = []
+    for t in timed:
+        c = t.c_name
+        cb = _span(spans, t.callback)
+        n_time = next((n for n in range(cb[0], cb[1] + 1) if lines[n - 1].strip() == f"{c}_time = _t_ullong;"),
+                      None)
+        clock = [(n, lines[n - 1].strip()) for n in range(n_time - 1, n_time + 3)] if n_time else []
+        if [x for _, x in clock] != ["_t_ullong = ros_now();", f"{c}_time = _t_ullong;", f"{c}_new = 1;",
+                                     f"{c}_rcvd = 1;"]:
+            raise CertificateError(f"certificate: the callback {t.callback} does not update the clock of {t.name}")
+        rels = [(path, fld) for tc, path, fld in pm.input_relations if tc == c]
+        drels = [(kind, fld) for tc, kind, fld in pm.derived_inputs if tc == c]
+        aged = False
+        fb_rows, fb_lines, hold = [], [], []
+        for path, fld in rels:
+            dst = f"{u}.{fld}"
+            if fld in fallbacks and c in timeouts:
+                n = next((n for n, text in glue if text.startswith(dst + " = ")
+                          and lines[n - 2].strip() == f"if (({timeouts[c] * 1000000}ULL < _age)) {{"), None)
+                if n is None:
+                    raise CertificateError(f"certificate: input_glue has no fallback for {dst}",
+                                           [f"  lines {first}-{last} of the printed C"])
+                age = age_before(c, n - 2, t.name)
+                age_starts.append(age[0][0])
+                aged = True
+                fb_rows.append({"dst": dst, "src": f"{t.name} {path}", "type": in_prim.get(fld, "?"),
+                                "value": _value_text(in_prim.get(fld, "?"), fallbacks[fld])})
+                fb_lines += age + _block(lines, n - 1)
+            else:
+                hold.append({"dst": dst, "src": f"{t.name} {path}", "type": in_prim.get(fld, "?")})
+        d_rows, d_lines = [], []
+        for kind, fld in drels:
+            dst = f"{u}.{fld}"
+            d_rows.append({"dst": dst, "kind": kind, "type": in_prim.get(fld, "?")})
+            if kind == "age_ms":
+                n = find(f"{dst} = (unsigned int)(_age / 1000000ULL);", first, last, f"{t.name} age_ms")
+                age = age_before(c, n - 2, t.name)
+                age_starts.append(age[0][0])
+                aged = True
+                d_lines += age + _block(lines, n - 1)
+            else:
+                flag = f"{c}_new" if kind == "is_new" else f"{c}_rcvd"
+                n = find(f"{dst} = _t_uchar;", first, last, f"{t.name} {kind}")
+                if lines[n - 2].strip() != f"_t_uchar = {flag};":
+                    raise CertificateError(f"certificate: {dst} is not copied from {flag}")
+                d_lines += [(n - 1, lines[n - 2].strip()), (n, lines[n - 1].strip())]
+        reset = find(f"{c}_new = 0;", what=f"the reset of {t.name}'s flag")
+        parts = (["the fallbacks, each after its topic's age"] if fb_lines else []) \
+            + (["the derived inputs" + (" (age_ms after the age)" if aged and d_lines else "")] if d_lines else []) \
+            + [f"the reset of `{c}_new`, after every timed topic's"]
+        out.append({
+            "topic": t.name, "c_name": c, "timeout": timeouts.get(c), "callback": t.callback,
+            "fallbacks": fb_rows, "hold": hold, "derived": d_rows, "parts": ", ".join(parts[:-1]) +
+            (" and " if len(parts) > 1 else "") + parts[-1], "clock": _indented(lines, clock),
+            "glue": _indented(lines, fb_lines + d_lines + [(reset, "")]),
+        })
+    now = [(n, text) for n, text in glue if text == "_now = ros_now();"]
+    if len(now) != 1 or (age_starts and now[0][0] > min(age_starts)):
+        raise CertificateError("certificate: input_glue does not read the cycle's time once, before the ages")
+    return {"now": _indented(lines, now), "topics": out}
 
 
 def _relations(pm: ProvedModel, c_text: str) -> tuple[list[dict], list[dict]]:
@@ -228,6 +373,7 @@ def write_certificate(rec: ProofRecord, folder: Path, files: list[str]) -> list[
     glue_text = (folder / rec.glue_c).read_text(encoding="utf-8")
     inputs, outputs = _relations(pm, glue_text)
     stamps = _stamps(pm, glue_text)
+    freshness = _freshness(pm, glue_text)
     hashes = _hashes(folder, files)
     built = any(name.startswith("bin/") for name, _ in hashes)
     # the proved diagram as Coq printed it (names checked by the front end
@@ -237,7 +383,7 @@ def write_certificate(rec: ProofRecord, folder: Path, files: list[str]) -> list[
     text = render(
         "CERTIFICATE.md.j2",
         rec=rec, pm=pm, md=md_code, source=md_code(source_label(rec.source_name)), diagram=diagram,
-        inputs=inputs, outputs=outputs, stamps=stamps, hashes=hashes, built=built,
+        inputs=inputs, outputs=outputs, stamps=stamps, freshness=freshness, hashes=hashes, built=built,
         manifest=manifest_name, sums=sums_name, certificate=cert_name,
     )
     manifest = {

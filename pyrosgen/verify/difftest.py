@@ -19,10 +19,14 @@ handed to the step function, every leaf of every published message
 (floats as IEEE bit patterns, NaN payloads included), the cycle marks.
 
 A schedule (:class:`Schedule`) gives, for each cycle, the messages that
-arrive before the cycle's ``ros_spinOnce`` (topic and leaves, in arrival
-order: also topics nobody subscribes to, and bursts longer than queues)
-and the controller's outputs for the cycle (a table: the controller does no
-arithmetic, so any difference is the glue's or the semantics').
+arrive before the cycle's ``ros_spinOnce`` (topic, receipt time and
+leaves, in arrival order: also topics nobody subscribes to, and bursts
+longer than queues), the ROS time of the cycle (what ``ros_now`` answers
+once the spin returned: ``ctx_time (S k)``), and the controller's outputs
+for the cycle (a table: the controller does no arithmetic, so any
+difference is the glue's or the semantics').  The time before the first
+spin (``ctx_time 0``, read by ``ros_init``) is the schedule's own.  Times
+are nanoseconds in ``[0, 2^64)``, in any order: a clock may go back.
 """
 
 from __future__ import annotations
@@ -51,6 +55,7 @@ __all__ = [
     "SANITIZE",
     "DifftestError",
     "leaf_token",
+    "MAX_TIME",
 ]
 
 #: The warnings the glue and the harness are compiled with.
@@ -267,27 +272,47 @@ def run_side(exe: str | Path, schedule_text: str, timeout: float = 120) -> str:
 # ---------------------------------------------------------------------------
 # Schedules
 
+#: Times are ROS times in nanoseconds, as ``ros_now`` returns them.
+MAX_TIME = (1 << 64) - 1
+
+
 @dataclass(frozen=True)
 class Message:
     """A message arriving on ``topic``: its leaves as schedule tokens
-    (integers in decimal, floats as ``0x`` bit patterns)."""
+    (integers in decimal, floats as ``0x`` bit patterns) and its receipt
+    time (``Environment.ar_time``, what ``ros_now`` answers in its
+    callback)."""
 
     topic: str
     leaves: tuple[str, ...]
+    time: int = 0
 
 
 @dataclass(frozen=True)
 class Schedule:
     """Per cycle: the messages arriving before its spin, in order, and the
-    controller's outputs (leaf tokens)."""
+    controller's outputs (leaf tokens); ``times``: the time of each cycle,
+    read when its spin returned (all 0 when empty); ``t0``: the time
+    before the first spin."""
 
     cycles: tuple[tuple[tuple[Message, ...], tuple[str, ...]], ...]
+    times: tuple[int, ...] = ()
+    t0: int = 0
+
+    def cycle_time(self, k: int) -> int:
+        """The time of cycle ``k``: ``ctx_time (S k)``."""
+        return self.times[k] if self.times else 0
 
     def text(self) -> str:
-        lines = [f"schedule {len(self.cycles)}"]
+        if self.times and len(self.times) != len(self.cycles):
+            raise ValueError("a schedule needs one time per cycle")
+        for t in (self.t0, *self.times, *(m.time for msgs, _ in self.cycles for m in msgs)):
+            if not 0 <= t <= MAX_TIME:
+                raise ValueError(f"time {t} out of [0, 2^64)")
+        lines = [f"schedule {len(self.cycles)} {self.t0}"]
         for k, (msgs, y) in enumerate(self.cycles):
-            lines.append(f"cycle {k} {len(msgs)}")
-            lines += [f"msg {m.topic} {len(m.leaves)} {' '.join(m.leaves)}".rstrip() for m in msgs]
+            lines.append(f"cycle {k} {len(msgs)} {self.cycle_time(k)}")
+            lines += [f"msg {m.topic} {m.time} {len(m.leaves)} {' '.join(m.leaves)}".rstrip() for m in msgs]
             lines.append(f"y {len(y)} {' '.join(y)}".rstrip())
         return "\n".join(lines) + "\n"
 

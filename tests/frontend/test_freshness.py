@@ -17,10 +17,11 @@ import pytest
 
 from pyrosgen import InvalidNodeModel, cli, load_model
 from pyrosgen.frontend.model import DerivedRelation, InputRelation, Scalar
+from pyrosgen.frontend.validate import FIXED_C_NAMES, LOCAL_C_NAMES
 from pyrosgen.proof.coqmodel import EmitError, coq_fallback, emit_model, render_node_file
 from pyrosgen.proof.modeltext import MalformedModelText, model_text, parse_model_text
 
-from support.frontend import LANDSHARK
+from support.frontend import LANDSHARK, REPO
 
 # --------------------------------------------------------------------------
 # The design's example, with all features: a topic timeout with the zero
@@ -494,7 +495,7 @@ def test_check_summary(tmp_path, capsys):
     assert cli.main(["check", str(path)]) == 0
     out, _ = capsys.readouterr()
     assert out == (f"{path}: ok: node velocity_guard, 3 topics, 3 input relations, 1 output relation; "
-                   "freshness: 1 timed topic, 3 derived inputs (checked; not generated yet)\n")
+                   "freshness: 1 timed topic, 3 derived inputs\n")
 
 
 # --------------------------------------------------------------------------
@@ -549,6 +550,33 @@ def test_ros_now_is_reserved(tmp_path):
     assert only(tmp_path, text) == (
         *at(text, "ros_now"), "the C name 'ros_now' derived from controller.inputs.name collides with the one "
         "derived from the generated glue", "4.9")
+
+
+@pytest.mark.parametrize("name", ["_now", "_age"])
+@pytest.mark.parametrize("key", ["inputs", "outputs"])
+def test_glue_temporaries_are_refused(tmp_path, capsys, name, key):
+    """The timed glue's temporaries (input_glue's cycle time ``_now`` and
+    a topic's age ``_age``) cannot name a global of the model: refused at
+    the name's line and column, exit 1, no traceback."""
+    text = small(uvar=name) if key == "inputs" else small().replace("name: Controller_Y", f"name: {name}")
+    path = write(tmp_path, text)
+    assert cli.main(["check", str(path)]) == 1
+    out, err = capsys.readouterr()
+    ln, col = at(text, f"name: {name}")
+    assert out == "" and err == (
+        f"{path}:{ln}:{col + 6}: error: controller.{key}.name '{name}' cannot be used: it is reserved by the C "
+        "standard at file scope (starts with '_') [rule 4.9]\n")
+
+
+def test_coq_fixed_names_are_reserved():
+    """Every fixed identifier of Coq's generator (``Wellformed.v``: the ROS
+    functions, the glue's functions, parameters and temporaries, rule
+    4.12's ``ros_now``, ``_now`` and ``_age`` included) is reserved by the
+    front end, so that a model is refused there rather than by Coq."""
+    src = (REPO / "coq" / "theories" / "glue" / "Wellformed.v").read_text()
+    coq = set(re.findall(r'^Definition \w+ : ident := "([^"]+)"\.$', src, re.M))
+    assert {"ros_now", "_ok", "_now", "_age", "msg", "loop"} <= coq, coq
+    assert coq <= set(FIXED_C_NAMES) | set(LOCAL_C_NAMES), coq - set(FIXED_C_NAMES) - set(LOCAL_C_NAMES)
 
 
 # --------------------------------------------------------------------------

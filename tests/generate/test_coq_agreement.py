@@ -1,7 +1,9 @@
 """Python's validation and Coq's ``generate`` agree.
 
 - Every ``ok_*`` model (tests/frontend/models, tests/generate/models) and
-  every example is accepted by Coq's ``generate`` (and ``wf`` holds).
+  every example is accepted by Coq's ``generate`` (and ``wf`` holds),
+  those with timeouts, fallbacks and derived inputs (rule 4.12) too, and
+  Coq's model of them is the front end's.
 - Semantically bad models are refused by Coq even when Python's checks are
   bypassed: valid models are mutated in Python (``dataclasses.replace``),
   emitted as Coq terms, and Coq's ``generate`` must compute an ``Error``
@@ -24,11 +26,15 @@ from pyrosgen.proof.coqdriver import ModelRefused
 from pyrosgen.proof.coqmodel import render_model_definitions
 from pyrosgen.errors import InvalidNodeModel
 from pyrosgen.generate import generate_model
-from pyrosgen.frontend.model import ControllerField, InputRelation, OutputRelation
+from pyrosgen.frontend.model import ControllerField, DerivedRelation, InputRelation, OutputRelation, Scalar
 from pyrosgen.frontend.validate import load_model
 from pyrosgen.frontend.msgmodel import FieldPath
+from pyrosgen.proof.modeltext import compare_model_texts, model_text
 
-from support.generate import FRESHNESS_MODELS, LANDSHARK, MULTI, OK_MODELS, coqc, printed_strings, require_library
+from support.generate import (FRESHNESS_MODELS, LANDSHARK, MULTI, OK_MODELS, REPO, coqc, printed_strings,
+                              require_library)
+
+VELOCITY_GUARD = REPO / "examples" / "velocity_guard" / "velocity_guard.yaml"
 
 PREAMBLE = """\
 From Coq Require Import String List ZArith.
@@ -74,14 +80,34 @@ def test_ok_models_accepted_by_coq(tmp_path):
     assert verdicts == ["OK"] * len(models), dict(zip(map(str, OK_MODELS), verdicts))
 
 
-def test_freshness_models_refused_by_coq(tmp_path):
-    """Rule 4.12 is checked by the front end but not generated yet: Coq's
-    generate refuses every such model, naming the rule."""
-    assert FRESHNESS_MODELS, "examples/velocity_guard uses rule 4.12"
+def test_freshness_models_accepted_by_coq(tmp_path):
+    """Rule 4.12 is generated: every model the front end accepts with
+    timeouts, fallbacks or derived inputs (the velocity guard, the
+    tests/generate/models/ok_fresh_*.yaml) is accepted by Coq's generate
+    too, and Coq's model has the front end's timeouts, fallbacks and
+    derived inputs (the model text it prints back, compared item by item)."""
+    names = {p.name for p in FRESHNESS_MODELS}
+    assert {"velocity_guard.yaml", "ok_fresh_policies.yaml", "ok_fresh_flags.yaml",
+            "ok_fresh_constants.yaml"} <= names, names
     models = [load_model(p) for p in FRESHNESS_MODELS]
-    verdicts = _batch(tmp_path, models, accepted=False)
-    for path, v in zip(FRESHNESS_MODELS, verdicts):
-        assert v == "Generator: timeouts and derived inputs (rule 4.12) are not generated yet", (path, v)
+    verdicts = _batch(tmp_path, models, accepted=True)
+    assert verdicts == ["OK"] * len(models), dict(zip(map(str, FRESHNESS_MODELS), verdicts))
+    texts = _model_texts(tmp_path, models)
+    for path, m, text in zip(FRESHNESS_MODELS, models, texts):
+        compare_model_texts(model_text(m), text, vfile=path.name)
+        assert any(ln.startswith("timeout ") or ln.startswith("derived_input ") for ln in text.splitlines())
+
+
+def _model_texts(tmp_path: Path, models: list) -> list[str]:
+    """The model text (``ModelText.print_model``) Coq prints of each model."""
+    require_library()
+    defs = [(f"t{i}", m) for i, m in enumerate(models)]
+    text = [PREAMBLE.replace("NodeModel Generator.", "NodeModel Generator ModelText."),
+            render_model_definitions(defs)]
+    text += [f"Eval vm_compute in print_model {name}." for name, _ in defs]
+    v = tmp_path / "Texts.v"
+    v.write_text("\n".join(text) + "\n")
+    return printed_strings(coqc(v).stdout)
 
 
 # ---------------------------------------------------------------------------
@@ -220,6 +246,69 @@ def _messages_out_of_order():
     return replace(m, messages=tuple(reversed(m.messages)))
 
 
+def _guard():
+    return load_model(VELOCITY_GUARD)
+
+
+def _set_topic(m, name, **changes):
+    """The model with topic ``name`` changed (in the topics and in the
+    relations that name it)."""
+    old = m.topic(name)
+    new = replace(old, **changes)
+    sub = lambda t: new if t is old else t  # noqa: E731
+    return replace(m, topics=tuple(map(sub, m.topics)),
+                   input_relations=tuple(replace(r, topic=sub(r.topic)) for r in m.input_relations),
+                   output_relations=tuple(replace(r, topic=sub(r.topic)) for r in m.output_relations),
+                   derived_relations=tuple(replace(r, topic=sub(r.topic)) for r in m.derived_relations))
+
+
+def _timeout_below_period():
+    return _set_topic(_guard(), "/teleop/cmd_vel", timeout_ms=19)
+
+
+def _timeout_above_a_day():
+    return _set_topic(_guard(), "/nav/cmd_vel", timeout_ms=86_400_001)
+
+
+def _timeout_on_published():
+    return _set_topic(_guard(), "/cmd_vel", timeout_ms=500)
+
+
+def _fallback_of_another_type():
+    m = _guard()
+    rels = tuple(replace(r, fallback=Scalar("float32", 0)) if r.input_field == "TVx" else r
+                 for r in m.input_relations)
+    return replace(m, input_relations=rels)
+
+
+def _fallback_without_timeout():
+    # teleop stays timed (its age_ms) but has no timeout: its fallbacks are refused
+    return _set_topic(_guard(), "/teleop/cmd_vel", timeout_ms=None)
+
+
+def _derived_of_another_type():
+    m = _guard()
+    return replace(m, derived_relations=tuple(replace(r, kind="is_new") if r.input_field == "TAge" else r
+                                              for r in m.derived_relations))
+
+
+def _derived_of_published():
+    m = _guard()
+    return replace(m, derived_relations=tuple(replace(r, topic=m.topic("/cmd_vel")) if r.input_field == "NAge"
+                                              else r for r in m.derived_relations))
+
+
+def _fed_by_relation_and_derived():
+    m = _guard()
+    extra = DerivedRelation(m.topic("/nav/cmd_vel"), "age_ms", "TAge")
+    return replace(m, derived_relations=m.derived_relations + (extra,))
+
+
+def _derived_dropped():
+    m = _guard()
+    return replace(m, derived_relations=m.derived_relations[1:])
+
+
 #: (mutation, fragment of Coq's message naming the culprit)
 MUTATIONS = [
     (_type_mismatch_in, "type mismatch in input relation: 'landshark_left_wheel_velocity.twist.linear.x' "
@@ -243,6 +332,16 @@ MUTATIONS = [
     (_period_zero, "period_ms must be positive"),
     (_coq_keyword_node, "the node name is a Coq keyword: 'fix'"),
     (_messages_out_of_order, "which is not defined before it"),
+    # rule 4.12
+    (_timeout_below_period, "bad timeout (rule 4.12) on topic 'teleop_cmd_vel': 19 ms"),
+    (_timeout_above_a_day, "bad timeout (rule 4.12) on topic 'nav_cmd_vel': 86400001 ms"),
+    (_timeout_on_published, "bad timeout (rule 4.12) on topic 'cmd_vel': 500 ms must be on a subscribed topic"),
+    (_fallback_of_another_type, "bad fallback (rule 4.12) for controller input 'TVx'"),
+    (_fallback_without_timeout, "bad fallback (rule 4.12) for controller input 'TVx'"),
+    (_derived_of_another_type, "bad derived input (rule 4.12) 'TAge'"),
+    (_derived_of_published, "bad derived input (rule 4.12) 'NAge': it must be of topic 'cmd_vel'"),
+    (_fed_by_relation_and_derived, "controller input fed by several input relations: 'TAge'"),
+    (_derived_dropped, "controller input not fed by any input relation: 'TAge'"),
 ]
 
 

@@ -60,6 +60,16 @@ def landshark_real(nodes_dir, landshark_echo) -> Path:
 
 
 @pytest.fixture(scope="session")
+def velocity_guard_node(nodes_dir) -> Path:
+    """examples/velocity_guard built (timed topics, rule 4.12; the
+    controller C from its block diagram): the output folder."""
+    out = nodes_dir / "velocity_guard"
+    build(rosutil.ROOT / "examples" / "velocity_guard" / "velocity_guard.yaml", None, out)
+    assert (out / "bin" / "velocity_guard").is_file()
+    return out
+
+
+@pytest.fixture(scope="session")
 def multi_echo(nodes_dir) -> Path:
     """examples/multi with the bit-exact test controller: its OUT."""
     out = nodes_dir / "multi_echo"

@@ -123,3 +123,46 @@ def test_stamps_follow_wall_time(ros, stamped_node, tmp_path):
     assert all(x > 0 for x in diffs)
     assert abs(statistics.median(diffs) - PERIOD_NS) <= 2_000_000, f"median {statistics.median(diffs) / 1e6} ms"
     assert got[-1][2] == _echo((2.0, 1.0, 3.0))
+
+
+# --------------------------------------------------------------------------
+# A stamp copied from the newest GPS message (``stamp: {from: ...}``)
+
+COPIED = rosutil.ROOT / "examples" / "landshark" / "landshark_gps_stamped.yaml"
+
+
+@pytest.fixture(scope="module")
+def copied_node(nodes_dir):
+    out = nodes_dir / "landshark_gps_stamped"
+    res = build(COPIED, CONTROLLER, out)
+    binary = out / "bin" / "landshark_gps_stamped"
+    assert binary.is_file()
+    assert ("stamp_from landshark_control_base_velocity landshark_gps_velocity header.stamp"
+            in res.generated.proved_model.splitlines())
+    return binary
+
+
+def _gps(value: float, sec: int, nsec: int) -> dict:
+    return {"publish": {"topic": WHEELS[2], "values": {"twist.linear.x": d(dbits(value)),
+                                                     "header.stamp.sec": sec, "header.stamp.nsec": nsec}}}
+
+
+def test_stamp_is_the_newest_gps_stamp(ros, copied_node, tmp_path):
+    """T2 (``published_value`` with ``newest_by``): each command carries the
+    ``header.stamp`` of the newest GPS message received before its cycle,
+    zero before the first; the wheels' stamps never reach it."""
+    start_node(ros, copied_node, tmp_path / "node.log")
+    first, second = 5 * 10**9 + 7, 6 * 10**9 + 8
+    steps = [{"sleep": 0.3}]
+    steps += [{"publish": {"topic": t, "values": {"twist.linear.x": d(dbits(1.0)), "header.stamp.sec": 99,
+                                                  "header.stamp.nsec": 99}}} for t in WHEELS[:2]]
+    steps += [{"sleep": 0.3}, _gps(4.0, 5, 7), {"sleep": 0.4}, _gps(2.0, 6, 8), {"sleep": 0.4}]
+    plan = {"publishers": _publishers(), "subscribers": [{"topic": CMD, "type": "geometry_msgs/TwistStamped"}],
+            "wait_messages": True, "steps": steps, "linger": 0.2}
+    got = [s for _, s, _ in _stamps(run_driver(ros, plan, tmp_path))]
+    assert len(got) >= 20, got
+    # only these stamps, in this order: zero, then the first GPS stamp, then the second
+    assert set(got) <= {0, first, second}, sorted(set(got) - {0, first, second})[:5]
+    order = [s for i, s in enumerate(got) if i == 0 or got[i - 1] != s]
+    assert order == [0, first, second], order
+    assert got.count(first) >= 5 and got.count(second) >= 5, (got.count(first), got.count(second))

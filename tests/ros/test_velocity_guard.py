@@ -4,11 +4,13 @@ printed by Coq, the controller C from the block diagram), driven by rospy.
 
 - wall time: teleop (linear.x 1.0, angular.z 0.1) and nav (2.0, 0.2) both
   publishing: the output is teleop's; teleop stops: the output switches
-  to nav's, between 500 ms and 560 ms after the last teleop command was
-  published (the design's bound is 500 + 20 ms plus the transports; the
-  slack is for a shared machine; bench/freshness.py holds the strict
-  goal); nav stops too: the output becomes zero, as late after its last
-  command, and stays zero;
+  to nav's, never before 500 ms after the last teleop command was
+  published (a message is received after it is published, and the glue
+  finds it stale only when its age exceeds the timeout), and while nav
+  still publishes; nav stops too: the output becomes zero, never before
+  500 ms after its last command, and stays zero.  How late after the
+  timeout the switch comes is a measurement, not a test
+  (bench/freshness.py, BENCHMARKS.md section "Freshness");
 - simulated time (``use_sim_time`` and a /clock publisher): the timeouts
   follow /clock and not the wall clock.  Teleop publishes once; the clock
   advances 400 ms and then stands still for 1.5 s of wall time, more than
@@ -23,9 +25,6 @@ import struct
 import xmlrpc.client
 
 import pytest
-
-from pyrosgen.errors import InvalidNodeModel
-from pyrosgen.ros.build import build
 
 from support import ros as rosutil
 from support.ros import d, dbits, run_driver, start_node
@@ -42,20 +41,9 @@ TIMEOUT_S = 0.5
 
 
 @pytest.fixture(scope="module")
-def guard(nodes_dir):
+def guard(velocity_guard_node):
     """The velocity guard's binary (no controller folder: the diagram)."""
-    out = nodes_dir / "velocity_guard"
-    try:
-        build(MODEL, None, out)
-    except InvalidNodeModel as exc:
-        # until the timed glue is generated (issue 16, slice 2), generate
-        # refuses rule-4.12 models it checks; any other refusal is a failure
-        if "not generated yet" not in str(exc):
-            raise
-        pytest.xfail("timeouts and derived inputs are checked but not generated yet (rule 4.12, issue 16 slice 2)")
-    binary = out / "bin" / "velocity_guard"
-    assert binary.is_file()
-    return binary
+    return velocity_guard_node / "bin" / "velocity_guard"
 
 
 def cmd(vx: float, wz: float) -> dict:
@@ -117,18 +105,19 @@ def test_guard_switches_to_nav_then_stops(ros, guard, tmp_path):
     # both sources: teleop's command, every cycle (after the first few)
     steady = [v for t, v in outs if both["t0"] + 0.2 <= t <= last_teleop["t0"]]
     assert len(steady) >= 40 and set(steady) == {TELEOP_CMD}
-    # teleop silent: nav's command, 500 ms to 560 ms after teleop's last
+    # teleop silent: nav's command, not before the timeout, while nav publishes
     t_nav, v = first_change(outs, last_teleop["t0"], TELEOP_CMD)
     assert v == NAV_CMD, v
     lat_teleop = (t_nav - last_teleop["t0"]) * 1000
-    assert TIMEOUT_S * 1000 <= lat_teleop <= 560, f"teleop's timeout detected after {lat_teleop:.1f} ms"
+    assert lat_teleop >= TIMEOUT_S * 1000, f"teleop replaced {lat_teleop:.1f} ms after its last command"
+    assert t_nav < last_nav["t0"]
     assert {v for t, v in outs if t_nav <= t <= last_nav["t0"]} == {NAV_CMD}
     assert nav["t1"] - nav["t0"] > 1.0
-    # both silent: zero, 500 ms to 560 ms after nav's last, and it stays zero
+    # both silent: zero, not before the timeout, and it stays zero
     t_zero, v = first_change(outs, last_nav["t0"], NAV_CMD)
     assert v == ZERO, v
     lat_nav = (t_zero - last_nav["t0"]) * 1000
-    assert TIMEOUT_S * 1000 <= lat_nav <= 560, f"nav's timeout detected after {lat_nav:.1f} ms"
+    assert lat_nav >= TIMEOUT_S * 1000, f"nav replaced {lat_nav:.1f} ms after its last command"
     tail = [v for t, v in outs if t_zero <= t <= silence["t1"]]
     assert len(tail) >= 30 and set(tail) == {ZERO}
     print(f"teleop -> nav after {lat_teleop:.1f} ms, nav -> zero after {lat_nav:.1f} ms")

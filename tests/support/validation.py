@@ -16,6 +16,15 @@ EXAMPLES = {
     "multi": (MULTI, "multi_node"),
 }
 
+#: Models with timed topics (rule 4.12: timeouts, fallbacks, derived
+#: inputs): key -> (model file, node name).
+TIMED_EXAMPLES = {
+    "velocity_guard": (REPO / "examples" / "velocity_guard" / "velocity_guard.yaml", "velocity_guard"),
+    "fresh_policies": (REPO / "tests" / "generate" / "models" / "ok_fresh_policies.yaml", "fresh_policies"),
+    "fresh_constants": (REPO / "tests" / "generate" / "models" / "ok_fresh_constants.yaml", "fresh_constants"),
+    "fresh_flags": (REPO / "tests" / "generate" / "models" / "ok_fresh_flags.yaml", "fresh_flags"),
+}
+
 
 @dataclass
 class GeneratedNode:

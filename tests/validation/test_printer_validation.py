@@ -1,7 +1,9 @@
 """Printer validation (pyrosgen/verify/printer_validation.py): the printed C is parsed with
 pycparser and compared with the AST dump on every ``pyrosgen generate``.
 
-- it passes on the generated LandShark and multi nodes, and on the
+- it passes on the generated LandShark and multi nodes, on the nodes
+  with timed topics (rule 4.12: the velocity guard, the ok_fresh_* test
+  models), and on the
   printer's example program (every construct: while loops, constants at
   the limits of their types, casts, non-finite float helpers, calls with
   results, every arithmetic operator and the fabs helpers) and on a
@@ -27,7 +29,7 @@ from pyrosgen.proof.coqdriver import CoqDriver
 from pyrosgen.proof.sexp import parse_sexp, program_items
 from pyrosgen.verify.printer_validation import PrinterValidationError, validate_glue, validate_program
 
-from support.validation import EXAMPLES, LANDSHARK, REPO
+from support.validation import EXAMPLES, LANDSHARK, REPO, TIMED_EXAMPLES
 
 
 def _validate(node, glue=None, header=None, sexp=None):
@@ -68,6 +70,25 @@ def test_generated_nodes_validate(generated, key):
     assert rep.statements > 80 and rep.expressions > 3 * rep.statements
     again = _validate(node)
     assert again.summary() == rep.summary()
+
+
+@pytest.mark.parametrize("key", list(TIMED_EXAMPLES))
+def test_timed_nodes_validate(generated_timed, key):
+    """Nodes with timed topics (rule 4.12): the whole program is compared,
+    ``ros_now`` among its externals, the clock globals among its globals;
+    a corrupted age comparison, timeout or reset is reported."""
+    node = generated_timed[key]
+    rep = node.result.validation
+    items = program_items(parse_sexp(node.sexp.read_text()))
+    assert (rep.structs, rep.globals, rep.externals, rep.functions) == (
+        len(items["structs"]), len(items["gvars"]), len(items["externals"]), len(items["functions"]))
+    assert "ros_now" in items["externals"] and any(g.endswith("_rcvd") for g in items["gvars"])
+    assert _validate(node).summary() == rep.summary()
+    glue = node.glue.read_text()
+    for old, new in (("_time <= _now", "_time < _now"), ("ULL < _age", "ULL <= _age"), ("_new = 0;", "_new = 1;"),
+                     ("_rcvd = 1;", "_rcvd = 0;")):
+        if old in glue:
+            _fails(node, r"function (input_glue|\w+_callback)", glue=_replace(glue, old, new))
 
 
 def test_multi_compares_constants_and_narrow_types(generated):

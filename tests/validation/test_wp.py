@@ -5,7 +5,16 @@
   memory-model hypotheses are all stated by the contracts;
 - ``pyrosgen generate --wp`` prints the goal count;
 - mutated glues (swapped sources, a missing zeroing, a copied neighbour
-  leaf, a value changed by ``+ 0.0``) are not proved: the run fails.
+  leaf, a value changed by ``+ 0.0``) are not proved: the run fails;
+- the nodes with timed topics (rule 4.12: the velocity guard, the
+  ok_fresh_* models) are proved with the contracts of their clocks,
+  fallbacks and derived inputs (``ros_now`` returns a global's value), and
+  mutated timed glues (stale at the timeout, the age reversed, a flag not
+  reset, the receipt time not kept, a float fallback one ulp off,
+  ``is_new`` from ``received``, another saturation) are not.  (WP's
+  simplifier reads float constants as real numbers, so ``-0.0`` and
+  ``+0.0`` fallbacks are one to it: the sign of a zero fallback is checked
+  bit for bit by the differential tests, ``fresh_constants``' ``-0.0``.)
 """
 
 from __future__ import annotations
@@ -19,7 +28,7 @@ from pyrosgen import cli
 from pyrosgen.verify.acsl import WPError, contracts, memory_hypotheses, run_wp
 from pyrosgen.frontend.validate import load_model
 
-from support.validation import EXAMPLES, LANDSHARK
+from support.validation import EXAMPLES, LANDSHARK, TIMED_EXAMPLES
 
 
 @pytest.mark.parametrize("key", list(EXAMPLES))
@@ -47,6 +56,55 @@ def test_wp_proves_the_examples(generated, key, tmp_path):
     hyps = memory_hypotheses(res.output)
     assert {fn for fn, _ in hyps} == {c.name for c in cs if c.pointer}
     assert res.total >= {"landshark": 80, "multi": 350}[key]
+
+
+@pytest.mark.parametrize("key", list(TIMED_EXAMPLES))
+def test_wp_proves_the_timed_nodes(generated_timed, key, tmp_path):
+    node = generated_timed[key]
+    model = load_model(TIMED_EXAMPLES[key][0])
+    res = run_wp(model, node.glue, node.header, tmp_path / "wp")
+    assert res.ok and res.proved == res.total
+    cs = {c.name: c for c in contracts(model)}
+    for c in cs.values():
+        assert f"typed_{c.name}_ensures : Valid" in res.output, c.name
+    # the clock of each timed topic, in its callback
+    for t in model.timed_topics:
+        c = cs[t.callback]
+        assert c.assigns == (t.msg_var, t.time_var, t.new_var, t.rcvd_var)
+        assert c.ensures[-3:] == (f"{t.time_var} == \\old(rosgen_wp_clock)", f"{t.new_var} == 1", f"{t.rcvd_var} == 1")
+    # input_glue: one conjunct per relation, derived input and reset
+    ig = cs["input_glue"]
+    assert len(ig.ensures) == len(model.input_relations) + len(model.derived_relations) + len(model.timed_topics)
+    fallbacks = [r for r in model.input_relations if r.fallback is not None]
+    assert fallbacks or key == "fresh_flags"
+    assert sum(" < (\\old(" in e for e in ig.ensures) == len(fallbacks)
+    hyps = memory_hypotheses(res.output)
+    assert {fn for fn, _ in hyps} == {c.name for c in cs.values() if c.pointer}
+
+
+@pytest.mark.parametrize("key,old,new,failing", [
+    ("velocity_guard", "(500000000ULL < _age)", "(500000000ULL <= _age)", "input_glue_ensures"),
+    ("velocity_guard", "_age = (_now - teleop_cmd_vel_time);", "_age = (teleop_cmd_vel_time - _now);",
+     "input_glue_ensures"),
+    ("velocity_guard", "    nav_cmd_vel_new = 0;\n", "", "input_glue_ensures"),
+    ("velocity_guard", "    teleop_cmd_vel_time = _t_ullong;\n", "", "teleop_cmd_vel_callback_ensures"),
+    ("fresh_constants", "K_U.F32 = 0x1.99999ap-4f;", "K_U.F32 = 0x1.99999cp-4f;", "input_glue_ensures"),
+    ("fresh_policies", "_t_uchar = cmd_new;", "_t_uchar = cmd_rcvd;", "input_glue_ensures"),
+    ("fresh_policies", "F_U.Age = 4294967295U;", "F_U.Age = 4294967294U;", "input_glue_ensures"),
+], ids=["stale-at-timeout", "age-reversed", "flag-not-reset", "receipt-not-kept", "float-one-ulp-off",
+        "is-new-from-received", "other-saturation"])
+def test_wp_fails_on_mutated_timed_glue(generated_timed, tmp_path, key, old, new, failing):
+    node = generated_timed[key]
+    work = tmp_path / "wp"
+    work.mkdir()
+    glue = node.glue.read_text()
+    assert old in glue, old
+    (work / node.glue.name).write_text(glue.replace(old, new, 1))
+    shutil.copyfile(node.header, work / node.header.name)
+    with pytest.raises(WPError) as info:
+        run_wp(load_model(TIMED_EXAMPLES[key][0]), work / node.glue.name, work / node.header.name, work, timeout=3)
+    msg = str(info.value)
+    assert "goals proved, not all" in msg and failing in msg, msg
 
 
 def test_generate_wp_prints_goal_count(capsys, tmp_path):

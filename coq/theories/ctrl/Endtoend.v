@@ -352,7 +352,7 @@ Definition diagram_node_ok (m : node_model) (p : program) (d : diagram) : Prop :
               evs i = Estep u y :: publish_events (published m) mvs ++ [Esleep (nm_period_ms m)]
            /\ input_values m (diagram_ctx m d arrivals clock) i u
            /\ dg_step d (s i) u = (s (S i), y)
-           /\ Forall2 (published_value m y (clock (S i))) (published m) mvs).
+           /\ Forall2 (published_value m y (clock (S i)) (newest_by m (diagram_ctx m d arrivals clock) i)) (published m) mvs).
 
 Theorem diagram_node_ddc:
   forall m p d, generate m = OK p -> dg_wf d = true -> dg_matches m d = true ->

@@ -92,6 +92,16 @@ Definition only_global_changed (p : program) (mm mm' : mem) (x : ident) (mv : mv
   /\ get_block mm' b = Some (ty, mv)
   /\ unchanged_except mm mm' b.
 
+(** Going from [mm] to [mm'] replaced the values of the globals [x1],
+    ..., [xn] by [mv1], ..., [mvn], in this order, and changed nothing
+    else. *)
+Inductive globals_changed (p : program) : mem -> mem -> list (ident * mval) -> Prop :=
+  | globals_changed_nil: forall mm,
+      globals_changed p mm mm []
+  | globals_changed_cons: forall mm mm1 mm' x mv l,
+      only_global_changed p mm mm1 x mv -> globals_changed p mm1 mm' l ->
+      globals_changed p mm mm' ((x, mv) :: l).
+
 (** Calling [fd] with arguments [args] in memory [mm] terminates, in every
     environment and world; and every such run emits no event, leaves the
     world unchanged, returns nothing ([Vundef]: a [void] function) and
@@ -112,13 +122,81 @@ Definition quiet_call_at (p : program) (fd : fundef) (args : list val) (mm : mem
   /\ (forall t mm' w' v, eval_funcall ctx (globalenv p) mm w fd args t mm' w' v ->
         t = [] /\ w' = w /\ v = Vundef /\ post (w_time w) mm').
 
+(** ** Time and freshness (rule 4.12) *)
+
+(** ROS time, in nanoseconds, as the glue holds it: an [unsigned long
+    long] ([ros_now]'s value).  For the times of a real clock (from 0 to
+    about 584 years) it is the time itself. *)
+Definition clock (t : Z) : Z := norm_long Unsigned t.
+
+(** [max_ulong] and [max_uint] ([Generator]) are the largest [unsigned
+    long long] and [unsigned int]. *)
+
+(** The age at time [now] of the newest message of a topic, received at
+    [rcv] ([None]: no message yet), in nanoseconds: 0 if the clock went
+    back, the largest [unsigned long long] if no message arrived. *)
+Definition age_ns (rcv : option Z) (now : Z) : Z :=
+  match rcv with
+  | None => max_ulong
+  | Some t => if (clock t <=? clock now)%Z then (clock now - clock t)%Z else 0%Z
+  end.
+
+(** A topic with C name [c] is stale at time [now] when it has a timeout
+    and no message arrived, or its newest one is older than the
+    timeout. *)
+Definition stale (m : node_model) (c : ident) (rcv : option Z) (now : Z) : bool :=
+  match timeout_of m c with
+  | Some t => match rcv with
+              | None => true
+              | Some _ => (t * 1000000 <? age_ns rcv now)%Z
+              end
+  | None => false
+  end.
+
+(** What the controller input of relation [ir] receives when the related
+    field of the newest message is [v]: [v], unless the topic is stale and
+    the input has a fallback value. *)
+Definition fed_value (m : node_model) (ir : inrel) (v : val) (rcv : option Z) (now : Z) : val :=
+  if stale m (ir_topic ir) rcv now
+  then match find_assoc (ir_input ir) (nm_fallbacks m) with Some fv => fv | None => v end
+  else v.
+
+(** A derived input, from whether a message arrived since the previous
+    cycle ([isnew]) and the receipt time of the newest one ([rcv]):
+    [is_new], [received] (1 or 0), and [age_ms], the age in
+    milliseconds, saturating at [2^32 - 1] (also when none arrived). *)
+Definition derived_value (k : derived) (isnew : bool) (rcv : option Z) (now : Z) : val :=
+  match k with
+  | Dis_new => Vint (if isnew then 1 else 0)
+  | Dreceived => Vint (match rcv with Some _ => 1 | None => 0 end)
+  | Dage_ms => Vint (Z.min (age_ns rcv now / 1000000)%Z max_uint)
+  end.
+
+(** The clock globals of the timed topic [c] in memory [mm] hold
+    [isnew] and [rcv]: the flag [c_new] is [isnew], the flag [c_rcvd]
+    says whether a message arrived, and [c_time] holds its receipt time. *)
+Definition clock_held (p : program) (mm : mem) (c : ident) (isnew : bool) (rcv : option Z) : Prop :=
+  global_value p mm (new_var c) = Some (MVscalar (Vint (if isnew then 1 else 0)))
+  /\ global_value p mm (rcvd_var c) = Some (MVscalar (Vint (match rcv with Some _ => 1 | None => 0 end)))
+  /\ forall t, rcv = Some t -> global_value p mm (time_var c) = Some (MVscalar (Vlong (clock t))).
+
+(** What a callback of the timed topic [c] writes into its clock when
+    the time is [now]; nothing for a topic that is not timed. *)
+Definition clock_update (m : node_model) (c : ident) (now : Z) : list (ident * mval) :=
+  if is_timed m c
+  then [(time_var c, MVscalar (Vlong (clock now))); (new_var c, MVscalar (Vint 1));
+        (rcvd_var c, MVscalar (Vint 1))]
+  else [].
+
 (** ** Functions (theorem T1) *)
 
 (** The callback of a subscribed topic [tp] (the paper's Figure 10): called
     with a pointer to a block holding a message [mv] of the topic's type
     (a block that is not a global, as [ros_spinOnce] provides), it copies
-    the whole message into the topic's global [c_msg], and changes nothing
-    else. *)
+    the whole message into the topic's global [c_msg]; if the topic is
+    timed, it records the time of the call ([ros_now()]: the message's
+    receipt time) and sets the flags [c_new] and [c_rcvd]; it changes
+    nothing else. *)
 Definition callback_ddc (m : node_model) (p : program) (tp : topic) : Prop :=
   exists f,
      find_funct (globalenv p) (callback_name (tp_cname tp)) = Some (Internal f)
@@ -127,54 +205,79 @@ Definition callback_ddc (m : node_model) (p : program) (tp : topic) : Prop :=
        not_global p b ->
        get_block mm b = Some (Tstruct (tp_msg tp), mv) ->
        mval_has_type (prog_types p) (Tstruct (tp_msg tp)) mv ->
-       quiet_call p (Internal f) [Vptr b []] mm
-         (fun mm' => only_global_changed p mm mm' (msg_var (tp_cname tp)) mv).
+       quiet_call_at p (Internal f) [Vptr b []] mm
+         (fun now mm' => globals_changed p mm mm'
+                           ((msg_var (tp_cname tp), mv) :: clock_update m (tp_cname tp) now)).
 
 (** [input_glue] (the paper's Figure 12): from any memory where the globals
-    hold values of their types, it writes a value [u] of the inputs' type
-    into [Controller_U] in which every input field [In] equals the field of
-    the global message of the topic that the input relation of [In]
-    names, and changes nothing else. *)
+    hold values of their types, and the clock of every timed topic [c]
+    holds some [ck c], it writes a value [u] of the inputs' type into
+    [Controller_U] in which every input field [In] equals the field of the
+    global message of the topic that the input relation of [In] names
+    (or its fallback value if that topic is stale at the time [now] of
+    the call: [fed_value]), and every derived input is exact at [now]
+    ([derived_value]); then it clears the [c_new] flag of every timed
+    topic; and it changes nothing else. *)
 Definition input_glue_ddc (m : node_model) (p : program) : Prop :=
   exists f,
      find_funct (globalenv p) input_glue_name = Some (Internal f)
-  /\ forall mm,
+  /\ forall mm (ck : ident -> bool * option Z),
        globals_typed p mm ->
-       quiet_call p (Internal f) [] mm (fun mm' =>
+       (forall tp, In tp (timed m) -> clock_held p mm (tp_cname tp) (fst (ck (tp_cname tp))) (snd (ck (tp_cname tp)))) ->
+       quiet_call_at p (Internal f) [] mm (fun now mm' =>
          exists u,
-            only_global_changed p mm mm' (nm_in_var m) u
+            globals_changed p mm mm'
+              ((nm_in_var m, u) :: map (fun tp => (new_var (tp_cname tp), MVscalar (Vint 0))) (timed m))
          /\ mval_has_type (prog_types p) (Tstruct (nm_in_struct m)) u
-         /\ forall ir, In ir (nm_inrels m) ->
+         /\ (forall ir, In ir (nm_inrels m) ->
               exists g v,
                  global_value p mm (msg_var (ir_topic ir)) = Some g
               /\ mval_get g (path_steps (ir_path ir)) = Some (MVscalar v)
-              /\ mval_get u [Sfield (ir_input ir)] = Some (MVscalar v)).
+              /\ mval_get u [Sfield (ir_input ir)] = Some (MVscalar (fed_value m ir v (snd (ck (ir_topic ir))) now)))
+         /\ (forall dr, In dr (nm_drels m) ->
+              mval_get u [Sfield (dr_input dr)]
+              = Some (MVscalar (derived_value (dr_kind dr) (fst (ck (dr_topic dr))) (snd (ck (dr_topic dr))) now)))).
 
 (** The message that a published topic [tp] carries when the controller's
-    outputs are [y] and the ROS time is [now]: a message of the topic's
-    type in which every field that an output relation of the topic names
-    holds the related output field of [y], the stamp, if the topic has
-    one (rule 4.13), holds the [sec] and [nsec] of [now], and every other
-    scalar field is zero. *)
-Definition published_value (m : node_model) (y : mval) (now : Z) (tp : topic) (mv : mval) : Prop :=
+    outputs are [y], the ROS time is [now] and the subscribed topic with
+    C name [s] holds the message [g s]: a message of the topic's type in
+    which every field that an output relation of the topic names holds
+    the related output field of [y], the stamp, if the topic has one
+    (rule 4.13), holds the [sec] and [nsec] of [now], or, for a stamp
+    copied from a subscribed topic [s], the [sec] and [nsec] of the
+    source field of [g s], and every other scalar field is zero. *)
+Definition published_value (m : node_model) (y : mval) (now : Z) (g : ident -> mval)
+                           (tp : topic) (mv : mval) : Prop :=
   mval_has_type (composites m) (Tstruct (tp_msg tp)) mv
   /\ (forall o, In o (nm_outrels m) -> or_topic o = tp_cname tp ->
         exists v, mval_get y [Sfield (or_output o)] = Some (MVscalar v)
                /\ mval_get mv (path_steps (or_path o)) = Some (MVscalar v))
   /\ (forall sp, find_assoc (tp_cname tp) (nm_stamps m) = Some sp ->
-        mval_get mv (path_steps (sp ++ [PField "sec"%string])) = Some (MVscalar (Vint (time_sec now)))
-     /\ mval_get mv (path_steps (sp ++ [PField "nsec"%string])) = Some (MVscalar (Vint (time_nsec now))))
+        match find_assoc (tp_cname tp) (nm_stamp_from m) with
+        | None =>
+            mval_get mv (path_steps (sp ++ [PField "sec"%string])) = Some (MVscalar (Vint (time_sec now)))
+         /\ mval_get mv (path_steps (sp ++ [PField "nsec"%string])) = Some (MVscalar (Vint (time_nsec now)))
+        | Some (s, sp') =>
+            mval_get mv (path_steps (sp ++ [PField "sec"%string]))
+            = mval_get (g s) (path_steps (sp' ++ [PField "sec"%string]))
+         /\ mval_get mv (path_steps (sp ++ [PField "nsec"%string]))
+            = mval_get (g s) (path_steps (sp' ++ [PField "nsec"%string]))
+        end)
   /\ (forall lp q, resolve (nm_msgs m) (FTmsg (tp_msg tp)) lp = Some (FTprim q) ->
         (forall o, In o (nm_outrels m) -> or_topic o = tp_cname tp -> or_path o <> lp) ->
         (forall sp, find_assoc (tp_cname tp) (nm_stamps m) = Some sp ->
            lp <> sp ++ [PField "sec"%string] /\ lp <> sp ++ [PField "nsec"%string]) ->
         mval_get mv (path_steps lp) = Some (zero_mval (composites m) (ctype_of_prim q))).
 
+(** The message held by the global [s_msg] of a subscribed topic. *)
+Definition global_msg (p : program) (mm : mem) (s : ident) : mval :=
+  match global_value p mm (msg_var s) with Some v => v | None => MVscalar Vundef end.
+
 (** [output_glue_c(&cmd)] for a published topic [tp]: called with a
     pointer to a block (not a global) holding an object of the topic's
     type, initialised or not, it writes there the message that the
-    outputs [y] held by [Controller_Y] and the world's time call for, and
-    changes nothing else. *)
+    outputs [y] held by [Controller_Y], the world's time and the global
+    messages call for, and changes nothing else. *)
 Definition output_glue_ddc (m : node_model) (p : program) (tp : topic) : Prop :=
   exists f,
      find_funct (globalenv p) (output_glue_name (tp_cname tp)) = Some (Internal f)
@@ -187,7 +290,7 @@ Definition output_glue_ddc (m : node_model) (p : program) (tp : topic) : Prop :=
        quiet_call_at p (Internal f) [Vptr b []] mm (fun now mm' =>
          exists mv,
             get_block mm' b = Some (Tstruct (tp_msg tp), mv)
-         /\ published_value m y now tp mv
+         /\ published_value m y now (global_msg p mm) tp mv
          /\ unchanged_except mm mm' b).
 
 (** ** Nodes (theorem T2) *)
@@ -225,6 +328,11 @@ Definition newest {CS : Type} (m : node_model) (ctx : ros_context CS) (tp : topi
   | None => zero_mval (composites m) (Tstruct (tp_msg tp))
   end.
 
+(** The newest message, up to the [i]-th spin, of the topic with C name
+    [s]. *)
+Definition newest_by {CS : Type} (m : node_model) (ctx : ros_context CS) (i : nat) (s : ident) : mval :=
+  match find_topic (nm_topics m) s with Some tp => newest m ctx tp i | None => MVscalar Vundef end.
+
 (** *** The environments considered *)
 
 (** Every message arriving on a subscribed topic is a value of the
@@ -242,18 +350,39 @@ Definition controller_wt {CS : Type} (m : node_model) (ctx : ros_context CS) : P
 
 (** *** One cycle *)
 
+(** The receipt time of the newest message on topic [tp] up to the
+    [i]-th spin, if any. *)
+Definition newest_time {CS : Type} (ctx : ros_context CS) (tp : topic) (i : nat) : option Z :=
+  option_map ar_time (newest_arrival ctx tp i).
+
+(** Whether a message arrived on topic [tp] for the [i]-th spin, that is
+    since the previous cycle. *)
+Definition arrived {CS : Type} (ctx : ros_context CS) (tp : topic) (i : nat) : bool :=
+  match last_on (tp_name tp) (ctx_arrivals ctx i) with Some _ => true | None => false end.
+
 (** The inputs [u] handed to the controller in cycle [i]: a value of the
     inputs' type in which every input field [In] holds the field, named
     by the input relation of [In], of the newest message received so far
-    on the relation's topic (zero if none yet). *)
+    on the relation's topic (zero if none yet) -- unless that topic is
+    stale at the cycle's time [ctx_time ctx (S i)] and [In] has a
+    fallback value, which it then holds ([fed_value], rule 4.12); and
+    every derived input holds what [derived_value] says of its topic at
+    the cycle's time. *)
 Definition input_values {CS : Type} (m : node_model) (ctx : ros_context CS) (i : nat) (u : mval) : Prop :=
   mval_has_type (composites m) (Tstruct (nm_in_struct m)) u
-  /\ forall ir, In ir (nm_inrels m) ->
+  /\ (forall ir, In ir (nm_inrels m) ->
        exists tp v,
           In tp (subscribed m)
        /\ tp_cname tp = ir_topic ir
        /\ mval_get (newest m ctx tp i) (path_steps (ir_path ir)) = Some (MVscalar v)
-       /\ mval_get u [Sfield (ir_input ir)] = Some (MVscalar v).
+       /\ mval_get u [Sfield (ir_input ir)]
+          = Some (MVscalar (fed_value m ir v (newest_time ctx tp i) (ctx_time ctx (S i)))))
+  /\ (forall dr, In dr (nm_drels m) ->
+       exists tp,
+          In tp (subscribed m)
+       /\ tp_cname tp = dr_topic dr
+       /\ mval_get u [Sfield (dr_input dr)]
+          = Some (MVscalar (derived_value (dr_kind dr) (arrived ctx tp i) (newest_time ctx tp i) (ctx_time ctx (S i))))).
 
 (** The events of publishing [mvs] on the topics [tps]. *)
 Definition publish_events (tps : list topic) (mvs : list mval) : trace :=
@@ -273,7 +402,7 @@ Definition cycle_ok {CS : Type} (m : node_model) (ctx : ros_context CS) (i : nat
      evs = Estep u y :: publish_events (published m) mvs ++ [Esleep (nm_period_ms m)]
   /\ input_values m ctx i u
   /\ ctx_step ctx s u = (s', y)
-  /\ Forall2 (published_value m y (ctx_time ctx (S i))) (published m) mvs.
+  /\ Forall2 (published_value m y (ctx_time ctx (S i)) (newest_by m ctx i)) (published m) mvs.
 
 (** *** Before the first cycle *)
 

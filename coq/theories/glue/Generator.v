@@ -39,7 +39,7 @@
 
 From Coq Require Import String Ascii List ZArith Bool.
 From Flocq Require Import IEEE754.Binary.
-From ROSGen Require Import Errors Syntax Maps NodeModel Wellformed.
+From ROSGen Require Import Errors Syntax Values Maps NodeModel Wellformed.
 Import ListNotations.
 
 Local Open Scope string_scope.
@@ -185,13 +185,37 @@ Definition out_var_expr : expr := Evar (nm_out_var m) (Tstruct (nm_out_struct m)
 
 (** ** Callbacks (Figure 11) *)
 
-(** [void c_callback(struct M *msg)]: copy every leaf of [*msg] into [c_msg]. *)
+(** The C types of a timed topic's clock (rule 4.12). *)
+Definition tulong : type := Tlong Unsigned.
+Definition tflag : type := ctype_of_prim Pbool.
+
+Definition time_expr (c : ident) : expr := Evar (time_var c) tulong.
+Definition new_expr (c : ident) : expr := Evar (new_var c) tflag.
+Definition rcvd_expr (c : ident) : expr := Evar (rcvd_var c) tflag.
+
+(** [_t_ullong = ros_now();] *)
+Definition now_call (x : ident) : statement :=
+  Scall (Some x) (Evar ros_now_name (Tfunction [] tulong)) [].
+
+(** The clock update of a timed topic's callback:
+    [_t_ullong = ros_now(); c_time = _t_ullong; c_new = 1; c_rcvd = 1;]. *)
+Definition clock_stmts (c : ident) : statement :=
+  seq_of [now_call (temp_name Puint64);
+          Sassign (time_expr c) (Etempvar (temp_name Puint64) tulong);
+          Sassign (new_expr c) (Econst_int 1 tflag);
+          Sassign (rcvd_expr c) (Econst_int 1 tflag)].
+
+(** [void c_callback(struct M *msg)]: copy every leaf of [*msg] into
+    [c_msg]; then, if the topic is timed, update its clock. *)
 Definition callback_function (tp : topic) : function :=
   let M := tp_msg tp in
   let lv := leaves (nm_msgs m) M in
-  mkfunction Tvoid [(msg_param, tptr (Tstruct M))] [] (temps_of (map snd lv))
-    (seq_of (map (leaf_copy ce (Evar (msg_var (tp_cname tp)) (Tstruct M))
-                               (deref_param msg_param M)) lv)).
+  let body := seq_of (map (leaf_copy ce (Evar (msg_var (tp_cname tp)) (Tstruct M))
+                                       (deref_param msg_param M)) lv) in
+  if is_timed m (tp_cname tp)
+  then mkfunction Tvoid [(msg_param, tptr (Tstruct M))] [] (temps_of (Puint64 :: map snd lv))
+         (Ssequence body (clock_stmts (tp_cname tp)))
+  else mkfunction Tvoid [(msg_param, tptr (Tstruct M))] [] (temps_of (map snd lv)) body.
 
 (** ** Input glue (Figures 8, 14) *)
 
@@ -205,10 +229,104 @@ Definition input_dst (ir : inrel) : expr :=
 Definition input_copy (ir : inrel) : statement :=
   copy (input_prim (ir_input ir)) (input_dst ir) (input_src ir).
 
-(** [void input_glue(void)]: one copy per input relation, in order. *)
+(** *** Freshness (rule 4.12) *)
+
+(** [_age]: the age in nanoseconds of the newest message of timed topic
+    [c] at the cycle's time [_now], 0 if the clock went back, the
+    largest [unsigned long long] if no message arrived yet:
+<<
+    if (c_rcvd) { if (c_time <= _now) _age = _now - c_time; else _age = 0; }
+    else _age = 18446744073709551615ULL;
+>> *)
+Definition max_ulong : Z := 18446744073709551615.
+
+Definition age_stmt (c : ident) : statement :=
+  let now := Etempvar now_temp tulong in
+  Sifthenelse (rcvd_expr c)
+    (Sifthenelse (Ebinop Ole (time_expr c) now tint)
+       (Sset age_temp (Ebinop Osub now (time_expr c) tulong))
+       (Sset age_temp (Econst_long 0 tulong)))
+    (Sset age_temp (Econst_long max_ulong tulong)).
+
+(** The constant expression of a fallback value. *)
+Definition const_of (q : prim) (v : val) : expr :=
+  match v with
+  | Vlong n => Econst_long n (ctype_of_prim q)
+  | Vfloat f => Econst_float f (ctype_of_prim q)
+  | Vsingle f => Econst_single f (ctype_of_prim q)
+  | Vint n => Econst_int n (ctype_of_prim q)
+  | _ => zero_of q
+  end.
+
+(** A stale topic: [timeout * 1000000ULL < _age]. *)
+Definition stale_expr (t : Z) : expr :=
+  Ebinop Olt (Econst_long (t * 1000000) tulong) (Etempvar age_temp tulong) tint.
+
+(** The fallback of an input relation whose input has one: the age of
+    its topic's newest message, then [if (T < _age) U.In = v;]. *)
+Definition fallback_stmt (ir : inrel) : statement :=
+  match find_assoc (ir_input ir) (nm_fallbacks m), timeout_of m (ir_topic ir) with
+  | Some v, Some t =>
+      Ssequence (age_stmt (ir_topic ir))
+        (Sifthenelse (stale_expr t) (Sassign (input_dst ir) (const_of (input_prim (ir_input ir)) v)) Sskip)
+  | _, _ => Sskip
+  end.
+
+(** The input relations with a fallback, in model order. *)
+Definition has_fallback (ir : inrel) : bool :=
+  match find_assoc (ir_input ir) (nm_fallbacks m) with Some _ => true | None => false end.
+
+(** The largest age, in ns, whose milliseconds fit in [uint32]. *)
+Definition max_age_ns : Z := 4294967295999999.
+Definition max_uint : Z := 4294967295.
+
+(** [U.In = e] for a derived input [In]. *)
+Definition derived_dst (dr : drel) : expr :=
+  Efield in_var_expr (dr_input dr) (ctype_of_prim (input_prim (dr_input dr))).
+
+(** A derived input: [is_new] and [received] copy the flags; [age_ms] is
+    the age of the topic's newest message, then
+<<
+    if (_age <= 4294967295999999ULL) U.In = (unsigned int)(_age / 1000000ULL);
+    else U.In = 4294967295U;
+>> *)
+Definition derived_stmt (dr : drel) : statement :=
+  let c := dr_topic dr in
+  match dr_kind dr with
+  | Dis_new => copy Pbool (derived_dst dr) (new_expr c)
+  | Dreceived => copy Pbool (derived_dst dr) (rcvd_expr c)
+  | Dage_ms =>
+      let age := Etempvar age_temp tulong in
+      Ssequence (age_stmt c)
+        (Sifthenelse (Ebinop Ole age (Econst_long max_age_ns tulong) tint)
+           (Sassign (derived_dst dr) (Ecast (Ebinop Odiv age (Econst_long 1000000 tulong) tulong) tuint))
+           (Sassign (derived_dst dr) (Econst_int max_uint tuint)))
+  end.
+
+(** [c_new = 0;] *)
+Definition reset_stmt (tp : topic) : statement := Sassign (new_expr (tp_cname tp)) (Econst_int 0 tflag).
+
+(** After the copies: [_now = ros_now();], the fallbacks (in the order
+    of the input relations), the derived inputs (in model order), then
+    the [c_new] flags of the timed topics cleared. *)
+Definition timed_stmts : statement :=
+  seq_of (now_call now_temp
+          :: map fallback_stmt (filter has_fallback (nm_inrels m))
+          ++ map derived_stmt (nm_drels m)
+          ++ map reset_stmt (timed m)).
+
+(** [void input_glue(void)]: one copy per input relation, in order; then,
+    if some topic is timed, the freshness. *)
 Definition input_glue_function : function :=
-  mkfunction Tvoid [] [] (temps_of (map (fun ir => input_prim (ir_input ir)) (nm_inrels m)))
-    (seq_of (map input_copy (nm_inrels m))).
+  let temps := temps_of (map (fun ir => input_prim (ir_input ir)) (nm_inrels m)) in
+  let base := seq_of (map input_copy (nm_inrels m)) in
+  match timed m with
+  | [] => mkfunction Tvoid [] [] temps base
+  | _ :: _ => mkfunction Tvoid [] []
+                ([(now_temp, tulong); (age_temp, tulong)]
+                 ++ temps_of (Pbool :: map (fun ir => input_prim (ir_input ir)) (nm_inrels m)))
+                (Ssequence base timed_stmts)
+  end.
 
 (** ** Output glue (Figure 8) *)
 
@@ -230,14 +348,27 @@ Definition tuint : type := Tint I32 Unsigned.
 Definition time_call (f : ident) : statement :=
   Scall (Some (temp_name Puint32)) (Evar f (Tfunction [] tuint)) [].
 
+(** The source of the stamp of the topic with C name [c], if it is
+    copied from a subscribed topic. *)
+Definition topic_stamp_from (c : ident) : option (ident * path) := find_assoc c (nm_stamp_from m).
+
 (** [_t_uint = ros_time_sec(); command->sp.sec = _t_uint;
-     _t_uint = ros_time_nsec(); command->sp.nsec = _t_uint;] *)
-Definition stamp_stmts (M : ident) (sp : path) : statement :=
+     _t_uint = ros_time_nsec(); command->sp.nsec = _t_uint;], or for a
+    stamp copied from the subscribed topic [s] at path [sp']:
+    [_t_uint = s_msg.sp'.sec; command->sp.sec = _t_uint;] and the same
+    for [nsec]. *)
+Definition stamp_stmts (c M : ident) (sp : path) : statement :=
   let dst f := path_expr ce (deref_param command_param M) (sp ++ [PField f]) in
-  seq_of [time_call ros_time_sec_name;
-          Sassign (dst "sec") (Etempvar (temp_name Puint32) tuint);
-          time_call ros_time_nsec_name;
-          Sassign (dst "nsec") (Etempvar (temp_name Puint32) tuint)].
+  match topic_stamp_from c with
+  | None =>
+      seq_of [time_call ros_time_sec_name;
+              Sassign (dst "sec") (Etempvar (temp_name Puint32) tuint);
+              time_call ros_time_nsec_name;
+              Sassign (dst "nsec") (Etempvar (temp_name Puint32) tuint)]
+  | Some (s, sp') =>
+      let src f := path_expr ce (Evar (msg_var s) (Tstruct (topic_msg s))) (sp' ++ [PField f]) in
+      seq_of [copy Puint32 (dst "sec") (src "sec"); copy Puint32 (dst "nsec") (src "nsec")]
+  end.
 
 (** [void output_glue_c(struct M *command)]: zero every leaf of
     [*command], then one copy per output relation of the topic, then,
@@ -251,7 +382,7 @@ Definition output_glue_function (tp : topic) : function :=
   match topic_stamp (tp_cname tp) with
   | None => mkfunction Tvoid [(command_param, tptr (Tstruct M))] [] (temps_of qs) body
   | Some sp => mkfunction Tvoid [(command_param, tptr (Tstruct M))] [] (temps_of (Puint32 :: qs))
-                 (Ssequence body (stamp_stmts M sp))
+                 (Ssequence body (stamp_stmts (tp_cname tp) M sp))
   end.
 
 (** ** The loop and main (Figures 2, 7) *)
@@ -304,13 +435,22 @@ Definition main_function : function :=
 
 (** ** Global definitions *)
 
-(** The time functions, declared by a node that stamps messages. *)
-Definition time_externals : list (ident * globdef) :=
+(** The time functions: [ros_now], declared by a node with a timed
+    topic, the stamp functions, by a node that stamps messages. *)
+Definition now_externals : list (ident * globdef) :=
+  match timed m with
+  | [] => []
+  | _ :: _ => [(ros_now_name, Gfun (External EF_ros_now [] tulong))]
+  end.
+
+Definition stamp_externals : list (ident * globdef) :=
   match nm_stamps m with
   | [] => []
   | _ :: _ => [(ros_time_sec_name, Gfun (External EF_ros_time_sec [] tuint));
                (ros_time_nsec_name, Gfun (External EF_ros_time_nsec [] tuint))]
   end.
+
+Definition time_externals : list (ident * globdef) := now_externals ++ stamp_externals.
 
 (** The ROS API functions that do not depend on the topics ([ros_rate_sleep]
     carries the node's period), and the time functions if needed. *)
@@ -346,6 +486,12 @@ Definition controller_defs : list (ident * globdef) :=
 Definition msg_global (tp : topic) : ident * globdef :=
   (msg_var (tp_cname tp), Gvar (Tstruct (tp_msg tp))).
 
+(** The clock globals of a timed topic. *)
+Definition clock_globals (tp : topic) : list (ident * globdef) :=
+  [(time_var (tp_cname tp), Gvar tulong);
+   (new_var (tp_cname tp), Gvar tflag);
+   (rcvd_var (tp_cname tp), Gvar tflag)].
+
 Definition callback_def (tp : topic) : ident * globdef :=
   (callback_name (tp_cname tp), Gfun (Internal (callback_function tp))).
 
@@ -358,6 +504,7 @@ Definition build_defs : list (ident * globdef) :=
   ++ flat_map topic_externals (nm_topics m)
   ++ controller_defs
   ++ map msg_global (subscribed m)
+  ++ flat_map clock_globals (timed m)
   ++ map callback_def (subscribed m)
   ++ [(input_glue_name, Gfun (Internal input_glue_function))]
   ++ map output_glue_def (published m)

@@ -21,7 +21,7 @@
     accesses) are in [Generatorspec]. *)
 
 From Coq Require Import String Ascii List ZArith Bool Lia.
-From ROSGen Require Import Errors Syntax Maps NodeModel Wellformed Generator Generatorspec.
+From ROSGen Require Import Errors Syntax Values Operators Maps NodeModel Wellformed Generator Generatorspec.
 Import ListNotations.
 
 Local Open Scope string_scope.
@@ -152,7 +152,11 @@ Proof.
   intros m; unfold build_defs, global_names, ros_externals.
   rewrite !map_app, map_fst_flat_map, !map_map, <- !app_assoc.
   replace (map fst (time_externals m)) with (time_extern_names m)
-    by (unfold time_externals, time_extern_names; destruct (nm_stamps m); reflexivity).
+    by (unfold time_externals, time_extern_names, now_externals, stamp_externals,
+          now_extern_names, stamp_extern_names;
+        rewrite map_app; destruct (timed m), (nm_stamps m); reflexivity).
+  replace (map fst (flat_map clock_globals (timed m))) with (flat_map clock_names (timed m))
+    by (rewrite map_fst_flat_map; reflexivity).
   replace (flat_map (fun x => map fst (topic_externals x)) (nm_topics m))
     with (flat_map topic_extern_names (nm_topics m)); [reflexivity|].
   induction (nm_topics m) as [|tp l IH]; simpl; auto. rewrite IH, topic_externals_names; auto.
@@ -247,8 +251,32 @@ Theorem generate_time_externals:
   /\ find_def p ros_time_nsec_name = Some (Gfun (External EF_ros_time_nsec [] tuint)).
 Proof.
   intros m p H NE. split; apply (generate_find_def m p _ _ H), in_build_defs_externals;
-    rewrite !in_app_iff; left; unfold ros_externals, time_externals;
-    (destruct (nm_stamps m); [contradiction|]); simpl; tauto.
+    rewrite !in_app_iff; left; unfold ros_externals, time_externals, stamp_externals;
+    (destruct (nm_stamps m); [contradiction|]); rewrite !in_app_iff; simpl; tauto.
+Qed.
+
+(** A node with a timed topic declares [ros_now], and the clock globals
+    of each timed topic (rule 4.12). *)
+Theorem generate_now_external:
+  forall m p, generate m = OK p -> timed m <> [] ->
+  find_def p ros_now_name = Some (Gfun (External EF_ros_now [] (Tlong Unsigned))).
+Proof.
+  intros m p H NE. apply (generate_find_def m p _ _ H), in_build_defs_externals.
+  rewrite !in_app_iff; left; unfold ros_externals, time_externals, now_externals.
+  destruct (timed m); [contradiction|]. rewrite !in_app_iff; simpl; tauto.
+Qed.
+
+Theorem generate_clock_globals:
+  forall m p tp, generate m = OK p -> In tp (timed m) ->
+     find_def p (time_var (tp_cname tp)) = Some (Gvar (Tlong Unsigned))
+  /\ find_def p (new_var (tp_cname tp)) = Some (Gvar (Tint I8 Unsigned))
+  /\ find_def p (rcvd_var (tp_cname tp)) = Some (Gvar (Tint I8 Unsigned)).
+Proof.
+  intros m p tp H Htp.
+  assert (E: forall id d, In (id, d) (clock_globals tp) -> find_def p id = Some d).
+  { intros id d Hin. apply (generate_find_def m p _ _ H). unfold build_defs; rewrite !in_app_iff.
+    do 4 right; left. apply in_flat_map; eauto. }
+  repeat split; apply E; simpl; auto.
 Qed.
 
 Theorem generate_topic_externals:
@@ -292,6 +320,12 @@ Proof.
   apply filter_In in Hb. rewrite <- E; apply in_map; tauto.
 Qed.
 
+Lemma temps_of_names: forall qs x, In x (map fst (temps_of qs)) -> In x (map fst all_temps).
+Proof.
+  intros qs x H. unfold temps_of in H. apply in_map_iff in H. destruct H as (xt & <- & Hx).
+  apply filter_In in Hx. apply in_map; tauto.
+Qed.
+
 Lemma temps_of_nodup: forall qs, NoDup (map fst (temps_of qs)).
 Proof.
   intros qs. unfold temps_of. apply NoDup_map_filter.
@@ -310,22 +344,28 @@ Theorem generate_callback:
   /\ fn_return f = Tvoid
   /\ fn_params f = [(msg_param, tptr (Tstruct M))]
   /\ fn_vars f = []
-  /\ fn_body f = seq_of (map (leaf_copy (prog_types p) (Evar (msg_var c) (Tstruct M))
-                                                     (deref_param msg_param M))
-                             (leaves (nm_msgs m) M))
+  /\ fn_body f = (let base := seq_of (map (leaf_copy (prog_types p) (Evar (msg_var c) (Tstruct M))
+                                                                (deref_param msg_param M))
+                                        (leaves (nm_msgs m) M)) in
+                  if is_timed m c then Ssequence base (clock_stmts c) else base)
   /\ NoDup (map fst (fn_temps f))
   /\ (forall l, In l (leaves (nm_msgs m) M) ->
-        find_assoc (temp_name (snd l)) (fn_temps f) = Some (ctype_of_prim (snd l))).
+        find_assoc (temp_name (snd l)) (fn_temps f) = Some (ctype_of_prim (snd l)))
+  /\ (is_timed m c = true -> find_assoc (temp_name Puint64) (fn_temps f) = Some (Tlong Unsigned)).
 Proof.
-  intros m p tp H Hin c M. rewrite (generate_types m p H). split.
+  intros m p tp H Hin; cbv zeta. rewrite (generate_types m p H). split.
   - apply (generate_find_def m p _ _ H). unfold build_defs; rewrite !in_app_iff.
-    do 3 right; left. change (msg_var c, Gvar (Tstruct M)) with (msg_global tp). apply in_map; auto.
-  - exists (callback_function m tp); repeat split.
+    do 3 right; left. change (msg_var (tp_cname tp), Gvar (Tstruct (tp_msg tp))) with (msg_global tp). apply in_map; auto.
+  - exists (callback_function m tp); split; [|unfold callback_function; destruct (is_timed m (tp_cname tp)) eqn:T; simpl; repeat split].
     + apply (generate_find_def m p _ _ H). unfold build_defs; rewrite !in_app_iff.
-      do 4 right; left. change (callback_name c, Gfun (Internal (callback_function m tp)))
+      do 5 right; left. change (callback_name (tp_cname tp), Gfun (Internal (callback_function m tp)))
         with (callback_def m tp). apply in_map; auto.
     + apply temps_of_nodup.
+    + intros l Hl. apply temps_of_find. right. apply in_map; auto.
+    + intros _. apply (temps_of_find Puint64). left; auto.
+    + apply temps_of_nodup.
     + intros l Hl. apply temps_of_find. apply in_map; auto.
+    + intros E; discriminate.
 Qed.
 
 (** ** Relation consistency (the paper's Figure 15) *)
@@ -367,17 +407,27 @@ Proof.
     apply expr_place_path_expr with (q := []); auto.
 Qed.
 
-(** The body of [input_glue] is the sequence of copies of the relations,
-    in order: [Controller_U.In_i = c_i_msg.path_i] through a temporary. *)
+(** The copies of the relations, in order: [Controller_U.In_i =
+    c_i_msg.path_i] through a temporary. *)
+Definition input_base (m : node_model) : statement :=
+  seq_of (copies (map (fun ir => input_prim (make_tables m) (ir_input ir)) (nm_inrels m))
+                 (gen_list_controller_expr_input_glue m (nm_inrels m))
+                 (gen_list_global_expr_input_glue m (nm_inrels m))).
+
+(** The body of [input_glue]: the copies, then, if some topic is timed,
+    the freshness (rule 4.12). *)
 Lemma input_glue_body:
   forall m,
   fn_body (input_glue_function m (make_tables m))
-  = seq_of (copies (map (fun ir => input_prim (make_tables m) (ir_input ir)) (nm_inrels m))
-                   (gen_list_controller_expr_input_glue m (nm_inrels m))
-                   (gen_list_global_expr_input_glue m (nm_inrels m))).
+  = match timed m with
+    | [] => input_base m
+    | _ :: _ => Ssequence (input_base m) (timed_stmts m (make_tables m))
+    end.
 Proof.
-  intros m; simpl; f_equal. unfold gen_list_controller_expr_input_glue, gen_list_global_expr_input_glue.
-  induction (nm_inrels m) as [|ir l IH]; simpl; auto. rewrite IH; auto.
+  intros m. assert (E: seq_of (map (input_copy m (make_tables m)) (nm_inrels m)) = input_base m).
+  { unfold input_base; f_equal. unfold gen_list_controller_expr_input_glue, gen_list_global_expr_input_glue.
+    induction (nm_inrels m) as [|ir l IH]; simpl; auto. rewrite IH; auto. }
+  unfold input_glue_function; destruct (timed m); simpl; rewrite E; auto.
 Qed.
 
 (** The same for one published topic with C name [c] and message [M]. *)
@@ -440,7 +490,7 @@ Lemma output_glue_body:
   fn_body (output_glue_function m (make_tables m) tp)
   = match topic_stamp m (tp_cname tp) with
     | None => output_base m tp
-    | Some sp => Ssequence (output_base m tp) (stamp_stmts m (tp_msg tp) sp)
+    | Some sp => Ssequence (output_base m tp) (stamp_stmts m (make_tables m) (tp_cname tp) (tp_msg tp) sp)
     end.
 Proof.
   intros m tp. unfold output_glue_function, output_base.
@@ -498,20 +548,49 @@ Theorem generate_input_glue:
   exists f,
      find_def p input_glue_name = Some (Gfun (Internal f))
   /\ fn_return f = Tvoid /\ fn_params f = [] /\ fn_vars f = []
-  /\ fn_body f = seq_of (copies (map (fun ir => input_prim (make_tables m) (ir_input ir)) (nm_inrels m))
-                                (gen_list_controller_expr_input_glue m (nm_inrels m))
-                                (gen_list_global_expr_input_glue m (nm_inrels m)))
+  /\ fn_body f = match timed m with
+                 | [] => input_base m
+                 | _ :: _ => Ssequence (input_base m) (timed_stmts m (make_tables m))
+                 end
   /\ NoDup (map fst (fn_temps f))
   /\ (forall ir, In ir (nm_inrels m) ->
         find_assoc (temp_name (input_prim (make_tables m) (ir_input ir))) (fn_temps f)
-        = Some (ctype_of_prim (input_prim (make_tables m) (ir_input ir)))).
+        = Some (ctype_of_prim (input_prim (make_tables m) (ir_input ir))))
+  /\ (timed m <> [] ->
+        find_assoc now_temp (fn_temps f) = Some (Tlong Unsigned)
+     /\ find_assoc age_temp (fn_temps f) = Some (Tlong Unsigned)
+     /\ find_assoc (temp_name Pbool) (fn_temps f) = Some (ctype_of_prim Pbool)).
 Proof.
-  intros m p H. exists (input_glue_function m (make_tables m)); repeat split.
+  intros m p H. exists (input_glue_function m (make_tables m)).
+  refine (conj _ (conj _ (conj _ (conj _ (conj _ (conj _ (conj _ _))))))).
   - apply (generate_find_def m p _ _ H). unfold build_defs; rewrite !in_app_iff.
-    do 5 right; left; simpl; auto.
+    do 6 right; left; simpl; auto.
+  - unfold input_glue_function; destruct (timed m); reflexivity.
+  - unfold input_glue_function; destruct (timed m); reflexivity.
+  - unfold input_glue_function; destruct (timed m); reflexivity.
   - apply input_glue_body.
-  - apply temps_of_nodup.
-  - intros ir Hir. apply temps_of_find. apply in_map_iff; eauto.
+  - unfold input_glue_function; destruct (timed m) eqn:T; cbn [fn_temps].
+    + apply temps_of_nodup.
+    + constructor; [|constructor].
+      * cbn [map fst]. intros [E|E]; [discriminate|].
+        apply temps_of_names in E. simpl in E. intuition discriminate.
+      * cbn [map fst]. intros E.
+        apply temps_of_names in E. simpl in E. intuition discriminate.
+      * apply temps_of_nodup.
+  - unfold input_glue_function; destruct (timed m) eqn:T; cbn [fn_temps].
+    + intros ir Hir. apply temps_of_find. apply in_map_iff; eauto.
+    + intros ir Hir. change (find_assoc (temp_name (input_prim (make_tables m) (ir_input ir)))
+                         ([(now_temp, Tlong Unsigned); (age_temp, Tlong Unsigned)]
+                          ++ temps_of (Pbool :: map (fun ir => input_prim (make_tables m) (ir_input ir)) (nm_inrels m)))
+                       = Some (ctype_of_prim (input_prim (make_tables m) (ir_input ir)))).
+      rewrite find_assoc_app_right.
+      * apply temps_of_find. right; apply in_map_iff; eauto.
+      * destruct (input_prim (make_tables m) (ir_input ir)); simpl; intuition discriminate.
+  - unfold input_glue_function; destruct (timed m) eqn:T; cbn [fn_temps].
+    + intros; congruence.
+    + intros _. split; [reflexivity|split; [reflexivity|]].
+      rewrite find_assoc_app_right by (simpl; intuition discriminate).
+      apply (temps_of_find Pbool). left; auto.
 Qed.
 
 (** [output_glue_c]: zero the message, then the copies of the topic's
@@ -529,7 +608,7 @@ Theorem generate_output_glue:
   /\ fn_body f
      = match topic_stamp m c with
        | None => output_base m tp
-       | Some sp => Ssequence (output_base m tp) (stamp_stmts m M sp)
+       | Some sp => Ssequence (output_base m tp) (stamp_stmts m (make_tables m) c M sp)
        end
   /\ NoDup (map fst (fn_temps f))
   /\ (forall o, In o lor ->
@@ -540,7 +619,7 @@ Theorem generate_output_glue:
 Proof.
   intros m p tp H Hin c M lor. exists (output_glue_function m (make_tables m) tp); repeat split.
   - apply (generate_find_def m p _ _ H). unfold build_defs; rewrite !in_app_iff.
-    do 6 right; left. change (output_glue_name c, Gfun (Internal (output_glue_function m (make_tables m) tp)))
+    do 7 right; left. change (output_glue_name c, Gfun (Internal (output_glue_function m (make_tables m) tp)))
       with (output_glue_def m (make_tables m) tp). apply in_map; auto.
   - unfold output_glue_function; destruct (topic_stamp m (tp_cname tp)); reflexivity.
   - unfold output_glue_function; destruct (topic_stamp m (tp_cname tp)); reflexivity.
@@ -666,10 +745,17 @@ Qed.
 Definition is_scalar (t : type) : bool :=
   match t with Tint _ _ | Tlong _ | Tfloat _ => true | _ => false end.
 
-Definition wt_rhs (ce : list composite_definition) (temps : list (ident * type)) (e : expr) : Prop :=
+(** A right-hand side: a temporary read at its type, a constant, an
+    arithmetic operation on two operands of one type, allowed by
+    [binop_type], a cast between scalar types, or a well-typed place. *)
+Fixpoint wt_rhs (ce : list composite_definition) (temps : list (ident * type)) (e : expr) : Prop :=
   match e with
   | Etempvar x t => find_assoc x temps = Some t
   | Econst_int _ _ | Econst_long _ _ | Econst_float _ _ | Econst_single _ _ => True
+  | Ebinop op a1 a2 t =>
+      typeof a1 = typeof a2 /\ binop_type op (typeof a1) = Some t
+      /\ wt_rhs ce temps a1 /\ wt_rhs ce temps a2
+  | Ecast a t => is_scalar (typeof a) = true /\ is_scalar t = true /\ wt_rhs ce temps a
   | _ => wt_place ce e
   end.
 
@@ -678,7 +764,7 @@ Fixpoint valid_assignments (ce : list composite_definition) (temps : list (ident
   match s with
   | Sassign l r =>
       typeof l = typeof r /\ is_scalar (typeof l) = true /\ wt_place ce l /\ wt_rhs ce temps r
-  | Sset x e => find_assoc x temps = Some (typeof e) /\ wt_place ce e
+  | Sset x e => find_assoc x temps = Some (typeof e) /\ (wt_place ce e \/ wt_rhs ce temps e)
   | Scall (Some x) f _ =>
       match typeof f with Tfunction _ r => find_assoc x temps = Some r | _ => False end
   | Ssequence s1 s2 | Sifthenelse _ s1 s2 =>
@@ -708,6 +794,12 @@ Proof.
   intros; simpl. rewrite H2, H0. repeat split; auto. apply ctype_of_prim_scalar.
 Qed.
 
+Lemma typeof_const_of: forall q v, typeof (const_of q v) = ctype_of_prim q.
+Proof. intros q v; destruct v; simpl; auto; apply typeof_zero_of. Qed.
+
+Lemma wt_rhs_const_of: forall ce temps q v, wt_rhs ce temps (const_of q v).
+Proof. intros ce temps q v; destruct v; simpl; auto; destruct q; exact I. Qed.
+
 Lemma valid_copies:
   forall ce temps qs ld ls,
   (forall i q d s, nth_error qs i = Some q -> nth_error ld i = Some d -> nth_error ls i = Some s ->
@@ -735,9 +827,59 @@ Qed.
 
 Lemma ros_externals_not_internal: forall m id f, ~ In (id, Gfun (Internal f)) (ros_externals m).
 Proof.
-  intros m id f H. unfold ros_externals, time_externals in H.
-  destruct (nm_stamps m); simpl in H; intuition discriminate.
+  intros m id f H. unfold ros_externals, time_externals, now_externals, stamp_externals in H.
+  destruct (timed m), (nm_stamps m); simpl in H; intuition discriminate.
 Qed.
+
+Lemma clock_globals_not_internal: forall m id f, ~ In (id, Gfun (Internal f)) (flat_map clock_globals (timed m)).
+Proof.
+  intros m id f H. apply in_flat_map in H. destruct H as (tp & _ & H). simpl in H; intuition discriminate.
+Qed.
+
+(** The freshness statements of [input_glue] (rule 4.12) are valid
+    assignments. *)
+Lemma valid_timed:
+  forall m temps, wf_facts m ->
+  find_assoc now_temp temps = Some (Tlong Unsigned) ->
+  find_assoc age_temp temps = Some (Tlong Unsigned) ->
+  find_assoc (temp_name Pbool) temps = Some (ctype_of_prim Pbool) ->
+  valid_assignments (composites m) temps (timed_stmts m (make_tables m)).
+Proof.
+  intros m temps W TN TA TB. unfold timed_stmts. apply valid_assignments_seq.
+  assert (AGE: forall c, valid_assignments (composites m) temps (age_stmt c)).
+  { intros c. simpl; repeat split; auto; right; simpl; repeat split; auto; constructor. }
+  intros st Hst. destruct Hst as [<-|Hst]; [simpl; auto|].
+  apply in_app_iff in Hst. destruct Hst as [Hst|Hst]; [|apply in_app_iff in Hst; destruct Hst as [Hst|Hst]].
+  - apply in_map_iff in Hst. destruct Hst as (ir & <- & Hir).
+    apply filter_In in Hir. destruct Hir as [Hir _].
+    destruct (input_copy_typed m W ir Hir) as (_ & _ & T2 & W2).
+    unfold fallback_stmt. destruct (find_assoc (ir_input ir) (nm_fallbacks m)); [|exact I].
+    destruct (timeout_of m (ir_topic ir)); [|exact I].
+    split; [apply AGE|].
+    simpl. rewrite typeof_const_of. unfold input_dst in *. simpl in T2 |- *.
+    repeat split; auto using ctype_of_prim_scalar, wt_rhs_const_of.
+  - apply in_map_iff in Hst. destruct Hst as (dr & <- & Hdr).
+    destruct (wf_drel m dr W Hdr) as (tp' & _ & _ & I).
+    assert (Hp: input_prim (make_tables m) (dr_input dr) = derived_prim (dr_kind dr))
+      by (apply input_prim_tables; auto).
+    assert (WD: wt_place (composites m) (derived_dst m (make_tables m) dr)).
+    { unfold derived_dst, in_var_expr. econstructor; [constructor|reflexivity|].
+      rewrite Hp. apply field_type_inputs; auto. }
+    unfold derived_stmt. destruct (dr_kind dr) eqn:K.
+    + apply valid_copy; auto; try constructor.
+      unfold derived_dst. simpl. rewrite Hp. auto.
+    + apply valid_copy; auto; try constructor.
+      unfold derived_dst. simpl. rewrite Hp. auto.
+    + split; [apply AGE|].
+      unfold derived_dst in *. simpl. rewrite Hp. simpl. rewrite Hp in WD. repeat split; auto.
+  - apply in_map_iff in Hst. destruct Hst as (tp & <- & _). simpl. repeat split; auto. constructor.
+Qed.
+
+(** The clock update of a callback is valid assignments. *)
+Lemma valid_clock:
+  forall ce temps c, find_assoc (temp_name Puint64) temps = Some (Tlong Unsigned) ->
+  valid_assignments ce temps (clock_stmts c).
+Proof. intros; simpl; repeat split; auto; constructor. Qed.
 
 Lemma output_temps:
   forall m tp o, In o (topic_outrels (make_tables m) (tp_cname tp)) ->
@@ -761,7 +903,7 @@ Qed.
 Lemma valid_stamp:
   forall m tp sp temps, wf_facts m -> In tp (published m) -> topic_stamp m (tp_cname tp) = Some sp ->
   find_assoc (temp_name Puint32) temps = Some (ctype_of_prim Puint32) ->
-  valid_assignments (composites m) temps (stamp_stmts m (tp_msg tp) sp).
+  valid_assignments (composites m) temps (stamp_stmts m (make_tables m) (tp_cname tp) (tp_msg tp) sp).
 Proof.
   intros m tp sp temps W Htp ST TU.
   destruct (wf_stamp m tp sp W Htp ST) as (Rs & Rn & _).
@@ -769,7 +911,17 @@ Proof.
     as [T1 W1]; auto; [constructor|].
   destruct (leaf_path_expr_typed m _ _ _ (deref_param command_param (tp_msg tp)) Rn)
     as [T2 W2]; auto; [constructor|].
-  unfold stamp_stmts. simpl. rewrite T1, T2. repeat split; auto.
+  unfold stamp_stmts. destruct (topic_stamp_from m (tp_cname tp)) as [[s0 sp']|] eqn:SF.
+  - assert (Hin: In (tp_cname tp, (s0, sp')) (nm_stamp_from m)) by (apply find_assoc_In; auto).
+    destruct (wf_stamp_from m _ _ _ W Hin) as (tp' & Ft & _ & Rs' & Rn' & _).
+    rewrite (topic_msg_tables m _ _ Ft).
+    destruct (leaf_path_expr_typed m _ _ _ (Evar (msg_var s0) (Tstruct (tp_msg tp'))) Rs')
+      as [T3 W3]; auto; [constructor|].
+    destruct (leaf_path_expr_typed m _ _ _ (Evar (msg_var s0) (Tstruct (tp_msg tp'))) Rn')
+      as [T4 W4]; auto; [constructor|].
+    unfold seq_of; cbn [fold_right valid_assignments].
+    split; [|split; [|exact I]]; apply valid_copy; auto.
+  - simpl. rewrite T1, T2. repeat split; auto.
 Qed.
 
 (** Every function of the generated program makes only valid assignments. *)
@@ -782,28 +934,48 @@ Proof.
   rewrite (generate_types m p H).
   apply find_def_build with (m := m) in F; auto.
   unfold build_defs in F; rewrite !in_app_iff in F.
-  destruct F as [F|[F|[F|[F|[F|[F|[F|F]]]]]]].
+  destruct F as [F|[F|[F|[F|[F|[F|[F|[F|F]]]]]]]].
   - exfalso; eapply ros_externals_not_internal; eauto.
   - apply in_flat_map in F; destruct F as (tp & _ & F).
     unfold topic_externals in F; destruct (tp_dir tp); simpl in F; intuition discriminate.
   - simpl in F; intuition discriminate.
   - apply in_map_iff in F; destruct F as (tp & E & _); discriminate.
+  - exfalso; eapply clock_globals_not_internal; eauto.
   - (* callbacks *)
     apply in_map_iff in F; destruct F as (tp & E & Htp); inversion E; subst f; clear E.
-    simpl. apply valid_assignments_seq. intros st Hst.
-    apply in_map_iff in Hst; destruct Hst as ([pa q] & <- & Hl).
-    apply leaves_spec in Hl as R; auto.
-    destruct (leaf_path_expr_typed m _ _ _ (Evar (msg_var (tp_cname tp)) (Tstruct (tp_msg tp))) R)
-      as [T1 W1]; auto; [constructor|].
-    destruct (leaf_path_expr_typed m _ _ _ (deref_param msg_param (tp_msg tp)) R)
-      as [T2 W2]; auto; [constructor|].
-    apply valid_copy; auto. apply temps_of_find. apply in_map_iff; exists (pa, q); auto.
+    assert (BASE: forall temps, (forall l, In l (leaves (nm_msgs m) (tp_msg tp)) ->
+                       find_assoc (temp_name (snd l)) temps = Some (ctype_of_prim (snd l))) ->
+              valid_assignments (composites m) temps
+              (seq_of (map (leaf_copy (composites m) (Evar (msg_var (tp_cname tp)) (Tstruct (tp_msg tp)))
+                                      (deref_param msg_param (tp_msg tp))) (leaves (nm_msgs m) (tp_msg tp))))).
+    { intros temps Ht. apply valid_assignments_seq. intros st Hst.
+      apply in_map_iff in Hst; destruct Hst as ([pa q] & <- & Hl).
+      apply leaves_spec in Hl as R; auto.
+      destruct (leaf_path_expr_typed m _ _ _ (Evar (msg_var (tp_cname tp)) (Tstruct (tp_msg tp))) R)
+        as [T1 W1]; auto; [constructor|].
+      destruct (leaf_path_expr_typed m _ _ _ (deref_param msg_param (tp_msg tp)) R)
+        as [T2 W2]; auto; [constructor|].
+      apply valid_copy; auto; apply (Ht (pa, q) Hl). }
+    unfold callback_function. destruct (is_timed m (tp_cname tp)); cbn [fn_body fn_temps].
+    + split; [apply BASE|apply valid_clock].
+      * intros l Hl. apply temps_of_find. right; apply in_map; auto.
+      * apply (temps_of_find Puint64). left; auto.
+    + apply BASE. intros l Hl. apply temps_of_find. apply in_map; auto.
   - (* input_glue *)
     simpl in F; destruct F as [E|[]]; inversion E; subst f; clear E.
-    rewrite input_glue_body. apply valid_copies. intros i q d s E1 E2 E3.
-    destruct (nth_error_map3 _ _ _ _ _ _ _ _ _ E1 E2 E3) as (ir & Hir & -> & -> & ->).
-    destruct (input_copy_typed m W ir Hir) as (? & ? & ? & ?).
-    repeat split; auto. apply temps_of_find. apply in_map_iff; eauto.
+    destruct (generate_input_glue m p H) as (f & Ff & _ & _ & _ & Fb & _ & Ft & Fn).
+    assert (Ef: f = input_glue_function m (make_tables m)).
+    { rewrite (generate_find_def m p input_glue_name (Gfun (Internal (input_glue_function m (make_tables m)))) H) in Ff;
+        [congruence|].
+      unfold build_defs; rewrite !in_app_iff. do 6 right; left. simpl; auto. }
+    subst f. rewrite input_glue_body.
+    assert (BASE: valid_assignments (composites m) (fn_temps (input_glue_function m (make_tables m))) (input_base m)).
+    { unfold input_base. apply valid_copies. intros i q d s E1 E2 E3.
+      destruct (nth_error_map3 _ _ _ _ _ _ _ _ _ E1 E2 E3) as (ir & Hir & -> & -> & ->).
+      destruct (input_copy_typed m W ir Hir) as (? & ? & ? & ?).
+      repeat split; auto. }
+    destruct (timed m) eqn:T; auto. split; auto.
+    destruct (Fn ltac:(congruence)) as (N1 & N2 & N3). apply valid_timed; auto.
   - (* output_glue *)
     apply in_map_iff in F; destruct F as (tp & E & Htp); inversion E; subst f; clear E.
     assert (Hpub := Htp).
@@ -881,40 +1053,75 @@ Proof.
 Qed.
 
 (** Which generated function assigns what: a callback assigns only its
-    topic's global message, [input_glue] only fields of [Controller_U],
-    [output_glue_c] only through its pointer parameter [command]; [loop]
-    and [main] assign nothing. *)
+    topic's global message and, if the topic is timed, its clock;
+    [input_glue] only fields of [Controller_U] and the [c_new] flags of
+    the timed topics; [output_glue_c] only through its pointer parameter
+    [command]; [loop] and [main] assign nothing. *)
 Theorem generate_assigned_places:
   forall m p id f, generate m = OK p -> find_def p id = Some (Gfun (Internal f)) ->
   forall pl, In pl (assigned_places (fn_body f)) ->
      (exists tp path, In tp (subscribed m) /\ id = callback_name (tp_cname tp)
                       /\ pl = Some (Rvar (msg_var (tp_cname tp)), path))
+  \/ (exists tp x, In tp (timed m) /\ id = callback_name (tp_cname tp)
+                   /\ In x (clock_names tp) /\ pl = Some (Rvar x, []))
   \/ (exists x, id = input_glue_name /\ pl = Some (Rvar (nm_in_var m), [PField x]))
+  \/ (exists tp, In tp (timed m) /\ id = input_glue_name /\ pl = Some (Rvar (new_var (tp_cname tp)), []))
   \/ (exists tp path, In tp (published m) /\ id = output_glue_name (tp_cname tp)
                       /\ pl = Some (Rderef command_param, path)).
 Proof.
   intros m p id f H F pl Hpl.
   apply find_def_build with (m := m) in F; auto.
   unfold build_defs in F; rewrite !in_app_iff in F.
-  destruct F as [F|[F|[F|[F|[F|[F|[F|F]]]]]]].
+  destruct F as [F|[F|[F|[F|[F|[F|[F|[F|F]]]]]]]].
   - exfalso; eapply ros_externals_not_internal; eauto.
   - apply in_flat_map in F; destruct F as (tp & _ & F).
     unfold topic_externals in F; destruct (tp_dir tp); simpl in F; intuition discriminate.
   - simpl in F; intuition discriminate.
   - apply in_map_iff in F; destruct F as (tp & E & _); discriminate.
+  - exfalso; eapply clock_globals_not_internal; eauto.
   - apply in_map_iff in F; destruct F as (tp & E & Htp); inversion E; subst; clear E.
-    left. simpl in Hpl. rewrite assigned_places_seq in Hpl.
-    apply in_flat_map in Hpl; destruct Hpl as (st & Hst & Hpl).
-    apply in_map_iff in Hst; destruct Hst as ([pa q] & <- & _).
-    simpl in Hpl; destruct Hpl as [<-|[]].
-    exists tp, pa; repeat split; auto. apply expr_place_path_expr with (q := []); auto.
+    assert (BASE: In pl (assigned_places (seq_of (map (leaf_copy (composites m) (Evar (msg_var (tp_cname tp)) (Tstruct (tp_msg tp)))
+                                      (deref_param msg_param (tp_msg tp))) (leaves (nm_msgs m) (tp_msg tp))))) ->
+                  exists path, pl = Some (Rvar (msg_var (tp_cname tp)), path)).
+    { clear Hpl. intros Hpl. rewrite assigned_places_seq in Hpl.
+      apply in_flat_map in Hpl; destruct Hpl as (st & Hst & Hpl).
+      apply in_map_iff in Hst; destruct Hst as ([pa q] & <- & _).
+      simpl in Hpl; destruct Hpl as [<-|[]].
+      exists pa. apply expr_place_path_expr with (q := []); auto. }
+    unfold callback_function in Hpl. destruct (is_timed m (tp_cname tp)) eqn:T; cbn [fn_body] in Hpl.
+    + cbn [assigned_places] in Hpl. apply in_app_iff in Hpl. destruct Hpl as [Hpl|Hpl].
+      * left. destruct (BASE Hpl) as (pa & ->). exists tp, pa; auto.
+      * right; left. assert (Ht: In tp (timed m)) by (apply filter_In; auto).
+        simpl in Hpl. unfold clock_names.
+        destruct Hpl as [<-|[<-|[<-|[]]]]; eexists tp, _; repeat split; simpl; eauto.
+    + left. destruct (BASE Hpl) as (pa & ->). exists tp, pa; auto.
   - simpl in F; destruct F as [E|[]]; inversion E; subst; clear E.
-    right; left. rewrite input_glue_body in Hpl. apply assigned_places_copies in Hpl.
-    destruct Hpl as (d & Hd & ->). unfold gen_list_controller_expr_input_glue in Hd.
-    apply in_map_iff in Hd; destruct Hd as (ir & <- & _).
-    exists (ir_input ir); split; auto.
+    rewrite input_glue_body in Hpl.
+    assert (BASE: In pl (assigned_places (input_base m)) -> exists x, pl = Some (Rvar (nm_in_var m), [PField x])).
+    { clear Hpl. intros Hpl. apply assigned_places_copies in Hpl.
+      destruct Hpl as (d & Hd & ->). unfold gen_list_controller_expr_input_glue in Hd.
+      apply in_map_iff in Hd; destruct Hd as (ir & <- & _). exists (ir_input ir); auto. }
+    destruct (timed m) as [|tp0 l] eqn:T.
+    + right; right; left. destruct (BASE Hpl) as (x & ->). eauto.
+    + rewrite <- T. cbn [assigned_places] in Hpl. apply in_app_iff in Hpl. destruct Hpl as [Hpl|Hpl].
+      * right; right; left. destruct (BASE Hpl) as (x & ->). eauto.
+      * unfold timed_stmts in Hpl. rewrite T, assigned_places_seq in Hpl.
+        apply in_flat_map in Hpl. destruct Hpl as (st & Hst & Hpl).
+        destruct Hst as [<-|Hst]; [simpl in Hpl; tauto|]. rewrite <- T in Hst.
+        apply in_app_iff in Hst. destruct Hst as [Hst|Hst]; [|apply in_app_iff in Hst; destruct Hst as [Hst|Hst]].
+        -- right; right; left. apply in_map_iff in Hst. destruct Hst as (ir & <- & _).
+           unfold fallback_stmt in Hpl.
+           destruct (find_assoc (ir_input ir) (nm_fallbacks m)); [|simpl in Hpl; tauto].
+           destruct (timeout_of m (ir_topic ir)); simpl in Hpl; [|tauto].
+           repeat (destruct Hpl as [Hpl|Hpl]; [subst pl; eauto|]); contradiction.
+        -- right; right; left. apply in_map_iff in Hst. destruct Hst as (dr & <- & _).
+           unfold derived_stmt in Hpl.
+           unfold derived_dst, in_var_expr in Hpl. destruct (dr_kind dr); simpl in Hpl;
+             repeat (destruct Hpl as [Hpl|Hpl]; [subst pl; eauto|]); contradiction.
+        -- right; right; right; left. apply in_map_iff in Hst. destruct Hst as (tp & <- & Htp).
+           simpl in Hpl. destruct Hpl as [<-|[]]. eauto.
   - apply in_map_iff in F; destruct F as (tp & E & Htp); inversion E; subst; clear E.
-    right; right. rewrite output_glue_body in Hpl.
+    right; right; right; right. rewrite output_glue_body in Hpl.
     assert (BASE: forall pl, In pl (assigned_places (output_base m tp)) ->
                   exists path, pl = Some (Rderef command_param, path)).
     { clear Hpl. intros pl0 Hpl. unfold output_base in Hpl. simpl in Hpl. apply in_app_iff in Hpl.
@@ -931,7 +1138,7 @@ Proof.
     destruct (topic_stamp m (tp_cname tp)) as [sp|] eqn:ST.
     + simpl in Hpl. apply in_app_iff in Hpl. destruct Hpl as [Hpl|Hpl].
       * destruct (BASE pl Hpl) as (pa & ->). exists tp, pa; auto.
-      * unfold stamp_stmts in Hpl. simpl in Hpl.
+      * unfold stamp_stmts in Hpl. destruct (topic_stamp_from m (tp_cname tp)) as [[s0 sp']|]; simpl in Hpl;
         destruct Hpl as [<-|[<-|[]]]; eexists tp, _; repeat split; auto;
           apply expr_place_path_expr with (q := []); auto.
     + destruct (BASE pl Hpl) as (pa & ->). exists tp, pa; auto.
@@ -954,6 +1161,7 @@ Qed.
     names, all distinct from them. *)
 Definition names_after_controller (m : node_model) : list ident :=
   map (fun tp => msg_var (tp_cname tp)) (subscribed m)
+  ++ flat_map clock_names (timed m)
   ++ map (fun tp => callback_name (tp_cname tp)) (subscribed m)
   ++ [input_glue_name]
   ++ map (fun tp => output_glue_name (tp_cname tp)) (published m)
@@ -992,15 +1200,22 @@ Qed.
 Lemma callback_name_in_after:
   forall m tp, In tp (subscribed m) -> In (callback_name (tp_cname tp)) (names_after_controller m).
 Proof.
-  intros m tp H; unfold names_after_controller; rewrite !in_app_iff; right; left.
+  intros m tp H; unfold names_after_controller; rewrite !in_app_iff; right; right; left.
   apply in_map_iff; eauto.
+Qed.
+
+Lemma clock_name_in_after:
+  forall m tp x, In tp (timed m) -> In x (clock_names tp) -> In x (names_after_controller m).
+Proof.
+  intros m tp x H Hx; unfold names_after_controller; rewrite !in_app_iff; right; left.
+  apply in_flat_map; eauto.
 Qed.
 
 Lemma cmd_var_in_after:
   forall m tp, In tp (published m) -> In (cmd_var (tp_cname tp)) (names_after_controller m).
 Proof.
   intros m tp H; unfold names_after_controller, local_names; rewrite !in_app_iff.
-  do 7 right. apply in_map_iff; eauto.
+  do 8 right. apply in_map_iff; eauto.
 Qed.
 
 (** Preservation: no generated function other than [input_glue] assigns
@@ -1015,9 +1230,12 @@ Proof.
   assert (W: wf_facts m) by (apply wf_facts_intro, (generate_sound m p H)).
   destruct (wf_controller_vars_fresh m W) as (_ & NU & _).
   destruct (generate_assigned_places m p id f H F pl Hpl)
-    as [(tp & pa & Htp & _ & ->)|[(x & E & _)|(tp & pa & _ & _ & ->)]].
+    as [(tp & pa & Htp & _ & ->)|[(tp & x & Htp & _ & Hx & ->)|[(x & E & _)|[(tp & Htp & E & _)|(tp & pa & _ & _ & ->)]]]].
   - exists (Rvar (msg_var (tp_cname tp))), pa; split; auto.
     intros E; inversion E. apply NU; rewrite <- H1; apply msg_var_in_after; auto.
+  - exists (Rvar x), []; split; auto.
+    intros E; inversion E. apply NU; rewrite <- H1; eapply clock_name_in_after; eauto.
+  - congruence.
   - congruence.
   - exists (Rderef command_param), pa; split; auto; discriminate.
 Qed.
@@ -1033,10 +1251,14 @@ Proof.
   assert (W: wf_facts m) by (apply wf_facts_intro, (generate_sound m p H)).
   destruct (wf_controller_vars_fresh m W) as (NUY & _ & NY).
   destruct (generate_assigned_places m p id f H F pl Hpl)
-    as [(tp & pa & Htp & _ & ->)|[(x & _ & ->)|(tp & pa & _ & _ & ->)]].
+    as [(tp & pa & Htp & _ & ->)|[(tp & x & Htp & _ & Hx & ->)|[(x & _ & ->)|[(tp & Htp & _ & ->)|(tp & pa & _ & _ & ->)]]]].
   - exists (Rvar (msg_var (tp_cname tp))), pa; split; auto.
     intros E; inversion E. apply NY; rewrite <- H1; apply msg_var_in_after; auto.
+  - exists (Rvar x), []; split; auto.
+    intros E; inversion E. apply NY; rewrite <- H1; eapply clock_name_in_after; eauto.
   - exists (Rvar (nm_in_var m)), [PField x]; split; auto. intros E; inversion E; auto.
+  - exists (Rvar (new_var (tp_cname tp))), []; split; auto.
+    intros E; inversion E. apply NY; rewrite <- H1; eapply clock_name_in_after; eauto. simpl; auto.
   - exists (Rderef command_param), pa; split; auto; discriminate.
 Qed.
 
@@ -1105,28 +1327,49 @@ Proof.
   intros m p id f x H F T.
   apply find_def_build with (m := m) in F; auto.
   unfold build_defs in F; rewrite !in_app_iff in F.
-  destruct F as [F|[F|[F|[F|[F|[F|[F|F]]]]]]].
+  destruct F as [F|[F|[F|[F|[F|[F|[F|[F|F]]]]]]]].
   - exfalso; eapply ros_externals_not_internal; eauto.
   - apply in_flat_map in F; destruct F as (tp & _ & F).
     unfold topic_externals in F; destruct (tp_dir tp); simpl in F; intuition discriminate.
   - simpl in F; intuition discriminate.
   - apply in_map_iff in F; destruct F as (tp & E & _); discriminate.
+  - exfalso; eapply clock_globals_not_internal; eauto.
   - exfalso. apply in_map_iff in F; destruct F as (tp & E & Htp); inversion E; subst; clear E.
-    simpl in T. rewrite stmt_takes_addr_seq in T. apply existsb_exists in T.
-    destruct T as (st & Hst & T). apply in_map_iff in Hst; destruct Hst as ([pa q] & <- & _).
-    unfold leaf_copy in T; simpl fst in T; simpl snd in T.
-    rewrite copy_takes_no_addr in T; auto; discriminate.
+    assert (BASE: stmt_takes_addr x (seq_of (map (leaf_copy (composites m) (Evar (msg_var (tp_cname tp)) (Tstruct (tp_msg tp)))
+                                      (deref_param msg_param (tp_msg tp))) (leaves (nm_msgs m) (tp_msg tp)))) = false).
+    { rewrite stmt_takes_addr_seq. apply not_true_iff_false. intros T'. apply existsb_exists in T'.
+      destruct T' as (st & Hst & T'). apply in_map_iff in Hst; destruct Hst as ([pa q] & <- & _).
+      unfold leaf_copy in T'; simpl fst in T'; simpl snd in T'.
+      rewrite copy_takes_no_addr in T'; auto; discriminate. }
+    unfold callback_function in T. destruct (is_timed m (tp_cname tp)); cbn [fn_body] in T.
+    + cbn [stmt_takes_addr] in T. rewrite BASE in T. simpl in T. discriminate.
+    + congruence.
   - exfalso. simpl in F; destruct F as [E|[]]; inversion E; subst; clear E.
-    rewrite input_glue_body, stmt_takes_addr_seq, copies_take_no_addr in T; [discriminate| |].
-    + intros d Hd. unfold gen_list_controller_expr_input_glue in Hd.
-      apply in_map_iff in Hd; destruct Hd as (ir & <- & _). unfold input_dst; auto.
-    + intros s Hs. unfold gen_list_global_expr_input_glue in Hs.
-      apply in_map_iff in Hs; destruct Hs as (ir & <- & _). unfold input_src.
-      rewrite expr_takes_addr_path; auto.
+    assert (BASE: stmt_takes_addr x (input_base m) = false).
+    { unfold input_base. rewrite stmt_takes_addr_seq, copies_take_no_addr; auto.
+      + intros d Hd. unfold gen_list_controller_expr_input_glue in Hd.
+        apply in_map_iff in Hd; destruct Hd as (ir & <- & _). unfold input_dst; auto.
+      + intros s Hs. unfold gen_list_global_expr_input_glue in Hs.
+        apply in_map_iff in Hs; destruct Hs as (ir & <- & _). unfold input_src.
+        rewrite expr_takes_addr_path; auto. }
+    rewrite input_glue_body in T. destruct (timed m) eqn:TM; [congruence|].
+    cbn [stmt_takes_addr] in T. rewrite BASE in T. simpl in T.
+    unfold timed_stmts in T. rewrite stmt_takes_addr_seq in T. apply existsb_exists in T.
+    destruct T as (st & Hst & T).
+    apply in_app_iff in Hst. destruct Hst as [Hst|Hst]; [|apply in_app_iff in Hst; destruct Hst as [Hst|Hst]].
+    + apply in_map_iff in Hst. destruct Hst as (ir & <- & _). unfold fallback_stmt in T.
+      destruct (find_assoc (ir_input ir) (nm_fallbacks m)) as [v|]; [|discriminate].
+      destruct (timeout_of m (ir_topic ir)); [|discriminate].
+      simpl in T. destruct v; simpl in T; try discriminate;
+        destruct (input_prim (make_tables m) (ir_input ir)); discriminate.
+    + apply in_map_iff in Hst. destruct Hst as (dr & <- & _). unfold derived_stmt in T.
+      destruct (dr_kind dr); discriminate.
+    + apply in_map_iff in Hst. destruct Hst as (tp & <- & _). discriminate.
   - exfalso. apply in_map_iff in F; destruct F as (tp & E & Htp); inversion E; subst; clear E.
     rewrite output_glue_body in T.
     destruct (topic_stamp m (tp_cname tp)) as [sp|]; [simpl in T; apply orb_true_iff in T; destruct T as [T|T]|].
-    2:{ unfold stamp_stmts in T. simpl in T. rewrite !expr_takes_addr_path in T. simpl in T. discriminate. }
+    2:{ unfold stamp_stmts in T. destruct (topic_stamp_from m (tp_cname tp)) as [[s0 sp']|]; simpl in T;
+        rewrite !expr_takes_addr_path in T; simpl in T; discriminate. }
     all: unfold output_base in T; simpl in T; rewrite !stmt_takes_addr_seq in T;
     apply orb_true_iff in T; destruct T as [T|T].
     all: first

@@ -16,7 +16,7 @@
       input and output glue ([input_copy_typed], [output_copy_typed]). *)
 
 From Coq Require Import String Ascii List ZArith Bool Lia.
-From ROSGen Require Import Errors Syntax Maps NodeModel Wellformed Generator.
+From ROSGen Require Import Errors Syntax Values Maps NodeModel Wellformed Generator.
 Import ListNotations.
 
 Local Open Scope string_scope.
@@ -203,13 +203,20 @@ Record wf_facts (m : node_model) : Prop := {
   wf_rosnames_nodup: NoDup (map tp_name (nm_topics m));
   wf_topics: forall tp, In tp (nm_topics m) -> topic_ok (nm_msgs m) tp = true;
   wf_inrels: forall ir, In ir (nm_inrels m) -> inrel_ok m (make_tables m) ir = true;
-  wf_inrel_inputs_nodup: NoDup (map ir_input (nm_inrels m));
-  wf_inputs_fed: forall x q, In (x, q) (nm_inputs m) -> In x (map ir_input (nm_inrels m));
+  wf_timeouts: forall ct, In ct (nm_timeouts m) -> timeout_ok m (make_tables m) ct = true;
+  wf_timeouts_nodup: NoDup (map fst (nm_timeouts m));
+  wf_drels: forall dr, In dr (nm_drels m) -> drel_ok m (make_tables m) dr = true;
+  wf_fed_nodup: NoDup (fed_list m);
+  wf_inputs_fed: forall x q, In (x, q) (nm_inputs m) -> In x (fed_list m);
+  wf_fallbacks: forall xv, In xv (nm_fallbacks m) -> fallback_ok m (make_tables m) xv = true;
+  wf_fallbacks_nodup: NoDup (map fst (nm_fallbacks m));
   wf_outrels: forall o, In o (nm_outrels m) -> outrel_ok m (make_tables m) o = true;
   wf_out_targets: NoDup (map (fun o => (or_topic o, or_path o)) (nm_outrels m));
   wf_time_msg: nm_stamps m <> [] -> time_msg_ok (nm_msgs m) = true;
   wf_stamps: forall st, In st (nm_stamps m) -> stamp_ok m (make_tables m) st = true;
-  wf_stamps_nodup: NoDup (map fst (nm_stamps m))
+  wf_stamps_nodup: NoDup (map fst (nm_stamps m));
+  wf_stamp_froms: forall sf, In sf (nm_stamp_from m) -> stamp_from_ok m (make_tables m) sf = true;
+  wf_stamp_from_nodup: NoDup (map fst (nm_stamp_from m))
 }.
 
 Lemma null_false: forall (A : Type) (l : list A), negb (null l) = true -> l <> [].
@@ -231,6 +238,12 @@ Proof.
   - intros NE. destruct (nm_stamps m) as [|st l] eqn:E; [congruence|].
     repeat match goal with H : context [nm_stamps m] |- _ => rewrite E in H end.
     simpl in *. auto.
+Qed.
+
+Lemma wf_inrel_inputs_nodup: forall m, wf_facts m -> NoDup (map ir_input (nm_inrels m)).
+Proof.
+  intros m W. generalize (wf_fed_nodup m W). unfold fed_list. intros N.
+  apply NoDup_app_inv in N. tauto.
 Qed.
 
 (** ** The lookup tables *)
@@ -355,39 +368,72 @@ Proof.
   exists tp, q'; repeat split; auto. apply resolve_prim_inv; auto.
 Qed.
 
-(** The number of input relations that feed controller input [x]. *)
+(** Rule 4.12: a derived input is about a subscribed topic and feeds a
+    controller input of its type. *)
+Lemma wf_drel:
+  forall m dr, wf_facts m -> In dr (nm_drels m) ->
+  exists tp,
+     find_topic (nm_topics m) (dr_topic dr) = Some tp /\ is_subscribed tp = true
+  /\ find_assoc (dr_input dr) (nm_inputs m) = Some (derived_prim (dr_kind dr)).
+Proof.
+  intros m dr W Hin. generalize (wf_drels m W dr Hin); unfold drel_ok.
+  rewrite tables_topics, tables_inputs.
+  destruct (find_topic (nm_topics m) (dr_topic dr)) as [tp|]; [|discriminate].
+  destruct (find_assoc (dr_input dr) (nm_inputs m)) as [q|]; [|rewrite andb_false_r; discriminate].
+  rewrite andb_true_iff, prim_eqb_true. intros [S <-]. eauto.
+Qed.
+
+(** A fallback value is a value of its input's type, and the input is
+    fed by an input relation of a topic with a timeout. *)
+Lemma wf_fallback:
+  forall m x v, wf_facts m -> In (x, v) (nm_fallbacks m) ->
+  exists q ir t,
+     find_assoc x (nm_inputs m) = Some q /\ val_has_type v (ctype_of_prim q)
+  /\ In ir (nm_inrels m) /\ ir_input ir = x /\ In (ir_topic ir, t) (nm_timeouts m).
+Proof.
+  intros m x v W Hin. generalize (wf_fallbacks m W (x, v) Hin); unfold fallback_ok; cbn [fst snd].
+  rewrite tables_inputs. destruct (find_assoc x (nm_inputs m)) as [q|]; [|discriminate].
+  rewrite andb_true_iff, val_has_typeb_correct, existsb_exists. intros [T (ir & Hir & E)].
+  rewrite andb_true_iff, ident_eqb_true, existsb_exists in E. destruct E as [Ex ((c & t) & Hct & Ec)].
+  apply ident_eqb_true in Ec. simpl in Ec. subst c. exists q, ir, t; auto.
+Qed.
+
+(** A timeout is on a subscribed topic, from the period to a day. *)
+Lemma wf_timeout:
+  forall m c t, wf_facts m -> In (c, t) (nm_timeouts m) ->
+  exists tp, find_topic (nm_topics m) c = Some tp /\ is_subscribed tp = true
+          /\ (nm_period_ms m <= t <= max_timeout_ms)%Z.
+Proof.
+  intros m c t W Hin. generalize (wf_timeouts m W (c, t) Hin); unfold timeout_ok; cbn [fst snd].
+  rewrite tables_topics. destruct (find_topic (nm_topics m) c) as [tp|]; [|discriminate].
+  rewrite !andb_true_iff, !Z.leb_le. intros [[S L] U]. exists tp; auto.
+Qed.
+
+(** The number of input relations and derived inputs that feed
+    controller input [x]. *)
 Definition feeds (m : node_model) (x : ident) : nat :=
-  length (filter (fun ir => ident_eqb (ir_input ir) x) (nm_inrels m)).
+  length (filter (fun y => ident_eqb y x) (fed_list m)).
 
 Lemma filter_nodup_single:
-  forall (l : list inrel) x,
-  NoDup (map ir_input l) -> In x (map ir_input l) ->
-  exists ir, filter (fun ir => ident_eqb (ir_input ir) x) l = [ir].
+  forall (l : list ident) x, NoDup l -> In x l -> filter (fun y => ident_eqb y x) l = [x].
 Proof.
-  induction l as [|ir l IH]; simpl; intros x ND H; [contradiction|].
+  induction l as [|y l IH]; simpl; intros x ND H; [contradiction|].
   inversion ND as [|? ? Hn ND']; subst.
-  destruct (ident_eqb (ir_input ir) x) eqn:E.
-  - apply ident_eqb_true in E; subst. exists ir. f_equal.
-    destruct (filter (fun ir' => ident_eqb (ir_input ir') (ir_input ir)) l) as [|ir' l'] eqn:F; auto.
-    assert (In ir' (filter (fun ir' => ident_eqb (ir_input ir') (ir_input ir)) l)) by (rewrite F; simpl; auto).
-    apply filter_In in H0; destruct H0 as [H0 E']. apply ident_eqb_true in E'.
-    elim Hn; rewrite <- E'; apply in_map; auto.
+  destruct (ident_eqb y x) eqn:E.
+  - apply ident_eqb_true in E; subst. f_equal.
+    destruct (filter (fun y => ident_eqb y x) l) as [|y' l'] eqn:F; auto.
+    assert (In y' (filter (fun y => ident_eqb y x) l)) by (rewrite F; simpl; auto).
+    apply filter_In in H0; destruct H0 as [H0 E']. apply ident_eqb_true in E'. subst. contradiction.
   - destruct H as [H|H]; [apply ident_eqb_false in E; contradiction|]. apply IH; auto.
 Qed.
 
-(** Every controller input is fed by exactly one input relation. *)
-Lemma wf_input_fed_once:
-  forall m x q, wf_facts m -> In (x, q) (nm_inputs m) ->
-  exists ir, filter (fun ir => ident_eqb (ir_input ir) x) (nm_inrels m) = [ir].
-Proof.
-  intros m x q W H. apply filter_nodup_single.
-  - apply wf_inrel_inputs_nodup; auto.
-  - apply (wf_inputs_fed m W x q H).
-Qed.
-
+(** Every controller input is fed exactly once, by an input relation or
+    a derived input. *)
 Lemma wf_feeds: forall m, wf_facts m -> forall x q, In (x, q) (nm_inputs m) -> feeds m x = 1%nat.
 Proof.
-  intros m W x q H. unfold feeds. destruct (wf_input_fed_once m x q W H) as (ir & ->); auto.
+  intros m W x q H. unfold feeds. rewrite filter_nodup_single; auto.
+  - apply wf_fed_nodup; auto.
+  - apply (wf_inputs_fed m W x q H).
 Qed.
 
 (** ** Messages: scopes, resolution and leaves *)
@@ -975,10 +1021,11 @@ Proof. intros m id W; apply scope_leaves_nodup, wf_scope_ok; auto. Qed.
 
 Lemma wf_inputs_fed_rel:
   forall m x q, wf_facts m -> In (x, q) (nm_inputs m) ->
-  exists ir, In ir (nm_inrels m) /\ ir_input ir = x.
+  (exists ir, In ir (nm_inrels m) /\ ir_input ir = x) \/ (exists dr, In dr (nm_drels m) /\ dr_input dr = x).
 Proof.
   intros m x q W H. generalize (wf_inputs_fed m W x q H); intros Hx.
-  apply in_map_iff in Hx; destruct Hx as (ir & E & Hir); eauto.
+  unfold fed_list in Hx. apply in_app_iff in Hx. destruct Hx as [Hx|Hx];
+    apply in_map_iff in Hx; destruct Hx as (r & E & Hr); eauto.
 Qed.
 
 (** A published field is fed by at most one output relation. *)
@@ -1050,4 +1097,32 @@ Proof.
   rewrite !resolve_app, Rs. simpl. rewrite Fm, Fd. simpl. split; [|split]; auto.
   intros o q Ho Eo Ep. rewrite forallb_forall in NO. generalize (NO o Ho).
   rewrite Eo, ident_eqb_refl, Ep, path_prefixb_app. discriminate.
+Qed.
+
+(** A copied stamp comes from a [time] field of a subscribed topic's
+    message, for a stamped topic. *)
+Lemma wf_stamp_from:
+  forall m c s sp', wf_facts m -> In (c, (s, sp')) (nm_stamp_from m) ->
+  exists tp,
+     find_topic (nm_topics m) s = Some tp /\ is_subscribed tp = true
+  /\ resolve (nm_msgs m) (FTmsg (tp_msg tp)) (sp' ++ [PField "sec"]) = Some (FTprim Puint32)
+  /\ resolve (nm_msgs m) (FTmsg (tp_msg tp)) (sp' ++ [PField "nsec"]) = Some (FTprim Puint32)
+  /\ exists sp, In (c, sp) (nm_stamps m).
+Proof.
+  intros m c s sp' W Hin.
+  generalize (wf_stamp_froms m W _ Hin). unfold stamp_from_ok; cbn [fst snd].
+  rewrite tables_topics. rewrite !andb_true_iff. intros [Ex R].
+  apply existsb_exists in Ex. destruct Ex as ([c' sp] & Hst & Ec). apply ident_eqb_true in Ec. simpl in Ec. subst c'.
+  destruct (find_topic (nm_topics m) s) as [tp|]; [|discriminate].
+  apply andb_true_iff in R. destruct R as [S R].
+  destruct (resolve (nm_msgs m) (FTmsg (tp_msg tp)) sp') as [[| id |]|] eqn:Rs; try discriminate.
+  apply ident_eqb_true in R; subst id.
+  assert (TM: time_msg_ok (nm_msgs m) = true) by (apply (wf_time_msg m W); intros E; rewrite E in Hst; contradiction).
+  unfold time_msg_ok in TM.
+  destruct (find_msg (nm_msgs m) "ros_time") as [md|] eqn:Fm; [|discriminate].
+  destruct (md_fields md) as [|[s1 [q1| |] ] [|[n [q2| |]] [|]]] eqn:Fd; try discriminate;
+    destruct q1; try discriminate; destruct q2; try discriminate.
+  apply andb_true_iff in TM; destruct TM as [Es En].
+  apply ident_eqb_true in Es, En; subst s1 n.
+  exists tp. rewrite !resolve_app, Rs. simpl. rewrite Fm, Fd. simpl. repeat split; eauto.
 Qed.

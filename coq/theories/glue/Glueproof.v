@@ -9,7 +9,7 @@
     leaf or relation, into one destination block, from other blocks. *)
 
 From Coq Require Import String List ZArith Bool Lia.
-From ROSGen Require Import Errors Maps Syntax Values Memory Environment Semantics NodeModel Wellformed Generator Generatorspec Generatorproof.
+From ROSGen Require Import Errors Maps Syntax Values Operators Memory Environment Semantics NodeModel Wellformed Generator Generatorspec Generatorproof.
 From ROSGen Require Import DDC Copyproof.
 Import ListNotations.
 
@@ -95,6 +95,36 @@ Lemma frame_unchanged:
   forall mm0 bd mm, frame mm0 bd mm -> unchanged_except mm0 mm bd.
 Proof. intros mm0 bd mm [A B]; split; auto. Qed.
 
+(** Sequences of statements. *)
+Section SEQ.
+
+Context {CS : Type}.
+Variable ctx : ros_context CS.
+Variable ge : genv.
+
+Lemma exec_seq_of_app:
+  forall l1 l2 e le mm w t1 le1 mm1 w1 t2 le2 mm2 w2 out,
+  exec_stmt ctx ge e le mm w (seq_of l1) t1 le1 mm1 w1 Out_normal ->
+  exec_stmt ctx ge e le1 mm1 w1 (seq_of l2) t2 le2 mm2 w2 out ->
+  exec_stmt ctx ge e le mm w (seq_of (l1 ++ l2)) (t1 ++ t2) le2 mm2 w2 out.
+Proof.
+  induction l1 as [|s l1 IH]; intros l2 e le mm w t1 le1 mm1 w1 t2 le2 mm2 w2 out X1 X2.
+  - simpl in X1. inversion X1; subst. exact X2.
+  - simpl in X1 |- *. inversion X1; subst; [|congruence].
+    rewrite <- app_assoc. eapply exec_Sseq_1; eauto.
+Qed.
+
+Lemma exec_seq_cons:
+  forall s l e le mm w le1 mm1 w1 t le2 mm2 w2 out,
+  exec_stmt ctx ge e le mm w s [] le1 mm1 w1 Out_normal ->
+  exec_stmt ctx ge e le1 mm1 w1 (seq_of l) t le2 mm2 w2 out ->
+  exec_stmt ctx ge e le mm w (seq_of (s :: l)) t le2 mm2 w2 out.
+Proof.
+  intros. simpl. change t with ([] ++ t). eapply exec_Sseq_1; eauto.
+Qed.
+
+End SEQ.
+
 (** ** The generated program *)
 
 Section GENERATED.
@@ -173,6 +203,151 @@ Proof.
   - change (Tstruct M) with (ctype_of_ftype (FTmsg M)). rewrite type_at_ctype; auto.
     + rewrite R; reflexivity.
     + apply ftype_ok_msg; auto.
+Qed.
+
+(** ** Scalar globals and the clock (rule 4.12) *)
+
+Lemma gen_timed_sub: forall tp, In tp (timed m) -> In tp (subscribed m).
+Proof. intros tp H. unfold timed in H. apply filter_In in H. tauto. Qed.
+
+Lemma gen_timed_is: forall tp, In tp (timed m) -> is_timed m (tp_cname tp) = true.
+Proof. intros tp H. unfold timed in H. apply filter_In in H. tauto. Qed.
+
+Lemma gen_timed_nonempty: forall tp, In tp (timed m) -> timed m <> [].
+Proof. intros tp H E; rewrite E in H; contradiction. Qed.
+
+(** [x = rhs;] for a scalar global [x]: only [x] changes. *)
+Lemma exec_assign_global:
+  forall (CS : Type) (ctx : ros_context CS) (w : world CS) le mm x bx ty v0 rhs v,
+  find_var ge x = Some (bx, ty) -> get_block mm bx = Some (ty, v0) -> is_scalar_type ty = true ->
+  eval_expr ge [] le mm rhs = Some v -> val_has_type v ty ->
+  exists mm',
+     exec_stmt ctx ge [] le mm w (Sassign (Evar x ty) rhs) [] le mm' w Out_normal
+  /\ only_global_changed p mm mm' x (MVscalar v)
+  /\ get_block mm' bx = Some (ty, MVscalar v)
+  /\ unchanged_except mm mm' bx.
+Proof.
+  intros CS ctx w le mm x bx ty v0 rhs v V G S E T.
+  set (mm' := mkmem (pset bx (ty, MVscalar v) (mem_contents mm)) (mem_next mm)).
+  assert (G': get_block mm' bx = Some (ty, MVscalar v)) by (unfold get_block, mm'; simpl; apply pgss).
+  assert (U: unchanged_except mm mm' bx).
+  { split; auto. intros b' N. unfold get_block, mm'; simpl; apply pgso; auto. }
+  exists mm'. split; [|split; [exists bx, ty; split; [|split]; auto|split; auto]].
+  apply exec_Sassign.
+  rewrite (eval_assign_scalar ge [] le mm (Evar x ty) rhs bx [] v); auto.
+  - simpl. unfold store. rewrite sem_cast_same by exact T. unfold store_path. rewrite G. reflexivity.
+  - cbn [eval_lvalue]. unfold lvalue_var. simpl. rewrite V. destruct ty; auto; discriminate.
+Qed.
+
+(** [x = ros_now();] *)
+Lemma exec_now_call:
+  forall (CS : Type) (ctx : ros_context CS) (w : world CS) le mm1 x,
+  timed m <> [] ->
+  exec_stmt ctx ge [] le mm1 w (now_call x) [] (set_assoc x (Vlong (clock (w_time w))) le) mm1 w Out_normal.
+Proof.
+  intros CS ctx w le mm1 x NE.
+  assert (F := generate_now_external m p GEN NE).
+  change (set_assoc x (Vlong (clock (w_time w))) le) with (set_opttemp (Some x) (Vlong (clock (w_time w))) le).
+  eapply exec_Scall.
+  - cbn [eval_expr]. unfold eval_funcname. simpl.
+    destruct (find_var ge ros_now_name) as [[bf tf]|] eqn:V.
+    + apply find_var_globalenv in V; [congruence|exact ND].
+    + rewrite (gen_funct _ _ F). reflexivity.
+  - apply gen_funct; exact F.
+  - reflexivity.
+  - reflexivity.
+  - reflexivity.
+  - apply eval_funcall_external. reflexivity.
+Qed.
+
+(** Replacing the value of a global by a value of its type keeps the
+    globals typed. *)
+Lemma globals_typed_changed:
+  forall mm mm' x v,
+  globals_typed p mm -> only_global_changed p mm mm' x v ->
+  (forall b ty, find_var ge x = Some (b, ty) -> mval_has_type ce ty v) ->
+  globals_typed p mm'.
+Proof.
+  intros mm mm' x v GT (bx & tx & Vx & Gx & [Nn No]) Tv y b ty Vy.
+  destruct (Pos.eq_dec b bx) as [->|Nb].
+  - destruct (string_dec x y) as [->|Nxy].
+    + rewrite Vx in Vy; inversion Vy; subst. exists v; split; auto. rewrite gen_types; eapply Tv; eauto.
+    + exfalso. eapply (globalenv_vars_disjoint p x y bx tx bx ty); eauto.
+  - rewrite No; auto. apply (GT _ _ _ Vy).
+Qed.
+
+Lemma append_cancel: forall s a b, (s ++ a)%string = (s ++ b)%string -> a = b.
+Proof. induction s as [|c s IH]; simpl; intros a b E; auto. inversion E; auto. Qed.
+
+Lemma clock_names_distinct:
+  forall c, time_var c <> new_var c /\ time_var c <> rcvd_var c /\ new_var c <> rcvd_var c
+         /\ msg_var c <> time_var c /\ msg_var c <> new_var c /\ msg_var c <> rcvd_var c.
+Proof.
+  intros c; unfold time_var, new_var, rcvd_var, msg_var.
+  repeat split; intros E; apply append_cancel in E; discriminate.
+Qed.
+
+(** A global of the program and its block, holding a value of its type. *)
+Lemma gen_global_block:
+  forall mm x ty, globals_typed p mm -> find_def p x = Some (Gvar ty) ->
+  exists bx v0, find_var ge x = Some (bx, ty) /\ get_block mm bx = Some (ty, v0).
+Proof.
+  intros mm x ty GT F. destruct (gen_var _ _ F) as [bx V].
+  destruct (GT _ _ _ V) as (v0 & G & _). eauto.
+Qed.
+
+(** The clock update of a timed topic's callback:
+    [_t_ullong = ros_now(); c_time = _t_ullong; c_new = 1; c_rcvd = 1;]. *)
+Lemma clock_run:
+  forall tp (CS : Type) (ctx : ros_context CS) (w : world CS) le mm1,
+  In tp (timed m) -> globals_typed p mm1 ->
+  exists le' mm',
+     exec_stmt ctx ge [] le mm1 w (clock_stmts (tp_cname tp)) [] le' mm' w Out_normal
+  /\ globals_typed p mm'
+  /\ globals_changed p mm1 mm'
+       [(time_var (tp_cname tp), MVscalar (Vlong (clock (w_time w))));
+        (new_var (tp_cname tp), MVscalar (Vint 1)); (rcvd_var (tp_cname tp), MVscalar (Vint 1))].
+Proof.
+  intros tp CS ctx w le mm1 Ht GT1.
+  destruct (generate_clock_globals m p tp GEN Ht) as (Ft & Fn & Fr).
+  set (c := tp_cname tp) in *.
+  set (le1 := set_assoc (temp_name Puint64) (Vlong (clock (w_time w))) le).
+  assert (TC: val_has_type (Vlong (clock (w_time w))) (Tlong Unsigned))
+    by (unfold val_has_type, clock; apply norm_long_idem).
+  destruct (gen_global_block mm1 _ _ GT1 Ft) as (bt & vt & Vt & Gt).
+  assert (E1: eval_expr ge [] le1 mm1 (Etempvar (temp_name Puint64) tulong) = Some (Vlong (clock (w_time w))))
+    by (simpl; unfold le1; apply find_assoc_set_same).
+  destruct (exec_assign_global CS ctx w le1 mm1 (time_var c) bt _ vt
+              (Etempvar (temp_name Puint64) tulong) (Vlong (clock (w_time w))) Vt Gt eq_refl E1 TC)
+    as (mm2 & X2 & O2 & _).
+  assert (GT2: globals_typed p mm2).
+  { eapply globals_typed_changed; eauto. intros b ty V. rewrite Vt in V; inversion V; subst.
+    constructor; auto. }
+  destruct (gen_global_block mm2 _ _ GT2 Fn) as (bn & vn & Vn & Gn).
+  destruct (exec_assign_global CS ctx w le1 mm2 (new_var c) bn _ vn (Econst_int 1 tflag) (Vint 1) Vn Gn
+              eq_refl eq_refl eq_refl)
+    as (mm3 & X3 & O3 & _).
+  assert (GT3: globals_typed p mm3).
+  { eapply globals_typed_changed; eauto. intros b ty V. rewrite Vn in V; inversion V; subst.
+    constructor; auto. reflexivity. }
+  destruct (gen_global_block mm3 _ _ GT3 Fr) as (br & vr & Vr & Gr).
+  destruct (exec_assign_global CS ctx w le1 mm3 (rcvd_var c) br _ vr (Econst_int 1 tflag) (Vint 1) Vr Gr
+              eq_refl eq_refl eq_refl)
+    as (mm4 & X4 & O4 & _).
+  assert (GT4: globals_typed p mm4).
+  { eapply globals_typed_changed; eauto. intros b ty V. rewrite Vr in V; inversion V; subst.
+    constructor; auto. reflexivity. }
+  exists le1, mm4. split; [|split; auto].
+  - unfold clock_stmts. cbn [seq_of].
+    change (@nil event) with (@nil event ++ @nil event).
+    eapply exec_Sseq_1; [apply exec_now_call; eapply gen_timed_nonempty; eauto|].
+    change (@nil event) with (@nil event ++ @nil event).
+    eapply exec_Sseq_1; [exact X2|].
+    change (@nil event) with (@nil event ++ @nil event).
+    eapply exec_Sseq_1; [exact X3|].
+    change (@nil event) with (@nil event ++ @nil event).
+    eapply exec_Sseq_1; [exact X4|]. apply exec_Sskip.
+  - econstructor; [exact O2|]. econstructor; [exact O3|]. econstructor; [exact O4|]. constructor.
 Qed.
 
 (** ** Callbacks (Figure 10) *)
@@ -259,26 +434,37 @@ Qed.
 End CALLBACK.
 
 (** Every callback of a subscribed topic copies the whole message it is
-    given into the topic's global, and changes nothing else. *)
+    given into the topic's global, updates the topic's clock if it is
+    timed, and changes nothing else. *)
 Lemma generate_callback_ddc_aux:
   forall tp, In tp (subscribed m) -> callback_ddc m p tp.
 Proof.
   intros tp Htp.
   destruct (generate_callback m p tp GEN Htp)
-    as [Fv (f & Ff & Fret & Fpar & Fvars & Fbody & _ & _)].
+    as [Fv (f & Ff & Fret & Fpar & Fvars & Fbody & _ & _ & _)].
   exists f. split; [apply gen_funct; auto|].
   intros mm b mv GT NG Gb Hmv. rewrite gen_types in Hmv.
   destruct (gen_var _ _ Fv) as [bg Vg].
   destruct (GT _ _ _ Vg) as (g0 & Gg & Hg0). rewrite gen_types in Hg0.
   assert (Nb: b <> bg) by (intros E; apply (NG _ _ _ Vg); auto).
   set (le0 := set_assoc msg_param (Vptr b []) (create_undef_temps (fn_temps f))).
-  apply quiet_call_intro with (le := le0); auto.
+  apply quiet_call_at_intro with (le := le0); auto.
   - unfold function_entry. rewrite Fvars, Fpar. reflexivity.
   - intros CS ctx w.
-    destruct (callback_body tp Htp mm b bg mv Vg Gb Hmv Nb CS ctx w le0 g0) as (le' & mm' & X & G' & U); auto.
-    + unfold le0. apply find_assoc_set_same.
-    + exists le', mm'. rewrite Fbody, gen_types. split; auto.
-      exists bg, (Tstruct (tp_msg tp)). auto.
+    destruct (callback_body tp Htp mm b bg mv Vg Gb Hmv Nb CS ctx w le0 g0) as (le' & mm1 & X & G' & U); auto.
+    { unfold le0. apply find_assoc_set_same. }
+    assert (OG1: only_global_changed p mm mm1 (msg_var (tp_cname tp)) mv)
+      by (exists bg, (Tstruct (tp_msg tp)); auto).
+    assert (GT1: globals_typed p mm1).
+    { eapply globals_typed_changed; eauto. intros b' ty V. rewrite Vg in V; inversion V; subst; auto. }
+    rewrite Fbody, gen_types. cbv zeta. unfold clock_update.
+    destruct (is_timed m (tp_cname tp)) eqn:T.
+    + assert (Ht: In tp (timed m)) by (apply filter_In; auto).
+      destruct (clock_run tp CS ctx w le' mm1 Ht GT1) as (le2 & mm2 & X2 & _ & GC).
+      exists le2, mm2. split.
+      * change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; eauto.
+      * econstructor; eauto.
+    + exists le', mm1. split; auto. econstructor; eauto. constructor.
 Qed.
 
 (** ** Input glue (Figure 12) *)
@@ -391,24 +577,590 @@ Qed.
 
 End INPUT.
 
+(** *** Freshness (rule 4.12) *)
+
+Lemma NoDup_map_eq:
+  forall (A B : Type) (f : A -> B) l a b, NoDup (map f l) -> In a l -> In b l -> f a = f b -> a = b.
+Proof.
+  induction l as [|x l IH]; simpl; intros a b N Ha Hb E; [contradiction|].
+  inversion N as [|? ? Hn N']; subst.
+  destruct Ha as [<-|Ha], Hb as [<-|Hb]; auto.
+  - elim Hn. rewrite E. apply in_map; auto.
+  - elim Hn. rewrite <- E. apply in_map; auto.
+Qed.
+
+Lemma clock_range: forall t, (0 <= clock t <= max_ulong)%Z.
+Proof.
+  intros t. unfold clock, norm_long, wrap, wrap_unsigned, max_ulong.
+  generalize (Z.mod_pos_bound t (2 ^ 64) ltac:(reflexivity)). change (2 ^ 64)%Z with 18446744073709551616%Z. lia.
+Qed.
+
+Lemma age_ns_range: forall rcv now, (0 <= age_ns rcv now <= max_ulong)%Z.
+Proof.
+  intros [t|] now; simpl; [|unfold max_ulong; lia].
+  generalize (clock_range t) (clock_range now). intros.
+  destruct (Z.leb_spec (clock t) (clock now)); lia.
+Qed.
+
+Lemma in_range_ulong: forall n, (0 <= n <= max_ulong)%Z -> in_range 64 Unsigned n = true.
+Proof.
+  intros n H. unfold in_range, int_min, int_max, max_ulong in *. apply andb_true_iff.
+  split; apply Z.leb_le; change (2 ^ 64 - 1)%Z with 18446744073709551615%Z; lia.
+Qed.
+
+Lemma wrap_ulong: forall n, (0 <= n <= max_ulong)%Z -> wrap_unsigned 64 n = n.
+Proof.
+  intros n H. unfold wrap_unsigned, max_ulong in *. apply Z.mod_small.
+  change (2 ^ 64)%Z with 18446744073709551616%Z. lia.
+Qed.
+
+(** [age_ms]: the milliseconds, saturated. *)
+Lemma age_ms_sat:
+  forall a, (0 <= a)%Z ->
+  (if (a <=? max_age_ns)%Z then (a / 1000000)%Z else max_uint) = Z.min (a / 1000000) max_uint.
+Proof.
+  intros a Ha. unfold max_age_ns, max_uint. destruct (Z.leb_spec a 4294967295999999) as [L|L].
+  - assert (a / 1000000 < 4294967296)%Z by (apply Z.div_lt_upper_bound; lia).
+    rewrite Z.min_l; lia.
+  - assert (4294967295 <= a / 1000000)%Z by (apply Z.div_le_lower_bound; lia).
+    rewrite Z.min_r; lia.
+Qed.
+
+Lemma in_timed: forall tp, In tp (subscribed m) -> is_timed m (tp_cname tp) = true -> In tp (timed m).
+Proof. intros tp H T. apply filter_In; auto. Qed.
+
+(** The subscribed topic of a C name, if any. *)
+Lemma timed_of_cname:
+  forall c, is_timed m c = true -> (exists tp, In tp (subscribed m) /\ tp_cname tp = c) ->
+  exists tp, In tp (timed m) /\ tp_cname tp = c.
+Proof. intros c T (tp & H & <-). exists tp; split; auto. apply in_timed; auto. Qed.
+
+Lemma fallback_topic:
+  forall ir fv, In ir (nm_inrels m) -> find_assoc (ir_input ir) (nm_fallbacks m) = Some fv ->
+  exists tp t, In tp (timed m) /\ tp_cname tp = ir_topic ir /\ timeout_of m (ir_topic ir) = Some t
+            /\ val_has_type fv (ctype_of_prim (input_prim (make_tables m) (ir_input ir)))
+            /\ (0 < t * 1000000 < max_ulong)%Z.
+Proof.
+  intros ir fv Hir F.
+  destruct (wf_fallback m (ir_input ir) fv W (find_assoc_In _ _ _ _ F)) as (q & ir' & t & Q & Tv & Hir' & E & Ht).
+  assert (ir' = ir) by (apply (NoDup_map_eq _ _ ir_input (nm_inrels m)); auto; apply wf_inrel_inputs_nodup; auto).
+  subst ir'.
+  destruct (wf_timeout m _ _ W Ht) as (tp & Ft & S & Rt).
+  apply find_topic_In in Ft. destruct Ft as [Ft Ec].
+  assert (Hs: In tp (subscribed m)) by (apply in_subscribed; split; auto; unfold is_subscribed in S; destruct (tp_dir tp); [auto|discriminate]).
+  destruct (timeout_of m (ir_topic ir)) as [t'|] eqn:TO.
+  2:{ exfalso. unfold timeout_of in TO. apply find_assoc_None in TO. apply TO. apply in_map_iff. exists (ir_topic ir, t); auto. }
+  assert (Ht': In (ir_topic ir, t') (nm_timeouts m)) by (apply find_assoc_In; auto).
+  assert (t' = t).
+  { assert (E2: (ir_topic ir, t') = (ir_topic ir, t)).
+    { apply (NoDup_map_eq _ _ fst (nm_timeouts m)); auto. apply wf_timeouts_nodup; auto. }
+    congruence. }
+  subst t'.
+  exists tp, t. repeat split; auto.
+  - apply in_timed; auto. rewrite Ec. unfold is_timed. apply orb_true_iff; left.
+    apply existsb_exists. exists (ir_topic ir, t); split; auto. apply ident_eqb_refl.
+  - rewrite (input_prim_tables m _ _ Q); auto.
+  - unfold max_timeout_ms in Rt. generalize (wf_period m W). lia.
+  - unfold max_timeout_ms, max_ulong in *. lia.
+Qed.
+
+Lemma drel_topic:
+  forall dr, In dr (nm_drels m) ->
+  exists tp, In tp (timed m) /\ tp_cname tp = dr_topic dr
+          /\ input_prim (make_tables m) (dr_input dr) = derived_prim (dr_kind dr).
+Proof.
+  intros dr Hdr. destruct (wf_drel m dr W Hdr) as (tp & Ft & S & I).
+  apply find_topic_In in Ft. destruct Ft as [Ft Ec].
+  exists tp. repeat split; auto.
+  - apply in_timed.
+    + apply in_subscribed; split; auto. unfold is_subscribed in S; destruct (tp_dir tp); [auto|discriminate].
+    + rewrite Ec. unfold is_timed. apply orb_true_iff; right.
+      apply existsb_exists. exists dr; split; auto. apply ident_eqb_refl.
+  - apply input_prim_tables; auto.
+Qed.
+
+Section FRESH.
+
+Context {CS : Type}.
+Variables (ctx : ros_context CS) (w : world CS).
+Variables (mm1 : mem) (bu : block) (ck : ident -> bool * option Z).
+Hypothesis Vu : find_var ge (nm_in_var m) = Some (bu, Tstruct (nm_in_struct m)).
+Hypothesis CK : forall tp, In tp (timed m) ->
+  clock_held p mm1 (tp_cname tp) (fst (ck (tp_cname tp))) (snd (ck (tp_cname tp))).
+
+Local Notation now := (w_time w).
+Local Notation UT := (Tstruct (nm_in_struct m)).
+Let le_ok (le : temp_env) : Prop := find_assoc now_temp le = Some (Vlong (clock now)).
+Let fr (mm : mem) : Prop := frame mm1 bu mm.
+
+Lemma le_ok_set: forall le x v, x <> now_temp -> le_ok le -> le_ok (set_assoc x v le).
+Proof. intros le x v N H. unfold le_ok. rewrite find_assoc_set_other; auto. Qed.
+
+Lemma eval_clock_global:
+  forall tp x ty v le mm, In tp (timed m) -> In x (clock_names tp) -> find_def p x = Some (Gvar ty) ->
+  is_scalar_type ty = true -> fr mm -> global_value p mm1 x = Some (MVscalar v) ->
+  eval_expr ge [] le mm (Evar x ty) = Some v.
+Proof.
+  intros tp x ty v le mm Ht Hx F S [Fn Fo] GV.
+  destruct (gen_var _ _ F) as [bx V].
+  assert (Nx: x <> nm_in_var m).
+  { intros ->. destruct (wf_controller_vars_fresh m W) as (_ & NU & _). apply NU.
+    eapply clock_name_in_after; eauto. }
+  assert (Nb: bx <> bu) by (eapply globalenv_vars_disjoint; eauto).
+  unfold global_value in GV. rewrite V in GV.
+  destruct (get_block mm1 bx) as [[t0 mv]|] eqn:G; inversion GV; subst mv.
+  assert (L: load ty mm bx [] = Some v).
+  { apply load_spec; auto. unfold load_path. rewrite Fo by auto. rewrite G. reflexivity. }
+  destruct ty; try discriminate; cbn [eval_expr]; unfold load_loc, lvalue_var; cbn [find_assoc]; rewrite V; exact L.
+Qed.
+
+Lemma eval_new:
+  forall tp le mm, In tp (timed m) -> fr mm ->
+  eval_expr ge [] le mm (new_expr (tp_cname tp)) = Some (Vint (if fst (ck (tp_cname tp)) then 1 else 0)).
+Proof.
+  intros tp le mm Ht Fr. destruct (generate_clock_globals m p tp GEN Ht) as (_ & Fn & _).
+  destruct (CK tp Ht) as (Cn & _ & _).
+  apply (eval_clock_global tp _ _ _ le mm Ht (or_intror (or_introl eq_refl)) Fn eq_refl Fr Cn).
+Qed.
+
+Lemma eval_rcvd:
+  forall tp le mm, In tp (timed m) -> fr mm ->
+  eval_expr ge [] le mm (rcvd_expr (tp_cname tp))
+  = Some (Vint (match snd (ck (tp_cname tp)) with Some _ => 1 | None => 0 end)).
+Proof.
+  intros tp le mm Ht Fr. destruct (generate_clock_globals m p tp GEN Ht) as (_ & _ & Fr').
+  destruct (CK tp Ht) as (_ & Cr & _).
+  apply (eval_clock_global tp _ _ _ le mm Ht (or_intror (or_intror (or_introl eq_refl))) Fr' eq_refl Fr Cr).
+Qed.
+
+Lemma eval_time:
+  forall tp t le mm, In tp (timed m) -> fr mm -> snd (ck (tp_cname tp)) = Some t ->
+  eval_expr ge [] le mm (time_expr (tp_cname tp)) = Some (Vlong (clock t)).
+Proof.
+  intros tp t le mm Ht Fr E. destruct (generate_clock_globals m p tp GEN Ht) as (Ft & _ & _).
+  destruct (CK tp Ht) as (_ & _ & Ct).
+  apply (eval_clock_global tp _ _ _ le mm Ht (or_introl eq_refl) Ft eq_refl Fr (Ct t E)).
+Qed.
+
+(** The age of the newest message of a timed topic. *)
+Lemma age_run:
+  forall tp le mm, In tp (timed m) -> le_ok le -> fr mm ->
+  exec_stmt ctx ge [] le mm w (age_stmt (tp_cname tp)) []
+            (set_assoc age_temp (Vlong (age_ns (snd (ck (tp_cname tp))) now)) le) mm w Out_normal.
+Proof.
+  intros tp le mm Ht Hle Fr. unfold age_stmt.
+  destruct (snd (ck (tp_cname tp))) as [t|] eqn:E.
+  - eapply exec_Sifthenelse; [apply eval_rcvd; eauto|rewrite E; reflexivity|].
+    simpl.
+    generalize (clock_range t) (clock_range now). intros Rt Rn.
+    eapply exec_Sifthenelse.
+    + cbn [eval_expr typeof]. simpl binop_type. rewrite (eval_time tp t le mm Ht Fr E). simpl.
+      unfold le_ok in Hle. rewrite Hle. simpl.
+      unfold int_binop. rewrite (in_range_ulong _ Rt), (in_range_ulong _ Rn). reflexivity.
+    + reflexivity.
+    + unfold age_ns. simpl negb.
+      destruct (Z.leb (clock t) (clock now)) eqn:L; simpl.
+      * apply exec_Sset. cbn [eval_expr typeof]. simpl binop_type. rewrite (eval_time tp t le mm Ht Fr E).
+        unfold le_ok in Hle. simpl. rewrite Hle. simpl.
+        unfold int_binop. rewrite (in_range_ulong _ Rt), (in_range_ulong _ Rn). simpl.
+        rewrite wrap_ulong; auto. apply Z.leb_le in L. lia.
+      * apply exec_Sset. reflexivity.
+  - eapply exec_Sifthenelse; [apply eval_rcvd; eauto|rewrite E; reflexivity|].
+    simpl. apply exec_Sset. reflexivity.
+Qed.
+
+(** A store into the field [x] of [Controller_U]. *)
+Lemma exec_store_input:
+  forall le mm u x q rhs v,
+  find_assoc x (nm_inputs m) = Some q -> get_block mm bu = Some (UT, u) -> mval_has_type ce UT u ->
+  eval_expr ge [] le mm rhs = Some v -> val_has_type v (ctype_of_prim q) ->
+  exists mm' u',
+     exec_stmt ctx ge [] le mm w (Sassign (Efield (in_var_expr m) x (ctype_of_prim q)) rhs) [] le mm' w Out_normal
+  /\ get_block mm' bu = Some (UT, u') /\ mval_has_type ce UT u'
+  /\ mval_set u [Sfield x] (MVscalar v) = Some u'
+  /\ mem_next mm' = mem_next mm /\ (forall b', b' <> bu -> get_block mm' b' = get_block mm b').
+Proof.
+  intros le mm u x q rhs v I G Hu E T.
+  assert (Tp: type_at ce UT [Sfield x] = Some (ctype_of_prim q)).
+  { cbn [type_at]. rewrite type_step_field, (field_type_inputs m W _ _ I). auto. }
+  assert (Hx: mval_has_type ce (ctype_of_prim q) (MVscalar v)) by (constructor; auto; apply ctype_of_prim_scalar_type).
+  destruct (store_typed ce mm bu UT u [Sfield x] _ _ G Hu Tp Hx) as (mm' & u' & S & Sv & G' & Hu' & N' & O').
+  exists mm', u'. repeat split; auto.
+  apply exec_Sassign.
+  rewrite (eval_assign_scalar ge [] le mm _ _ bu [Sfield x] v).
+  - simpl typeof. unfold store. rewrite sem_cast_same by exact T. exact S.
+  - change [Sfield x] with ([] ++ [Sfield x]). eapply eval_lvalue_field; [reflexivity|].
+    unfold in_var_expr. eapply eval_lvalue_global_struct; eauto.
+  - apply ctype_of_prim_scalar_type.
+  - exact E.
+Qed.
+
+Lemma eval_const_of:
+  forall le mm q v, val_has_type v (ctype_of_prim q) -> eval_expr ge [] le mm (const_of q v) = Some v.
+Proof.
+  intros le mm q v T. unfold const_of.
+  destruct v, q; simpl in T; try contradiction; cbn [eval_expr ctype_of_prim];
+    first [reflexivity | f_equal; f_equal; exact T].
+Qed.
+
+(** The items of the freshness: a fallback or a derived input, the
+    input field it writes, and what it writes there ([None]: nothing). *)
+Definition item_stmt (a : inrel + drel) : statement :=
+  match a with inl ir => fallback_stmt m (make_tables m) ir | inr dr => derived_stmt m (make_tables m) dr end.
+
+Definition item_field (a : inrel + drel) : ident :=
+  match a with inl ir => ir_input ir | inr dr => dr_input dr end.
+
+Definition item_val (a : inrel + drel) : option val :=
+  match a with
+  | inl ir =>
+      match find_assoc (ir_input ir) (nm_fallbacks m) with
+      | Some fv => if stale m (ir_topic ir) (snd (ck (ir_topic ir))) now then Some fv else None
+      | None => None
+      end
+  | inr dr => Some (derived_value (dr_kind dr) (fst (ck (dr_topic dr))) (snd (ck (dr_topic dr))) now)
+  end.
+
+Definition item_run (a : inrel + drel) : Prop :=
+  forall le mm u, le_ok le -> fr mm -> get_block mm bu = Some (UT, u) -> mval_has_type ce UT u ->
+  exists le' mm' u',
+     exec_stmt ctx ge [] le mm w (item_stmt a) [] le' mm' w Out_normal
+  /\ le_ok le' /\ fr mm' /\ get_block mm' bu = Some (UT, u') /\ mval_has_type ce UT u'
+  /\ mval_get u' [Sfield (item_field a)]
+     = match item_val a with Some v => Some (MVscalar v) | None => mval_get u [Sfield (item_field a)] end
+  /\ (forall y, y <> item_field a -> mval_get u' [Sfield y] = mval_get u [Sfield y]).
+
+Lemma now_age: now_temp <> age_temp.
+Proof. discriminate. Qed.
+
+Lemma stale_age:
+  forall c t rcv, timeout_of m c = Some t -> (0 < t * 1000000 < max_ulong)%Z ->
+  stale m c rcv now = (t * 1000000 <? age_ns rcv now)%Z.
+Proof.
+  intros c t [r|] T R; unfold stale; rewrite T; auto.
+  simpl. symmetry. apply Z.ltb_lt. unfold max_ulong in *. lia.
+Qed.
+
+Lemma fallback_run:
+  forall ir, In ir (filter (has_fallback m) (nm_inrels m)) -> item_run (inl ir).
+Proof.
+  intros ir Hir le mm u Hle Fr G Hu. apply filter_In in Hir. destruct Hir as [Hir HF].
+  unfold has_fallback in HF. destruct (find_assoc (ir_input ir) (nm_fallbacks m)) as [fv|] eqn:F; [|discriminate].
+  destruct (fallback_topic ir fv Hir F) as (tp & t & Ht & Ec & TO & Tv & Rt).
+  destruct (wf_inrel m ir W Hir) as (tp' & q & _ & _ & I & _).
+  assert (Pq: input_prim (make_tables m) (ir_input ir) = q) by (apply input_prim_tables; auto).
+  rewrite Pq in Tv.
+  set (age := age_ns (snd (ck (ir_topic ir))) now).
+  set (le1 := set_assoc age_temp (Vlong age) le).
+  assert (X1: exec_stmt ctx ge [] le mm w (age_stmt (ir_topic ir)) [] le1 mm w Out_normal).
+  { unfold le1, age. rewrite <- Ec. apply age_run; auto. }
+  assert (Hle1: le_ok le1) by (apply le_ok_set; auto; intro E; discriminate).
+  assert (Ra := age_ns_range (snd (ck (ir_topic ir))) now).
+  assert (EC: eval_expr ge [] le1 mm (stale_expr t)
+              = Some (Vint (if stale m (ir_topic ir) (snd (ck (ir_topic ir))) now then 1 else 0))).
+  { rewrite (stale_age _ t _ TO Rt). unfold stale_expr. cbn [eval_expr typeof]. simpl binop_type.
+    unfold le1. rewrite find_assoc_set_same. simpl. fold age.
+    rewrite (wrap_ulong (t * 1000000)) by (unfold max_ulong in *; lia).
+    unfold int_binop. rewrite (in_range_ulong (t * 1000000)) by (unfold max_ulong in *; lia).
+    rewrite (in_range_ulong age) by exact Ra. reflexivity. }
+  unfold item_stmt, fallback_stmt. rewrite F, TO.
+  unfold item_val, item_field. rewrite F.
+  destruct (stale m (ir_topic ir) (snd (ck (ir_topic ir))) now) eqn:S.
+  - destruct (exec_store_input le1 mm u (ir_input ir) q (const_of q fv) fv I G Hu
+                (eval_const_of le1 mm q fv Tv) Tv) as (mm' & u' & X2 & G' & Hu' & Sv & N' & O').
+    exists le1, mm', u'. repeat split; auto.
+    + change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; [exact X1|].
+      eapply exec_Sifthenelse; [exact EC|reflexivity|]. simpl.
+      unfold input_dst, in_var_expr. rewrite Pq. exact X2.
+    + destruct Fr as [Fn Fo]. congruence.
+    + intros b' N. destruct Fr as [Fn Fo]. rewrite O' by auto. auto.
+    + eapply mval_get_set_same; eauto.
+    + intros y N. eapply mval_get_set_disjoint; eauto. simpl. left. congruence.
+  - exists le1, mm, u. repeat split; auto; try apply Fr.
+    change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; [exact X1|].
+    eapply exec_Sifthenelse; [exact EC|reflexivity|]. simpl. apply exec_Sskip.
+Qed.
+
+Lemma derived_run:
+  forall dr, In dr (nm_drels m) -> item_run (inr dr).
+Proof.
+  intros dr Hdr le mm u Hle Fr G Hu.
+  destruct (drel_topic dr Hdr) as (tp & Ht & Ec & Pq).
+  destruct (wf_drel m dr W Hdr) as (tp' & _ & _ & I).
+  unfold item_stmt, item_val, item_field, derived_stmt, derived_value.
+  assert (FR: forall mm' u', fr mm' -> get_block mm' bu = Some (UT, u') -> mval_has_type ce UT u' ->
+            forall v, mval_set u [Sfield (dr_input dr)] (MVscalar v) = Some u' ->
+            mval_get u' [Sfield (dr_input dr)] = Some (MVscalar v)
+            /\ (forall y, y <> dr_input dr -> mval_get u' [Sfield y] = mval_get u [Sfield y])).
+  { intros mm' u' _ _ _ v Sv. split; [eapply mval_get_set_same; eauto|].
+    intros y N. eapply mval_get_set_disjoint; eauto. simpl. left. congruence. }
+  assert (FRM: forall mm', mem_next mm' = mem_next mm -> (forall b', b' <> bu -> get_block mm' b' = get_block mm b') -> fr mm').
+  { intros mm' N O. destruct Fr as [Fn Fo]. split; [congruence|]. intros b' Nb. rewrite O by auto. auto. }
+  destruct (dr_kind dr) eqn:K.
+  - (* is_new *)
+    set (v := Vint (if fst (ck (dr_topic dr)) then 1 else 0)).
+    assert (Tv: val_has_type v (ctype_of_prim Pbool)) by (unfold v; destruct (fst (ck (dr_topic dr))); reflexivity).
+    assert (Tp: type_at ce UT [Sfield (dr_input dr)] = Some (ctype_of_prim Pbool)).
+    { cbn [type_at]. rewrite type_step_field, (field_type_inputs m W _ _ I). auto. }
+    assert (Hx: mval_has_type ce (ctype_of_prim Pbool) (MVscalar v)) by (constructor; auto).
+    destruct (store_typed ce mm bu UT u [Sfield (dr_input dr)] _ _ G Hu Tp Hx) as (mm' & u' & S & Sv & G' & Hu' & N' & O').
+    exists (set_assoc (temp_name Pbool) v le), mm', u'.
+    destruct (FR mm' u' (FRM mm' N' O') G' Hu' v Sv) as [A B].
+    refine (conj _ (conj _ (conj _ (conj _ (conj _ (conj A B)))))); auto.
+    + eapply exec_copy; eauto.
+      * rewrite <- Ec. unfold v. rewrite <- Ec. apply eval_new; auto.
+      * change [Sfield (dr_input dr)] with ([] ++ [Sfield (dr_input dr)]). eapply eval_lvalue_field; [reflexivity|].
+        unfold in_var_expr. eapply eval_lvalue_global_struct; eauto.
+      * unfold derived_dst. simpl. rewrite Pq. auto.
+    + apply le_ok_set; auto. discriminate.
+  - (* received *)
+    set (v := Vint (match snd (ck (dr_topic dr)) with Some _ => 1 | None => 0 end)).
+    assert (Tv: val_has_type v (ctype_of_prim Pbool)) by (unfold v; destruct (snd (ck (dr_topic dr))); reflexivity).
+    assert (Tp: type_at ce UT [Sfield (dr_input dr)] = Some (ctype_of_prim Pbool)).
+    { cbn [type_at]. rewrite type_step_field, (field_type_inputs m W _ _ I). auto. }
+    assert (Hx: mval_has_type ce (ctype_of_prim Pbool) (MVscalar v)) by (constructor; auto).
+    destruct (store_typed ce mm bu UT u [Sfield (dr_input dr)] _ _ G Hu Tp Hx) as (mm' & u' & S & Sv & G' & Hu' & N' & O').
+    exists (set_assoc (temp_name Pbool) v le), mm', u'.
+    destruct (FR mm' u' (FRM mm' N' O') G' Hu' v Sv) as [A B].
+    refine (conj _ (conj _ (conj _ (conj _ (conj _ (conj A B)))))); auto.
+    + eapply exec_copy; eauto.
+      * unfold v. rewrite <- Ec. apply eval_rcvd; auto.
+      * change [Sfield (dr_input dr)] with ([] ++ [Sfield (dr_input dr)]). eapply eval_lvalue_field; [reflexivity|].
+        unfold in_var_expr. eapply eval_lvalue_global_struct; eauto.
+      * unfold derived_dst. simpl. rewrite Pq. auto.
+    + apply le_ok_set; auto. discriminate.
+  - (* age_ms *)
+    set (age := age_ns (snd (ck (dr_topic dr))) now).
+    set (le1 := set_assoc age_temp (Vlong age) le).
+    assert (X1: exec_stmt ctx ge [] le mm w (age_stmt (dr_topic dr)) [] le1 mm w Out_normal).
+    { unfold le1, age. rewrite <- Ec. apply age_run; auto. }
+    assert (Hle1: le_ok le1) by (apply le_ok_set; auto; intro E; discriminate).
+    assert (Ra := age_ns_range (snd (ck (dr_topic dr))) now). fold age in Ra.
+    set (v := Vint (Z.min (age / 1000000) max_uint)).
+    assert (Tv: val_has_type v (ctype_of_prim Puint32)).
+    { unfold v. simpl. unfold norm_int, wrap, wrap_unsigned. apply Z.mod_small.
+      unfold max_uint. change (2 ^ bitsize I32)%Z with 4294967296%Z.
+      assert (0 <= age / 1000000)%Z by (apply Z.div_pos; lia). lia. }
+    simpl in I.
+    destruct (exec_store_input le1 mm u (dr_input dr) Puint32
+                (if (age <=? max_age_ns)%Z
+                 then Ecast (Ebinop Odiv (Etempvar age_temp tulong) (Econst_long 1000000 tulong) tulong) tuint
+                 else Econst_int max_uint tuint) (Vint (Z.min (age / 1000000) max_uint)) I G Hu)
+      as (mm' & u' & X2 & G' & Hu' & Sv & N' & O'); auto.
+    { rewrite <- age_ms_sat by lia.
+      destruct (Z.leb_spec age max_age_ns) as [L|L].
+      - cbn [eval_expr typeof]. simpl binop_type. unfold le1. rewrite find_assoc_set_same. simpl.
+        replace (wrap_unsigned 64 1000000) with 1000000%Z by reflexivity.
+        replace (in_range 64 Unsigned 1000000) with true by reflexivity.
+        unfold int_binop. rewrite (in_range_ulong age Ra). simpl.
+        rewrite wrap_ulong.
+        + simpl. f_equal. f_equal. rewrite Z.quot_div_nonneg by lia.
+          unfold norm_int, wrap, wrap_unsigned. apply Z.mod_small.
+          change (2 ^ bitsize I32)%Z with 4294967296%Z. unfold max_age_ns in L.
+          split; [apply Z.div_pos; lia|]. apply Z.div_lt_upper_bound; lia.
+        + rewrite Z.quot_div_nonneg by lia. split; [apply Z.div_pos; lia|].
+          unfold max_ulong in *. apply Z.div_le_upper_bound; lia.
+      - reflexivity. }
+    destruct (FR mm' u' (FRM mm' N' O') G' Hu' _ Sv) as [A B].
+    exists le1, mm', u'. refine (conj _ (conj _ (conj _ (conj _ (conj _ (conj _ B)))))); auto.
+    + change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; [exact X1|].
+      eapply exec_Sifthenelse.
+      * cbn [eval_expr typeof]. simpl binop_type. unfold le1. rewrite find_assoc_set_same. simpl.
+        replace (wrap_unsigned 64 max_age_ns) with max_age_ns by reflexivity.
+        replace (in_range 64 Unsigned max_age_ns) with true by reflexivity.
+        unfold int_binop. rewrite (in_range_ulong age Ra). simpl. reflexivity.
+      * reflexivity.
+      * unfold derived_dst, in_var_expr in *. rewrite Pq in *. simpl. revert X2.
+        destruct (age <=? max_age_ns)%Z; simpl; auto.
+Qed.
+
+(** The items, in order. *)
+Lemma exec_items:
+  forall (L : list (inrel + drel)) le mm u,
+  le_ok le -> fr mm -> get_block mm bu = Some (UT, u) -> mval_has_type ce UT u ->
+  (forall a, In a L -> item_run a) -> NoDup (map item_field L) ->
+  exists le' mm' u',
+     exec_stmt ctx ge [] le mm w (seq_of (map item_stmt L)) [] le' mm' w Out_normal
+  /\ le_ok le' /\ fr mm' /\ get_block mm' bu = Some (UT, u') /\ mval_has_type ce UT u'
+  /\ (forall a, In a L -> mval_get u' [Sfield (item_field a)]
+        = match item_val a with Some v => Some (MVscalar v) | None => mval_get u [Sfield (item_field a)] end)
+  /\ (forall y, ~ In y (map item_field L) -> mval_get u' [Sfield y] = mval_get u [Sfield y]).
+Proof.
+  induction L as [|a L IH]; intros le mm u Hle Fr G Hu R NDL.
+  - exists le, mm, u. repeat split; auto; try apply Fr.
+    + apply exec_Sskip.
+    + intros a [].
+  - destruct (R a (or_introl eq_refl) le mm u Hle Fr G Hu) as (le1 & mm1' & u1 & X1 & Hle1 & Fr1 & G1 & Hu1 & Set1 & Keep1).
+    simpl in NDL. inversion NDL as [|? ? Hn NDL']; subst.
+    destruct (IH le1 mm1' u1 Hle1 Fr1 G1 Hu1) as (le' & mm' & u' & X & Hle' & Fr' & G' & Hu' & Set' & Keep'); auto.
+    { intros; apply R; simpl; auto. }
+    exists le', mm', u'. repeat split; auto; try apply Fr'.
+    + simpl. change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; eauto.
+    + intros a' [<-|Ha'].
+      * rewrite Keep' by auto. exact Set1.
+      * rewrite Set'; auto. destruct (item_val a'); auto.
+        apply Keep1. intros E. apply Hn. rewrite <- E. apply in_map; auto.
+    + intros y Ny. simpl in Ny. rewrite Keep' by tauto. apply Keep1. intros E; apply Ny; auto.
+Qed.
+
+End FRESH.
+
+(** [c_new = 0;] for the timed topics [L]. *)
+Lemma resets_run:
+  forall (CS : Type) (ctx : ros_context CS) (w : world CS) L le mm,
+  incl L (timed m) -> globals_typed p mm ->
+  exists mm',
+     exec_stmt ctx ge [] le mm w (seq_of (map reset_stmt L)) [] le mm' w Out_normal
+  /\ globals_typed p mm'
+  /\ globals_changed p mm mm' (map (fun tp => (new_var (tp_cname tp), MVscalar (Vint 0))) L).
+Proof.
+  intros CS ctx w L; induction L as [|tp L IH]; intros le mm Inc GT.
+  - exists mm. repeat split; auto. apply exec_Sskip. constructor.
+  - assert (Ht: In tp (timed m)) by (apply Inc; simpl; auto).
+    destruct (generate_clock_globals m p tp GEN Ht) as (_ & Fn & _).
+    destruct (gen_global_block mm _ _ GT Fn) as (bn & vn & Vn & Gn).
+    destruct (exec_assign_global CS ctx w le mm (new_var (tp_cname tp)) bn _ vn (Econst_int 0 tflag) (Vint 0)
+                Vn Gn eq_refl eq_refl eq_refl) as (mm2 & X2 & O2 & _).
+    assert (GT2: globals_typed p mm2).
+    { eapply globals_typed_changed; eauto. intros b ty V. rewrite Vn in V; inversion V; subst.
+      constructor; auto. reflexivity. }
+    destruct (IH le mm2 (fun x H => Inc x (or_intror H)) GT2) as (mm' & X & GT' & GC).
+    exists mm'. repeat split; auto.
+    + simpl. change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; eauto.
+    + simpl. econstructor; eauto.
+Qed.
+
 Lemma generate_input_glue_ddc_aux: input_glue_ddc m p.
 Proof.
-  destruct (generate_input_glue m p GEN) as (f & Ff & Fret & Fpar & Fvars & Fbody & _ & _).
+  destruct (generate_input_glue m p GEN) as (f & Ff & Fret & Fpar & Fvars & Fbody & _ & _ & Ftemps).
   exists f. split; [apply gen_funct; auto|].
-  intros mm GT.
+  intros mm ck GT CK.
   destruct (generate_externals m p GEN) as (_ & _ & _ & _ & _ & _ & Fu & _).
   destruct (gen_var _ _ Fu) as [bu Vu].
   destruct (GT _ _ _ Vu) as (u0 & Gu & Hu0). rewrite gen_types in Hu0.
-  apply quiet_call_intro with (le := create_undef_temps (fn_temps f)); auto.
+  apply quiet_call_at_intro with (le := create_undef_temps (fn_temps f)); auto.
   - unfold function_entry. rewrite Fvars, Fpar. reflexivity.
   - intros CS ctx w.
     destruct (input_body mm bu GT Vu CS ctx w (create_undef_temps (fn_temps f)) u0 Gu Hu0)
-      as (le' & mm' & u & X & G' & U & Hu & Rel).
-    exists le', mm'. split.
-    + rewrite Fbody. unfold gen_list_controller_expr_input_glue, gen_list_global_expr_input_glue.
-      rewrite copies_map. exact X.
-    + exists u. split; [exists bu, (Tstruct (nm_in_struct m)); auto|].
-      rewrite gen_types. auto.
+      as (le1 & mm1 & u1 & X1 & G1 & U1 & Hu1 & Rel1).
+    assert (X1': exec_stmt ctx ge [] (create_undef_temps (fn_temps f)) mm w (input_base m) [] le1 mm1 w Out_normal).
+    { unfold input_base, gen_list_controller_expr_input_glue, gen_list_global_expr_input_glue.
+      rewrite copies_map. exact X1. }
+    assert (OG1: only_global_changed p mm mm1 (nm_in_var m) u1) by (exists bu, (Tstruct (nm_in_struct m)); auto).
+    assert (CK1: forall tp, In tp (timed m) ->
+              clock_held p mm1 (tp_cname tp) (fst (ck (tp_cname tp))) (snd (ck (tp_cname tp)))).
+    { intros tp Ht. destruct (CK tp Ht) as (A & B & C).
+      destruct (generate_clock_globals m p tp GEN Ht) as (Ft & Fn & Fr).
+      assert (KEEP: forall x ty, In x (clock_names tp) -> find_def p x = Some (Gvar ty) ->
+                global_value p mm1 x = global_value p mm x).
+      { intros x ty Hx F. destruct (gen_var _ _ F) as [bx V]. unfold global_value. rewrite V.
+        destruct U1 as [_ O]. rewrite O; auto.
+        assert (Nx: x <> nm_in_var m).
+        { intros ->. destruct (wf_controller_vars_fresh m W) as (_ & NU & _). apply NU.
+          eapply clock_name_in_after; eauto. }
+        eapply globalenv_vars_disjoint; eauto. }
+      split; [|split].
+      - rewrite (KEEP _ _ (or_intror (or_introl eq_refl)) Fn). auto.
+      - rewrite (KEEP _ _ (or_intror (or_intror (or_introl eq_refl))) Fr). auto.
+      - intros t E. rewrite (KEEP _ _ (or_introl eq_refl) Ft). auto. }
+    assert (GT1: globals_typed p mm1).
+    { apply (globals_typed_changed mm mm1 (nm_in_var m) u1 GT OG1). intros b ty V. rewrite Vu in V; inversion V; subst; auto. }
+    (* the input relations fed by a copy, and the derived inputs *)
+    assert (FEDV: forall u, (forall ir, In ir (nm_inrels m) -> find_assoc (ir_input ir) (nm_fallbacks m) = None ->
+                                mval_get u [Sfield (ir_input ir)] = mval_get u1 [Sfield (ir_input ir)]) ->
+                  (forall ir, In ir (nm_inrels m) -> forall fv, find_assoc (ir_input ir) (nm_fallbacks m) = Some fv ->
+                     mval_get u [Sfield (ir_input ir)]
+                     = if stale m (ir_topic ir) (snd (ck (ir_topic ir))) (w_time w) then Some (MVscalar fv)
+                       else mval_get u1 [Sfield (ir_input ir)]) ->
+                  forall ir, In ir (nm_inrels m) ->
+                  exists g v, global_value p mm (msg_var (ir_topic ir)) = Some g
+                    /\ mval_get g (path_steps (ir_path ir)) = Some (MVscalar v)
+                    /\ mval_get u [Sfield (ir_input ir)] = Some (MVscalar (fed_value m ir v (snd (ck (ir_topic ir))) (w_time w)))).
+    { intros u KEEP SET ir Hir. destruct (Rel1 ir Hir) as (g & v & GV & Gg & Gu1).
+      exists g, v. repeat split; auto. unfold fed_value.
+      destruct (find_assoc (ir_input ir) (nm_fallbacks m)) as [fv|] eqn:F.
+      - rewrite (SET ir Hir fv F). destruct (stale m (ir_topic ir) (snd (ck (ir_topic ir))) (w_time w)); auto.
+      - rewrite (KEEP ir Hir F), Gu1. destruct (stale _ _ _ _); auto. }
+    rewrite Fbody. destruct (timed m) as [|tp0 l] eqn:TM.
+    + (* no timed topic: no fallback, no derived input *)
+      assert (NF: nm_fallbacks m = []).
+      { destruct (nm_fallbacks m) as [|[x fv] l'] eqn:E; auto. exfalso.
+        assert (Hin: In (x, fv) (nm_fallbacks m)) by (rewrite E; simpl; auto).
+        destruct (wf_fallback m x fv W Hin) as (q & ir & t & _ & _ & Hir & Ex & _).
+        subst x. assert (F: exists fv', find_assoc (ir_input ir) (nm_fallbacks m) = Some fv').
+        { rewrite E. simpl. destruct (string_dec (ir_input ir) (ir_input ir)); [eauto|congruence]. }
+        destruct F as (fv' & F). destruct (fallback_topic ir fv' Hir F) as (tp & _ & Ht & _).
+        rewrite TM in Ht; contradiction. }
+      assert (NDR: nm_drels m = []).
+      { destruct (nm_drels m) as [|dr l'] eqn:E; auto. exfalso.
+        destruct (drel_topic dr) as (tp & Ht & _); [rewrite E; simpl; auto|].
+        rewrite TM in Ht; contradiction. }
+      exists le1, mm1. split; auto.
+      exists u1. split; [econstructor; [exact OG1|constructor]|].
+      rewrite gen_types. split; auto. split.
+      * apply FEDV; auto. intros ir _ fv F. rewrite NF in F. discriminate.
+      * intros dr Hdr. rewrite NDR in Hdr. contradiction.
+    + (* timed topics *)
+      destruct (Ftemps ltac:(discriminate)) as (TN & TA & TB).
+      rewrite <- TM. rewrite <- TM in CK1, CK.
+      assert (NE: timed m <> []) by congruence.
+      set (le2 := set_assoc now_temp (Vlong (clock (w_time w))) le1).
+      assert (X2: exec_stmt ctx ge [] le1 mm1 w (now_call now_temp) [] le2 mm1 w Out_normal)
+        by (apply exec_now_call; auto).
+      set (L := map inl (filter (has_fallback m) (nm_inrels m)) ++ map inr (nm_drels m)).
+      assert (NDL: NoDup (map item_field L)).
+      { unfold L. rewrite map_app, !map_map. cbn [item_field].
+        generalize (wf_fed_nodup m W). unfold fed_list. intros N.
+        apply NoDup_app_inv in N. destruct N as (N1 & N2 & D).
+        apply NoDup_app_intro.
+        - apply (NoDup_map_filter _ _ ir_input); auto.
+        - exact N2.
+        - intros x Hx. apply in_map_iff in Hx. destruct Hx as (ir & <- & Hx). apply filter_In in Hx.
+          apply D. apply in_map; tauto. }
+      assert (RUN: forall a, In a L -> item_run ctx w mm1 bu ck a).
+      { intros a Ha. unfold L in Ha. apply in_app_iff in Ha. destruct Ha as [Ha|Ha];
+          apply in_map_iff in Ha; destruct Ha as (r & <- & Hr);
+          [apply (fallback_run ctx w mm1 bu ck Vu CK1)|apply (derived_run ctx w mm1 bu ck Vu CK1)]; auto. }
+      assert (Fr1: frame mm1 bu mm1) by (split; auto).
+      assert (Hle2: find_assoc now_temp le2 = Some (Vlong (clock (w_time w)))) by (unfold le2; apply find_assoc_set_same).
+      destruct (exec_items ctx w mm1 bu ck L le2 mm1 u1 Hle2 Fr1 G1 Hu1 RUN NDL)
+        as (le3 & mm3 & u3 & X3 & _ & Fr3 & G3 & Hu3 & Set3 & Keep3).
+      assert (OG3: only_global_changed p mm mm3 (nm_in_var m) u3).
+      { exists bu, (Tstruct (nm_in_struct m)). split; auto. split; auto.
+        destruct U1 as [N1 O1], Fr3 as [N3 O3]. split; [congruence|]. intros b' Nb. rewrite O3, O1; auto. }
+      assert (GT3: globals_typed p mm3).
+      { apply (globals_typed_changed mm mm3 (nm_in_var m) u3 GT OG3). intros b ty V. rewrite Vu in V; inversion V; subst; auto. }
+      destruct (resets_run CS ctx w (timed m) le3 mm3 (incl_refl _) GT3) as (mm4 & X4 & _ & GC4).
+      exists le3, mm4. split.
+      * change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; [exact X1'|].
+        unfold timed_stmts. change (@nil event) with (@nil event ++ @nil event).
+        apply (exec_seq_cons ctx ge) with le2 mm1 w; [exact X2|].
+        rewrite app_assoc.
+        replace (map (fallback_stmt m (make_tables m)) (filter (has_fallback m) (nm_inrels m))
+                 ++ map (derived_stmt m (make_tables m)) (nm_drels m))
+          with (map item_stmt L)
+          by (unfold L; rewrite map_app, !map_map; reflexivity).
+        change (@nil event) with (@nil event ++ @nil event).
+        eapply exec_seq_of_app; [exact X3|exact X4].
+      * exists u3. split; [econstructor; eauto|]. rewrite gen_types. split; auto. split.
+        -- apply FEDV.
+           ++ intros ir Hir F. apply Keep3. unfold L. rewrite map_app, !map_map, in_app_iff. cbn [item_field].
+              intros [Hx|Hx]; apply in_map_iff in Hx.
+              ** destruct Hx as (ir' & E & Hir'). apply filter_In in Hir'. destruct Hir' as [Hir' HF].
+                 assert (ir' = ir) by (apply (NoDup_map_eq _ _ ir_input (nm_inrels m)); auto; apply wf_inrel_inputs_nodup; auto).
+                 subst ir'. unfold has_fallback in HF. rewrite F in HF. discriminate.
+              ** destruct Hx as (dr & E & Hdr). generalize (wf_fed_nodup m W). unfold fed_list. intros N.
+                 apply NoDup_app_inv in N. destruct N as (_ & _ & D). apply (D (ir_input ir)).
+                 --- apply in_map; auto.
+                 --- rewrite <- E. apply in_map; auto.
+           ++ intros ir Hir fv F.
+              assert (Ha: In (inl ir) L).
+              { unfold L. apply in_app_iff. left. apply in_map. apply filter_In. split; auto.
+                unfold has_fallback. rewrite F; auto. }
+              generalize (Set3 _ Ha). cbn [item_val item_field]. rewrite F. intros ->.
+              destruct (stale m (ir_topic ir) (snd (ck (ir_topic ir))) (w_time w)); auto.
+        -- intros dr Hdr. assert (Ha: In (inr dr) L) by (unfold L; apply in_app_iff; right; apply in_map; auto).
+           generalize (Set3 _ Ha). cbn [item_val item_field]. intros ->. reflexivity.
 Qed.
 
 (** ** Output glue *)
@@ -683,47 +1435,108 @@ Proof. intros; unfold time_nsec; apply norm_int_idem. Qed.
 Lemma stamp_run:
   forall (CS : Type) (ctx : ros_context CS) (w : world CS) le mm1 v1 sp,
   le_ok le -> topic_stamp m c = Some sp ->
+  (forall b', b' <> b -> get_block mm1 b' = get_block mm b') ->
   get_block mm1 b = Some (Tstruct M, v1) -> mval_has_type ce (Tstruct M) v1 ->
   exists le' mm2 v2,
-     exec_stmt ctx ge [] le mm1 w (stamp_stmts m M sp) [] le' mm2 w Out_normal
+     exec_stmt ctx ge [] le mm1 w (stamp_stmts m (make_tables m) c M sp) [] le' mm2 w Out_normal
   /\ get_block mm2 b = Some (Tstruct M, v2) /\ mval_has_type ce (Tstruct M) v2
   /\ mem_next mm2 = mem_next mm1 /\ (forall b', b' <> b -> get_block mm2 b' = get_block mm1 b')
-  /\ mval_get v2 (path_steps (sp ++ [PField "sec"%string])) = Some (MVscalar (Vint (time_sec (w_time w))))
-  /\ mval_get v2 (path_steps (sp ++ [PField "nsec"%string])) = Some (MVscalar (Vint (time_nsec (w_time w))))
+  /\ match find_assoc c (nm_stamp_from m) with
+     | None =>
+         mval_get v2 (path_steps (sp ++ [PField "sec"%string])) = Some (MVscalar (Vint (time_sec (w_time w))))
+      /\ mval_get v2 (path_steps (sp ++ [PField "nsec"%string])) = Some (MVscalar (Vint (time_nsec (w_time w))))
+     | Some (s0, sp') =>
+         mval_get v2 (path_steps (sp ++ [PField "sec"%string]))
+         = mval_get (global_msg p mm s0) (path_steps (sp' ++ [PField "sec"%string]))
+      /\ mval_get v2 (path_steps (sp ++ [PField "nsec"%string]))
+         = mval_get (global_msg p mm s0) (path_steps (sp' ++ [PField "nsec"%string]))
+     end
   /\ (forall p', path_disjoint (path_steps (sp ++ [PField "sec"%string])) p' ->
                   path_disjoint (path_steps (sp ++ [PField "nsec"%string])) p' ->
                   mval_get v2 p' = mval_get v1 p').
 Proof.
-  intros CS ctx w le mm1 v1 sp Hle ST G1 H1.
+  intros CS ctx w le mm1 v1 sp Hle ST Fr1 G1 H1.
   destruct (wf_stamp m tp sp W Htp ST) as (Rs & Rn & _).
-  assert (NE: nm_stamps m <> []).
-  { unfold topic_stamp in ST. intros E; rewrite E in ST; discriminate. }
-  destruct (generate_time_externals m p GEN NE) as [Fs Fn].
-  set (le1 := set_assoc (temp_name Puint32) (Vint (time_sec (w_time w))) le).
-  assert (Hle1: le_ok le1) by (apply output_le_ok_set; auto).
-  destruct (exec_assign_uint CS ctx w le1 mm1 v1 _ _ Hle1 (find_assoc_set_same _ _ _ _)
-              (time_sec_norm _) Rs G1 H1) as (mm2 & v2 & X2 & G2 & H2 & S2 & N2 & O2).
-  set (le2 := set_assoc (temp_name Puint32) (Vint (time_nsec (w_time w))) le1).
-  assert (Hle2: le_ok le2) by (apply output_le_ok_set; auto).
-  destruct (exec_assign_uint CS ctx w le2 mm2 v2 _ _ Hle2 (find_assoc_set_same _ _ _ _)
-              (time_nsec_norm _) Rn G2 H2) as (mm3 & v3 & X3 & G3 & H3 & S3 & N3 & O3).
   assert (Dsn: path_disjoint (path_steps (sp ++ [PField "sec"%string])) (path_steps (sp ++ [PField "nsec"%string]))).
   { apply (leaves_disjoint m _ _ (FTmsg M) Puint32 Puint32 Rs Rn).
     intros E. apply app_inv_head in E. discriminate. }
-  exists le2, mm3, v3. repeat split; auto.
-  - unfold stamp_stmts, seq_of. simpl fold_right.
-    change (@nil event) with (@nil event ++ @nil event ++ @nil event ++ @nil event ++ @nil event).
-    eapply exec_Sseq_1; [eapply exec_time_call; [exact Fs | reflexivity]|].
-    eapply exec_Sseq_1; [exact X2|].
-    eapply exec_Sseq_1; [eapply exec_time_call; [exact Fn | reflexivity]|].
-    eapply exec_Sseq_1; [exact X3|]. apply exec_Sskip.
-  - congruence.
-  - intros b' N. rewrite O3, O2; auto.
-  - rewrite (mval_get_set_disjoint _ _ _ _ _ (path_disjoint_sym _ _ Dsn) S3).
-    eapply mval_get_set_same; eauto.
-  - eapply mval_get_set_same; eauto.
-  - intros p' D1 D2. rewrite (mval_get_set_disjoint _ _ _ _ _ D2 S3).
-    apply (mval_get_set_disjoint _ _ _ _ _ D1 S2).
+  unfold stamp_stmts. fold (topic_stamp_from m c).
+  destruct (topic_stamp_from m c) as [[s0 sp']|] eqn:SF; unfold topic_stamp_from in SF.
+  - (* copied from the subscribed topic [s0] *)
+    assert (Hin: In (c, (s0, sp')) (nm_stamp_from m)) by (apply find_assoc_In; auto).
+    destruct (wf_stamp_from m _ _ _ W Hin) as (tp' & Ft & Sub & Rs' & Rn' & _).
+    destruct (find_topic_In _ _ _ Ft) as [Htop' Ec].
+    assert (Hs': In tp' (subscribed m)).
+    { apply in_subscribed. split; auto. unfold is_subscribed in Sub. destruct (tp_dir tp'); [auto|discriminate]. }
+    destruct (generate_callback m p tp' GEN Hs') as [Fv _]. rewrite Ec in Fv.
+    destruct (gen_var _ _ Fv) as [bg Vg].
+    destruct (GT _ _ _ Vg) as (g & Gg & Hg). rewrite gen_types in Hg.
+    assert (Nbg: bg <> b) by (intros E; apply (NG _ _ _ Vg); auto).
+    assert (GM: global_msg p mm s0 = g) by (unfold global_msg, global_value; rewrite Vg, Gg; auto).
+    rewrite GM, (topic_msg_tables m _ _ Ft).
+    destruct (leaf_typed m W _ _ _ g Rs' Hg) as (xs' & Gxs & Txs).
+    destruct (leaf_typed m W _ _ _ g Rn' Hg) as (xn' & Gxn & Txn).
+    destruct xs' as [|xs| | | | |]; try contradiction. destruct xn' as [|xn| | | | |]; try contradiction.
+    assert (SRC: forall mmx f x, (forall b', b' <> b -> get_block mmx b' = get_block mm b') ->
+                 resolve msgs (FTmsg (tp_msg tp')) (sp' ++ [PField f]) = Some (FTprim Puint32) ->
+                 mval_get g (path_steps (sp' ++ [PField f])) = Some (MVscalar x) ->
+                 forall lex, eval_expr ge [] lex mmx
+                          (path_expr ce (Evar (msg_var s0) (Tstruct (tp_msg tp'))) (sp' ++ [PField f])) = Some x).
+    { intros mmx f x Frx R Gx lex.
+      destruct (eval_leaf m W ge [] lex mmx (tp_msg tp') (sp' ++ [PField f]) Puint32
+                  (Evar (msg_var s0) (Tstruct (tp_msg tp'))) bg [] R) as (_ & _ & E); auto.
+      { eapply eval_lvalue_global_struct; eauto. }
+      rewrite E. apply load_spec; [reflexivity|]. unfold load_path. rewrite Frx by auto. rewrite Gg. auto. }
+    set (le1 := set_assoc (temp_name Puint32) (Vint xs) le).
+    assert (Hle1: le_ok le1) by (apply output_le_ok_set; auto).
+    destruct (exec_assign_uint CS ctx w le1 mm1 v1 _ _ Hle1 (find_assoc_set_same _ _ _ _)
+                Txs Rs G1 H1) as (mm2 & v2 & X2 & G2 & H2 & S2 & N2 & O2).
+    set (le2 := set_assoc (temp_name Puint32) (Vint xn) le1).
+    assert (Hle2: le_ok le2) by (apply output_le_ok_set; auto).
+    destruct (exec_assign_uint CS ctx w le2 mm2 v2 _ _ Hle2 (find_assoc_set_same _ _ _ _)
+                Txn Rn G2 H2) as (mm3 & v3 & X3 & G3 & H3 & S3 & N3 & O3).
+    exists le2, mm3, v3. repeat split; auto.
+    + unfold seq_of. simpl fold_right.
+      change (@nil event) with (@nil event ++ (@nil event ++ @nil event)).
+      eapply exec_Sseq_1; [|eapply exec_Sseq_1; [|apply exec_Sskip]].
+      * unfold copy. change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; [|exact X2].
+        apply exec_Sset. apply SRC; auto.
+      * unfold copy. change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; [|exact X3].
+        apply exec_Sset. apply SRC; auto.
+        intros b' N. rewrite O2 by auto. auto.
+    + congruence.
+    + intros b' N. rewrite O3, O2; auto.
+    + rewrite (mval_get_set_disjoint _ _ _ _ _ (path_disjoint_sym _ _ Dsn) S3).
+      rewrite (mval_get_set_same _ _ _ _ S2). auto.
+    + rewrite (mval_get_set_same _ _ _ _ S3). auto.
+    + intros p' D1 D2. rewrite (mval_get_set_disjoint _ _ _ _ _ D2 S3).
+      apply (mval_get_set_disjoint _ _ _ _ _ D1 S2).
+  - (* the cycle's time *)
+    assert (NE: nm_stamps m <> []).
+    { unfold topic_stamp in ST. intros E; rewrite E in ST; discriminate. }
+    destruct (generate_time_externals m p GEN NE) as [Fs Fn].
+    set (le1 := set_assoc (temp_name Puint32) (Vint (time_sec (w_time w))) le).
+    assert (Hle1: le_ok le1) by (apply output_le_ok_set; auto).
+    destruct (exec_assign_uint CS ctx w le1 mm1 v1 _ _ Hle1 (find_assoc_set_same _ _ _ _)
+                (time_sec_norm _) Rs G1 H1) as (mm2 & v2 & X2 & G2 & H2 & S2 & N2 & O2).
+    set (le2 := set_assoc (temp_name Puint32) (Vint (time_nsec (w_time w))) le1).
+    assert (Hle2: le_ok le2) by (apply output_le_ok_set; auto).
+    destruct (exec_assign_uint CS ctx w le2 mm2 v2 _ _ Hle2 (find_assoc_set_same _ _ _ _)
+                (time_nsec_norm _) Rn G2 H2) as (mm3 & v3 & X3 & G3 & H3 & S3 & N3 & O3).
+    exists le2, mm3, v3. repeat split; auto.
+    + unfold seq_of. simpl fold_right.
+      change (@nil event) with (@nil event ++ @nil event ++ @nil event ++ @nil event ++ @nil event).
+      eapply exec_Sseq_1; [eapply exec_time_call; [exact Fs | reflexivity]|].
+      eapply exec_Sseq_1; [exact X2|].
+      eapply exec_Sseq_1; [eapply exec_time_call; [exact Fn | reflexivity]|].
+      eapply exec_Sseq_1; [exact X3|]. apply exec_Sskip.
+    + congruence.
+    + intros b' N. rewrite O3, O2; auto.
+    + rewrite (mval_get_set_disjoint _ _ _ _ _ (path_disjoint_sym _ _ Dsn) S3).
+      eapply mval_get_set_same; eauto.
+    + eapply mval_get_set_same; eauto.
+    + intros p' D1 D2. rewrite (mval_get_set_disjoint _ _ _ _ _ D2 S3).
+      apply (mval_get_set_disjoint _ _ _ _ _ D1 S2).
 Qed.
 
 End OUTPUT.
@@ -758,8 +1571,8 @@ Proof.
     { intros o Ho Eo. destruct (wf_outrel m o W Ho) as (tp' & q & Ft & _ & _ & R).
       rewrite Eo, FT in Ft. inversion Ft; subst tp'. eauto. }
     destruct (topic_stamp m (tp_cname tp)) as [sp|] eqn:ST.
-    + destruct (stamp_run tp Htp b CS ctx w le' mm' mv sp Hle' ST G' Tm)
-        as (le2 & mm2 & v2 & X2 & G2 & H2 & N2 & O2 & Gs & Gn & Keep).
+    + destruct (stamp_run tp Htp mm b GT NG CS ctx w le' mm' mv sp Hle' ST ltac:(intros b' Nb; destruct U1 as [_ U2']; auto) G' Tm)
+        as (le2 & mm2 & v2 & X2 & G2 & H2 & N2 & O2 & STV & Keep).
       destruct (wf_stamp m tp sp W Htp ST) as (Rs & Rn & NO).
       assert (DJ: forall lp q, resolve msgs (FTmsg (tp_msg tp)) lp = Some (FTprim q) ->
                   lp <> sp ++ [PField "sec"%string] -> lp <> sp ++ [PField "nsec"%string] ->
@@ -774,7 +1587,7 @@ Proof.
            ++ intros o Ho Eo. destruct (Rel o Ho Eo) as (v & Yv & Mv). exists v. split; auto.
               destruct (ROUT o Ho Eo) as (q & R). rewrite DJ with (q := q); auto;
                 intros E; apply (NO o _ Ho Eo E).
-           ++ intros sp' E. unfold topic_stamp in ST. rewrite ST in E. inversion E; subst sp'. auto.
+           ++ intros sp' E. unfold topic_stamp in ST. rewrite ST in E. inversion E; subst sp'. exact STV.
            ++ intros lp q R NOUT NS. destruct (NS sp ST) as [N1 N2']. rewrite DJ with (q := q); auto.
         -- split; [congruence|]. intros b' Nb. rewrite O2, U2; auto.
     + exists le', mm'. split; [rewrite Fbody; exact Xb|].

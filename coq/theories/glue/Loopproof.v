@@ -138,27 +138,6 @@ Context {CS : Type}.
 Variable ctx : ros_context CS.
 Variable ge : genv.
 
-Lemma exec_seq_of_app:
-  forall l1 l2 e le mm w t1 le1 mm1 w1 t2 le2 mm2 w2 out,
-  exec_stmt ctx ge e le mm w (seq_of l1) t1 le1 mm1 w1 Out_normal ->
-  exec_stmt ctx ge e le1 mm1 w1 (seq_of l2) t2 le2 mm2 w2 out ->
-  exec_stmt ctx ge e le mm w (seq_of (l1 ++ l2)) (t1 ++ t2) le2 mm2 w2 out.
-Proof.
-  induction l1 as [|s l1 IH]; intros l2 e le mm w t1 le1 mm1 w1 t2 le2 mm2 w2 out X1 X2.
-  - simpl in X1. inversion X1; subst. exact X2.
-  - simpl in X1 |- *. inversion X1; subst; [|congruence].
-    rewrite <- app_assoc. eapply exec_Sseq_1; eauto.
-Qed.
-
-Lemma exec_seq_cons:
-  forall s l e le mm w le1 mm1 w1 t le2 mm2 w2 out,
-  exec_stmt ctx ge e le mm w s [] le1 mm1 w1 Out_normal ->
-  exec_stmt ctx ge e le1 mm1 w1 (seq_of l) t le2 mm2 w2 out ->
-  exec_stmt ctx ge e le mm w (seq_of (s :: l)) t le2 mm2 w2 out.
-Proof.
-  intros. simpl. change t with ([] ++ t). eapply exec_Sseq_1; eauto.
-Qed.
-
 (** Calling a function by its name, from a scope where no local hides it. *)
 Lemma exec_call_named:
   forall e le mm w optid f targs tres al fd vargs t mm' w' vres,
@@ -300,6 +279,18 @@ Proof.
   induction l1 as [|a l1 IH]; simpl; intros l2 N; auto. inversion N; eauto.
 Qed.
 
+Lemma NoDup_flat_map_in:
+  forall (A B : Type) (f : A -> list B) l a1 a2 x,
+  NoDup (flat_map f l) -> In a1 l -> In a2 l -> In x (f a1) -> In x (f a2) -> a1 = a2.
+Proof.
+  induction l as [|b l IH]; simpl; intros a1 a2 x N H1 H2 X1 X2; [contradiction|].
+  apply NoDup_app_inv in N. destruct N as (Nb & Nl & D).
+  destruct H1 as [<-|H1], H2 as [<-|H2]; auto.
+  - exfalso. apply (D x X1). apply in_flat_map; eauto.
+  - exfalso. apply (D x X2). apply in_flat_map; eauto.
+  - eapply IH; eauto.
+Qed.
+
 Lemma mem_wf_unchanged:
   forall mm mm' b, mem_wf mm -> unchanged_except mm mm' b -> get_block mm b <> None -> mem_wf mm'.
 Proof.
@@ -388,8 +379,125 @@ Lemma callback_inj:
 Proof.
   intros tp1 tp2 H1 H2 E.
   generalize global_names_nodup; unfold global_names; intros N.
-  do 5 apply NoDup_app_right in N. apply NoDup_app_left in N.
+  do 6 apply NoDup_app_right in N. apply NoDup_app_left in N.
   apply (NoDup_map_inj_in _ _ _ _ _ _ N H1 H2 E).
+Qed.
+
+(** The clock globals of the timed topics (rule 4.12): distinct from each
+    other, from the topics' messages and from the controller's globals. *)
+Lemma msgs_clocks_nodup:
+  NoDup (map (fun tp => msg_var (tp_cname tp)) (subscribed m) ++ flat_map clock_names (timed m)).
+Proof.
+  generalize global_names_nodup; unfold global_names; intros N.
+  do 4 apply NoDup_app_right in N. rewrite app_assoc in N. apply NoDup_app_left in N. exact N.
+Qed.
+
+Lemma clock_name_topic:
+  forall tp1 tp2 x, In tp1 (timed m) -> In tp2 (timed m) ->
+  In x (clock_names tp1) -> In x (clock_names tp2) -> tp1 = tp2.
+Proof.
+  intros tp1 tp2 x H1 H2 X1 X2. destruct (NoDup_app_inv _ _ _ msgs_clocks_nodup) as (_ & N & _).
+  eapply NoDup_flat_map_in; eauto.
+Qed.
+
+Lemma msg_not_clock:
+  forall tp1 tp2 x, In tp1 (subscribed m) -> In tp2 (timed m) -> In x (clock_names tp2) ->
+  msg_var (tp_cname tp1) <> x.
+Proof.
+  intros tp1 tp2 x H1 H2 X E. destruct (NoDup_app_inv _ _ _ msgs_clocks_nodup) as (_ & _ & D).
+  apply (D x).
+  - rewrite <- E. apply (in_map (fun tp => msg_var (tp_cname tp))); auto.
+  - apply in_flat_map; eauto.
+Qed.
+
+Lemma controller_not_clock:
+  forall tp x, In tp (timed m) -> In x (clock_names tp) -> x <> nm_in_var m /\ x <> nm_out_var m.
+Proof.
+  intros tp x H X. destruct (wf_controller_vars_fresh m W) as (_ & NU & NY).
+  split; intros ->; [apply NU|apply NY]; eapply clock_name_in_after; eauto.
+Qed.
+
+Lemma timed_subscribed: forall tp, In tp (timed m) -> In tp (subscribed m).
+Proof. apply (gen_timed_sub m). Qed.
+
+(** *** Globals changed one after the other *)
+
+Lemma global_value_same:
+  forall mm mm' y,
+  (forall by_ ty, find_var ge y = Some (by_, ty) -> get_block mm' by_ = get_block mm by_) ->
+  global_value p mm' y = global_value p mm y.
+Proof.
+  intros mm mm' y H. unfold global_value. destruct (find_var ge y) as [[b ty]|] eqn:V; auto.
+  rewrite (H b ty); auto.
+Qed.
+
+Lemma only_global_other:
+  forall mm mm' x v y, only_global_changed p mm mm' x v -> y <> x ->
+  global_value p mm' y = global_value p mm y.
+Proof.
+  intros mm mm' x v y (bx & tx & Vx & Gx & [Nn No]) N. apply global_value_same.
+  intros by_ ty Vy. apply No. intros ->. eapply (globalenv_vars_disjoint p y x); eauto.
+Qed.
+
+Lemma only_global_same:
+  forall mm mm' x v, only_global_changed p mm mm' x v -> global_value p mm' x = Some v.
+Proof. intros mm mm' x v (bx & tx & Vx & Gx & _). unfold global_value. rewrite Vx, Gx. auto. Qed.
+
+Lemma globals_changed_next:
+  forall mm mm' l, globals_changed p mm mm' l -> mem_next mm' = mem_next mm.
+Proof.
+  intros mm mm' l H; induction H as [|mm mm1 mm' x v l (bx & tx & _ & _ & [N _]) _ IH]; congruence.
+Qed.
+
+Lemma globals_changed_other:
+  forall mm mm' l, globals_changed p mm mm' l ->
+  forall b, not_global p b -> get_block mm' b = get_block mm b.
+Proof.
+  intros mm mm' l H; induction H as [|mm mm1 mm' x v l (bx & tx & Vx & _ & [_ O]) _ IH]; intros b NG; auto.
+  rewrite IH by auto. apply O. intros E; subst. apply (NG _ _ _ Vx); auto.
+Qed.
+
+Lemma globals_changed_value:
+  forall mm mm' l, globals_changed p mm mm' l -> NoDup (map fst l) ->
+  forall y, global_value p mm' y = match find_assoc y l with Some v => Some v | None => global_value p mm y end.
+Proof.
+  intros mm mm' l H; induction H as [|mm mm1 mm' x v l OG _ IH]; intros NDl y; auto.
+  simpl in NDl. inversion NDl as [|? ? Hn NDl']; subst. rewrite IH by auto. simpl.
+  destruct (string_dec y x) as [->|N].
+  - rewrite find_assoc_notin by auto. eapply only_global_same; eauto.
+  - destruct (find_assoc y l); auto. eapply only_global_other; eauto.
+Qed.
+
+Lemma globals_changed_notin:
+  forall mm mm' l, globals_changed p mm mm' l ->
+  forall y, ~ In y (map fst l) -> global_value p mm' y = global_value p mm y.
+Proof.
+  intros mm mm' l H; induction H as [|mm mm1 mm' x v l OG _ IH]; intros y Ny; auto.
+  simpl in Ny. rewrite IH by tauto. eapply only_global_other; eauto.
+Qed.
+
+Lemma globals_changed_typed:
+  forall mm mm' l, globals_changed p mm mm' l -> mem_wf mm -> globals_typed p mm ->
+  (forall x v, In (x, v) l -> forall b ty, find_var ge x = Some (b, ty) -> mval_has_type ce ty v) ->
+  mem_wf mm' /\ globals_typed p mm'.
+Proof.
+  intros mm mm' l H; induction H as [|mm mm1 mm' x v l OG _ IH]; intros Wm GT Tv; auto.
+  assert (GT1: globals_typed p mm1).
+  { eapply (globals_typed_changed m p GEN); eauto. intros b ty V. eapply Tv; simpl; eauto. }
+  destruct OG as (bx & tx & Vx & Gx & U) eqn:E0.
+  assert (W1: mem_wf mm1).
+  { eapply mem_wf_unchanged; eauto. eapply global_var_block; eauto. }
+  apply IH; auto. intros; eapply Tv; simpl; eauto.
+Qed.
+
+(** The clock globals of a timed topic, read in a memory. *)
+Lemma clock_held_same:
+  forall mm mm' tp b r, (forall x, In x (clock_names tp) -> global_value p mm' x = global_value p mm x) ->
+  clock_held p mm (tp_cname tp) b r -> clock_held p mm' (tp_cname tp) b r.
+Proof.
+  intros mm mm' tp b r H (A & B & C). unfold clock_held.
+  rewrite (H (new_var (tp_cname tp))), (H (rcvd_var (tp_cname tp))) by (simpl; auto).
+  split; auto; split; auto. intros t E. rewrite (H (time_var (tp_cname tp))) by (simpl; auto). auto.
 Qed.
 
 Lemma msg_global:
@@ -407,9 +515,32 @@ Proof.
   apply (gen_zero_typed m p GEN). apply (gen_msg_in m p GEN); auto.
 Qed.
 
+(** *** Clocks *)
+
+(** The receipt time of the newest message received in the first [k]
+    spins ([None] before the first). *)
+Definition held_time (tp : topic) (k : nat) : option Z :=
+  match k with O => None | S i => newest_time ctx tp i end.
+
+Lemma newest_time_step:
+  forall tp k,
+  newest_time ctx tp k
+  = match last_on (tp_name tp) (ctx_arrivals ctx k) with Some a => Some (ar_time a) | None => held_time tp k end.
+Proof.
+  intros tp k. unfold newest_time, newest_arrival, arrivals_upto.
+  rewrite seq_S, flat_map_app. simpl. rewrite app_nil_r, last_on_app.
+  destruct (last_on (tp_name tp) (ctx_arrivals ctx k)); auto.
+  destruct k as [|i]; simpl; auto.
+Qed.
+
+(** The [c_new] flags: all clear, or set for the topics on which a
+    message arrived for spin [k]. *)
+Definition nonew (tp : topic) : bool := false.
+Definition arrived_at (k : nat) (tp : topic) : bool := arrived ctx tp k.
+
 (** *** The invariant of the loop *)
 
-Record loop_inv (k : nat) (e : env) (mm : mem) : Prop := {
+Record loop_inv (k : nat) (nw : topic -> bool) (e : env) (mm : mem) : Prop := {
   li_wf: mem_wf mm;
   li_globals: globals_typed p mm;
   li_msgs: forall tp, In tp (subscribed m) ->
@@ -419,25 +550,29 @@ Record loop_inv (k : nat) (e : env) (mm : mem) : Prop := {
              /\ not_global p b
              /\ exists v, get_block mm b = Some (Tstruct (tp_msg tp), v)
                           /\ mval_shape v = undef_mval ce (Tstruct (tp_msg tp));
+  li_clock: forall tp, In tp (timed m) -> clock_held p mm (tp_cname tp) (nw tp) (held_time tp k);
   li_funs: forall x, In x (map fst (prog_defs p)) -> find_assoc x e = None
 }.
 
-Arguments li_wf {k e mm}.
-Arguments li_globals {k e mm}.
-Arguments li_msgs {k e mm}.
-Arguments li_cmds {k e mm}.
-Arguments li_funs {k e mm}.
+Arguments li_wf {k nw e mm}.
+Arguments li_globals {k nw e mm}.
+Arguments li_msgs {k nw e mm}.
+Arguments li_cmds {k nw e mm}.
+Arguments li_clock {k nw e mm}.
+Arguments li_funs {k nw e mm}.
 
 (** Replacing the value of a global that is not a topic's message by a
     value of its type keeps the invariant. *)
-Lemma inv_change_global:
-  forall k e mm mm' x v,
-  loop_inv k e mm -> only_global_changed p mm mm' x v ->
+Lemma inv_change_global_gen:
+  forall k nw nw' e mm mm' x v,
+  loop_inv k nw e mm -> only_global_changed p mm mm' x v ->
   (forall tp, In tp (subscribed m) -> msg_var (tp_cname tp) <> x) ->
   (forall b ty, find_var ge x = Some (b, ty) -> mval_has_type ce ty v) ->
-  loop_inv k e mm'.
+  (forall tp, In tp (timed m) -> clock_held p mm' (tp_cname tp) (nw' tp) (held_time tp k)) ->
+  loop_inv k nw' e mm'.
 Proof.
-  intros k e mm mm' x v I (bx & tx & Vx & Gx & [Nn No]) NM Tv.
+  intros k nw nw' e mm mm' x v I OG NM Tv CL.
+  destruct OG as (bx & tx & Vx & Gx & [Nn No]).
   assert (Lx: get_block mm bx <> None) by (eapply global_var_block; [apply (li_globals I) | eauto]).
   constructor.
   - eapply mem_wf_unchanged; [apply (li_wf I) | split; eauto | auto].
@@ -452,15 +587,92 @@ Proof.
   - intros tp Htp. destruct (li_cmds I tp Htp) as (b & F & NG & v' & G & S).
     exists b; split; auto; split; auto. exists v'; split; auto.
     rewrite No; auto. intros E; subst b. apply (NG _ _ _ Vx); auto.
+  - exact CL.
   - apply (li_funs I).
+Qed.
+
+
+Lemma inv_change_global:
+  forall k nw e mm mm' x v,
+  loop_inv k nw e mm -> only_global_changed p mm mm' x v ->
+  (forall tp, In tp (subscribed m) -> msg_var (tp_cname tp) <> x) ->
+  (forall tp y, In tp (timed m) -> In y (clock_names tp) -> y <> x) ->
+  (forall b ty, find_var ge x = Some (b, ty) -> mval_has_type ce ty v) ->
+  loop_inv k nw e mm'.
+Proof.
+  intros k nw e mm mm' x v I OG NM NC Tv.
+  apply (inv_change_global_gen k nw nw e mm mm' x v I OG NM Tv).
+  intros tp Ht. apply clock_held_same with mm; [|apply (li_clock I tp Ht)].
+  intros y Hy. eapply only_global_other; eauto.
+Qed.
+
+(** The [c_new] flags only matter for the timed topics. *)
+Lemma loop_inv_ext:
+  forall k nw1 nw2 e mm, (forall tp, In tp (timed m) -> nw1 tp = nw2 tp) ->
+  loop_inv k nw1 e mm -> loop_inv k nw2 e mm.
+Proof.
+  intros k nw1 nw2 e mm H I. constructor; try apply I.
+  intros tp Ht. rewrite <- (H tp Ht). apply (li_clock I tp Ht).
+Qed.
+
+(** Clearing the [c_new] flag of a timed topic. *)
+Lemma inv_reset_one:
+  forall k nw e mm mm1 tp0,
+  loop_inv k nw e mm -> In tp0 (timed m) ->
+  only_global_changed p mm mm1 (new_var (tp_cname tp0)) (MVscalar (Vint 0)) ->
+  loop_inv k (fun tp => if ident_eqb (tp_cname tp0) (tp_cname tp) then false else nw tp) e mm1.
+Proof.
+  intros k nw e mm mm1 tp0 I Ht0 OG.
+  assert (Hs0 := timed_subscribed tp0 Ht0).
+  assert (NM: forall tp, In tp (subscribed m) -> msg_var (tp_cname tp) <> new_var (tp_cname tp0)).
+  { intros tp Htp. apply (msg_not_clock tp tp0); simpl; auto. }
+  apply (inv_change_global_gen k nw _ e mm mm1 (new_var (tp_cname tp0)) (MVscalar (Vint 0)) I OG NM).
+  - intros b ty V. destruct (generate_clock_globals m p tp0 GEN Ht0) as (_ & Fn & _).
+    destruct (gen_var m p GEN _ _ Fn) as [b' V']. rewrite V' in V. inversion V; subst.
+    constructor; reflexivity.
+  - intros tp Ht. destruct (li_clock I tp Ht) as (A & B & C).
+    destruct (ident_eqb (tp_cname tp0) (tp_cname tp)) eqn:E.
+    + apply ident_eqb_true in E.
+      assert (tp0 = tp).
+      { apply (NoDup_map_inj_in _ _ tp_cname (nm_topics m)); auto.
+        - apply wf_cnames_nodup; auto.
+        - apply in_subscribed in Hs0; tauto.
+        - apply (in_subscribed m tp). apply timed_subscribed; auto. }
+      subst tp0.
+      destruct (clock_names_distinct (tp_cname tp)) as (A1 & A2 & A3 & _).
+      split; [|split].
+      * eapply only_global_same; eauto.
+      * rewrite (only_global_other _ _ _ _ (rcvd_var (tp_cname tp)) OG); auto.
+      * intros t Et. rewrite (only_global_other _ _ _ _ (time_var (tp_cname tp)) OG); auto.
+    + apply clock_held_same with mm; [|split; auto].
+      intros y Hy. apply (only_global_other _ _ _ _ y OG). intros Ey. subst y.
+      assert (tp = tp0) by (apply (clock_name_topic tp tp0 (new_var (tp_cname tp0))); simpl; auto).
+      subst tp0. rewrite ident_eqb_refl in E. discriminate.
+Qed.
+
+(** Clearing the [c_new] flags of timed topics. *)
+Lemma inv_resets:
+  forall k L nw e mm mm', incl L (timed m) -> loop_inv k nw e mm ->
+  globals_changed p mm mm' (map (fun tp => (new_var (tp_cname tp), MVscalar (Vint 0))) L) ->
+  loop_inv k (fun tp => if existsb (fun t => ident_eqb (tp_cname t) (tp_cname tp)) L then false else nw tp) e mm'.
+Proof.
+  intros k L; induction L as [|tp0 L IH]; intros nw e mm mm' Inc I GC; simpl in GC.
+  - inversion GC; subst. apply (loop_inv_ext k nw); auto.
+  - inversion GC as [|? mm1 ? ? ? ? OG GC']; subst.
+    assert (Ht0: In tp0 (timed m)) by (apply Inc; simpl; auto).
+    generalize (IH _ e mm1 mm' (fun x H => Inc x (or_intror H)) (inv_reset_one k nw e mm mm1 tp0 I Ht0 OG) GC').
+    apply loop_inv_ext. intros tp _. simpl.
+    destruct (ident_eqb (tp_cname tp0) (tp_cname tp)); simpl;
+      destruct (existsb _ L); auto.
 Qed.
 
 (** *** [ros_spinOnce] *)
 
 Lemma deliver_run:
-  forall D (w : world CS) mm (G : topic -> mval),
+  forall D (w : world CS) mm (G : topic -> mval) (C : topic -> bool * option Z),
   mem_wf mm -> globals_typed p mm ->
   (forall tp, In tp (subscribed m) -> global_value p mm (msg_var (tp_cname tp)) = Some (G tp)) ->
+  (forall tp, In tp (timed m) -> clock_held p mm (tp_cname tp) (fst (C tp)) (snd (C tp))) ->
   (forall s a, In (s, a) D ->
      exists tp, In tp (subscribed m) /\ s = sub_of tp /\ mval_has_type ce (Tstruct (tp_msg tp)) (ar_msg a)) ->
   exists mm' w',
@@ -470,16 +682,18 @@ Lemma deliver_run:
   /\ (forall tp, In tp (subscribed m) ->
         global_value p mm' (msg_var (tp_cname tp))
         = Some (match last_delivered (sub_of tp) D with Some a => ar_msg a | None => G tp end))
-  /\ (forall b, get_block mm b <> None ->
-        (forall tp bg ty, In tp (subscribed m) -> find_var ge (msg_var (tp_cname tp)) = Some (bg, ty) -> bg <> b) ->
-        get_block mm' b = get_block mm b).
+  /\ (forall tp, In tp (timed m) ->
+        clock_held p mm' (tp_cname tp)
+          (match last_delivered (sub_of tp) D with Some _ => true | None => fst (C tp) end)
+          (match last_delivered (sub_of tp) D with Some a => Some (ar_time a) | None => snd (C tp) end))
+  /\ (forall b, get_block mm b <> None -> not_global p b -> get_block mm' b = get_block mm b).
 Proof.
-  intros D; induction D as [|[s a] D IH]; intros w mm G Wm GT HG HD.
-  - exists mm, w. repeat split; auto. apply deliver_nil.
+  intros D; induction D as [|[s a] D IH]; intros w mm G C Wm GT HG HC HD.
+  - exists mm, w. split; [apply deliver_nil|]. split; [auto|]. split; [auto|]. split; [auto|].
+    split; [auto|]. split; [intros tp Ht; exact (HC tp Ht)|auto].
   - set (mv := ar_msg a).
     destruct (HD s a (or_introl eq_refl)) as (tp' & Htp' & -> & Tmv).
     destruct (generate_callback_ddc m p GEN tp' Htp') as (f' & Ff' & Spec).
-    destruct (msg_global tp' Htp') as [bg Vg].
     destruct (alloc mm (Tstruct (tp_msg tp')) mv) as [m1 bn] eqn:AL.
     assert (Ebn: bn = mem_next mm) by (eapply alloc_result; eauto).
     assert (Glob: forall x bx tx, find_var ge x = Some (bx, tx) -> bx <> bn).
@@ -488,85 +702,133 @@ Proof.
     assert (GT1: globals_typed p m1).
     { intros x bx tx V. rewrite (get_block_alloc_other _ _ _ _ _ _ AL) by (eapply Glob; eauto).
       apply (GT _ _ _ V). }
+    assert (GV1: forall y, global_value p m1 y = global_value p mm y).
+    { intros y. apply global_value_same. intros by_ ty V.
+      apply (get_block_alloc_other _ _ _ _ _ _ AL). eapply Glob; eauto. }
     assert (G1: get_block m1 bn = Some (Tstruct (tp_msg tp'), mv)) by (eapply get_block_alloc_same; eauto).
     assert (W1: mem_wf m1) by (eapply mem_wf_alloc; eauto).
     destruct (Spec m1 bn mv GT1 Glob G1 ltac:(rewrite types_eq; auto) CS ctx (set_time w (ar_time a)))
       as [[t1 [m2 [w1 [v1 X1]]]] All].
-    destruct (All t1 m2 w1 v1 X1) as (-> & -> & -> & (bg' & ty' & Vg' & G2 & [N2 O2])).
-    rewrite Vg in Vg'. inversion Vg'; subst bg' ty'.
-    assert (Lbg: get_block m1 bg <> None) by (eapply global_var_block; eauto).
-    assert (W2: mem_wf m2) by (eapply mem_wf_unchanged; [apply W1 | split; eauto | auto]).
+    destruct (All t1 m2 w1 v1 X1) as (-> & -> & -> & GC).
+    cbn [w_time set_time] in GC.
+    set (l := (msg_var (tp_cname tp'), mv) :: clock_update m (tp_cname tp') (ar_time a)) in GC.
+    assert (NDl: NoDup (map fst l)).
+    { unfold l, clock_update. destruct (is_timed m (tp_cname tp')); simpl; [|repeat constructor; auto].
+      destruct (clock_names_distinct (tp_cname tp')) as (A1 & A2 & A3 & A4 & A5 & A6).
+      repeat constructor; simpl; intuition. }
+    assert (TL: forall x v, In (x, v) l -> forall b ty, find_var ge x = Some (b, ty) -> mval_has_type ce ty v).
+    { intros x v Hx b ty V. unfold l in Hx. destruct Hx as [E|Hx].
+      - inversion E; subst. destruct (msg_global tp' Htp') as [bg Vg]. rewrite Vg in V. inversion V; subst. auto.
+      - unfold clock_update in Hx. destruct (is_timed m (tp_cname tp')) eqn:T; [|contradiction].
+        assert (Ht: In tp' (timed m)) by (apply filter_In; auto).
+        destruct (generate_clock_globals m p tp' GEN Ht) as (Ft & Fn & Fr).
+        destruct Hx as [E|[E|[E|[]]]]; inversion E; subst;
+          [destruct (gen_var m p GEN _ _ Ft) as [b' V']|destruct (gen_var m p GEN _ _ Fn) as [b' V']
+          |destruct (gen_var m p GEN _ _ Fr) as [b' V']];
+          rewrite V' in V; inversion V; subst; constructor; try reflexivity.
+        unfold val_has_type, clock. apply norm_long_idem. }
+    destruct (globals_changed_typed m1 m2 l GC W1 GT1 TL) as [W2 GT2].
+    assert (GV2 := globals_changed_value m1 m2 l GC NDl).
     set (m3 := free m2 bn).
-    set (G1f := fun tp => if sub_eq (sub_of tp') (sub_of tp) then mv else G tp).
-    assert (Nbg: bg <> bn) by (eapply Glob; eauto).
+    assert (GV3: forall y, global_value p m3 y = global_value p m2 y).
+    { intros y. apply global_value_same. intros by_ ty V. unfold m3.
+      apply get_block_free_other. eapply Glob; eauto. }
     assert (GT3: globals_typed p m3).
-    { intros x bx tx V. unfold m3. rewrite get_block_free_other by (eapply Glob; eauto).
-      destruct (Pos.eq_dec bx bg) as [->|Nb].
-      - destruct (find_var_same_block _ _ _ _ _ V Vg) as [-> ->]. exists mv; split; auto.
-        rewrite types_eq; auto.
-      - rewrite O2; auto. apply (GT1 _ _ _ V). }
+    { intros x bx tx V. unfold m3. rewrite get_block_free_other by (eapply Glob; eauto). apply (GT2 _ _ _ V). }
+    set (G1f := fun tp => if sub_eq (sub_of tp') (sub_of tp) then mv else G tp).
+    set (C1f := fun tp => if sub_eq (sub_of tp') (sub_of tp) then (true, Some (ar_time a)) else C tp).
     assert (HG3: forall tp, In tp (subscribed m) -> global_value p m3 (msg_var (tp_cname tp)) = Some (G1f tp)).
-    { intros tp Htp. destruct (msg_global tp Htp) as [bt Vt].
-      generalize (HG tp Htp). unfold global_value. rewrite Vt. unfold m3.
-      rewrite get_block_free_other by (eapply Glob; eauto). unfold G1f.
+    { intros tp Htp. rewrite GV3, GV2. unfold G1f.
       destruct (sub_eq (sub_of tp') (sub_of tp)) as [E|E].
       - assert (tp' = tp) by (apply callback_inj; auto; inversion E; auto). subst tp'.
-        rewrite Vg in Vt; inversion Vt; subst bt. rewrite G2. auto.
-      - rewrite O2.
-        + rewrite (get_block_alloc_other _ _ _ _ _ _ AL) by (eapply Glob; eauto). auto.
-        + intros Eb; subst bt. destruct (find_var_same_block _ _ _ _ _ Vt Vg) as [Ex _].
-          apply E. f_equal. apply msg_var_inj; auto. }
-    destruct (IH (set_time w (ar_time a)) m3 G1f (mem_wf_free _ _ W2) GT3 HG3)
-      as (mm' & w' & X & NS & W' & GT' & HG' & Fr').
+        unfold l. simpl. destruct (string_dec _ _); [auto|congruence].
+      - unfold l. simpl. destruct (string_dec (msg_var (tp_cname tp)) (msg_var (tp_cname tp'))) as [E'|N'].
+        + exfalso. apply E. f_equal. apply msg_var_inj; auto.
+        + unfold clock_update. destruct (is_timed m (tp_cname tp')) eqn:T; simpl.
+          * assert (Ht: In tp' (timed m)) by (apply filter_In; auto).
+            assert (NC: forall x, In x (clock_names tp') -> msg_var (tp_cname tp) <> x)
+              by (intros x Hx; apply (msg_not_clock tp tp' x); auto).
+            destruct (string_dec _ (time_var _)) as [E2|_]; [elim (NC _ (or_introl eq_refl)); auto|].
+            destruct (string_dec _ (new_var _)) as [E2|_]; [elim (NC _ (or_intror (or_introl eq_refl))); auto|].
+            destruct (string_dec _ (rcvd_var _)) as [E2|_];
+              [elim (NC _ (or_intror (or_intror (or_introl eq_refl)))); auto|].
+            rewrite GV1. auto.
+          * rewrite GV1. auto. }
+    assert (HC3: forall tp, In tp (timed m) -> clock_held p m3 (tp_cname tp) (fst (C1f tp)) (snd (C1f tp))).
+    { intros tp Ht. unfold C1f. destruct (sub_eq (sub_of tp') (sub_of tp)) as [E|E].
+      - assert (tp' = tp) by (apply callback_inj; auto; [apply timed_subscribed; auto|inversion E; auto]).
+        subst tp'. assert (T: is_timed m (tp_cname tp) = true) by (apply (gen_timed_is m); auto).
+        destruct (clock_names_distinct (tp_cname tp)) as (A1 & A2 & A3 & A4 & A5 & A6).
+        unfold clock_held. cbn [fst snd]. rewrite !GV3, !GV2. unfold l, clock_update. rewrite T. simpl.
+        repeat split.
+        + repeat (destruct (string_dec _ _); try congruence).
+        + repeat (destruct (string_dec _ _); try congruence).
+        + intros t Et. inversion Et; subst. repeat (destruct (string_dec _ _); try congruence).
+      - apply clock_held_same with mm; [|apply HC; auto].
+        intros x Hx. rewrite GV3, GV2, GV1. unfold l. simpl.
+        destruct (string_dec x (msg_var (tp_cname tp'))) as [Ex|Nx].
+        + exfalso. apply (msg_not_clock tp' tp x); auto; congruence.
+        + unfold clock_update. destruct (is_timed m (tp_cname tp')) eqn:T; simpl; auto.
+          assert (Ht': In tp' (timed m)) by (apply filter_In; auto).
+          assert (NC: forall y, In y (clock_names tp') -> x <> y).
+          { intros y Hy Exy. subst y. apply E. f_equal. apply (clock_name_topic tp' tp x); auto. }
+          destruct (string_dec _ (time_var _)) as [E2|_]; [elim (NC _ (or_introl eq_refl)); auto|].
+          destruct (string_dec _ (new_var _)) as [E2|_]; [elim (NC _ (or_intror (or_introl eq_refl))); auto|].
+          destruct (string_dec _ (rcvd_var _)) as [E2|_];
+            [elim (NC _ (or_intror (or_intror (or_introl eq_refl)))); auto|].
+          auto. }
+    destruct (IH (set_time w (ar_time a)) m3 G1f C1f (mem_wf_free _ _ W2) GT3 HG3 HC3)
+      as (mm' & w' & X & NS & W' & GT' & HG' & HC' & Fr').
     { intros s0 mv0 H0. apply HD; simpl; auto. }
-    exists mm', w'. repeat split; auto.
+    exists mm', w'. refine (conj _ (conj NS (conj W' (conj GT' (conj _ (conj _ _)))))).
     + change (@nil event) with (@nil event ++ @nil event). econstructor; eauto.
     + intros tp Htp. rewrite HG' by auto. cbn [last_delivered]. unfold G1f.
       destruct (last_delivered (sub_of tp) D); auto.
       destruct (sub_eq (sub_of tp') (sub_of tp)); auto.
-    + intros b Lb Nmsg. rewrite Fr'.
-      * unfold m3. rewrite get_block_free_other.
-        -- rewrite O2.
-           ++ apply (get_block_alloc_other _ _ _ _ _ _ AL). intros ->.
-              apply Lb. apply Wm. lia.
-           ++ intros ->. apply (Nmsg tp' bg _ Htp' Vg); auto.
-        -- intros ->. apply Lb. apply Wm. lia.
-      * unfold m3. rewrite get_block_free_other.
-        -- rewrite O2.
-           ++ rewrite (get_block_alloc_other _ _ _ _ _ _ AL); auto. intros ->. apply Lb. apply Wm. lia.
-           ++ intros ->. apply (Nmsg tp' bg _ Htp' Vg); auto.
-        -- intros ->. apply Lb. apply Wm. lia.
+    + intros tp Ht. generalize (HC' tp Ht). cbn [last_delivered]. unfold C1f.
+      destruct (last_delivered (sub_of tp) D); auto.
+      destruct (sub_eq (sub_of tp') (sub_of tp)); auto.
+    + intros b Lb NG. rewrite Fr'.
+      * unfold m3. rewrite get_block_free_other by (intros ->; apply Lb; apply Wm; lia).
+        rewrite (globals_changed_other m1 m2 l GC b NG).
+        apply (get_block_alloc_other _ _ _ _ _ _ AL). intros ->. apply Lb. apply Wm. lia.
+      * unfold m3. rewrite get_block_free_other by (intros ->; apply Lb; apply Wm; lia).
+        rewrite (globals_changed_other m1 m2 l GC b NG).
+        rewrite (get_block_alloc_other _ _ _ _ _ _ AL); auto. intros ->. apply Lb. apply Wm. lia.
       * auto.
 Qed.
 
 Lemma spin_run:
-  forall k r s e mm, loop_inv k e mm ->
+  forall k r s e mm, loop_inv k nonew e mm ->
   exists mm',
      eval_funcall ctx ge mm (wld k r s) (External EF_ros_spinOnce [] Tvoid) [] [] mm' (wld (S k) r s) Vundef
-  /\ loop_inv (S k) e mm'.
+  /\ loop_inv (S k) (arrived_at k) e mm'.
 Proof.
   intros k r s e mm I.
   set (D := deliverable subs_of (ctx_arrivals ctx k)).
-  destruct (deliver_run D (wld k r s) mm (fun tp => held m ctx tp k) (li_wf I) (li_globals I)
-              (li_msgs I)) as (mm' & w' & X & NS & W' & GT' & HG' & Fr').
+  destruct (deliver_run D (wld k r s) mm (fun tp => held m ctx tp k) (fun tp => (false, held_time tp k))
+              (li_wf I) (li_globals I) (li_msgs I) (li_clock I))
+    as (mm' & w' & X & NS & W' & GT' & HG' & HC' & Fr').
   { intros s0 a H0. apply In_deliverable in H0. destruct H0 as (Hs & Ha & Et).
     unfold subs_of in Hs. apply in_map_iff in Hs. destruct Hs as (tp & <- & Htp).
     exists tp; repeat split; auto. eapply AWT; eauto. }
+  assert (LD: forall tp, In tp (subscribed m) ->
+            last_delivered (sub_of tp) D = last_on (tp_name tp) (ctx_arrivals ctx k)).
+  { intros tp Htp. unfold D. rewrite last_delivered_deliverable; auto.
+    - unfold subs_of. apply in_map; auto.
+    - simpl. generalize (wf_topics m W tp (proj1 (proj1 (in_subscribed m tp) Htp))).
+      unfold topic_ok. rewrite !andb_true_iff. intros [[_ Q] _]. apply Nat.leb_le; auto. }
   exists mm'. split.
   - change (wld (S k) r s) with (next_spin ctx (wld k r s)). rewrite <- NS.
     apply eval_funcall_spinOnce. exact X.
   - constructor; auto.
-    + intros tp Htp. rewrite HG' by auto. unfold D.
-      rewrite last_delivered_deliverable.
-      * simpl. rewrite newest_step. auto.
-      * unfold subs_of. apply in_map; auto.
-      * simpl. generalize (wf_topics m W tp (proj1 (proj1 (in_subscribed m tp) Htp))).
-        unfold topic_ok. rewrite !andb_true_iff. intros [[_ Q] _]. apply Nat.leb_le; auto.
+    + intros tp Htp. rewrite HG' by auto. rewrite LD by auto. simpl. rewrite newest_step. auto.
     + intros tp Htp. destruct (li_cmds I tp Htp) as (b & F & NG & v & G & S).
       exists b; split; auto; split; auto. exists v; split; auto.
-      rewrite Fr'; auto.
-      * congruence.
-      * intros tp' bg ty _ Vg. apply (NG _ _ _ Vg).
+      rewrite Fr'; auto. congruence.
+    + intros tp Ht. generalize (HC' tp Ht). rewrite LD by (apply timed_subscribed; auto).
+      unfold arrived_at, arrived. cbn [held_time]. rewrite newest_time_step.
+      destruct (last_on (tp_name tp) (ctx_arrivals ctx k)); auto.
     + apply (li_funs I).
 Qed.
 
@@ -583,48 +845,79 @@ Proof.
   eapply exec_call_named; eauto. reflexivity.
 Qed.
 
+(** The clock state of the timed topic with C name [c] after spin [k]. *)
+Definition clock_at (k : nat) (c : ident) : bool * option Z :=
+  match find_topic (nm_topics m) c with
+  | Some tp => (arrived ctx tp k, newest_time ctx tp k)
+  | None => (false, None)
+  end.
+
+Lemma clock_at_topic:
+  forall k tp, In tp (subscribed m) -> clock_at k (tp_cname tp) = (arrived ctx tp k, newest_time ctx tp k).
+Proof.
+  intros k tp H. unfold clock_at. rewrite In_find_topic; auto.
+  - apply wf_cnames_nodup; auto.
+  - apply in_subscribed in H; tauto.
+Qed.
+
 Lemma input_run:
-  forall k e le mm w, loop_inv (S k) e mm ->
+  forall k r s e le mm, loop_inv (S k) (arrived_at k) e mm ->
   exists mm' u,
-     exec_stmt ctx ge e le mm w (call0 input_glue_name) [] le mm' w Out_normal
+     exec_stmt ctx ge e le mm (wld (S k) r s) (call0 input_glue_name) [] le mm' (wld (S k) r s) Out_normal
   /\ input_values m ctx k u
   /\ global_value p mm' (nm_in_var m) = Some u
-  /\ loop_inv (S k) e mm'.
+  /\ loop_inv (S k) nonew e mm'.
 Proof.
-  intros k e le mm w I.
+  intros k r s e le mm I.
   destruct (generate_input_glue_ddc m p GEN) as (f & Ff & Spec).
   destruct (generate_input_glue m p GEN) as (f' & Fd & Fret & Fpar & _).
   assert (Ef: f' = f) by (rewrite (gen_funct m p GEN _ _ Fd) in Ff; congruence). subst f'.
-  destruct (Spec mm (li_globals I) CS ctx w) as [[t [mm' [w' [v X]]]] All].
-  destruct (All _ _ _ _ X) as (-> & -> & -> & (u & OG & Tu & Rel)).
+  assert (CK: forall tp, In tp (timed m) ->
+            clock_held p mm (tp_cname tp) (fst (clock_at k (tp_cname tp))) (snd (clock_at k (tp_cname tp)))).
+  { intros tp Ht. rewrite clock_at_topic by (apply timed_subscribed; auto). apply (li_clock I tp Ht). }
+  destruct (Spec mm (clock_at k) (li_globals I) CK CS ctx (wld (S k) r s)) as [[t [mm' [w' [v X]]]] All].
+  destruct (All _ _ _ _ X) as (-> & -> & -> & (u & GC & Tu & Rel & Der)).
   rewrite types_eq in Tu.
-  destruct OG as (bu & ty & Vu & Gu & U).
+  cbn [w_time wld] in Rel, Der.
+  inversion GC as [|? mm1 ? ? ? ? OG GC']; subst.
   exists mm', u. split; [|split; [|split]].
   - eapply call0_exec; eauto.
     + apply (li_funs I). eapply def_name; eauto.
     + eapply fun_not_var; eauto.
     + simpl. unfold type_of_function. rewrite Fpar, Fret. auto.
-  - split; auto.
-    intros ir Hir. destruct (Rel ir Hir) as (g & v & GV & Gg & Gv).
-    destruct (input_exprs m ir W Hir) as (tp & q & _ & Ec & Hs & _).
-    exists tp, v. repeat split; auto.
-    rewrite <- Ec in GV. rewrite (li_msgs I tp Hs) in GV. inversion GV; subst g. exact Gg.
-  - unfold global_value. rewrite Vu, Gu. auto.
-  - apply (inv_change_global (S k) e mm mm' (nm_in_var m) u I).
-    + exists bu, ty. auto.
-    + intros tp Htp E. apply (proj1 (gen_in_out_vars m p GEN tp Htp)); auto.
-    + intros b ty' V. destruct (generate_externals m p GEN) as (_ & _ & _ & _ & _ & _ & Fu & _).
-      destruct (gen_var m p GEN _ _ Fu) as [bu' Vu'].
-      rewrite Vu in Vu'. rewrite V in Vu. inversion Vu; inversion Vu'; subst. auto.
+  - split; [auto|split].
+    + intros ir Hir. destruct (Rel ir Hir) as (g & v & GV & Gg & Gv).
+      destruct (input_exprs m ir W Hir) as (tp & q & _ & Ec & Hs & _).
+      exists tp, v. repeat split; auto.
+      * rewrite <- Ec in GV. rewrite (li_msgs I tp Hs) in GV. inversion GV; subst g. exact Gg.
+      * rewrite Gv. rewrite <- Ec, clock_at_topic by auto. reflexivity.
+    + intros dr Hdr. destruct (drel_topic m p GEN dr Hdr) as (tp & Ht & Ec & _).
+      exists tp. split; [apply timed_subscribed; auto|split; auto].
+      rewrite Der by auto. rewrite <- Ec, clock_at_topic by (apply timed_subscribed; auto). reflexivity.
+  - rewrite (globals_changed_notin _ _ _ GC').
+    + eapply only_global_same; eauto.
+    + rewrite map_map. simpl. intros Hx. apply in_map_iff in Hx. destruct Hx as (tp & E & Ht).
+      apply (proj1 (controller_not_clock tp _ Ht (or_intror (or_introl eq_refl)))). auto.
+  - assert (I1: loop_inv (S k) (arrived_at k) e mm1).
+    { apply (inv_change_global (S k) (arrived_at k) e mm mm1 (nm_in_var m) u I OG).
+      + intros tp Htp E. apply (proj1 (gen_in_out_vars m p GEN tp Htp)); auto.
+      + intros tp y Ht Hy. apply (controller_not_clock tp y Ht Hy).
+      + intros b ty' V. destruct (generate_externals m p GEN) as (_ & _ & _ & _ & _ & _ & Fu & _).
+        destruct (gen_var m p GEN _ _ Fu) as [bu' Vu'].
+        rewrite V in Vu'. inversion Vu'; subst. auto. }
+    generalize (inv_resets (S k) (timed m) (arrived_at k) e mm1 mm' (incl_refl _) I1 GC').
+    apply loop_inv_ext. intros tp Ht.
+    replace (existsb (fun t => ident_eqb (tp_cname t) (tp_cname tp)) (timed m)) with true; auto.
+    symmetry. apply existsb_exists. exists tp. split; auto. apply ident_eqb_refl.
 Qed.
 
 Lemma step_run:
-  forall k r s e le mm u, loop_inv (S k) e mm -> global_value p mm (nm_in_var m) = Some u ->
+  forall k r s e le mm u, loop_inv (S k) nonew e mm -> global_value p mm (nm_in_var m) = Some u ->
   exists mm' y s',
      exec_stmt ctx ge e le mm (wld (S k) r s) (call0 (step_name m)) [Estep u y] le mm' (wld (S k) r s') Out_normal
   /\ ctx_step ctx s u = (s', y)
   /\ global_value p mm' (nm_out_var m) = Some y
-  /\ loop_inv (S k) e mm'.
+  /\ loop_inv (S k) nonew e mm'.
 Proof.
   intros k r s e le mm u I GU.
   destruct (generate_externals m p GEN) as (_ & _ & _ & _ & _ & Fs & Fu & Fy).
@@ -650,10 +943,11 @@ Proof.
       * rewrite St. reflexivity.
       * symmetry. rewrite (gen_comp m p GEN). apply mval_typecheck_iff. auto.
   - unfold global_value. rewrite Vy, G'. auto.
-  - apply (inv_change_global (S k) e mm mm' (nm_out_var m) y I).
+  - apply (inv_change_global (S k) nonew e mm mm' (nm_out_var m) y I).
     + exists by_, (Tstruct (nm_out_struct m)). split; auto. split; auto.
       split; auto. intros b' N. unfold get_block, mm'; simpl. apply pgso; auto.
     + intros tp Htp E. apply (proj2 (gen_in_out_vars m p GEN tp Htp)); auto.
+    + intros tp y' Ht Hy. apply (controller_not_clock tp y' Ht Hy).
     + intros b ty V. rewrite Vy in V. inversion V; subst. auto.
 Qed.
 
@@ -669,15 +963,15 @@ Qed.
 (** Writing a message of its type into the local [c_cmd] of a published
     topic keeps the invariant. *)
 Lemma inv_change_cmd:
-  forall k e mm mm1 tp b mv,
-  loop_inv k e mm -> In tp (published m) ->
+  forall k nw e mm mm1 tp b mv,
+  loop_inv k nw e mm -> In tp (published m) ->
   find_assoc (cmd_var (tp_cname tp)) e = Some (b, Tstruct (tp_msg tp)) ->
   get_block mm1 b = Some (Tstruct (tp_msg tp), mv) ->
   mval_has_type ce (Tstruct (tp_msg tp)) mv ->
   unchanged_except mm mm1 b ->
-  loop_inv k e mm1.
+  loop_inv k nw e mm1.
 Proof.
-  intros k e mm mm1 tp b mv I Htp Fb G1 Tmv [N1 O1].
+  intros k nw e mm mm1 tp b mv I Htp Fb G1 Tmv [N1 O1].
   destruct (li_cmds I tp Htp) as (b' & Fb' & NG & v & Gb & Sb).
   rewrite Fb in Fb'; inversion Fb'; subst b'.
   constructor.
@@ -693,18 +987,37 @@ Proof.
       * rewrite G1, EM. auto.
       * rewrite <- EM. apply zero_shape; auto. apply in_published in Htp; tauto.
     + exists v2; split; auto. rewrite O1; auto.
+  - intros tp' Ht. apply clock_held_same with mm; [|apply (li_clock I tp' Ht)].
+    intros y Hy. apply global_value_same. intros by_ ty V. apply O1. intros ->. apply (NG _ _ _ V); auto.
   - apply (li_funs I).
+Qed.
+
+(** The published message depends on the held messages only through
+    the sources of copied stamps, which are subscribed topics. *)
+Lemma published_value_ext:
+  forall g1 g2 y now tp mv,
+  (forall tp', In tp' (subscribed m) -> g1 (tp_cname tp') = g2 (tp_cname tp')) ->
+  published_value m y now g1 tp mv -> published_value m y now g2 tp mv.
+Proof.
+  intros g1 g2 y now tp mv E (T & R & S & Z). split; [auto|split; [auto|split; [|auto]]].
+  intros sp F. generalize (S sp F). destruct (find_assoc (tp_cname tp) (nm_stamp_from m)) as [[s0 sp']|] eqn:SF; auto.
+  assert (Hin: In (tp_cname tp, (s0, sp')) (nm_stamp_from m)) by (apply find_assoc_In; auto).
+  destruct (wf_stamp_from m _ _ _ W Hin) as (tp' & Ft & Sub & _).
+  destruct (find_topic_In _ _ _ Ft) as [Htop' Ec].
+  assert (Hs': In tp' (subscribed m)).
+  { apply in_subscribed. split; auto. unfold is_subscribed in Sub. destruct (tp_dir tp'); [auto|discriminate]. }
+  rewrite <- Ec, (E tp' Hs'). auto.
 Qed.
 
 Lemma publishes_run:
   forall k r s e y tps le mm, incl tps (published m) ->
-  loop_inv (S k) e mm -> global_value p mm (nm_out_var m) = Some y ->
+  loop_inv (S k) nonew e mm -> global_value p mm (nm_out_var m) = Some y ->
   exists mm' mvs,
      exec_stmt ctx ge e le mm (wld (S k) r s)
        (seq_of (flat_map publish_stmts tps ++ [call0 ros_rate_sleep_name]))
        (publish_events tps mvs ++ [Esleep (nm_period_ms m)]) le mm' (wld (S k) r s) Out_normal
-  /\ Forall2 (published_value m y (ctx_time ctx (S k))) tps mvs
-  /\ loop_inv (S k) e mm'.
+  /\ Forall2 (published_value m y (ctx_time ctx (S k)) (newest_by m ctx k)) tps mvs
+  /\ loop_inv (S k) nonew e mm'.
 Proof.
   intros k r s e y tps; induction tps as [|tp tps IH]; intros le mm Inc I GY.
   - exists mm, []. split; [|split; [constructor|auto]].
@@ -728,7 +1041,7 @@ Proof.
       as [[t [mm1 [w1 [v1 X]]]] All].
     destruct (All _ _ _ _ X) as (-> & -> & -> & (mv & G1 & PV & U1)).
     generalize (generate_topic_externals m p tp GEN Htop). rewrite Pub. intros [_ Fpub].
-    assert (I1: loop_inv (S k) e mm1).
+    assert (I1: loop_inv (S k) nonew e mm1).
     { eapply inv_change_cmd; eauto. apply PV. }
     assert (GY1: global_value p mm1 (nm_out_var m) = Some y).
     { generalize GY. unfold global_value.
@@ -736,6 +1049,12 @@ Proof.
       destruct U1 as [_ O1]. rewrite O1; auto. apply (NG _ _ _ Vy). }
     destruct (IH le mm1) as (mm' & mvs & X' & F' & I'); auto.
     { intros x Hx; apply Inc; simpl; auto. }
+    assert (PV': published_value m y (ctx_time ctx (S k)) (newest_by m ctx k) tp mv).
+    { apply (published_value_ext (global_msg p mm)); auto.
+      intros tp' Hs'. unfold global_msg. rewrite (li_msgs I tp' Hs'). simpl.
+      unfold newest_by. rewrite In_find_topic; auto.
+      - apply wf_cnames_nodup; auto.
+      - apply in_subscribed in Hs'; tauto. }
     exists mm', (mv :: mvs). split; [|split; [constructor; auto|auto]].
     change (seq_of (flat_map publish_stmts (tp :: tps) ++ [call0 ros_rate_sleep_name]))
       with (Ssequence (Scall None (Evar (output_glue_name (tp_cname tp)) (callback_type (tp_msg tp))) [cmd_addr tp])
@@ -775,7 +1094,7 @@ Definition loop_body : statement :=
 
 Lemma ros_ok_exec:
   forall e le mm k r s res w',
-  loop_inv k e mm ->
+  loop_inv k nonew e mm ->
   external_call ctx ge EF_ros_ok [] mm (wld k r s) = Some (Vint res, [], mm, w') ->
   exec_stmt ctx ge e le mm (wld k r s) (Scall (Some ok_temp) (Evar ros_ok_name (Tfunction [] tint)) [])
             [] (set_assoc ok_temp (Vint res) le) mm w' Out_normal.
@@ -793,17 +1112,17 @@ Proof.
 Qed.
 
 Lemma cycle_run:
-  forall k r s e le mm, loop_inv k e mm ->
+  forall k r s e le mm, loop_inv k nonew e mm ->
   exists evs le' mm' s',
      exec_stmt ctx ge e le mm (wld k (S r) s) loop_body evs le' mm' (wld (S k) r s') Out_normal
   /\ cycle_ok m ctx k s evs s'
-  /\ loop_inv (S k) e mm'.
+  /\ loop_inv (S k) nonew e mm'.
 Proof.
   intros k r s e le mm I.
   set (le1 := set_assoc ok_temp (Vint 1) le).
   destruct (generate_externals m p GEN) as (_ & _ & Fspin & _).
   destruct (spin_run k r s e mm I) as (mm2 & Xs & I2).
-  destruct (input_run k e le1 mm2 (wld (S k) r s) I2) as (mm3 & u & Xi & IV & GU & I3).
+  destruct (input_run k r s e le1 mm2 I2) as (mm3 & u & Xi & IV & GU & I3).
   destruct (step_run k r s e le1 mm3 u I3 GU) as (mm4 & y & s' & Xst & CSt & GY & I4).
   destruct (publishes_run k r s' e y (published m) le1 mm4 (incl_refl _) I4 GY)
     as (mm5 & mvs & Xp & PV & I5).
@@ -833,7 +1152,7 @@ Proof.
 Qed.
 
 Lemma loop_run:
-  forall r k s e le mm, loop_inv k e mm ->
+  forall r k s e le mm, loop_inv k nonew e mm ->
   exists t le' mm' w',
      exec_stmt ctx ge e le mm (wld k r s) (Sloop loop_body) t le' mm' w' Out_normal
   /\ cycles_ok m ctx k r s t.
@@ -873,14 +1192,16 @@ Proof.
   intros x b ty V. apply find_var_globalenv in V; auto.
   apply (find_def_build m p x _ GEN) in V.
   unfold build_defs in V. rewrite !in_app_iff in V.
-  destruct V as [V|[V|[V|[V|[V|[V|[V|V]]]]]]].
-  - unfold ros_externals, time_externals in V.
-    destruct (nm_stamps m); simpl in V; intuition discriminate.
+  destruct V as [V|[V|[V|[V|[V|[V|[V|[V|V]]]]]]]].
+  - unfold ros_externals, time_externals, now_externals, stamp_externals in V.
+    destruct (timed m), (nm_stamps m); simpl in V; intuition discriminate.
   - apply in_flat_map in V; destruct V as (tp & _ & V).
     unfold topic_externals in V; destruct (tp_dir tp); simpl in V; intuition discriminate.
   - simpl in V. destruct V as [V|[V|[V|[V|[]]]]]; inversion V; subst; apply complete_struct; auto.
   - apply in_map_iff in V. destruct V as (tp & E & Htp). inversion E; subst.
     apply complete_struct. left. apply (gen_msg_in m p GEN). apply in_subscribed in Htp; tauto.
+  - apply in_flat_map in V. destruct V as (tp & _ & V). simpl in V.
+    destruct V as [V|[V|[V|[]]]]; inversion V; subst; reflexivity.
   - apply in_map_iff in V; destruct V as (tp & E & _); discriminate.
   - simpl in V; destruct V as [V|[]]; discriminate.
   - apply in_map_iff in V; destruct V as (tp & E & _); discriminate.
@@ -893,7 +1214,7 @@ Lemma loop_entry:
   fn_vars f_loop = map (fun tp => (cmd_var (tp_cname tp), Tstruct (tp_msg tp))) (published m) ->
   NoDup (map fst (fn_vars f_loop)) ->
   alloc_vars ce [] (init_mem p) (fn_vars f_loop) = (e, m1) ->
-  loop_inv O e m1.
+  loop_inv O nonew e m1.
 Proof.
   intros f_loop e m1 Vl NDl AV.
   destruct (alloc_vars_spec ce _ _ _ _ _ AV (init_mem_wf p) NDl) as (W1 & Le & Old & New & Oth).
@@ -912,6 +1233,14 @@ Proof.
     exists b. split; auto. split.
     + intros x bx tx V E. subst bx. destruct (GI _ _ _ V) as [_ L]. lia.
     + exists (undef_mval ce (Tstruct (tp_msg tp))). split; [rewrite G; auto|apply shape_undef_mval].
+  - intros tp Ht. destruct (generate_clock_globals m p tp GEN Ht) as (Ft & Fn & Fr).
+    destruct (gen_var m p GEN _ _ Ft) as [bt Vt]. destruct (gen_var m p GEN _ _ Fn) as [bn Vn].
+    destruct (gen_var m p GEN _ _ Fr) as [br Vr].
+    destruct (GI _ _ _ Vn) as [Gn _]. destruct (GI _ _ _ Vr) as [Gr _].
+    split; [|split].
+    + unfold global_value. rewrite Vn, Gn. reflexivity.
+    + unfold global_value. rewrite Vr, Gr. reflexivity.
+    + intros t E. discriminate.
   - intros x Hx. rewrite Oth; auto. intros Hv. rewrite Vl, map_map in Hv. simpl in Hv.
     apply in_map_iff in Hv. destruct Hv as (tp & Ex & Htp).
     apply (generate_locals_fresh m p x GEN); auto.
@@ -985,7 +1314,7 @@ Proof.
   destruct (generate_loop m p GEN) as (fl & Fl & Rl & Pl & Vl & NDl & Tl & Bl).
   destruct (generate_externals m p GEN) as (Fi & _ & _ & _ & Fci & _).
   destruct (alloc_vars ce [] (init_mem p) (fn_vars fl)) as [e m1] eqn:AV.
-  assert (I0: loop_inv O e m1) by (eapply loop_entry; eauto).
+  assert (I0: loop_inv O nonew e m1) by (eapply loop_entry; eauto).
   destruct (loop_run n O (ctx_init ctx) e [(ok_temp, Vundef)] m1 I0) as (t & le' & mm' & w' & X & C).
   exists (start_events m ++ t). split; [|apply run_ok_of_cycles; auto].
   econstructor.

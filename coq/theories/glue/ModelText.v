@@ -105,6 +105,9 @@ Definition drel_line (r : drel) : string :=
 Definition stamp_line (s : ident * NodeModel.path) : string :=
   "stamp " ++ fst s ++ " " ++ path_text (snd s).
 
+Definition stamp_from_line (s : ident * (ident * NodeModel.path)) : string :=
+  "stamp_from " ++ fst s ++ " " ++ fst (snd s) ++ " " ++ path_text (snd (snd s)).
+
 (** The lines of the model. *)
 Definition model_lines (m : node_model) : list string :=
   [ "pyrosgen-model 1";
@@ -122,7 +125,8 @@ Definition model_lines (m : node_model) : list string :=
   ++ map timeout_line (nm_timeouts m)
   ++ map fallback_line (nm_fallbacks m)
   ++ map drel_line (nm_drels m)
-  ++ map stamp_line (nm_stamps m).
+  ++ map stamp_line (nm_stamps m)
+  ++ map stamp_from_line (nm_stamp_from m).
 
 (** The text: every line followed by a newline. *)
 Definition print_model (m : node_model) : string := concat_lines (model_lines m).

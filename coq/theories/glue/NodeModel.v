@@ -183,8 +183,11 @@ Record drel : Type := mkdrel {
     inputs like input relations do, and are not in [nm_inrels].
 
     Stamps (rule 4.13): [nm_stamps] names published topics (by C name)
-    whose messages carry the cycle's ROS time in the field of type
-    [time] at the given path (the topic's [header.stamp]). *)
+    whose messages carry a stamp in the field of type [time] at the given
+    path (the topic's [header.stamp]): the cycle's ROS time, or, for a
+    topic that [nm_stamp_from] maps to a subscribed topic (by C name) and
+    a [time] field of its message, that field of the newest message
+    received on it. *)
 Record node_model : Type := mknode_model {
   nm_name : ident;
   nm_period_ms : Z;
@@ -202,7 +205,8 @@ Record node_model : Type := mknode_model {
   nm_timeouts : list (ident * Z);
   nm_fallbacks : list (ident * val);
   nm_drels : list drel;
-  nm_stamps : list (ident * path)
+  nm_stamps : list (ident * path);
+  nm_stamp_from : list (ident * (ident * path))
 }.
 
 (** ** Lookups *)

@@ -16,7 +16,7 @@
     model. *)
 
 From Coq Require Import String Ascii List ZArith Bool.
-From ROSGen Require Import Errors Syntax Maps NodeModel.
+From ROSGen Require Import Errors Syntax Values Maps NodeModel.
 Import ListNotations.
 
 Local Open Scope string_scope.
@@ -34,6 +34,13 @@ Definition publish_name (c : ident) : ident := ("ros_publish_" ++ c)%string.
 Definition output_glue_name (c : ident) : ident := ("output_glue_" ++ c)%string.
 Definition cmd_var (c : ident) : ident := (c ++ "_cmd")%string.
 
+(** The clock of a timed subscribed topic [c] (rule 4.12): the receipt
+    time of its newest message, whether a message arrived since the
+    previous cycle, whether one ever arrived. *)
+Definition time_var (c : ident) : ident := (c ++ "_time")%string.
+Definition new_var (c : ident) : ident := (c ++ "_new")%string.
+Definition rcvd_var (c : ident) : ident := (c ++ "_rcvd")%string.
+
 (** Derived from the controller's name. *)
 Definition init_name (m : node_model) : ident := (nm_ctrl m ++ "_initialize")%string.
 Definition step_name (m : node_model) : ident := (nm_ctrl m ++ "_step")%string.
@@ -43,6 +50,7 @@ Definition ros_init_name : ident := "ros_init".
 Definition ros_ok_name : ident := "ros_ok".
 Definition ros_spinOnce_name : ident := "ros_spinOnce".
 Definition ros_rate_sleep_name : ident := "ros_rate_sleep".
+Definition ros_now_name : ident := "ros_now".
 Definition ros_time_sec_name : ident := "ros_time_sec".
 Definition ros_time_nsec_name : ident := "ros_time_nsec".
 Definition input_glue_name : ident := "input_glue".
@@ -53,6 +61,8 @@ Definition main_name : ident := "main".
 Definition msg_param : ident := "msg".
 Definition command_param : ident := "command".
 Definition ok_temp : ident := "_ok".
+Definition now_temp : ident := "_now".
+Definition age_temp : ident := "_age".
 
 (** One temporary per C scalar type ([bool] and [uint8] share one). *)
 Definition temp_name (q : prim) : ident :=
@@ -112,6 +122,21 @@ Definition lookup_topic (c : ident) : option topic := tget (enc_string c) (tb_to
 
 End TABLES.
 
+(** ** Timed topics *)
+
+(** A subscribed topic is timed (rule 4.12) when it has a timeout or a
+    derived input: the glue keeps its clock. *)
+Definition is_timed (m : node_model) (c : ident) : bool :=
+  existsb (fun ct => ident_eqb (fst ct) c) (nm_timeouts m)
+  || existsb (fun dr => ident_eqb (dr_topic dr) c) (nm_drels m).
+
+Definition timed (m : node_model) : list topic :=
+  filter (fun tp => is_timed m (tp_cname tp)) (subscribed m).
+
+(** The globals of a timed topic's clock. *)
+Definition clock_names (tp : topic) : list ident :=
+  [time_var (tp_cname tp); new_var (tp_cname tp); rcvd_var (tp_cname tp)].
+
 (** ** Names, for the well-formedness rules *)
 
 Section NAMES.
@@ -126,10 +151,16 @@ Definition topic_extern_names (tp : topic) : list ident :=
   | Publish => [advertise_name (tp_cname tp); publish_name (tp_cname tp)]
   end.
 
-(** The time functions are declared only by a node that stamps
-    messages (rule 4.13), so the C of other nodes is unchanged. *)
-Definition time_extern_names : list ident :=
+(** The time functions are declared only by a node that has timed
+    topics (rule 4.12: [ros_now]) or stamps messages (rule 4.13: the
+    other two), so the C of other nodes is unchanged. *)
+Definition now_extern_names : list ident :=
+  match timed m with [] => [] | _ :: _ => [ros_now_name] end.
+
+Definition stamp_extern_names : list ident :=
   match nm_stamps m with [] => [] | _ :: _ => [ros_time_sec_name; ros_time_nsec_name] end.
+
+Definition time_extern_names : list ident := now_extern_names ++ stamp_extern_names.
 
 Definition global_names : list ident :=
   [ros_init_name; ros_ok_name; ros_spinOnce_name; ros_rate_sleep_name]
@@ -137,6 +168,7 @@ Definition global_names : list ident :=
   ++ flat_map topic_extern_names (nm_topics m)
   ++ [init_name m; step_name m; nm_in_var m; nm_out_var m]
   ++ map (fun tp => msg_var (tp_cname tp)) (subscribed m)
+  ++ flat_map clock_names (timed m)
   ++ map (fun tp => callback_name (tp_cname tp)) (subscribed m)
   ++ [input_glue_name]
   ++ map (fun tp => output_glue_name (tp_cname tp)) (published m)
@@ -146,7 +178,7 @@ Definition global_names : list ident :=
     required distinct from the global names so that no local hides a
     global. *)
 Definition local_names : list ident :=
-  [msg_param; command_param; ok_temp]
+  [msg_param; command_param; ok_temp; now_temp; age_temp]
   ++ map fst all_temps
   ++ map (fun tp => cmd_var (tp_cname tp)) (published m).
 
@@ -393,9 +425,13 @@ Definition outrel_ok (m : node_model) (tb : tables) (o : outrel) : bool :=
       end
   end.
 
-(** The controller inputs fed by some input relation. *)
+(** The controller inputs fed by an input relation or a derived input,
+    in model order. *)
+Definition fed_list (m : node_model) : list ident :=
+  map ir_input (nm_inrels m) ++ map dr_input (nm_drels m).
+
 Definition fed_inputs (m : node_model) : ptree unit :=
-  tset_of_list enc_string (map ir_input (nm_inrels m)).
+  tset_of_list enc_string (fed_list m).
 
 (** Rule 4.13: a stamp is written in a published topic's message, at a
     field of type [time] (the message [ros_time] of two [uint32] fields
@@ -439,13 +475,63 @@ Definition stamp_ok (m : node_model) (tb : tables) (st : ident * path) : bool :=
                  (nm_outrels m)
   end.
 
-(** Rule 4.12 (freshness: timeouts, fallbacks, derived inputs) is not
-    generated yet: the generator refuses a model that uses it, rather
-    than generating glue that ignores it.  The environment model already
-    has the times it needs ([Environment.ctx_time], [ar_time],
-    [ros_now]). *)
-Definition no_freshness (m : node_model) : bool :=
-  null (nm_timeouts m) && null (nm_fallbacks m) && null (nm_drels m).
+(** Rule 4.13: a stamp copied from another topic: the published topic is
+    stamped, the source is a subscribed topic, and the source path is a
+    [time] field of its message. *)
+Definition stamp_from_ok (m : node_model) (tb : tables) (sf : ident * (ident * path)) : bool :=
+  existsb (fun st => ident_eqb (fst st) (fst sf)) (nm_stamps m)
+  && match lookup_topic tb (fst (snd sf)) with
+     | Some tp =>
+         is_subscribed tp
+         && match resolve (nm_msgs m) (FTmsg (tp_msg tp)) (snd (snd sf)) with
+            | Some (FTmsg id) => ident_eqb id "ros_time"
+            | _ => false
+            end
+     | None => false
+     end.
+
+(** Rule 4.12: a timeout is on a subscribed topic, from the period to a
+    day (86,400,000 ms). *)
+Definition max_timeout_ms : Z := 86400000.
+
+Definition timeout_ok (m : node_model) (tb : tables) (ct : ident * Z) : bool :=
+  match lookup_topic tb (fst ct) with
+  | Some tp => is_subscribed tp && (nm_period_ms m <=? snd ct)%Z && (snd ct <=? max_timeout_ms)%Z
+  | None => false
+  end.
+
+(** The timeout of the topic with C name [c], if it has one. *)
+Definition timeout_of (m : node_model) (c : ident) : option Z := find_assoc c (nm_timeouts m).
+
+(** Rule 4.12: a fallback value is a value of its controller input's
+    type, and the input is fed by an input relation of a topic with a
+    timeout. *)
+Definition fallback_ok (m : node_model) (tb : tables) (xv : ident * val) : bool :=
+  match tget (enc_string (fst xv)) (tb_inputs tb) with
+  | None => false
+  | Some q =>
+      val_has_typeb (snd xv) (ctype_of_prim q)
+      && existsb (fun ir => ident_eqb (ir_input ir) (fst xv)
+                            && existsb (fun ct => ident_eqb (fst ct) (ir_topic ir)) (nm_timeouts m))
+                 (nm_inrels m)
+  end.
+
+(** The type of a derived input. *)
+Definition derived_prim (k : derived) : prim :=
+  match k with Dage_ms => Puint32 | Dis_new | Dreceived => Pbool end.
+
+(** Rule 4.12: a derived input is about a subscribed topic and feeds a
+    controller input of its type. *)
+Definition drel_ok (m : node_model) (tb : tables) (dr : drel) : bool :=
+  match lookup_topic tb (dr_topic dr) with
+  | Some tp =>
+      is_subscribed tp
+      && match tget (enc_string (dr_input dr)) (tb_inputs tb) with
+         | Some q => prim_eqb q (derived_prim (dr_kind dr))
+         | None => false
+         end
+  | None => false
+  end.
 
 (** The well-formedness of a node model, as a boolean. *)
 Definition wf (m : node_model) : bool :=
@@ -464,13 +550,19 @@ Definition wf (m : node_model) : bool :=
   && negb (null (nm_outputs m)) && nodup_keys enc_string (map fst (nm_outputs m))
   && forallb (topic_ok (nm_msgs m)) (nm_topics m)
   && forallb (inrel_ok m tb) (nm_inrels m)
-  && nodup_keys enc_string (map ir_input (nm_inrels m))
+  && forallb (timeout_ok m tb) (nm_timeouts m)
+  && nodup_keys enc_string (map fst (nm_timeouts m))
+  && forallb (drel_ok m tb) (nm_drels m)
+  && nodup_keys enc_string (fed_list m)
   && forallb (fun xq => tmem enc_string (fst xq) fed) (nm_inputs m)
+  && forallb (fallback_ok m tb) (nm_fallbacks m)
+  && nodup_keys enc_string (map fst (nm_fallbacks m))
   && forallb (outrel_ok m tb) (nm_outrels m)
-  && no_freshness m
   && (null (nm_stamps m) || time_msg_ok (nm_msgs m))
   && forallb (stamp_ok m tb) (nm_stamps m)
   && nodup_keys enc_string (map fst (nm_stamps m))
+  && forallb (stamp_from_ok m tb) (nm_stamp_from m)
+  && nodup_keys enc_string (map fst (nm_stamp_from m))
   && nodup_keys enc_target (map (fun o => (or_topic o, or_path o)) (nm_outrels m)).
 
 (** ** The same rules, failing with a message that names the culprit *)
@@ -586,19 +678,33 @@ Definition wf_check (m : node_model) : res unit :=
   do _ <- check_nodup_keys enc_string (gen_error "name defined twice: ") (global_names m ++ local_names m);
   do _ <- check_nodup_keys enc_string (gen_error "struct defined twice: ") (struct_names m);
   do _ <- msgs_check [] (nm_msgs m);
-  do _ <- assertion (no_freshness m)
-            [MSG "Generator: timeouts and derived inputs (rule 4.12) are not generated yet"];
   do _ <- assertion (negb (null (nm_inputs m))) (gen_error "controller has no input: " (nm_ctrl m));
   do _ <- check_nodup_keys enc_string (gen_error "controller input declared twice: ") (map fst (nm_inputs m));
   do _ <- assertion (negb (null (nm_outputs m))) (gen_error "controller has no output: " (nm_ctrl m));
   do _ <- check_nodup_keys enc_string (gen_error "controller output declared twice: ") (map fst (nm_outputs m));
   do _ <- check_all (topic_check (nm_msgs m)) (nm_topics m);
   do _ <- check_all (inrel_check m tb) (nm_inrels m);
+  do _ <- check_all (fun ct => assertion (timeout_ok m tb ct)
+                                 [MSG "Generator: bad timeout (rule 4.12) on topic "; CTX (fst ct);
+                                  MSG ": "; MSG (string_of_Z (snd ct));
+                                  MSG " ms must be on a subscribed topic, from the period to 86400000 ms"])
+            (nm_timeouts m);
+  do _ <- check_nodup_keys enc_string (gen_error "timeout given twice for topic ") (map fst (nm_timeouts m));
+  do _ <- check_all (fun dr => assertion (drel_ok m tb dr)
+                                 [MSG "Generator: bad derived input (rule 4.12) "; CTX (dr_input dr);
+                                  MSG ": it must be of topic "; CTX (dr_topic dr);
+                                  MSG ", subscribed, and feed a controller input of its type (bool, or uint32 for age_ms)"])
+            (nm_drels m);
   do _ <- check_nodup_keys enc_string (gen_error "controller input fed by several input relations: ")
-            (map ir_input (nm_inrels m));
+            (fed_list m);
   do _ <- check_all (fun xq => assertion (tmem enc_string (fst xq) fed)
                                  (gen_error "controller input not fed by any input relation: " (fst xq)))
             (nm_inputs m);
+  do _ <- check_all (fun xv => assertion (fallback_ok m tb xv)
+                                 [MSG "Generator: bad fallback (rule 4.12) for controller input "; CTX (fst xv);
+                                  MSG ": it must be a value of the input's type, for an input fed by a topic with a timeout"])
+            (nm_fallbacks m);
+  do _ <- check_nodup_keys enc_string (gen_error "fallback given twice for controller input ") (map fst (nm_fallbacks m));
   do _ <- check_all (outrel_check m tb) (nm_outrels m);
   do _ <- assertion (null (nm_stamps m) || time_msg_ok (nm_msgs m))
             [MSG "Generator: stamps need the message ros_time with the uint32 fields sec and nsec"];
@@ -608,6 +714,12 @@ Definition wf_check (m : node_model) : res unit :=
                                   MSG " must be a time field of a published message that no output relation writes"])
             (nm_stamps m);
   do _ <- check_nodup_keys enc_string (gen_error "topic stamped twice: ") (map fst (nm_stamps m));
+  do _ <- check_all (fun sf => assertion (stamp_from_ok m tb sf)
+                                 [MSG "Generator: bad stamp source (rule 4.13) for topic "; CTX (fst sf);
+                                  MSG ": "; CTX (fst (snd sf) ++ string_of_path (snd (snd sf)))%string;
+                                  MSG " must be a time field of a subscribed topic's message, for a stamped topic"])
+            (nm_stamp_from m);
+  do _ <- check_nodup_keys enc_string (gen_error "stamp source given twice for topic ") (map fst (nm_stamp_from m));
   check_nodup_keys enc_target
     (fun tp => gen_error "published field fed twice: " (fst tp ++ string_of_path (snd tp))%string)
     (map (fun o => (or_topic o, or_path o)) (nm_outrels m)).
