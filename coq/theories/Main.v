@@ -478,8 +478,11 @@ Proof. exact Generatorproof.generate_callback. Qed.
 
 (** [input_glue] is the sequence of the copies of the input relations,
     in model order ([input_base]), then, if some topic is timed (rule
-    4.12), [timed_stmts]: [_now = ros_now();], the fallbacks, the derived
-    inputs, and the [c_new] flags cleared. *)
+    4.12), [timed_stmts]: [_now = ros_now();] (only if a fallback or an
+    [age_ms] reads an age: [reads_age]), the fallbacks, the derived
+    inputs, and the [c_new] flags cleared.  The temporaries [_now] and
+    [_age] are declared only if an age is read, [_t_uchar] only if a
+    flag is copied ([reads_flag]) or an input is a [bool]. *)
 Theorem generate_input_glue:
   forall m p, generate m = OK p ->
   exists f,
@@ -494,9 +497,10 @@ Theorem generate_input_glue:
         find_assoc (temp_name (input_prim (make_tables m) (ir_input ir))) (fn_temps f)
         = Some (ctype_of_prim (input_prim (make_tables m) (ir_input ir))))
   /\ (timed m <> [] ->
-        find_assoc now_temp (fn_temps f) = Some (Tlong Unsigned)
-     /\ find_assoc age_temp (fn_temps f) = Some (Tlong Unsigned)
-     /\ find_assoc (temp_name Pbool) (fn_temps f) = Some (ctype_of_prim Pbool)).
+        (reads_age m = true ->
+           find_assoc now_temp (fn_temps f) = Some (Tlong Unsigned)
+        /\ find_assoc age_temp (fn_temps f) = Some (Tlong Unsigned))
+     /\ (reads_flag m = true -> find_assoc (temp_name Pbool) (fn_temps f) = Some (ctype_of_prim Pbool))).
 Proof. exact Generatorproof.generate_input_glue. Qed.
 
 (** A node with a timed topic declares [ros_now], and each timed topic

@@ -306,14 +306,34 @@ Definition derived_stmt (dr : drel) : statement :=
 (** [c_new = 0;] *)
 Definition reset_stmt (tp : topic) : statement := Sassign (new_expr (tp_cname tp)) (Econst_int 0 tflag).
 
-(** After the copies: [_now = ros_now();], the fallbacks (in the order
-    of the input relations), the derived inputs (in model order), then
-    the [c_new] flags of the timed topics cleared. *)
+(** Whether a derived input is an age (else it copies a flag). *)
+Definition is_age (dr : drel) : bool :=
+  match dr_kind dr with Dage_ms => true | _ => false end.
+
+(** Whether [input_glue] reads an age (some fallback or [age_ms]): only
+    then does it read the cycle's time into [_now] and declare [_now] and
+    [_age]; and whether it copies a flag (then it declares [_t_uchar]).
+    A temporary that is declared but not read is refused by the build's
+    [gcc -Wall -Werror]. *)
+Definition reads_age : bool :=
+  existsb has_fallback (nm_inrels m) || existsb is_age (nm_drels m).
+Definition reads_flag : bool :=
+  existsb (fun dr => negb (is_age dr)) (nm_drels m).
+
+(** After the copies: [_now = ros_now();] (if an age is read), the
+    fallbacks (in the order of the input relations), the derived inputs
+    (in model order), then the [c_new] flags of the timed topics
+    cleared. *)
 Definition timed_stmts : statement :=
-  seq_of (now_call now_temp
-          :: map fallback_stmt (filter has_fallback (nm_inrels m))
+  seq_of ((if reads_age then [now_call now_temp] else [])
+          ++ map fallback_stmt (filter has_fallback (nm_inrels m))
           ++ map derived_stmt (nm_drels m)
           ++ map reset_stmt (timed m)).
+
+(** The temporaries of [input_glue] when some topic is timed. *)
+Definition timed_temps : list (ident * type) :=
+  (if reads_age then [(now_temp, tulong); (age_temp, tulong)] else [])
+  ++ temps_of ((if reads_flag then [Pbool] else []) ++ map (fun ir => input_prim (ir_input ir)) (nm_inrels m)).
 
 (** [void input_glue(void)]: one copy per input relation, in order; then,
     if some topic is timed, the freshness. *)
@@ -322,10 +342,7 @@ Definition input_glue_function : function :=
   let base := seq_of (map input_copy (nm_inrels m)) in
   match timed m with
   | [] => mkfunction Tvoid [] [] temps base
-  | _ :: _ => mkfunction Tvoid [] []
-                ([(now_temp, tulong); (age_temp, tulong)]
-                 ++ temps_of (Pbool :: map (fun ir => input_prim (ir_input ir)) (nm_inrels m)))
-                (Ssequence base timed_stmts)
+  | _ :: _ => mkfunction Tvoid [] [] timed_temps (Ssequence base timed_stmts)
   end.
 
 (** ** Output glue (Figure 8) *)

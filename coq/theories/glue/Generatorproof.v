@@ -557,9 +557,10 @@ Theorem generate_input_glue:
         find_assoc (temp_name (input_prim (make_tables m) (ir_input ir))) (fn_temps f)
         = Some (ctype_of_prim (input_prim (make_tables m) (ir_input ir))))
   /\ (timed m <> [] ->
-        find_assoc now_temp (fn_temps f) = Some (Tlong Unsigned)
-     /\ find_assoc age_temp (fn_temps f) = Some (Tlong Unsigned)
-     /\ find_assoc (temp_name Pbool) (fn_temps f) = Some (ctype_of_prim Pbool)).
+        (reads_age m = true ->
+           find_assoc now_temp (fn_temps f) = Some (Tlong Unsigned)
+        /\ find_assoc age_temp (fn_temps f) = Some (Tlong Unsigned))
+     /\ (reads_flag m = true -> find_assoc (temp_name Pbool) (fn_temps f) = Some (ctype_of_prim Pbool))).
 Proof.
   intros m p H. exists (input_glue_function m (make_tables m)).
   refine (conj _ (conj _ (conj _ (conj _ (conj _ (conj _ (conj _ _))))))).
@@ -571,26 +572,27 @@ Proof.
   - apply input_glue_body.
   - unfold input_glue_function; destruct (timed m) eqn:T; cbn [fn_temps].
     + apply temps_of_nodup.
-    + constructor; [|constructor].
-      * cbn [map fst]. intros [E|E]; [discriminate|].
-        apply temps_of_names in E. simpl in E. intuition discriminate.
-      * cbn [map fst]. intros E.
-        apply temps_of_names in E. simpl in E. intuition discriminate.
+    + unfold timed_temps. destruct (reads_age m); cbn [app].
+      * constructor; [|constructor].
+        -- cbn [map fst]. intros [E|E]; [discriminate|].
+           apply temps_of_names in E. simpl in E. intuition discriminate.
+        -- cbn [map fst]. intros E.
+           apply temps_of_names in E. simpl in E. intuition discriminate.
+        -- apply temps_of_nodup.
       * apply temps_of_nodup.
   - unfold input_glue_function; destruct (timed m) eqn:T; cbn [fn_temps].
     + intros ir Hir. apply temps_of_find. apply in_map_iff; eauto.
-    + intros ir Hir. change (find_assoc (temp_name (input_prim (make_tables m) (ir_input ir)))
-                         ([(now_temp, Tlong Unsigned); (age_temp, Tlong Unsigned)]
-                          ++ temps_of (Pbool :: map (fun ir => input_prim (make_tables m) (ir_input ir)) (nm_inrels m)))
-                       = Some (ctype_of_prim (input_prim (make_tables m) (ir_input ir)))).
-      rewrite find_assoc_app_right.
-      * apply temps_of_find. right; apply in_map_iff; eauto.
-      * destruct (input_prim (make_tables m) (ir_input ir)); simpl; intuition discriminate.
+    + intros ir Hir. unfold timed_temps. rewrite find_assoc_app_right.
+      * apply temps_of_find. apply in_app_iff; right; apply in_map_iff; eauto.
+      * destruct (reads_age m); [|simpl; auto].
+        destruct (input_prim (make_tables m) (ir_input ir)); simpl; intuition discriminate.
   - unfold input_glue_function; destruct (timed m) eqn:T; cbn [fn_temps].
     + intros; congruence.
-    + intros _. split; [reflexivity|split; [reflexivity|]].
-      rewrite find_assoc_app_right by (simpl; intuition discriminate).
-      apply (temps_of_find Pbool). left; auto.
+    + intros _. unfold timed_temps. split.
+      * intros ->. split; reflexivity.
+      * intros ->. rewrite find_assoc_app_right.
+        -- apply (temps_of_find Pbool). left; auto.
+        -- destruct (reads_age m); simpl; intuition discriminate.
 Qed.
 
 (** [output_glue_c]: zero the message, then the copies of the topic's
@@ -838,20 +840,43 @@ Qed.
 
 (** The freshness statements of [input_glue] (rule 4.12) are valid
     assignments. *)
+Lemma reads_age_fallback:
+  forall m ir, In ir (nm_inrels m) -> has_fallback m ir = true -> reads_age m = true.
+Proof.
+  intros m ir Hir H. unfold reads_age. apply orb_true_intro; left. apply existsb_exists; eauto.
+Qed.
+
+Lemma reads_age_derived:
+  forall m dr, In dr (nm_drels m) -> dr_kind dr = Dage_ms -> reads_age m = true.
+Proof.
+  intros m dr Hdr K. unfold reads_age. apply orb_true_intro; right. apply existsb_exists.
+  exists dr; split; auto. unfold is_age; rewrite K; auto.
+Qed.
+
+Lemma reads_flag_derived:
+  forall m dr, In dr (nm_drels m) -> dr_kind dr <> Dage_ms -> reads_flag m = true.
+Proof.
+  intros m dr Hdr K. unfold reads_flag. apply existsb_exists.
+  exists dr; split; auto. unfold is_age; destruct (dr_kind dr); auto; congruence.
+Qed.
+
 Lemma valid_timed:
   forall m temps, wf_facts m ->
-  find_assoc now_temp temps = Some (Tlong Unsigned) ->
-  find_assoc age_temp temps = Some (Tlong Unsigned) ->
-  find_assoc (temp_name Pbool) temps = Some (ctype_of_prim Pbool) ->
+  (reads_age m = true -> find_assoc now_temp temps = Some (Tlong Unsigned)) ->
+  (reads_age m = true -> find_assoc age_temp temps = Some (Tlong Unsigned)) ->
+  (reads_flag m = true -> find_assoc (temp_name Pbool) temps = Some (ctype_of_prim Pbool)) ->
   valid_assignments (composites m) temps (timed_stmts m (make_tables m)).
 Proof.
   intros m temps W TN TA TB. unfold timed_stmts. apply valid_assignments_seq.
-  assert (AGE: forall c, valid_assignments (composites m) temps (age_stmt c)).
-  { intros c. simpl; repeat split; auto; right; simpl; repeat split; auto; constructor. }
-  intros st Hst. destruct Hst as [<-|Hst]; [simpl; auto|].
+  assert (AGE: reads_age m = true -> forall c, valid_assignments (composites m) temps (age_stmt c)).
+  { intros R c. specialize (TN R). specialize (TA R).
+    simpl; repeat split; auto; right; simpl; repeat split; auto; constructor. }
+  intros st Hst. apply in_app_iff in Hst. destruct Hst as [Hst|Hst].
+  { destruct (reads_age m) eqn:R; [|contradiction]. destruct Hst as [<-|[]]. simpl; auto. }
   apply in_app_iff in Hst. destruct Hst as [Hst|Hst]; [|apply in_app_iff in Hst; destruct Hst as [Hst|Hst]].
   - apply in_map_iff in Hst. destruct Hst as (ir & <- & Hir).
-    apply filter_In in Hir. destruct Hir as [Hir _].
+    apply filter_In in Hir. destruct Hir as [Hir HF].
+    specialize (AGE (reads_age_fallback m ir Hir HF)).
     destruct (input_copy_typed m W ir Hir) as (_ & _ & T2 & W2).
     unfold fallback_stmt. destruct (find_assoc (ir_input ir) (nm_fallbacks m)); [|exact I].
     destruct (timeout_of m (ir_topic ir)); [|exact I].
@@ -866,11 +891,14 @@ Proof.
     { unfold derived_dst, in_var_expr. econstructor; [constructor|reflexivity|].
       rewrite Hp. apply field_type_inputs; auto. }
     unfold derived_stmt. destruct (dr_kind dr) eqn:K.
-    + apply valid_copy; auto; try constructor.
+    + assert (TB' := TB (reads_flag_derived m dr Hdr ltac:(congruence))).
+      apply valid_copy; auto; try constructor.
       unfold derived_dst. simpl. rewrite Hp. auto.
-    + apply valid_copy; auto; try constructor.
+    + assert (TB' := TB (reads_flag_derived m dr Hdr ltac:(congruence))).
+      apply valid_copy; auto; try constructor.
       unfold derived_dst. simpl. rewrite Hp. auto.
-    + split; [apply AGE|].
+    + assert (TA' := TA (reads_age_derived m dr Hdr K)).
+      split; [apply (AGE (reads_age_derived m dr Hdr K))|].
       unfold derived_dst in *. simpl. rewrite Hp. simpl. rewrite Hp in WD. repeat split; auto.
   - apply in_map_iff in Hst. destruct Hst as (tp & <- & _). simpl. repeat split; auto. constructor.
 Qed.
@@ -975,7 +1003,7 @@ Proof.
       destruct (input_copy_typed m W ir Hir) as (? & ? & ? & ?).
       repeat split; auto. }
     destruct (timed m) eqn:T; auto. split; auto.
-    destruct (Fn ltac:(congruence)) as (N1 & N2 & N3). apply valid_timed; auto.
+    destruct (Fn ltac:(congruence)) as (N12 & N3). apply valid_timed; auto; intros R; apply N12; auto.
   - (* output_glue *)
     apply in_map_iff in F; destruct F as (tp & E & Htp); inversion E; subst f; clear E.
     assert (Hpub := Htp).
@@ -1107,7 +1135,8 @@ Proof.
       * right; right; left. destruct (BASE Hpl) as (x & ->). eauto.
       * unfold timed_stmts in Hpl. rewrite T, assigned_places_seq in Hpl.
         apply in_flat_map in Hpl. destruct Hpl as (st & Hst & Hpl).
-        destruct Hst as [<-|Hst]; [simpl in Hpl; tauto|]. rewrite <- T in Hst.
+        rewrite <- T in Hst. apply in_app_iff in Hst. destruct Hst as [Hst|Hst].
+        { destruct (reads_age m); [destruct Hst as [<-|[]]; simpl in Hpl; tauto|contradiction]. }
         apply in_app_iff in Hst. destruct Hst as [Hst|Hst]; [|apply in_app_iff in Hst; destruct Hst as [Hst|Hst]].
         -- right; right; left. apply in_map_iff in Hst. destruct Hst as (ir & <- & _).
            unfold fallback_stmt in Hpl.
@@ -1356,6 +1385,8 @@ Proof.
     cbn [stmt_takes_addr] in T. rewrite BASE in T. simpl in T.
     unfold timed_stmts in T. rewrite stmt_takes_addr_seq in T. apply existsb_exists in T.
     destruct T as (st & Hst & T).
+    apply in_app_iff in Hst. destruct Hst as [Hst|Hst].
+    { destruct (reads_age m); [destruct Hst as [<-|[]]; discriminate|contradiction]. }
     apply in_app_iff in Hst. destruct Hst as [Hst|Hst]; [|apply in_app_iff in Hst; destruct Hst as [Hst|Hst]].
     + apply in_map_iff in Hst. destruct Hst as (ir & <- & _). unfold fallback_stmt in T.
       destruct (find_assoc (ir_input ir) (nm_fallbacks m)) as [v|]; [|discriminate].

@@ -690,11 +690,11 @@ Hypothesis CK : forall tp, In tp (timed m) ->
 
 Local Notation now := (w_time w).
 Local Notation UT := (Tstruct (nm_in_struct m)).
-Let le_ok (le : temp_env) : Prop := find_assoc now_temp le = Some (Vlong (clock now)).
+Let le_ok (le : temp_env) : Prop := reads_age m = true -> find_assoc now_temp le = Some (Vlong (clock now)).
 Let fr (mm : mem) : Prop := frame mm1 bu mm.
 
 Lemma le_ok_set: forall le x v, x <> now_temp -> le_ok le -> le_ok (set_assoc x v le).
-Proof. intros le x v N H. unfold le_ok. rewrite find_assoc_set_other; auto. Qed.
+Proof. intros le x v N H R. rewrite find_assoc_set_other; auto. Qed.
 
 Lemma eval_clock_global:
   forall tp x ty v le mm, In tp (timed m) -> In x (clock_names tp) -> find_def p x = Some (Gvar ty) ->
@@ -744,7 +744,7 @@ Qed.
 
 (** The age of the newest message of a timed topic. *)
 Lemma age_run:
-  forall tp le mm, In tp (timed m) -> le_ok le -> fr mm ->
+  forall tp le mm, In tp (timed m) -> find_assoc now_temp le = Some (Vlong (clock now)) -> fr mm ->
   exec_stmt ctx ge [] le mm w (age_stmt (tp_cname tp)) []
             (set_assoc age_temp (Vlong (age_ns (snd (ck (tp_cname tp))) now)) le) mm w Out_normal.
 Proof.
@@ -755,13 +755,13 @@ Proof.
     generalize (clock_range t) (clock_range now). intros Rt Rn.
     eapply exec_Sifthenelse.
     + cbn [eval_expr typeof]. simpl binop_type. rewrite (eval_time tp t le mm Ht Fr E). simpl.
-      unfold le_ok in Hle. rewrite Hle. simpl.
+      rewrite Hle. simpl.
       unfold int_binop. rewrite (in_range_ulong _ Rt), (in_range_ulong _ Rn). reflexivity.
     + reflexivity.
     + unfold age_ns. simpl negb.
       destruct (Z.leb (clock t) (clock now)) eqn:L; simpl.
       * apply exec_Sset. cbn [eval_expr typeof]. simpl binop_type. rewrite (eval_time tp t le mm Ht Fr E).
-        unfold le_ok in Hle. simpl. rewrite Hle. simpl.
+        simpl. rewrite Hle. simpl.
         unfold int_binop. rewrite (in_range_ulong _ Rt), (in_range_ulong _ Rn). simpl.
         rewrite wrap_ulong; auto. apply Z.leb_le in L. lia.
       * apply exec_Sset. reflexivity.
@@ -845,6 +845,7 @@ Lemma fallback_run:
   forall ir, In ir (filter (has_fallback m) (nm_inrels m)) -> item_run (inl ir).
 Proof.
   intros ir Hir le mm u Hle Fr G Hu. apply filter_In in Hir. destruct Hir as [Hir HF].
+  specialize (Hle (reads_age_fallback m ir Hir HF)) as Hnow.
   unfold has_fallback in HF. destruct (find_assoc (ir_input ir) (nm_fallbacks m)) as [fv|] eqn:F; [|discriminate].
   destruct (fallback_topic ir fv Hir F) as (tp & t & Ht & Ec & TO & Tv & Rt).
   destruct (wf_inrel m ir W Hir) as (tp' & q & _ & _ & I & _).
@@ -933,7 +934,7 @@ Proof.
     set (age := age_ns (snd (ck (dr_topic dr))) now).
     set (le1 := set_assoc age_temp (Vlong age) le).
     assert (X1: exec_stmt ctx ge [] le mm w (age_stmt (dr_topic dr)) [] le1 mm w Out_normal).
-    { unfold le1, age. rewrite <- Ec. apply age_run; auto. }
+    { unfold le1, age. rewrite <- Ec. apply age_run; auto. apply Hle. apply (reads_age_derived m dr Hdr K). }
     assert (Hle1: le_ok le1) by (apply le_ok_set; auto; intro E; discriminate).
     assert (Ra := age_ns_range (snd (ck (dr_topic dr))) now). fold age in Ra.
     set (v := Vint (Z.min (age / 1000000) max_uint)).
@@ -1101,12 +1102,17 @@ Proof.
       * apply FEDV; auto. intros ir _ fv F. rewrite NF in F. discriminate.
       * intros dr Hdr. rewrite NDR in Hdr. contradiction.
     + (* timed topics *)
-      destruct (Ftemps ltac:(discriminate)) as (TN & TA & TB).
       rewrite <- TM. rewrite <- TM in CK1, CK.
       assert (NE: timed m <> []) by congruence.
-      set (le2 := set_assoc now_temp (Vlong (clock (w_time w))) le1).
-      assert (X2: exec_stmt ctx ge [] le1 mm1 w (now_call now_temp) [] le2 mm1 w Out_normal)
-        by (apply exec_now_call; auto).
+      (* the cycle's time, read if some age is *)
+      set (le2 := if reads_age m then set_assoc now_temp (Vlong (clock (w_time w))) le1 else le1).
+      assert (X2: forall rest t le' mm',
+                 exec_stmt ctx ge [] le2 mm1 w (seq_of rest) t le' mm' w Out_normal ->
+                 exec_stmt ctx ge [] le1 mm1 w (seq_of ((if reads_age m then [now_call now_temp] else []) ++ rest))
+                           t le' mm' w Out_normal).
+      { intros rest t le' mm' X. unfold le2 in X. destruct (reads_age m); [|exact X].
+        apply (exec_seq_cons ctx ge) with (set_assoc now_temp (Vlong (clock (w_time w))) le1) mm1 w; auto.
+        apply exec_now_call; auto. }
       set (L := map inl (filter (has_fallback m) (nm_inrels m)) ++ map inr (nm_drels m)).
       assert (NDL: NoDup (map item_field L)).
       { unfold L. rewrite map_app, !map_map. cbn [item_field].
@@ -1122,7 +1128,8 @@ Proof.
           apply in_map_iff in Ha; destruct Ha as (r & <- & Hr);
           [apply (fallback_run ctx w mm1 bu ck Vu CK1)|apply (derived_run ctx w mm1 bu ck Vu CK1)]; auto. }
       assert (Fr1: frame mm1 bu mm1) by (split; auto).
-      assert (Hle2: find_assoc now_temp le2 = Some (Vlong (clock (w_time w)))) by (unfold le2; apply find_assoc_set_same).
+      assert (Hle2: reads_age m = true -> find_assoc now_temp le2 = Some (Vlong (clock (w_time w))))
+        by (intros R; unfold le2; rewrite R; apply find_assoc_set_same).
       destruct (exec_items ctx w mm1 bu ck L le2 mm1 u1 Hle2 Fr1 G1 Hu1 RUN NDL)
         as (le3 & mm3 & u3 & X3 & _ & Fr3 & G3 & Hu3 & Set3 & Keep3).
       assert (OG3: only_global_changed p mm mm3 (nm_in_var m) u3).
@@ -1133,8 +1140,7 @@ Proof.
       destruct (resets_run CS ctx w (timed m) le3 mm3 (incl_refl _) GT3) as (mm4 & X4 & _ & GC4).
       exists le3, mm4. split.
       * change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; [exact X1'|].
-        unfold timed_stmts. change (@nil event) with (@nil event ++ @nil event).
-        apply (exec_seq_cons ctx ge) with le2 mm1 w; [exact X2|].
+        unfold timed_stmts. apply X2.
         rewrite app_assoc.
         replace (map (fallback_stmt m (make_tables m)) (filter (has_fallback m) (nm_inrels m))
                  ++ map (derived_stmt m (make_tables m)) (nm_drels m))
