@@ -229,7 +229,7 @@ _NO_AGE = "18446744073709551615ULL"
 def _freshness(pm: ProvedModel, c_text: str) -> dict:
     """The freshness section (rule 4.12), empty without timed topics:
     ``now``, the line of ``input_glue`` that reads the cycle's time (none
-    when no age is read), and ``topics``, each timed topic
+    when no fallback or ``age_ms`` reads an age), and ``topics``, each timed topic
     (a timeout or a derived input), in topic order, with its timeout, its
     inputs' fallbacks (or ``hold``), its derived inputs and the C lines
     that implement them: the clock update at the end of its callback, its
@@ -327,8 +327,10 @@ def _freshness(pm: ProvedModel, c_text: str) -> dict:
             "glue": _indented(lines, fb_lines + d_lines + [(reset, "")]),
         })
     now = [(n, text) for n, text in glue if text == "_now = ros_now();"]
-    if len(now) != 1 or (age_starts and now[0][0] > min(age_starts)):
+    if age_starts and (len(now) != 1 or now[0][0] > min(age_starts)):
         raise CertificateError("certificate: input_glue does not read the cycle's time once, before the ages")
+    if not age_starts and now:
+        raise CertificateError("certificate: input_glue reads the cycle's time but no age")
     return {"now": _indented(lines, now), "topics": out}
 
 

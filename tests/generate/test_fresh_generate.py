@@ -3,8 +3,9 @@ velocity guard and on small models with each feature (every policy,
 flags only, constant fallbacks of every type) proves their theorem,
 prints the timed glue in the order of the design (the clock update after
 the callback's copies; in ``input_glue``, after the copies, the cycle's
-time, then per timed topic its age, fallbacks and derived inputs, then
-the ``_new`` resets), compiles with the build's flags and against the
+time if an age is read, then each fallback and derived input, a
+fallback or ``age_ms`` just after its topic's age, then the ``_new``
+resets), compiles with the build's flags and against the
 wrapper's header, shows it in the certificate with its C lines, and
 ``verify`` accepts the folder; the seam catches a per-node file that
 drops or changes a timeout, a fallback or a derived input (it still
@@ -70,31 +71,36 @@ def age_block(c: str) -> list[str]:
 
 def expected_timed_part(model) -> list[str]:
     """What ``input_glue`` does after the copies, from the front end's
-    model: a regular expression per statement line."""
+    model: a regular expression per statement line.  The cycle's time is
+    read once if some item reads an age; then each fallback (in the order
+    of the input relations) and each derived input (in model order), a
+    fallback or an ``age_ms`` computing its topic's age just before it;
+    then the ``_new`` resets of the timed topics."""
     u = model.controller.inputs.var_name
     timed = model.timed_topics
+    items: list[list[str]] = []
+    for r in model.input_relations:
+        if r.fallback is None:
+            continue
+        t = r.topic
+        items.append([re.escape(x) for x in age_block(t.c_name)]
+                     + [re.escape(f"if (({t.timeout_ms * 1000000}ULL < _age)) {{"),
+                        re.escape(f"{u}.{r.input_field} = ") + r"[^;]+;", r"\}"])
+    for r in model.derived_relations:
+        t = r.topic
+        if r.kind == "age_ms":
+            items.append([re.escape(x) for x in age_block(t.c_name)]
+                         + [re.escape(x) for x in ("if ((_age <= 4294967295999999ULL)) {",
+                                                   f"{u}.{r.input_field} = (unsigned int)(_age / 1000000ULL);",
+                                                   "} else {", f"{u}.{r.input_field} = 4294967295U;", "}")])
+        else:
+            flag = "new" if r.kind == "is_new" else "rcvd"
+            items.append([re.escape(f"_t_uchar = {t.c_name}_{flag};"),
+                          re.escape(f"{u}.{r.input_field} = _t_uchar;")])
     out: list[str] = []
-    parts: list[list[str]] = []
-    for t in timed:
-        fbs = [r for r in model.input_relations if r.topic.name == t.name and r.fallback is not None]
-        drs = [r for r in model.derived_relations if r.topic.name == t.name]
-        needs_age = bool(fbs) or any(r.kind == "age_ms" for r in drs)
-        p = [re.escape(x) for x in age_block(t.c_name)] if needs_age else []
-        for r in fbs:
-            p += [re.escape(f"if (({t.timeout_ms * 1000000}ULL < _age)) {{"),
-                  re.escape(f"{u}.{r.input_field} = ") + r"[^;]+;", r"\}"]
-        for r in drs:
-            if r.kind == "age_ms":
-                p += [re.escape(x) for x in ("if ((_age <= 4294967295999999ULL)) {",
-                                             f"{u}.{r.input_field} = (unsigned int)(_age / 1000000ULL);",
-                                             "} else {", f"{u}.{r.input_field} = 4294967295U;", "}")]
-            else:
-                flag = "new" if r.kind == "is_new" else "rcvd"
-                p += [re.escape(f"_t_uchar = {t.c_name}_{flag};"), re.escape(f"{u}.{r.input_field} = _t_uchar;")]
-        parts.append(p)
-    if any(p and p[0].startswith("if") for p in parts):
+    if any(p[0].startswith("if") for p in items):
         out.append(re.escape("_now = ros_now();"))
-    for p in parts:
+    for p in items:
         out += p
     out += [re.escape(f"{t.c_name}_new = 0;") for t in timed]
     return out
@@ -230,7 +236,7 @@ def test_certificate_refuses_a_glue_without_a_proved_line(folders):
     # a fallback that reads the other topic's age
     tw = "    if ((500000000ULL < _age)) {\n        Guard_U.TWz = 0x0p+0;\n    }\n"
     moved = glue.replace(tw, "", 1).replace("    nav_cmd_vel_new = 0;\n", tw + "    nav_cmd_vel_new = 0;\n")
-    with pytest.raises(CertificateError, match="no fallback for Guard_U.TWz"):
+    with pytest.raises(CertificateError, match="the age of /teleop/cmd_vel is not computed as proved"):
         _freshness(pm, moved)
 
 
