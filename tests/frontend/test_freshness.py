@@ -662,6 +662,8 @@ def test_emitted_coq_fields(tmp_path):
         '       (* /teleop/cmd_vel age_ms -> Age1 *)\n'
         '       mkdrel "teleop_cmd_vel" Dage_ms "Age1"];\n'
         '    nm_stamps :=\n'
+        '      [];\n'
+        '    nm_stamp_from :=\n'
         '      []\n'
     )
     # the fields come last in the record, after nm_outrels
@@ -674,7 +676,7 @@ def test_emitted_coq_fields_are_always_there():
     v = render_node_file(load_model(LANDSHARK), ddc_available=True)
     i = v.index("nm_outrels :=")
     assert ("\n    nm_timeouts :=\n      [];\n    nm_fallbacks :=\n      [];\n    nm_drels :=\n      [];"
-            "\n    nm_stamps :=\n      []\n  |}") in v[i:]
+            "\n    nm_stamps :=\n      [];\n    nm_stamp_from :=\n      []\n  |}") in v[i:]
 
 
 def test_emitted_values_of_every_type(tmp_path):
