@@ -54,6 +54,9 @@ SUBSYSTEM = "Subsystem"
 #: Between an instance's name and the name of one of its blocks.
 SEP = "_"
 
+#: At most this many levels of subsystems within subsystems.
+MAX_NESTING = 16
+
 #: The keys of a subsystem's definition, and of a Subsystem block.
 DEF_KEYS = ("inputs", "blocks", "outputs")
 INSTANCE_KEYS = ("name", "block", "subsystem", "inputs")
@@ -145,15 +148,6 @@ class _Def:
     size: int | None = None        # its number of blocks, expanded
 
 
-class _WiringLoop(Exception):
-    """An outport wired back to itself through subsystem inputs and
-    outputs, with no block in between."""
-
-    def __init__(self, frame: "_Frame"):
-        super().__init__()
-        self.frame = frame
-
-
 class _Frame:
     """One scope being expanded: the top level, or one instance of a
     subsystem (its name prefix and where its inputs come from)."""
@@ -183,17 +177,11 @@ class _Frame:
             return self.child(ref[1]).output(ref[2])[0], node
         return self.input(ref[1])
 
-    def _guarded(self, key: tuple[str, str], compute: Callable[[], tuple[str, YNode]]) -> tuple[str, YNode]:
-        if key in self.memo:
-            return self.memo[key]
-        active = (id(self), key)
-        if active in self.ex.active:
-            raise _WiringLoop(self)
-        self.ex.active.add(active)
-        try:
+    def _memo(self, key: tuple[str, str], compute: Callable[[], tuple[str, YNode]]) -> tuple[str, YNode]:
+        # no loop: an outport takes a block's signal, never an input's
+        # (so each call goes one subsystem level down or up)
+        if key not in self.memo:
             self.memo[key] = compute()
-        finally:
-            self.ex.active.discard(active)
         return self.memo[key]
 
     def input(self, a: str) -> tuple[str, YNode]:
@@ -203,14 +191,14 @@ class _Frame:
             node = self.inst.refs[k]
             ref = self.parent.scope.refs[id(node)]
             return self.parent.signal(ref, node)
-        return self._guarded(("in", a), compute)
+        return self._memo(("in", a), compute)
 
     def output(self, o: str) -> tuple[str, YNode]:
         """The expanded signal of this instance's outport ``o``."""
         def compute():
             _, vnode = self.d.outputs[o]
             return self.signal(self.d.out_refs[o], vnode)
-        return self._guarded(("out", o), compute)
+        return self._memo(("out", o), compute)
 
     def ref_node(self, node: YNode) -> YNode:
         """``node`` (a signal read), rewritten to the expanded signal."""
@@ -270,7 +258,7 @@ class _Expander:
         self.defs: dict[str, _Def] = {}
         self.errors = 0
         self.emitted: set[int] = set()
-        self.active: set = set()
+        self.post: list[_Def] = []     # the subsystems, each after those it uses
 
     def report(self, where, message: str) -> None:
         self.errors += 1
@@ -434,10 +422,6 @@ class _Expander:
 
     def parse_instance(self, scope: _Scope, item: YMap, where: str) -> _Inst:
         inst = _Inst(item, where)
-        for k in item.keys():
-            if k not in INSTANCE_KEYS:
-                self.report(item.key_node(k), f"{where}: a Subsystem block has no key {show(k)}"
-                            f"{did_you_mean(k, INSTANCE_KEYS)}; its keys are {_list(INSTANCE_KEYS)}")
         nnode = item.get("name")
         inst.name_node = nnode if nnode is not None else item
         if nnode is None:
@@ -467,6 +451,10 @@ class _Expander:
                     scope.insts[name] = inst
                 if inst.broken:
                     self.bad_names.add(name)
+        for k in item.keys():
+            if k not in INSTANCE_KEYS:
+                self.report(item.key_node(k), f"{inst.where}: a Subsystem block has no key {show(k)}"
+                            f"{did_you_mean(k, INSTANCE_KEYS)}; its keys are {_list(INSTANCE_KEYS)}")
         snode = item.get("subsystem")
         if snode is None:
             self.report(item.owner_pos, f"{inst.where}: missing key 'subsystem' (the name of the subsystem "
@@ -557,6 +545,7 @@ class _Expander:
                 inst = next(it, None)
                 if inst is None:
                     state[name] = 2
+                    self.post.append(self.defs[name])
                     stack.pop()
                     path.pop()
                     continue
@@ -666,7 +655,14 @@ class _Expander:
         self.resolve_scope(d.scope)
         what = f"controller.subsystems.{d.name}.outputs"
         for o, (key, value) in d.outputs.items():
-            d.out_refs[o] = self.resolve(d.scope, value.value, value, f"{what}.{o}")
+            ref = self.resolve(d.scope, value.value, value, f"{what}.{o}")
+            if ref is not None and ref[0] == "in":
+                self.report(value, f"{what}.{o}: outport {show(o)} passes input {show(ref[1])} on unchanged; "
+                            "an outport takes the signal of one of the subsystem's blocks (where the outport "
+                            "is read, read the instance's input signal instead)")
+                d.scope.broken = True
+                ref = None
+            d.out_refs[o] = ref
         read = {r[1] for r in list(d.scope.refs.values()) + list(d.out_refs.values())
                 if r is not None and r[0] == "in"}
         for name, node in d.inputs:
@@ -675,27 +671,26 @@ class _Expander:
                             "of the subsystem's blocks or outputs; remove it (and its signal from each "
                             f"{SUBSYSTEM} block)")
 
-    def ok(self, d: _Def) -> bool:
-        """Whether ``d`` and every subsystem inside it can be expanded."""
-        if d.ok is None:
-            d.ok = False      # a cycle (already reported) stops here
-            d.ok = not d.scope.broken and all(
-                not e[1].broken and e[1].sub is not None and self.ok(self.defs[e[1].sub])
-                for e in d.scope.entries if e[0] == "inst")
-        return d.ok
+    def nesting(self) -> None:
+        """Which subsystems can be expanded (``ok``), their sizes and
+        depths, each computed after those of the subsystems it uses; a
+        subsystem nested more than :data:`MAX_NESTING` deep is refused."""
+        depth: dict[str, int] = {}
+        for d in self.post:
+            insts = [e[1] for e in d.scope.entries if e[0] == "inst"]
+            inner = [self.defs[i.sub] for i in insts if i.sub in self.defs]
+            depth[d.name] = 1 + max((depth.get(t.name, 0) for t in inner), default=0)
+            if depth[d.name] == MAX_NESTING + 1:
+                self.report(d.key, f"controller.subsystems.{d.name}: subsystem {show(d.name)} nests subsystems "
+                            f"{MAX_NESTING + 1} deep; at most {MAX_NESTING} levels")
+            d.ok = (depth[d.name] <= MAX_NESTING and not d.scope.broken
+                    and all(not i.broken and i.sub in self.defs and self.defs[i.sub].ok for i in insts))
+            d.size = sum(1 for e in d.scope.entries if e[0] != "inst") + sum(t.size or 0 for t in inner)
 
     def size(self, scope: _Scope) -> int:
-        n = 0
-        for e in scope.entries:
-            if e[0] != "inst":
-                n += 1
-            elif e[1].sub is not None and e[1].sub in self.defs:
-                d = self.defs[e[1].sub]
-                if d.size is None:
-                    d.size = 0
-                    d.size = self.size(d.scope)
-                n += d.size
-        return n
+        """The number of blocks of ``scope``, expanded."""
+        return sum(1 if e[0] != "inst" else (self.defs[e[1].sub].size or 0) if e[1].sub in self.defs else 0
+                   for e in scope.entries)
 
     # -- the whole -----------------------------------------------------------------
 
@@ -714,8 +709,7 @@ class _Expander:
         self.recursion()
         for d in self.defs.values():
             self.resolve_def(d)
-        for d in self.defs.values():
-            self.ok(d)
+        self.nesting()
         for e in self.top.entries:
             if e[0] == "inst" and not e[1].broken and (e[1].sub is None or not self.defs[e[1].sub].ok):
                 self.broken(self.top, e[1])
@@ -726,16 +720,8 @@ class _Expander:
                         f"expanded; a diagram has at most {self.limit}")
             return None
         frame = _Frame(self, self.top, "", None, None, None)
-        try:
-            items = self.expand_top(frame)
-            outports = self.rewrite_outports(frame)
-        except _WiringLoop as exc:
-            f = exc.frame
-            self.report(f.inst.name_node, f"{f.inst.where}: a signal of this {SUBSYSTEM} block is wired back "
-                        "to itself through subsystem inputs and outputs, with no block in between "
-                        "(an algebraic loop)")
-            return None
-        return Expansion(tuple(items), outports)
+        items = self.expand_top(frame)
+        return Expansion(tuple(items), self.rewrite_outports(frame))
 
     def expand_top(self, frame: _Frame) -> list[Item]:
         """The expanded top level: each instance's blocks checked for
