@@ -143,6 +143,7 @@ class _Def:
     outputs: dict[str, tuple[YScalar, YNode]] = field(default_factory=dict)   # outport -> (key, signal node)
     out_refs: dict[str, Ref | None] = field(default_factory=dict)
     inputs_ok: bool = True         # its inputs were read without a problem
+    blocks_ok: bool = True         # its blocks are a list of blocks
     used: bool = False
     ok: bool | None = None         # expandable (computed)
     size: int | None = None        # its number of blocks, expanded
@@ -297,14 +298,18 @@ class _Expander:
             if blocks is None:
                 self.report(value.owner_pos, f"{what}: missing key 'blocks' (the subsystem's blocks)")
                 d.scope.broken = True
+                d.blocks_ok = False
             elif isinstance(blocks, YBad):
                 d.scope.broken = True
+                d.blocks_ok = False
             elif not isinstance(blocks, YSeq):
                 self.report(blocks, f"{what}.blocks must be a list of blocks, got {blocks.describe()}")
                 d.scope.broken = True
+                d.blocks_ok = False
             elif not blocks.items:
                 self.report(blocks, f"{what}.blocks must list at least one block")
                 d.scope.broken = True
+                d.blocks_ok = False
             else:
                 self.parse_scope(d.scope, blocks.items)
             self.parse_outputs(d)
@@ -609,8 +614,9 @@ class _Expander:
             return ("port", s, next(iter(d.outputs)))
         if not inner:
             return None if s in self.bad_names else ("outer", s)
-        if s in self.bad_names:
-            scope.broken = True
+        d = self.defs[scope.owner]
+        if s in self.bad_names or not (d.inputs_ok and d.blocks_ok):
+            scope.broken = True       # reported already (a bad name, the subsystem's inputs)
             return None
         hint = did_you_mean(s, list(scope.inputs) + list(scope.plain) + list(scope.insts))
         if not hint and s in self.controller_inputs:
@@ -665,7 +671,7 @@ class _Expander:
             d.out_refs[o] = ref
         read = {r[1] for r in list(d.scope.refs.values()) + list(d.out_refs.values())
                 if r is not None and r[0] == "in"}
-        for name, node in d.inputs:
+        for name, node in d.inputs if d.blocks_ok else ():
             if name not in read:
                 self.report(node, f"controller.subsystems.{d.name}.inputs: input {show(name)} is read by none "
                             "of the subsystem's blocks or outputs; remove it (and its signal from each "
