@@ -299,7 +299,8 @@ class _DiagramChecker:
         # kind
         knode = item.get("block")
         if knode is None:
-            self.err(item.owner_pos, f"{what}: missing key 'block' (the block's kind: {_list(BLOCK_KINDS)})")
+            self.err(item.owner_pos, f"{what}: missing key 'block' (the block's kind: "
+                     f"{_list(BLOCK_KINDS + (SUBSYSTEM,))})")
             b.broken = True
             return b
         kind = self.ck.string(knode, f"{what}.block")

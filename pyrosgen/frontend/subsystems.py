@@ -190,7 +190,9 @@ class _Frame:
         def compute():
             k = [n for n, _ in self.d.inputs].index(a)
             node = self.inst.refs[k]
-            ref = self.parent.scope.refs[id(node)]
+            ref = self.parent.scope.refs.get(id(node))
+            if ref is None:       # a top-level read left to the checker (its problem is reported)
+                return node.value, node
             return self.parent.signal(ref, node)
         return self._memo(("in", a), compute)
 
@@ -435,7 +437,7 @@ class _Expander:
             inst.broken = True
         else:
             name = self.string(nnode, f"{where}.name")
-            problem = identifier_problem(name, global_scope=True) if name is not None else "?"
+            problem = identifier_problem(name, global_scope=True) if name is not None else None
             if name is None:
                 inst.broken = True
             elif problem:
@@ -613,7 +615,8 @@ class _Expander:
                 return self.fail(scope, s)
             return ("port", s, next(iter(d.outputs)))
         if not inner:
-            return None if s in self.bad_names else ("outer", s)
+            known = s in self.controller_inputs or s in scope.plain
+            return ("outer", s) if known or s not in self.bad_names else None
         d = self.defs[scope.owner]
         if s in self.bad_names or not (d.inputs_ok and d.blocks_ok):
             scope.broken = True       # reported already (a bad name, the subsystem's inputs)

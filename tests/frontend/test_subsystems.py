@@ -13,6 +13,7 @@ file:line:col and rule, through the command line too."""
 from __future__ import annotations
 
 import dataclasses
+import random
 import re
 import subprocess
 import sys
@@ -545,3 +546,62 @@ def test_check_command_line(tmp_path):
     assert p.returncode == 0, p.stderr
     assert p.stdout.rstrip().endswith("; controller: a block diagram of 13 blocks (1 state)")
     assert re.search(r"landshark_subsystem\.yaml: ok", p.stdout)
+
+
+def test_an_instance_named_like_an_input_read_by_another_instance(tmp_path):
+    """The refused instance's name stays the controller input's: the
+    other instance reads the input (a crash found by mutating models)."""
+    body = ("  subsystems:\n" + MEDIAN3 + "  blocks:\n"
+            "    - {name: In2, block: Subsystem, subsystem: median3, inputs: [In1, In2, In3]}\n"
+            "    - {name: m, block: Subsystem, subsystem: median3, inputs: [In1, In2, In3]}\n"
+            "  outports: {Out1: m}\n")
+    got, text = refused(tmp_path, body)
+    assert [(l, c) for l, c, _, _ in got] == [at(text, "{name: In2,", "In2, block")]
+    assert "signal 'In2' is driven twice: by this block and by controller input 'In2'" in got[0][2]
+
+
+def _mutants(text: str, seed: int, count: int):
+    """Models made from ``text`` by deleting or copying a line, or
+    replacing a word or a list by another of the model's."""
+    rng = random.Random(seed)
+    toks = sorted(set(re.findall(r"[A-Za-z_][A-Za-z0-9_.]*", text))) + ["", "[]", "{}", "[a]", "x.y", "1"]
+    lines = text.splitlines(keepends=True)
+    for _ in range(count):
+        mutant = list(lines)
+        for _ in range(rng.randint(1, 3)):
+            k = rng.randrange(len(mutant))
+            op = rng.random()
+            if op < 0.15:
+                del mutant[k]
+            elif op < 0.25:
+                mutant.insert(k, mutant[rng.randrange(len(mutant))])
+            else:
+                words = list(re.finditer(r"[A-Za-z_][A-Za-z0-9_.]*|\[[^\]]*\]|\{\}", mutant[k]))
+                if words:
+                    m = rng.choice(words)
+                    mutant[k] = mutant[k][:m.start()] + rng.choice(toks) + mutant[k][m.end():]
+        yield "".join(mutant)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_mutated_models_are_accepted_or_refused_never_crash(tmp_path, seed):
+    """Every mutant of a model with nested subsystems, several instances
+    and both ways of reading an outport is accepted or refused with
+    diagnostics (rule 4.1 or 4.11 for the diagram's part), never a crash."""
+    text = SUBSYS.read_text().replace("  subsystems:\n", "  subsystems:\n" + NESTED.replace(MEDIAN3, ""), 1)
+    text = text.replace("    - {name: setpoint,",
+                        "    - {name: w, block: Subsystem, subsystem: clamped_median, inputs: [In1, In2, In3, err]}\n"
+                        "    - {name: v, block: Sum, inputs: [w.out, w.raw, median]}\n"
+                        "    - {name: setpoint,")
+    p = tmp_path / "m.yaml"
+    p.write_text(text)
+    assert len(load_model(p).controller.diagram.blocks) == 13 + 5 + 1   # w: median3 and c; v
+    refused_count = 0
+    for mutant in _mutants(text, seed, 400):
+        p.write_text(mutant)
+        try:
+            load_model(p)
+        except InvalidNodeModel as exc:
+            refused_count += 1
+            assert all(d.line is not None and d.message for d in exc.diagnostics)
+    assert refused_count > 100
