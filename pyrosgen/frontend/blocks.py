@@ -20,11 +20,12 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 from pyrosgen.errors import show
-from pyrosgen.frontend import ieee
+from pyrosgen.frontend import ieee, subsystems
 from pyrosgen.frontend.model import (
     BLOCK_KINDS, SIGNAL_TYPES, Block, ControllerField, Diagram, Pos, Scalar,
 )
 from pyrosgen.frontend.names import MAX_NAME_LEN, did_you_mean, identifier_problem
+from pyrosgen.frontend.subsystems import SUBSYSTEM
 from pyrosgen.frontend.yamlsrc import YBad, YMap, YNode, YScalar, YSeq
 
 __all__ = ["check_diagram", "MAX_BLOCKS", "MAX_BLOCK_NAME", "INT_RANGES", "scalar_of"]
@@ -163,6 +164,10 @@ class _DiagramChecker:
     def run(self) -> Diagram | None:
         cm = self.cm
         bnode, onode = cm.get("blocks"), cm.get("outports")
+        if bnode is None and cm.get("subsystems") is not None:
+            self.err(cm.key_node("subsystems"), "controller.subsystems without controller.blocks: subsystems "
+                     "are instantiated by Subsystem blocks of a block diagram; remove subsystems, or describe "
+                     "the controller with blocks")
         if bnode is None and onode is None:
             return None
         if bnode is None:
@@ -191,7 +196,15 @@ class _DiagramChecker:
         self.inputs = {f.name: (k, f) for k, f in self.ufields} if self.ufields is not None else {}
         self.outputs = {f.name: (k, f) for k, f in self.yfields} if self.yfields is not None else {}
 
-        blocks = [self.parse_block(i, item) for i, item in enumerate(bnode.items)]
+        # Subsystem blocks, replaced by the blocks of their subsystems
+        # (a front-end expansion: what follows sees ordinary blocks only)
+        expansion = subsystems.expand(
+            self.err, self.ck.string, cm, bnode, onode, {n: k for n, (k, _) in self.inputs.items()},
+            self.bad_names, limit=MAX_BLOCKS, max_name=MAX_BLOCK_NAME)
+        if expansion is None:
+            return None
+        onode = expansion.outports
+        blocks = [self.parse_block(i, item.node, item.where, item.quiet) for i, item in enumerate(expansion.items)]
         blocks = [b for b in blocks if b is not None]
         # names: each signal driven once
         self.by_name: dict[str, _B] = {}
@@ -241,8 +254,20 @@ class _DiagramChecker:
 
     # -- one block -----------------------------------------------------------------
 
-    def parse_block(self, i: int, item: YNode) -> _B | None:
-        what = f"controller.blocks[{i}]"
+    def parse_block(self, i: int, item: YNode, where: str, quiet: bool = False) -> _B | None:
+        """The block ``i`` of the (expanded) diagram, written at ``where``
+        (``controller.blocks[3]``, or the block of a subsystem that it
+        copies); ``quiet``: a later copy of a subsystem's block, whose
+        problems of shape were reported with the first copy (they are the
+        same)."""
+        start = len(self.ck.diags)
+        try:
+            return self.parse_one(i, item, where)
+        finally:
+            if quiet:
+                del self.ck.diags[start:]
+
+    def parse_one(self, i: int, item: YNode, what: str) -> _B | None:
         if isinstance(item, YBad):
             return None
         if not isinstance(item, YMap):
@@ -274,7 +299,8 @@ class _DiagramChecker:
         # kind
         knode = item.get("block")
         if knode is None:
-            self.err(item.owner_pos, f"{what}: missing key 'block' (the block's kind: {_list(BLOCK_KINDS)})")
+            self.err(item.owner_pos, f"{what}: missing key 'block' (the block's kind: "
+                     f"{_list(BLOCK_KINDS + (SUBSYSTEM,))})")
             b.broken = True
             return b
         kind = self.ck.string(knode, f"{what}.block")
@@ -282,8 +308,8 @@ class _DiagramChecker:
             b.broken = True
             return b
         if kind not in KEYS:
-            self.err(knode, f"{what}: unknown block kind {show(kind)}{did_you_mean(kind, BLOCK_KINDS)}; "
-                     f"expected one of {_list(BLOCK_KINDS)}")
+            self.err(knode, f"{what}: unknown block kind {show(kind)}{did_you_mean(kind, BLOCK_KINDS + (SUBSYSTEM,))}; "
+                     f"expected one of {_list(BLOCK_KINDS + (SUBSYSTEM,))}")
             b.broken = True
             return b
         b.kind = kind

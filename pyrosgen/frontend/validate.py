@@ -131,6 +131,7 @@ _SECTION_RULES = (
     ("type of controller", "4.3"),
     ("controller.blocks", "4.11"),
     ("controller.outports", "4.11"),
+    ("controller.subsystems", "4.11"),
     ("controller", "4.3"),
     ("topics", "4.4"),
     ("msg_paths", "4.5"),
@@ -292,7 +293,7 @@ class _Checker:
     def controller_section(self, m: YMap | None):
         if m is None:
             return None, None, (None, None), (None, None)
-        self.keys(m, "controller", ("name", "inputs", "outputs"), ("blocks", "outports"))
+        self.keys(m, "controller", ("name", "inputs", "outputs"), ("blocks", "outports", "subsystems"))
         name = self.ident(m.get("name"), "controller.name", global_scope=True)
         uvar, ufields = self.io_struct(self.mapping(m.get("inputs"), "controller.inputs"), "controller.inputs")
         yvar, yfields = self.io_struct(self.mapping(m.get("outputs"), "controller.outputs"), "controller.outputs")

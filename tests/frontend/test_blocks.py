@@ -313,7 +313,7 @@ def test_every_problem_at_once_through_the_command_line(tmp_path):
     assert lines == [
         f"{path}:13:24: error: controller.blocks[0] (x): unknown block kind 'Gian' (did you mean 'Gain'?); "
         "expected one of Constant, Gain, Sum, Product, Divide, Abs, MinMax, Saturation, RelationalOperator, "
-        "Logic, Switch, UnitDelay, DiscreteIntegrator [rule 4.11]",
+        "Logic, Switch, UnitDelay, DiscreteIntegrator, Subsystem [rule 4.11]",
         f"{path}:14:43: error: controller.blocks[1] (y): type mismatch: input 'I' is int32 but input 'In1' is "
         "float64; the inputs of a Sum block have one type [rule 4.11]",
         f"{path}:15:14: error: controller.blocks[2] (z): algebraic loop: z -> z: each of these blocks needs the "
