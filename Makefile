@@ -59,9 +59,11 @@ mutants: deps proofs
 	@echo "mutants: $$(grep -c '^Theorem [a-z_]*_refuted' coq/tests/MutantsDiagram.v) controller generator mutations refuted by T6 (coq/tests/MutantsDiagram.v)"
 	@$(PY) -m pytest -q -p no:cacheprovider tests/generate/test_seam.py tests/build/test_wrapper_check.py tests/generate/test_verify.py
 
-## test: everything
+## test: everything, in PYTEST_JOBS processes (pytest-xdist; a test file
+## stays in one process, so its module fixtures are built once)
+PYTEST_JOBS ?= 2
 test: deps proofs
-	@$(PY) -m pytest $(PYTEST_ARGS)
+	@$(PY) -m pytest -n $(PYTEST_JOBS) --dist loadfile $(PYTEST_ARGS)
 
 clean:
 	@$(MAKE) --no-print-directory -C coq clean

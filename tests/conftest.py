@@ -67,8 +67,27 @@ def _survivors() -> list[tuple[int, str]]:
     return out
 
 
+#: With pytest-xdist (``make test`` runs ``-n 2``), the survivors each
+#: worker found, reported to the controlling process.
+_WORKER_SURVIVORS: list[tuple[int, str]] = []
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_testnodedown(node, error):
+    """(xdist, in the controlling process) a worker ended: keep what it
+    found still running."""
+    _WORKER_SURVIVORS.extend((int(p), str(w)) for p, w in getattr(node, "workeroutput", {}).get("survivors", []))
+
+
 def pytest_sessionfinish(session, exitstatus):
     survivors = _survivors()
+    workeroutput = getattr(session.config, "workeroutput", None)
+    if workeroutput is not None:
+        # an xdist worker: its exit status is not the run's, so the
+        # controlling process reports (pytest_testnodedown)
+        workeroutput["survivors"] = [[pid, what] for pid, what in survivors]
+        return
+    survivors += _WORKER_SURVIVORS
     if survivors:
         session.config.pluginmanager.get_plugin("terminalreporter").write_line(
             f"error: processes started by the tests still running: {survivors}", red=True
