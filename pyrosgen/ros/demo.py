@@ -36,35 +36,49 @@ def run(out_dir: Path, duration: float = 12.0, spoof: str = "5:10") -> int:
     if not binary.is_file():
         _say(f"error: {binary} not found: run pyrosgen build first")
         return 2
-    with tempfile.TemporaryDirectory(prefix="pyrosgen-demo-") as tmp:
+    return run_node_with_driver(
+        binary, "50 Hz", [str(SIM), "--duration", str(duration), "--spoof", spoof],
+        "simulated robot", "the simulator", duration, "pyrosgen-demo-")
+
+
+def run_node_with_driver(binary: Path, node_note: str, driver: list[str], driver_name: str,
+                         driver_the: str, duration: float, prefix: str) -> int:
+    """Start a private rosmaster, the node ``binary`` and the driver script
+    (``driver``: its path and arguments, run by Debian's /usr/bin/python3),
+    forward the driver's lines (not rospy's log lines) while it runs (at
+    most ``duration`` + 60 s), and stop everything started, by PID.  The
+    exit code is the driver's, 2 if it did not finish in time or the node
+    died (its log's end is shown).  ``driver_name`` and ``driver_the``
+    name the driver in the progress lines."""
+    with tempfile.TemporaryDirectory(prefix=prefix) as tmp:
         home = Path(tmp)
         with ros_master(home) as env:
             _say(f"rosmaster on {env.uri} (pid {env.proc.pid})")
             node_log = home / "node.log"
             with open(node_log, "wb") as log:
                 node = env.spawn([str(binary)], stdout=log, stderr=subprocess.STDOUT)
-            _say(f"node {binary} (pid {node.pid}), 50 Hz")
-            sim = env.spawn(["/usr/bin/python3", str(SIM), "--duration", str(duration), "--spoof", spoof],
+            _say(f"node {binary} (pid {node.pid}), {node_note}")
+            drv = env.spawn(["/usr/bin/python3", *driver],
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1)
-            _say(f"simulated robot (pid {sim.pid})")
+            _say(f"{driver_name} (pid {drv.pid})")
             deadline = time.monotonic() + duration + 60
-            assert sim.stdout is not None
-            for line in sim.stdout:
+            assert drv.stdout is not None
+            for line in drv.stdout:
                 if not line.startswith("[") and "rospy" not in line:  # skip rospy's log lines
                     print(line.rstrip("\n"), flush=True)
                 if time.monotonic() > deadline:
                     break
             try:
-                code = sim.wait(max(1.0, deadline - time.monotonic()))
+                code = drv.wait(max(1.0, deadline - time.monotonic()))
             except subprocess.TimeoutExpired:
-                stop_process(sim)
-                _say("error: the simulator did not finish in time")
+                stop_process(drv)
+                _say(f"error: {driver_the} did not finish in time")
                 code = 2
             if node.poll() is not None:
                 _say(f"error: the node exited with {node.returncode}; its log:")
                 print(node_log.read_text(errors="replace")[-2000:], flush=True)
                 code = code or 2
-            _say("stopping the simulator, the node and rosmaster")
+            _say(f"stopping {driver_the}, the node and rosmaster")
         _say("all processes stopped")
     return code
 

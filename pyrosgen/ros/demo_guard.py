@@ -20,13 +20,10 @@ from __future__ import annotations
 
 import argparse
 import signal
-import subprocess
 import sys
-import tempfile
-import time
 from pathlib import Path
 
-from pyrosgen.ros.rosmaster import ros_master, stop_process
+from pyrosgen.ros.demo import run_node_with_driver
 
 SOURCES = Path(__file__).resolve().parent / "demo_guard_sim.py"
 NODE = "velocity_guard"
@@ -42,38 +39,10 @@ def run(out_dir: Path, teleop_stop: float = 2.0, nav_stop: float = 4.0, duration
     if not binary.is_file():
         _say(f"error: {binary} not found: run pyrosgen build {GUARD_MODEL} -o {out_dir} first")
         return 1
-    with tempfile.TemporaryDirectory(prefix="pyrosgen-demo-guard-") as tmp:
-        home = Path(tmp)
-        with ros_master(home) as env:
-            _say(f"rosmaster on {env.uri} (pid {env.proc.pid})")
-            node_log = home / "node.log"
-            with open(node_log, "wb") as log:
-                node = env.spawn([str(binary)], stdout=log, stderr=subprocess.STDOUT)
-            _say(f"node {binary} (pid {node.pid}), 50 Hz, teleop and nav time out after 500 ms")
-            src = env.spawn(["/usr/bin/python3", str(SOURCES), "--teleop-stop", str(teleop_stop),
-                             "--nav-stop", str(nav_stop), "--duration", str(duration)],
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1)
-            _say(f"command sources (pid {src.pid})")
-            deadline = time.monotonic() + duration + 60
-            assert src.stdout is not None
-            for line in src.stdout:
-                if not line.startswith("[") and "rospy" not in line:  # skip rospy's log lines
-                    print(line.rstrip("\n"), flush=True)
-                if time.monotonic() > deadline:
-                    break
-            try:
-                code = src.wait(max(1.0, deadline - time.monotonic()))
-            except subprocess.TimeoutExpired:
-                stop_process(src)
-                _say("error: the command sources did not finish in time")
-                code = 2
-            if node.poll() is not None:
-                _say(f"error: the node exited with {node.returncode}; its log:")
-                print(node_log.read_text(errors="replace")[-2000:], flush=True)
-                code = code or 2
-            _say("stopping the command sources, the node and rosmaster")
-        _say("all processes stopped")
-    return code
+    return run_node_with_driver(
+        binary, "50 Hz, teleop and nav time out after 500 ms",
+        [str(SOURCES), "--teleop-stop", str(teleop_stop), "--nav-stop", str(nav_stop), "--duration", str(duration)],
+        "command sources", "the command sources", duration, "pyrosgen-demo-guard-")
 
 
 class _Parser(argparse.ArgumentParser):
