@@ -897,39 +897,34 @@ Proof.
     intros y N. eapply mval_get_set_disjoint; eauto. simpl. left. congruence. }
   assert (FRM: forall mm', mem_next mm' = mem_next mm -> (forall b', b' <> bu -> get_block mm' b' = get_block mm b') -> fr mm').
   { intros mm' N O. destruct Fr as [Fn Fo]. split; [congruence|]. intros b' Nb. rewrite O by auto. auto. }
+  (* is_new and received: a flag copied through [_t_uchar] *)
+  assert (FLAG: forall v e, derived_prim (dr_kind dr) = Pbool ->
+            val_has_type v (ctype_of_prim Pbool) -> eval_expr ge [] le mm e = Some v ->
+            exists le' mm' u',
+               exec_stmt ctx ge [] le mm w (copy Pbool (derived_dst m (make_tables m) dr) e) [] le' mm' w Out_normal
+            /\ le_ok le' /\ fr mm' /\ get_block mm' bu = Some (UT, u') /\ mval_has_type ce UT u'
+            /\ mval_get u' [Sfield (dr_input dr)] = Some (MVscalar v)
+            /\ (forall y, y <> dr_input dr -> mval_get u' [Sfield y] = mval_get u [Sfield y])).
+  { intros v e KP Tv E. rewrite KP in I.
+    assert (Tp: type_at ce UT [Sfield (dr_input dr)] = Some (ctype_of_prim Pbool)).
+    { cbn [type_at]. rewrite type_step_field, (field_type_inputs m W _ _ I). auto. }
+    assert (Hx: mval_has_type ce (ctype_of_prim Pbool) (MVscalar v)) by (constructor; auto).
+    destruct (store_typed ce mm bu UT u [Sfield (dr_input dr)] _ _ G Hu Tp Hx) as (mm' & u' & S & Sv & G' & Hu' & N' & O').
+    exists (set_assoc (temp_name Pbool) v le), mm', u'.
+    destruct (FR mm' u' (FRM mm' N' O') G' Hu' v Sv) as [A B].
+    refine (conj _ (conj _ (conj _ (conj _ (conj _ (conj A B)))))); auto.
+    + eapply exec_copy; eauto.
+      * change [Sfield (dr_input dr)] with ([] ++ [Sfield (dr_input dr)]). eapply eval_lvalue_field; [reflexivity|].
+        unfold in_var_expr. eapply eval_lvalue_global_struct; eauto.
+      * unfold derived_dst. simpl. rewrite Pq, KP. auto.
+    + apply le_ok_set; auto. discriminate. }
   destruct (dr_kind dr) eqn:K.
   - (* is_new *)
-    set (v := Vint (if fst (ck (dr_topic dr)) then 1 else 0)).
-    assert (Tv: val_has_type v (ctype_of_prim Pbool)) by (unfold v; destruct (fst (ck (dr_topic dr))); reflexivity).
-    assert (Tp: type_at ce UT [Sfield (dr_input dr)] = Some (ctype_of_prim Pbool)).
-    { cbn [type_at]. rewrite type_step_field, (field_type_inputs m W _ _ I). auto. }
-    assert (Hx: mval_has_type ce (ctype_of_prim Pbool) (MVscalar v)) by (constructor; auto).
-    destruct (store_typed ce mm bu UT u [Sfield (dr_input dr)] _ _ G Hu Tp Hx) as (mm' & u' & S & Sv & G' & Hu' & N' & O').
-    exists (set_assoc (temp_name Pbool) v le), mm', u'.
-    destruct (FR mm' u' (FRM mm' N' O') G' Hu' v Sv) as [A B].
-    refine (conj _ (conj _ (conj _ (conj _ (conj _ (conj A B)))))); auto.
-    + eapply exec_copy; eauto.
-      * rewrite <- Ec. unfold v. rewrite <- Ec. apply eval_new; auto.
-      * change [Sfield (dr_input dr)] with ([] ++ [Sfield (dr_input dr)]). eapply eval_lvalue_field; [reflexivity|].
-        unfold in_var_expr. eapply eval_lvalue_global_struct; eauto.
-      * unfold derived_dst. simpl. rewrite Pq. auto.
-    + apply le_ok_set; auto. discriminate.
+    apply FLAG; [try rewrite K; reflexivity|destruct (fst (ck (dr_topic dr))); reflexivity|].
+    rewrite <- Ec. apply eval_new; auto.
   - (* received *)
-    set (v := Vint (match snd (ck (dr_topic dr)) with Some _ => 1 | None => 0 end)).
-    assert (Tv: val_has_type v (ctype_of_prim Pbool)) by (unfold v; destruct (snd (ck (dr_topic dr))); reflexivity).
-    assert (Tp: type_at ce UT [Sfield (dr_input dr)] = Some (ctype_of_prim Pbool)).
-    { cbn [type_at]. rewrite type_step_field, (field_type_inputs m W _ _ I). auto. }
-    assert (Hx: mval_has_type ce (ctype_of_prim Pbool) (MVscalar v)) by (constructor; auto).
-    destruct (store_typed ce mm bu UT u [Sfield (dr_input dr)] _ _ G Hu Tp Hx) as (mm' & u' & S & Sv & G' & Hu' & N' & O').
-    exists (set_assoc (temp_name Pbool) v le), mm', u'.
-    destruct (FR mm' u' (FRM mm' N' O') G' Hu' v Sv) as [A B].
-    refine (conj _ (conj _ (conj _ (conj _ (conj _ (conj A B)))))); auto.
-    + eapply exec_copy; eauto.
-      * unfold v. rewrite <- Ec. apply eval_rcvd; auto.
-      * change [Sfield (dr_input dr)] with ([] ++ [Sfield (dr_input dr)]). eapply eval_lvalue_field; [reflexivity|].
-        unfold in_var_expr. eapply eval_lvalue_global_struct; eauto.
-      * unfold derived_dst. simpl. rewrite Pq. auto.
-    + apply le_ok_set; auto. discriminate.
+    apply FLAG; [try rewrite K; reflexivity|destruct (snd (ck (dr_topic dr))); reflexivity|].
+    rewrite <- Ec. apply eval_rcvd; auto.
   - (* age_ms *)
     set (age := age_ns (snd (ck (dr_topic dr))) now).
     set (le1 := set_assoc age_temp (Vlong age) le).
