@@ -1,6 +1,8 @@
 """A node whose controller is a block diagram, on a real master:
 ``pyrosgen build`` without ``--controller`` (the controller C printed by
-Coq from examples/landshark/landshark_diagram.yaml), driven by rospy.
+Coq from examples/landshark/landshark_diagram.yaml, and from
+landshark_subsystem.yaml, the same diagram with subsystems), driven by
+rospy.
 
 With steady readings, one of them a spoofed GPS at 3x the wheel speed, the
 published command settles on the value the diagram's reference
@@ -21,6 +23,7 @@ from support import ros as rosutil
 from support.ros import dbits, start_node
 
 DIAGRAM = rosutil.ROOT / "examples" / "landshark" / "landshark_diagram.yaml"
+SUBSYSTEM = rosutil.ROOT / "examples" / "landshark" / "landshark_subsystem.yaml"
 
 pytestmark = pytest.mark.ros
 
@@ -44,13 +47,25 @@ def _steady(diagram, inputs, steps=2000) -> int:
     return y["Out1"]
 
 
-def test_diagram_node_steady_state(ros, diagram_node, tmp_path):
+@pytest.fixture(scope="module")
+def subsystem_node(nodes_dir):
+    """The same diagram written with subsystems (median3, nan_to_zero)."""
+    out = nodes_dir / "landshark_subsystem"
+    build(SUBSYSTEM, None, out)
+    return out
+
+
+@pytest.mark.parametrize("which", ["flat", "subsystems"])
+def test_diagram_node_steady_state(ros, which, request, tmp_path):
+    """The node settles on blocksim's command, for the flat diagram and for
+    the one with subsystems (blocksim runs the flat diagram in both)."""
+    node = request.getfixturevalue("diagram_node" if which == "flat" else "subsystem_node")
     diagram = load_model(DIAGRAM).controller.diagram
     left, right, gps = 1.4, 1.5, 4.5
     expected = _steady(diagram, (left, right, gps))
     assert expected == _steady(diagram, (left, right, 1.55))          # honest GPS: same command
     assert expected != _steady(diagram, ((left + right + gps) / 3,) * 3)  # a mean would differ
-    start_node(ros, diagram_node / "bin" / "landshark_controller", tmp_path / "node.log")
+    start_node(ros, node / "bin" / "landshark_controller", tmp_path / "node.log")
     # the integrator goes from 0 to its bound -0.5 in 100 steps (2 s)
     rosutil.landshark_settles_on(ros, tmp_path, (left, right, gps), expected, settle=5.0)
 
