@@ -22,19 +22,29 @@ STAMPED = ROOT / "examples" / "landshark" / "landshark_stamped.yaml"
 STAMPS = '[("landshark_control_base_velocity", [PField "header"; PField "stamp"])]'
 
 
+def _generated(tmp_path_factory, model, name):
+    """``model`` generated once into a fresh folder."""
+    require_library()
+    out = tmp_path_factory.mktemp(name) / "out"
+    assert cli.main(["generate", str(model), "-o", str(out), "-q"]) == 0
+    return out
+
+
+def _output_glue(c: str) -> tuple[str, list[str]]:
+    """The body of the base_velocity output glue, and its lines stripped."""
+    body = c[c.index("void output_glue_landshark_control_base_velocity(struct geometry_msgs_TwistStamped *command)\n{"):]
+    body = body[:body.index("\n}\n")]
+    return body, [ln.strip() for ln in body.splitlines()]
+
+
 @pytest.fixture(scope="module")
 def stamped(tmp_path_factory):
-    require_library()
-    out = tmp_path_factory.mktemp("stamped") / "out"
-    assert cli.main(["generate", str(STAMPED), "-o", str(out), "-q"]) == 0
-    return out
+    return _generated(tmp_path_factory, STAMPED, "stamped")
 
 
 def test_glue_stamps_after_the_copies(stamped):
     c = (stamped / "landshark_stamped_glue.c").read_text()
-    body = c[c.index("void output_glue_landshark_control_base_velocity(struct geometry_msgs_TwistStamped *command)\n{"):]
-    body = body[:body.index("\n}\n")]
-    lines = [ln.strip() for ln in body.splitlines()]
+    body, lines = _output_glue(c)
     copy = lines.index("(*command).twist.linear.x = _t_double;")
     assert lines[copy + 1:copy + 5] == [
         "_t_uint = ros_time_sec();", "(*command).header.stamp.sec = _t_uint;",
@@ -94,17 +104,12 @@ SOURCE = '[("landshark_control_base_velocity", ("landshark_gps_velocity", [PFiel
 
 @pytest.fixture(scope="module")
 def copied(tmp_path_factory):
-    require_library()
-    out = tmp_path_factory.mktemp("copied") / "out"
-    assert cli.main(["generate", str(COPIED), "-o", str(out), "-q"]) == 0
-    return out
+    return _generated(tmp_path_factory, COPIED, "copied")
 
 
 def test_glue_copies_the_gps_stamp(copied):
     c = (copied / "landshark_gps_stamped_glue.c").read_text()
-    body = c[c.index("void output_glue_landshark_control_base_velocity(struct geometry_msgs_TwistStamped *command)\n{"):]
-    body = body[:body.index("\n}\n")]
-    lines = [ln.strip() for ln in body.splitlines()]
+    body, lines = _output_glue(c)
     copy = lines.index("(*command).twist.linear.x = _t_double;")
     assert lines[copy + 1:copy + 5] == [
         "_t_uint = landshark_gps_velocity_msg.header.stamp.sec;", "(*command).header.stamp.sec = _t_uint;",

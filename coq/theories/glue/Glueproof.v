@@ -239,6 +239,28 @@ Proof.
   - cbn [eval_lvalue]. unfold lvalue_var. simpl. rewrite V. destruct ty; auto; discriminate.
 Qed.
 
+(** [x = f();] for an external [f] of the ROS API that answers [v]
+    without an event or an effect. *)
+Lemma exec_call0_external:
+  forall (CS : Type) (ctx : ros_context CS) (w : world CS) le mm1 f ef ty x v,
+  find_def p f = Some (Gfun (External ef [] ty)) ->
+  (forall mm0, external_call ctx ge ef [] mm0 w = Some (v, [], mm0, w)) ->
+  exec_stmt ctx ge [] le mm1 w (Scall (Some x) (Evar f (Tfunction [] ty)) []) [] (set_assoc x v le) mm1 w Out_normal.
+Proof.
+  intros CS ctx w le mm1 f ef ty x v F EC.
+  change (set_assoc x v le) with (set_opttemp (Some x) v le).
+  eapply exec_Scall.
+  - cbn [eval_expr]. unfold eval_funcname. simpl.
+    destruct (find_var ge f) as [[bf tf]|] eqn:V.
+    + apply find_var_globalenv in V; [congruence|exact ND].
+    + rewrite (gen_funct _ _ F). reflexivity.
+  - apply gen_funct; exact F.
+  - reflexivity.
+  - reflexivity.
+  - reflexivity.
+  - apply eval_funcall_external. apply EC.
+Qed.
+
 (** [x = ros_now();] *)
 Lemma exec_now_call:
   forall (CS : Type) (ctx : ros_context CS) (w : world CS) le mm1 x,
@@ -246,18 +268,8 @@ Lemma exec_now_call:
   exec_stmt ctx ge [] le mm1 w (now_call x) [] (set_assoc x (Vlong (clock (w_time w))) le) mm1 w Out_normal.
 Proof.
   intros CS ctx w le mm1 x NE.
-  assert (F := generate_now_external m p GEN NE).
-  change (set_assoc x (Vlong (clock (w_time w))) le) with (set_opttemp (Some x) (Vlong (clock (w_time w))) le).
-  eapply exec_Scall.
-  - cbn [eval_expr]. unfold eval_funcname. simpl.
-    destruct (find_var ge ros_now_name) as [[bf tf]|] eqn:V.
-    + apply find_var_globalenv in V; [congruence|exact ND].
-    + rewrite (gen_funct _ _ F). reflexivity.
-  - apply gen_funct; exact F.
-  - reflexivity.
-  - reflexivity.
-  - reflexivity.
-  - apply eval_funcall_external. reflexivity.
+  apply (exec_call0_external CS ctx w le mm1 _ _ _ x _ (generate_now_external m p GEN NE)).
+  reflexivity.
 Qed.
 
 (** Replacing the value of a global by a value of its type keeps the
@@ -1383,18 +1395,7 @@ Lemma exec_time_call:
   (forall mm0, external_call ctx ge ef [] mm0 w = Some (Vint x, [], mm0, w)) ->
   exec_stmt ctx ge [] le mm1 w (time_call f) [] (set_assoc (temp_name Puint32) (Vint x) le) mm1 w Out_normal.
 Proof.
-  intros CS ctx w le mm1 f ef x F EC.
-  change (set_assoc (temp_name Puint32) (Vint x) le) with (set_opttemp (Some (temp_name Puint32)) (Vint x) le).
-  eapply exec_Scall.
-  - cbn [eval_expr]. unfold eval_funcname. simpl.
-    destruct (find_var ge f) as [[bf tf]|] eqn:V.
-    + apply find_var_globalenv in V; [congruence|exact ND].
-    + rewrite (gen_funct _ _ F). reflexivity.
-  - apply gen_funct; exact F.
-  - reflexivity.
-  - reflexivity.
-  - reflexivity.
-  - apply eval_funcall_external. apply EC.
+  intros CS ctx w le mm1 f ef x F EC. apply (exec_call0_external CS ctx w le mm1 f ef); auto.
 Qed.
 
 Lemma exec_assign_uint:
