@@ -58,6 +58,12 @@ def cmd_check(args: argparse.Namespace) -> int:
                  f"{_plural(len(model.derived_relations), 'derived input')}")
     if model.stamps:
         ctrl += f"; stamped: {_plural(len(model.stamps), 'published topic')}"
+    consts = [(t, s) for t in model.topics for s in t.strings]
+    if consts:
+        from pyrosgen.errors import show
+
+        ctrl += f"; {_plural(len(consts), 'constant string')}: " + ", ".join(
+            f"{t.name} {s.path_text} = {show(s.value)}" for t, s in consts)
     print(
         f"{args.model}: ok: node {model.name}, {_plural(len(model.topics), 'topic')}, "
         f"{_plural(len(model.input_relations), 'input relation')}, "

@@ -139,6 +139,8 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
                 "glue": t.output_glue,
                 "cmd": t.cmd_var,
                 "publish": t.publish_fn,
+                # constant strings (rule 4.14), shown on the topic
+                "strings": [{"path": c.path_text, "value": c.value} for c in t.strings],
             }
         )
         glue_of.setdefault(t.name, f"og{i}")

@@ -36,6 +36,7 @@ __all__ = [
     "ON_TIMEOUT_POLICIES",
     "MAX_TIMEOUT_MS",
     "OutputRelation",
+    "StringConstant",
     "NodeModel",
 ]
 
@@ -316,6 +317,31 @@ class TopicNames:
 
 
 @dataclass(frozen=True)
+class StringConstant:
+    """A constant string of a published topic (rule 4.14): every message
+    the node publishes on the topic carries ``value`` in the ``string``
+    field at ``path`` (names and constant indices from the message, e.g.
+    ``('header', 'frame_id')``)."""
+
+    path: tuple[str | int, ...]
+    value: str
+    pos: Pos = field(default=_NOPOS, compare=False, repr=False)
+
+    @property
+    def data(self) -> bytes:
+        """The bytes the field holds: ``value`` in UTF-8."""
+        return self.value.encode("utf-8")
+
+    @property
+    def path_text(self) -> str:
+        """The path as a model writes it: ``header.frame_id``, ``a[2].b``."""
+        out = ""
+        for s in self.path:
+            out += f"[{s}]" if isinstance(s, int) else ("." if out else "") + s
+        return out
+
+
+@dataclass(frozen=True)
 class Topic(TopicNames):
     """A topic the node subscribes to or publishes.
 
@@ -340,6 +366,9 @@ class Topic(TopicNames):
     #: the topic's ``on_timeout`` policy, ``'hold'`` or ``'zero'`` (the
     #: default), when it has a timeout; ``None`` otherwise
     on_timeout: str | None = None
+    #: the constant strings of a published topic (rule 4.14), in the
+    #: order the model writes them
+    strings: tuple[StringConstant, ...] = ()
 
     @property
     def is_subscribed(self) -> bool:
@@ -513,6 +542,13 @@ class NodeModel:
         by_name = {t.name: t for t in self.topics}
         return tuple((t.c_name, (by_name[t.stamp_from].c_name, ("header", "stamp")))
                      for t in self.topics if t.stamped and t.stamp_from is not None)
+
+    @property
+    def strings(self) -> tuple[tuple[str, tuple[str | int, ...], bytes], ...]:
+        """``(topic C name, path of the string field, its bytes)`` of each
+        constant string (rule 4.14), in topic order, then in the order the
+        model writes them (``NodeModel.nm_strings``)."""
+        return tuple((t.c_name, s.path, s.data) for t in self.topics for s in t.strings)
 
     def derived_relation(self, input_field: str) -> DerivedRelation:
         """The derived relation feeding controller input ``input_field``."""

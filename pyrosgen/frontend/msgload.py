@@ -11,8 +11,13 @@ turns them into the *carried* view that the generators use:
   nested message carries at least one field;
 - ``time`` and ``duration`` are the pseudo message types :data:`TIME` and
   :data:`DURATION` (``sec``/``nsec``, 32-bit);
-- strings, variable-length (and bounded) arrays, and fields of other base
-  types are dropped.
+- a ``string`` field is carried, as the bounded struct ``ros_string128``
+  (:func:`~pyrosgen.frontend.msgmodel.string_type`), exactly when the
+  model gives it a constant (rule 4.14: :attr:`MsgRegistry.carry_strings`
+  names it by its message type and field name); every other string is
+  dropped;
+- variable-length (and bounded) arrays, arrays of strings and fields of
+  other base types are dropped.
 
 It also resolves field paths such as ``pose.covariance[35]`` against the
 original definitions, so that naming a dropped field is reported with the
@@ -37,13 +42,18 @@ from pyrosgen.frontend.msgmodel import (
     PRIMITIVES,
     ROS1_ALIASES,
     _PSEUDO,
+    is_string_type,
     leaf_paths,
     msg_c_name,
+    string_type,
+    string_type_name,
 )
 
 __all__ = [
     "MsgRegistry",
     "PathError",
+    "StringPathError",
+    "StringTarget",
 ]
 
 # --------------------------------------------------------------------------
@@ -176,6 +186,22 @@ class PathError(Exception):
     """A field path that does not name a carried leaf (message in ``args[0]``)."""
 
 
+class StringPathError(PathError):
+    """A relation's field path that names a ``string`` field or goes inside
+    one: strings never meet the controller (rule 4.14)."""
+
+
+@dataclass(frozen=True)
+class StringTarget:
+    """A ``string`` field named by a constant (rule 4.14): ``steps`` from
+    the topic's message to the field (names and constant indices),
+    ``owner`` the message type that defines the field, ``field`` its name."""
+
+    steps: tuple[str | int, ...]
+    owner: str
+    field: str
+
+
 @dataclass
 class MsgRegistry:
     """The message definitions one model can use: the standard ROS 1 Noetic
@@ -190,6 +216,16 @@ class MsgRegistry:
     _broken: set[str] = field(default_factory=set)
     _typestore: object = None
     failed: set[str] = field(default_factory=set)
+    #: the ``string`` fields that are carried (rule 4.14), as (message
+    #: type, field name): those the model's constants name
+    carry_strings: frozenset[tuple[str, str]] = frozenset()
+
+    def set_carried_strings(self, fields) -> None:
+        """Carry the ``string`` fields ``fields`` ((message type, field
+        name) pairs) and forget the carried views computed so far."""
+        self.carry_strings = frozenset(fields)
+        self._carried.clear()
+        self._broken.clear()
 
     # -- loading -----------------------------------------------------------
 
@@ -343,6 +379,8 @@ class MsgRegistry:
         broken (see :meth:`is_broken`; the problem is in ``diagnostics``)."""
         if name in _PSEUDO:
             return _PSEUDO[name]
+        if is_string_type(name):
+            return string_type(int(name[len("ros_string"):]))
         if name in self._carried:
             return self._carried[name]
         raw = self.raw(name)
@@ -380,6 +418,8 @@ class MsgRegistry:
                 if f.card == "sequence" or (f.card == "array" and f.size == 0):
                     continue
                 mf = MsgField(f.name, "prim", prim=f.base, array_len=f.size if f.card == "array" else None)
+            elif f.base_kind == "string" and f.card == "scalar" and (name, f.name) in self.carry_strings:
+                mf = MsgField(f.name, "msg", msg=string_type_name())
             else:
                 continue
             if raw.file is not None:
@@ -483,9 +523,10 @@ class MsgRegistry:
                     f"(it is {_article(f.base)} {f.base}), it cannot be indexed"
                 )
             if f.base_kind == "string":
-                raise PathError(
+                raise StringPathError(
                     f"field path {show(text)}: {show(shown)} is a string; "
-                    "strings are not carried by the glue"
+                    "strings are not carried by the glue to or from the controller (a published "
+                    "topic gives a string field a constant with its frame_id or strings key)"
                 )
             if f.base_kind == "unsupported":
                 raise PathError(
@@ -503,8 +544,8 @@ class MsgRegistry:
             sub = self.carried(f.base)
             if last:
                 example = ""
-                if sub is not None:
-                    leaf = leaf_paths(sub, self.messages())[0]
+                leaf = _ros_leaf(sub, self.messages()) if sub is not None else None
+                if leaf is not None:
                     example = f"; name one of its leaf fields, e.g. {show(shown + '.' + str(leaf))}"
                 raise PathError(
                     f"field path {show(text)}: {show(shown)} is a whole sub-message "
@@ -519,6 +560,124 @@ class MsgRegistry:
             assert nxt is not None
             cur = nxt
         raise PathError(f"field path {show(text)} is empty")  # pragma: no cover
+
+
+    def walk_string_path(self, type_name: str, text: object) -> StringTarget:
+        """Resolve field path ``text`` in message type ``type_name`` to a
+        ``string`` field (rule 4.14), through nested messages and
+        fixed-size arrays of messages, on the definitions as written (a
+        string need not be carried yet); raises :class:`PathError` saying
+        why not."""
+        steps = parse_path(text)
+        cur = self.raw(type_name)
+        assert cur is not None
+        out: list[str | int] = []
+        shown = ""
+        for i, (fname, index) in enumerate(steps):
+            last = i == len(steps) - 1
+            f = cur.field(fname)
+            if f is None:
+                names = [x.name for x in cur.fields]
+                owner = f"{cur.name} (at {show(shown)})" if shown else cur.name
+                raise PathError(
+                    f"field path {show(text)}: message type {owner} has no field "
+                    f"{show(fname)}{did_you_mean(fname, names)}"
+                )
+            shown = f"{shown}.{fname}" if shown else fname
+            out.append(fname)
+            ftype = f.type_text()
+            if f.card == "sequence":
+                raise PathError(
+                    f"field path {show(text)}: {show(shown)} is a variable-length array "
+                    f"({ftype}); a constant string is not reached through a variable-length array"
+                )
+            if f.card == "array" and f.base_kind == "string":
+                raise PathError(
+                    f"field path {show(text)}: {show(shown)} is an array of strings ({ftype}); "
+                    "a constant is given to a single string field"
+                )
+            if f.card == "array":
+                if index is None:
+                    hint = f"{shown}[0]" + ("" if last else "." + ".".join(s for s, _ in steps[i + 1 :]))
+                    raise PathError(
+                        f"field path {show(text)}: {show(shown)} is an array ({ftype}); "
+                        f"name one element with a constant index, e.g. {show(hint)}"
+                    )
+                if index >= f.size:
+                    valid = f"valid indices are 0..{f.size - 1}" if f.size else "it has no elements"
+                    raise PathError(
+                        f"field path {show(text)}: index {index} is out of range for "
+                        f"{show(shown)} ({ftype}; {valid})"
+                    )
+                shown += f"[{index}]"
+                out.append(index)
+            elif index is not None:
+                if f.base_kind == "string":
+                    raise PathError(
+                        f"field path {show(text)}: {show(shown)} is a string, not an array: "
+                        f"a constant sets the whole string (name {show(shown)})"
+                    )
+                raise PathError(
+                    f"field path {show(text)}: {show(shown)} is not an array "
+                    f"(it is {_article(f.base)} {f.base}), it cannot be indexed"
+                )
+            if f.base_kind == "string":
+                if not last:
+                    raise PathError(
+                        f"field path {show(text)}: {show(shown)} is a string; a constant sets the "
+                        "whole string, a path does not go inside it (len, truncated and data are "
+                        "fields of its C struct, not of the ROS message)"
+                    )
+                return StringTarget(tuple(out), cur.name, f.name)
+            if f.base_kind in ("prim", "unsupported"):
+                if last:
+                    raise PathError(
+                        f"field path {show(text)}: {show(shown)} is {_article(f.base)} {f.base}, "
+                        "not a string"
+                    )
+                raise PathError(
+                    f"field path {show(text)}: {show(shown)} is {_article(f.base)} "
+                    f"{f.base}, it has no field {show(steps[i + 1][0])}"
+                )
+            nxt = self.raw(f.base)
+            if nxt is None:
+                raise PathError(
+                    f"field path {show(text)}: {show(shown)} has the unknown message type {show(f.base)}"
+                )
+            if last:
+                example = next((x.name for x in nxt.fields if x.base_kind == "string" and x.card == "scalar"),
+                               None)
+                hint = f"; e.g. {show(shown + '.' + example)}" if example else ""
+                raise PathError(
+                    f"field path {show(text)}: {show(shown)} is a whole sub-message "
+                    f"({f.base}), not a string field{hint}"
+                )
+            cur = nxt
+        raise PathError(f"field path {show(text)} is empty")  # pragma: no cover
+
+
+def _ros_leaf(t: MsgType, messages) -> FieldPath | None:
+    """The first leaf of ``t`` that is a field of the ROS message (not one
+    of a carried string's struct), or ``None``."""
+    for p in leaf_paths(t, messages):
+        if not _inside_string(t, p, messages):
+            return p
+    return None
+
+
+def _inside_string(t: MsgType, p: FieldPath, messages) -> bool:
+    """Whether leaf path ``p`` of ``t`` goes through a carried string."""
+    cur: MsgType | None = t
+    for s in p.steps:
+        if isinstance(s, int) or cur is None:
+            continue
+        f = cur.field(s)
+        if f is None or f.kind != "msg":
+            return False
+        if is_string_type(f.msg):
+            return True
+        cur = _PSEUDO.get(f.msg) or messages.get(f.msg)
+    return False
 
 
 def _display(path) -> str:

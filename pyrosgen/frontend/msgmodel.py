@@ -10,6 +10,7 @@ builds these values from rosbags and ``.msg`` files.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
@@ -28,6 +29,10 @@ __all__ = [
     "MAX_MSG_DEPTH",
     "MsgField",
     "MsgType",
+    "STRING_CAPACITY",
+    "string_type_name",
+    "string_type",
+    "is_string_type",
     "FieldPath",
     "TIME",
     "DURATION",
@@ -160,11 +165,21 @@ class MsgType:
     name: str
     c_name: str
     fields: tuple[MsgField, ...]
+    #: a carried ROS ``string`` (rule 4.14): the bounded struct
+    #: ``ros_string<N>`` of :func:`string_type`, ``N`` its capacity in
+    #: bytes; ``None`` for every other type
+    string_capacity: int | None = None
 
     @property
     def is_pseudo(self) -> bool:
-        """Whether this is the ``time`` or ``duration`` pseudo type."""
+        """Whether this is a pseudo type: ``time``, ``duration`` or a
+        carried string's struct (no ROS package, no roscpp header)."""
         return "/" not in self.name
+
+    @property
+    def is_string(self) -> bool:
+        """Whether this is the struct of a carried string (rule 4.14)."""
+        return self.string_capacity is not None
 
     @property
     def package(self) -> str | None:
@@ -183,6 +198,8 @@ class MsgType:
             return "ros::Time"
         if self.name == "duration":
             return "ros::Duration"
+        if self.is_string:
+            return "std::string"
         return self.name.replace("/", "::")
 
     def field(self, name: str) -> MsgField | None:
@@ -208,6 +225,44 @@ DURATION = MsgType(
 )
 
 _PSEUDO = {"time": TIME, "duration": DURATION}
+
+#: The capacity in bytes of a carried ROS ``string`` (rule 4.14): the
+#: bytes a string field can hold in the C struct, Simulink's default
+#: maximum length of a ROS string.  Every carried string has it in this
+#: version; :func:`string_type_name` builds the struct's name from it.
+STRING_CAPACITY = 128
+
+_STRING_NAME = re.compile(r"ros_string([1-9][0-9]{0,5})")
+
+
+def string_type_name(capacity: int = STRING_CAPACITY) -> str:
+    """The name (and C struct name) of a carried string of ``capacity``
+    bytes: ``ros_string128``."""
+    return f"ros_string{capacity}"
+
+
+def string_type(capacity: int = STRING_CAPACITY) -> MsgType:
+    """The C struct of a carried ROS ``string`` of at most ``capacity``
+    bytes (rule 4.14; ``Wellformed.string_msg``): ``len`` (``uint32``, the
+    number of bytes), ``truncated`` (``bool``, set when a received string
+    was longer than the capacity) and ``data`` (``uint8[capacity]``, the
+    bytes, zero past ``len``)."""
+    name = string_type_name(capacity)
+    return MsgType(
+        name,
+        name,
+        (
+            MsgField("len", "prim", prim="uint32"),
+            MsgField("truncated", "prim", prim="bool"),
+            MsgField("data", "prim", prim="uint8", array_len=capacity),
+        ),
+        string_capacity=capacity,
+    )
+
+
+def is_string_type(name: str) -> bool:
+    """Whether ``name`` is the name of a carried string's struct."""
+    return isinstance(name, str) and _STRING_NAME.fullmatch(name) is not None
 
 
 def msg_c_name(name: str) -> str:
@@ -319,4 +374,6 @@ def widest_struct(msg: str | MsgType, messages: Mapping[str, MsgType]) -> tuple[
 def _get(messages: Mapping[str, MsgType], name: str) -> MsgType:
     if name in _PSEUDO and name not in messages:
         return _PSEUDO[name]
+    if name not in messages and is_string_type(name):
+        return string_type(int(name[len("ros_string"):]))
     return messages[name]

@@ -29,14 +29,15 @@ from pyrosgen.frontend.model import (
     OutputRelation,
     Pos,
     Scalar,
+    StringConstant,
     Topic,
 )
 from pyrosgen.frontend.msgmodel import (
-    MAX_LEAVES, MAX_STRUCT_FIELDS, MAX_TOTAL_LEAVES, PRIMITIVES, ROS1_ALIASES, FieldPath, leaf_count,
-    widest_struct,
+    MAX_LEAVES, MAX_STRUCT_FIELDS, MAX_TOTAL_LEAVES, PRIMITIVES, ROS1_ALIASES, STRING_CAPACITY, FieldPath,
+    leaf_count, widest_struct,
 )
 from pyrosgen.frontend.blocks import check_diagram, scalar_of, zero
-from pyrosgen.frontend.msgload import MsgRegistry, PathError
+from pyrosgen.frontend.msgload import MsgRegistry, PathError, StringPathError, StringTarget
 from pyrosgen.frontend.names import (
     MAX_NAME_LEN,
     did_you_mean,
@@ -105,6 +106,7 @@ class _TopicDecl:
     policy: str = "zero"           # its on_timeout: hold or zero
     stamped: bool = False          # a valid `stamp` (rule 4.13)
     stamp_from: str | None = None  # `stamp: {from: topic}`: the source topic's name
+    strings: list[StringConstant] = field(default_factory=list)  # valid constant strings (rule 4.14)
 
 
 @dataclass
@@ -362,7 +364,7 @@ class _Checker:
             m = self.mapping(item, what)
             if m is None:
                 continue
-            self.keys(m, what, ("name", "direction", "type", "queue_size"), ("timeout_ms", "on_timeout", "stamp"))
+            self.keys(m, what, ("name", "direction", "type", "queue_size"), ("timeout_ms", "on_timeout", "stamp", "frame_id", "strings"))
             name_node = m.get("name")
             name = self.string(name_node, f"{what}.name")
             usable = name is not None
@@ -556,7 +558,8 @@ class _Checker:
                 try:
                     rel.path = registry.walk_path(rel.topic.msg_type, ptext)
                 except PathError as exc:
-                    self.err_rule("4.6", pnode, f"{w}.field: {exc.args[0]} (topic {show(rel.topic.name)}, {rel.topic.msg_type})")
+                    rule = "4.14" if isinstance(exc, StringPathError) else "4.6"
+                    self.err_rule(rule, pnode, f"{w}.field: {exc.args[0]} (topic {show(rel.topic.name)}, {rel.topic.msg_type})")
                     rel.ok = False
             # types
             if rel.path is not None and rel.ctrl_field is not None:
@@ -664,6 +667,193 @@ def check_stamps(ck: _Checker, decls: list[_TopicDecl], out_rels: list[_Rel], re
                 ok = False
         d.stamped = ok
         d.stamp_from = source if ok else None
+
+
+#: The field ``frame_id: <string>`` gives a constant (rule 4.14), and the
+#: type of the ``header`` it needs.
+FRAME_ID_FIELD = "header.frame_id"
+HEADER_TYPE = "std_msgs/Header"
+
+
+@dataclass
+class _StrItem:
+    """A constant string as written: ``what`` names it in messages,
+    ``key`` is where a problem of its path is reported, ``value`` its
+    value's node; ``target`` the string field it names, or ``problem``
+    why its path names none."""
+
+    what: str
+    key: YNode
+    value: YNode
+    target: StringTarget | None = None
+    problem: str | None = None
+
+
+def _string_items(m: YMap, msg_type: str, registry: MsgRegistry, what: str) -> list[_StrItem]:
+    """The constant strings of the topic declared by ``m``, whose message
+    type is ``msg_type`` (a known type), with the field each names: its
+    ``frame_id`` (``header.frame_id``, in a ``std_msgs/Header header``) and
+    each entry of its ``strings`` mapping (not checked here to be one)."""
+    out: list[_StrItem] = []
+    for key, value in m.items:
+        if key.text == "frame_id":
+            it = _StrItem(f"{what}.frame_id", value, value)
+            raw = registry.raw(msg_type)
+            header = raw.field("header") if raw is not None else None
+            if header is None or header.card != "scalar" or header.base != HEADER_TYPE:
+                it.problem = (f"message type {msg_type} has no field 'header' of type {HEADER_TYPE} "
+                              f"(frame_id sets {FRAME_ID_FIELD}; strings sets any other string field)")
+            else:
+                it.target = registry.walk_string_path(msg_type, FRAME_ID_FIELD)
+            out.append(it)
+        elif key.text == "strings" and isinstance(value, YMap):
+            for k, v in value.items:
+                it = _StrItem(f"{what}.strings[{show(k.text)}]", k, v)
+                if k.kind != "str":
+                    it.problem = f"a key of strings is a field path, got {k.describe()}"
+                else:
+                    try:
+                        it.target = registry.walk_string_path(msg_type, k.value)
+                    except PathError as exc:
+                        it.problem = exc.args[0]
+                out.append(it)
+    return out
+
+
+def _known_type(registry: MsgRegistry, node: YNode | None) -> str | None:
+    """The message type written at ``node`` if it is a known one."""
+    if not (isinstance(node, YScalar) and node.kind == "str"):
+        return None
+    t = node.value
+    if t in registry.failed or registry.check_type_name(t) is not None or registry.raw(t) is None:
+        return None
+    return t
+
+
+def carried_string_fields(node: YNode | None, registry: MsgRegistry) -> set[tuple[str, str]]:
+    """The ``string`` fields that the constants of the published topics
+    name (rule 4.14), as (message type, field name): the fields the glue
+    carries.  Read before the topics are checked (a message type's carried
+    view depends on it); nothing is reported here, :func:`check_strings`
+    reports every problem of the same items."""
+    out: set[tuple[str, str]] = set()
+    if not isinstance(node, YSeq):
+        return out
+    for item in node.items:
+        if not isinstance(item, YMap) or (item.get("frame_id") is None and item.get("strings") is None):
+            continue
+        dnode = item.get("direction")
+        if not (isinstance(dnode, YScalar) and dnode.kind == "str" and dnode.value == PUBLISH):
+            continue
+        msg_type = _known_type(registry, item.get("type"))
+        if msg_type is None:
+            continue
+        for it in _string_items(item, msg_type, registry, ""):
+            if it.target is not None:
+                out.add((it.target.owner, it.target.field))
+    return out
+
+
+def _string_value(node: YNode) -> tuple[str | None, str | None]:
+    """The constant written at ``node`` and why it is not one: a YAML
+    string of printable text, at most :data:`STRING_CAPACITY` bytes in
+    UTF-8 (``''``, the empty string, is one)."""
+    if not (isinstance(node, YScalar) and node.kind == "str"):
+        hint = ""
+        if isinstance(node, YScalar) and node.kind in ("bool", "int", "float", "timestamp"):
+            hint = " (quote it if you mean the text)"
+        elif isinstance(node, YScalar) and node.kind == "null":
+            hint = " (write '' for the empty string)"
+        return None, f"must be a string, got {node.describe()}{hint}"
+    value = node.value
+    try:
+        data = value.encode("utf-8")
+    except UnicodeEncodeError as exc:
+        return None, (f"is not valid Unicode text: it holds the lone surrogate U+{ord(value[exc.start]):04X} "
+                      f"(character {exc.start + 1})")
+    for i, ch in enumerate(value):
+        if ord(ch) < 0x20 or ord(ch) == 0x7F:
+            return None, (f"contains the control character U+{ord(ch):04X} (character {i + 1}); "
+                          "a constant string holds printable text")
+    if len(data) > STRING_CAPACITY:
+        return None, (f"is {len(data)} bytes long in UTF-8; a carried string holds at most "
+                      f"{STRING_CAPACITY} bytes")
+    return value, None
+
+
+def check_strings(ck: _Checker, decls: list[_TopicDecl], registry: MsgRegistry) -> None:
+    """Rule 4.14: ``frame_id: <string>`` (the constant of
+    ``header.frame_id``, in a ``std_msgs/Header header``) and ``strings:
+    {<field path>: <string>}`` (any ``string`` field, through nested
+    messages and fixed-size arrays of messages) on a published topic:
+    each value a string of printable text of at most
+    :data:`STRING_CAPACITY` bytes in UTF-8, each field named once.  Sets
+    ``strings`` on the topics whose constants all pass, in the order the
+    model writes them.  (A relation naming a string field is refused
+    where relations are checked.)"""
+    rule = "4.14"
+    for d in decls:
+        fnode, snode = d.node.get("frame_id"), d.node.get("strings")
+        if fnode is None and snode is None:
+            continue
+        ok = True
+        for key, node in (("frame_id", fnode), ("strings", snode)):
+            if node is None or isinstance(node, YBad):
+                continue
+            if d.direction is not None and d.direction != PUBLISH:
+                ck.err_rule(rule, node, f"{d.what}.{key}: topic {show(d.name)} is subscribed by the node; "
+                                        "a constant string is for a published topic")
+                ok = False
+            elif key == "strings" and not isinstance(node, YMap):
+                ck.err_rule(rule, node, f"{d.what}.strings must be a mapping of field paths to strings, "
+                                        f"got {node.describe()}")
+                ok = False
+        if not ok or d.direction != PUBLISH:
+            continue
+        msg_type = d.msg_type if d.type_ok else None
+        if msg_type is not None:
+            items = _string_items(d.node, msg_type, registry, d.what)
+        else:  # the type is reported; the values are checked all the same
+            items = [_StrItem(f"{d.what}.frame_id", fnode, fnode)] if fnode is not None else []
+            items += [_StrItem(f"{d.what}.strings[{show(k.text)}]", k, v)
+                      for k, v in (snode.items if isinstance(snode, YMap) else ())]
+        seen: dict[tuple, _StrItem] = {}
+        found: list[StringConstant] = []
+        for it in items:
+            if isinstance(it.value, YBad):
+                ok = False
+                continue
+            value, problem = _string_value(it.value)
+            if problem is not None:
+                ck.err_rule(rule, it.value, f"{it.what} {problem}" if problem.startswith(("must", "is ")) else
+                            f"{it.what}: the string {problem}")
+                ok = False
+            if msg_type is None:
+                ok = False  # the topic's type is reported
+                continue
+            if it.problem is not None:
+                ck.err_rule(rule, it.key, f"{it.what}: {it.problem} (topic {show(d.name)}, {msg_type})")
+                ok = False
+                continue
+            steps = it.target.steps
+            if steps in seen:
+                first = seen[steps]
+                ck.err_rule(rule, it.key, f"{it.what}: field {show(_steps_text(steps))} of topic {show(d.name)} "
+                                          f"already has a constant ({first.what}, line {first.key.line})")
+                ok = False
+                continue
+            seen[steps] = it
+            if value is not None:
+                found.append(StringConstant(steps, value, Pos(it.key.line, it.key.col)))
+        if ok:
+            d.strings = found
+
+
+def _steps_text(steps) -> str:
+    out = ""
+    for s in steps:
+        out += f"[{s}]" if isinstance(s, int) else ("." if out else "") + s
+    return out
 
 
 def check_freshness(ck: _Checker, decls: list[_TopicDecl], in_rels: list[_Rel],
@@ -843,6 +1033,9 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
     cm, ctrl_name, (uvar, ufields), (yvar, yfields) = ck.controller_section(
         ck.mapping(root.get("controller"), "controller")
     )
+    # The string fields the constants name are carried (rule 4.14): known
+    # before any message type's carried view is computed.
+    registry.set_carried_strings(carried_string_fields(root.get("topics"), registry))
     decls = ck.topics_section(root.get("topics"), registry)
     ck.diags.extend(registry.diagnostics)
     registry.diagnostics.clear()
@@ -857,6 +1050,9 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
 
     # Stamps (rule 4.13).
     check_stamps(ck, decls, out_rels, registry)
+
+    # Constant strings (rule 4.14).
+    check_strings(ck, decls, registry)
 
     # Every controller input is fed by exactly one relation, plain or
     # derived.
@@ -923,6 +1119,7 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
             on_timeout=d.policy if d.timeout_ms is not None else None,
             stamped=d.stamped,
             stamp_from=d.stamp_from,
+            strings=tuple(d.strings),
         )
     controller = Controller(
         name=ctrl_name,

@@ -45,6 +45,7 @@ __all__ = [
     "coq_nat",
     "coq_prim",
     "coq_path",
+    "coq_bytes",
     "coq_ftype",
     "coq_val",
     "coq_fallback",
@@ -85,7 +86,7 @@ assert tuple(PRIM_CONSTRUCTORS) == PRIMITIVES
 
 _C_IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _ROS_NAME = re.compile(r"/?[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*")
-_MSG_NAME = re.compile(r"[a-z][a-z0-9_]*/[A-Za-z][A-Za-z0-9]*|time|duration")
+_MSG_NAME = re.compile(r"[a-z][a-z0-9_]*/[A-Za-z][A-Za-z0-9]*|time|duration|ros_string[1-9][0-9]{0,5}")
 _PRINTABLE = re.compile(r"[ -~]*")
 #: Characters kept as they are in Coq comments: printable ASCII but the
 #: double quote (Coq lexes strings inside comments), the star and the
@@ -148,6 +149,14 @@ def coq_nat(n: int) -> str:
     if isinstance(n, bool) or not isinstance(n, int) or n < 0:
         raise EmitError(f"refusing to print {n!r} as a natural number")
     return str(n)
+
+
+def coq_bytes(data: bytes) -> str:
+    """The bytes of a constant string (rule 4.14) as a ``list Z``:
+    ``[98%Z; 97%Z]``, ``[]`` for none; each a byte."""
+    if not isinstance(data, (bytes, bytearray)):
+        raise EmitError(f"refusing to print {data!r} as the bytes of a string")
+    return "[" + "; ".join(f"{coq_z(b)}%Z" for b in data) + "]"
 
 
 def coq_prim(prim: str) -> str:
@@ -305,6 +314,8 @@ class CoqNodeModel:
     drels: tuple[tuple[str, str, str, str], ...] = ()  #: (topic C name, kind, input, comment)
     stamps: tuple[tuple[str, str], ...] = ()          #: (topic C name, path), rule 4.13
     stamp_from: tuple[tuple[str, str, str], ...] = ()  #: (topic C name, source C name, path), rule 4.13
+    #: (topic C name, path, bytes as a Coq ``list Z``, comment), rule 4.14
+    strings: tuple[tuple[str, str, str, str], ...] = ()
 
 
 def _msgdef(m: MsgType) -> CoqMsgdef:
@@ -390,7 +401,25 @@ def emit_model(model: NodeModel) -> CoqNodeModel:
         stamps=tuple((coq_ident(c_name, "topic C name"), coq_path(p)) for c_name, p in model.stamps),
         stamp_from=tuple((coq_ident(c_name, "topic C name"), coq_ident(src, "topic C name"), coq_path(p))
                          for c_name, (src, p) in model.stamp_from),
+        strings=tuple(
+            (
+                coq_ident(c_name, "topic C name"),
+                coq_path(p),
+                coq_bytes(data),
+                coq_comment(f"{_topic_name(model, c_name)} {_path_text(p)} = {data.decode('utf-8', 'replace')}"),
+            )
+            for c_name, p, data in model.strings
+        ),
     )
+
+
+def _topic_name(model: NodeModel, c_name: str) -> str:
+    """The ROS name of the topic whose C name is ``c_name`` (for comments)."""
+    return next((t.name for t in model.topics if t.c_name == c_name), c_name)
+
+
+def _path_text(steps) -> str:
+    return str(FieldPath(tuple(steps), "uint8"))
 
 
 def _direction(d: str) -> str:

@@ -24,7 +24,7 @@ from pyrosgen.frontend.msgmodel import MsgField, msg_c_name
 
 __all__ = [
     "HEADER", "model_text", "ModelMismatch", "compare_model_texts", "diagram_text", "compare_diagram_texts",
-    "ProvedTopic", "ProvedModel", "parse_model_text", "MalformedModelText",
+    "ProvedTopic", "ProvedModel", "parse_model_text", "MalformedModelText", "bytes_text", "parse_bytes_text",
 ]
 
 #: First line of the text (its format version).
@@ -83,7 +83,28 @@ def model_text(model: NodeModel) -> str:
     # rule 4.13: stamped topics (topic order)
     lines += [f"stamp {c_name} {_path(path)}" for c_name, path in model.stamps]
     lines += [f"stamp_from {c_name} {src} {_path(path)}" for c_name, (src, path) in model.stamp_from]
+    # rule 4.14: constant strings (topic order, then the model's order)
+    lines += [f"string {c_name} {_path(path)} {bytes_text(data)}" for c_name, path, data in model.strings]
     return "".join(line + "\n" for line in lines)
+
+
+def bytes_text(data) -> str:
+    """The bytes of a constant string as ``ModelText.bytes_text`` prints
+    them: decimals joined by ``,``, or ``-`` for none."""
+    return ",".join(str(b) for b in data) if len(data) else "-"
+
+
+_BYTES_TEXT = re.compile(r"-|(?:0|[1-9][0-9]{0,2})(?:,(?:0|[1-9][0-9]{0,2}))*")
+
+
+def parse_bytes_text(text: str) -> bytes:
+    """The bytes of :func:`bytes_text`'s ``text``; ``ValueError`` if it is
+    not such a text."""
+    if not _BYTES_TEXT.fullmatch(text):
+        raise ValueError(text)
+    if text == "-":
+        return b""
+    return bytes(int(b) for b in text.split(","))  # ValueError past 255
 
 
 def _compare_texts(expected: str, proved: str, what: str, message: str, limit: int) -> None:
@@ -175,6 +196,8 @@ class ProvedModel:
     stamps: list[tuple[str, str]] = field(default_factory=list)
     #: (topic C name, source topic C name, path of the source's stamp)
     stamp_from: list[tuple[str, str, str]] = field(default_factory=list)
+    #: (topic C name, path of the string field, the constant's bytes), rule 4.14
+    strings: list[tuple[str, str, bytes]] = field(default_factory=list)
 
     def topic(self, c_name: str) -> ProvedTopic:
         for t in self.topics:
@@ -196,7 +219,7 @@ def parse_model_text(text: str, *, origin: str = "the proved model text") -> Pro
     pm = ProvedModel()
     arity = {"node": 2, "period_ms": 2, "controller": 2, "inputs": 3, "input": 3, "outputs": 3,
              "output": 3, "message": 2, "topic": 6, "input_relation": 4, "output_relation": 4,
-             "timeout": 3, "fallback": 3, "derived_input": 4, "stamp": 3, "stamp_from": 4}
+             "timeout": 3, "fallback": 3, "derived_input": 4, "stamp": 3, "stamp_from": 4, "string": 4}
     message: list[tuple[str, str]] | None = None
     seen: set[str] = set()
     for n, line in enumerate(lines[1:], start=2):
@@ -243,6 +266,8 @@ def parse_model_text(text: str, *, origin: str = "the proved model text") -> Pro
                 pm.stamps.append((parts[1], parts[2]))
             elif kw == "stamp_from":
                 pm.stamp_from.append((parts[1], parts[2], parts[3]))
+            elif kw == "string":
+                pm.strings.append((parts[1], parts[2], parse_bytes_text(parts[3])))
             else:
                 if parts[2] not in DERIVED_KINDS:
                     raise ValueError(parts[2])

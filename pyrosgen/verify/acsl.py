@@ -176,6 +176,16 @@ def _same(prim: str, a: str, b: str) -> str:
     return f"{{ {box.var} \\with .v = {a} }} == {{ {box.var} \\with .v = {b} }}"
 
 
+def _string_leaves(t) -> dict[str, str]:
+    """The value of each leaf of the constant strings of published topic
+    ``t`` (rule 4.14) that is not zero: ``len`` and the bytes, by leaf path."""
+    out = {}
+    for s in t.strings:
+        out[f"{s.path_text}.len"] = str(len(s.data))
+        out.update({f"{s.path_text}.data[{i}]": str(b) for i, b in enumerate(s.data) if b})
+    return out
+
+
 def _zero(prim: str) -> str:
     return {"float64": "(double)0", "float32": "(float)0"}.get(prim, "0")
 
@@ -282,12 +292,13 @@ def contracts(model: NodeModel) -> list[Contract]:
     y = model.controller.outputs
     for t in model.published:
         rels = {str(r.path): r for r in model.output_relations_of(t)}
+        consts = _string_leaves(t)
         ens = []
         for p in model.leaf_paths(t.msg_type):
             leaf = p.c_access("command", arrow=True)
             r = rels.get(str(p))
             ens.append(_same(p.prim, leaf, f"\\old({y.var_name}.{r.output_field})") if r is not None
-                       else _same(p.prim, leaf, _zero(p.prim)))
+                       else _same(p.prim, leaf, consts.get(str(p), _zero(p.prim))))
         sep = tuple(f"&{g}" for g in globs)
         out.append(Contract(
             name=t.output_glue,

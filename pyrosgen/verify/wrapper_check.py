@@ -21,6 +21,16 @@ callback, ``ros_spinOnce`` sets it to ``ros::Time::now()`` right after
 ``ros_time_sec()`` and ``ros_time_nsec()`` return its seconds (as an
 ``unsigned int``) and nanoseconds, the stamp of a published header.
 
+It also checks the conversion of each carried string (rule 4.14): for
+every string struct ``ros_string<N>`` of the proved model, the wrapper
+converts a received ``std::string`` by copying at most its first ``N``
+bytes, setting ``len`` to their number and ``truncated`` when the string
+was longer, and zeroing the bytes past ``len`` (the environment model's
+well-typed message), and converts a published one back from the first
+``len`` bytes, at most ``N``: exactly the text of
+``pyrosgen/templates/ros_api.cpp.j2``, once each, and no other string
+conversion.
+
 With the glue and the wrapper's header (:func:`check_glue_externals`), the
 ROS functions the glue declares are declared by the header with the same C
 types (the two meet only at link time, where C checks nothing).
@@ -125,6 +135,63 @@ def _time_problems(cpp: str, n_subs: int) -> list[str]:
     return problems
 
 
+def _string_capacity(fields: list[tuple[str, str]]) -> int | None:
+    """The capacity of a proved message that is a carried string's struct
+    (``Wellformed.string_msg``: ``len``, ``truncated``, ``data``), else
+    ``None``."""
+    if len(fields) == 3 and fields[0] == ("len", "uint32") and fields[1] == ("truncated", "bool"):
+        m = re.fullmatch(r"array ([1-9][0-9]*) uint8", fields[2][1]) if fields[2][0] == "data" else None
+        if m:
+            return int(m.group(1))
+    return None
+
+
+def _string_to_c(struct: str, n: int) -> str:
+    """The one accepted conversion of a received string into ``struct``."""
+    return (f"inline void to_c(const std::string &r, struct {struct} *c)\n{{\n"
+            f"    const std::size_t n = r.size();\n"
+            f"    const std::size_t len = std::min<std::size_t>(n, {n});\n"
+            f"    c->len = static_cast<unsigned int>(len);\n"
+            f"    c->truncated = n > {n} ? 1 : 0;\n"
+            f"    std::memcpy(c->data, r.data(), len);\n"
+            f"    std::memset(c->data + len, 0, {n} - len);\n}}\n")
+
+
+def _string_from_c(struct: str, n: int) -> str:
+    """The one accepted conversion of ``struct`` into a published string."""
+    return (f"inline void from_c(const struct {struct} *c, std::string &r)\n{{\n"
+            f"    r.assign(reinterpret_cast<const char *>(c->data), std::min<std::size_t>(c->len, {n}));\n}}\n")
+
+
+_STRING_CONV = re.compile(r"\b(?:to_c\s*\(\s*const\s+std::string\b[^)]*\bstruct\s+(\w+)"
+                          r"|from_c\s*\(\s*const\s+struct\s+(\w+)\s*\*\s*\w*\s*,\s*std::string\b)")
+
+
+def _string_problems(cpp: str, messages: dict[str, list[tuple[str, str]]]) -> list[str]:
+    """What in ``cpp`` departs from the conversions of the proved model's
+    carried strings (rule 4.14)."""
+    cpp = _strip_comments(cpp)
+    want = {name: n for name, fields in messages.items() if (n := _string_capacity(fields)) is not None}
+    problems = []
+    for name, n in sorted(want.items()):
+        if cpp.count(_string_to_c(name, n)) != 1:
+            problems.append(f"  the wrapper does not convert a received string into struct {name} once as rule 4.14 "
+                            f"says (its first {n} bytes at most, truncated when longer, zero past len)")
+        if cpp.count(_string_from_c(name, n)) != 1:
+            problems.append(f"  the wrapper does not convert struct {name} into a published string once as rule 4.14 "
+                            f"says (its first len bytes, {n} at most)")
+    # declarations and definitions: two of each per proved string struct
+    named = [a or b for a, b in _STRING_CONV.findall(cpp)]
+    for name in sorted(set(named)):
+        if name not in want:
+            problems.append(f"  the wrapper converts strings to or from struct {name}, which is not a string "
+                            "struct of the proved model")
+        elif named.count(name) != 4:
+            problems.append(f"  the wrapper has {named.count(name)} string conversions of struct {name}; "
+                            "expected a declaration and a definition of each direction")
+    return problems
+
+
 def check_wrapper(cpp: str, proved_text: str, *, wrapper_name: str) -> None:
     """Raise :class:`WrapperMismatch` unless the wrapper source ``cpp``
     registers exactly the proved topics and sleeps with the proved period."""
@@ -145,6 +212,7 @@ def check_wrapper(cpp: str, proved_text: str, *, wrapper_name: str) -> None:
     if len(_ANY_REG.findall(cpp)) != len(got_sub) + len(got_adv):
         problems.append("  the wrapper registers topics outside the ros_subscribe_/ros_advertise_ functions")
     problems += _time_problems(cpp, len(re.findall(r"^void ros_subscribe_\w+\(", cpp, re.M)))
+    problems += _string_problems(cpp, parse_model_text(proved_text).messages)
     rates = _RATE.findall(cpp)
     if len(rates) != 1:
         problems.append(f"  the wrapper creates {len(rates)} ros::Rate objects; expected one")

@@ -452,7 +452,7 @@ def test_misspelt_keys_get_suggestions(tmp_path):
                        "{topic: /a, derivd: is_new, input: N}"))
     ds = diags(tmp_path, text)
     assert (*at(text, "timout_ms"), "topics[0]: unknown key 'timout_ms' (did you mean 'timeout_ms'?); "
-            "expected name, direction, type, queue_size, timeout_ms, on_timeout, stamp", "4.4") in ds
+            "expected name, direction, type, queue_size, timeout_ms, on_timeout, stamp, frame_id, strings", "4.4") in ds
     assert (*at(text, "on_timout"), "relations.inputs[0]: unknown key 'on_timout' (did you mean "
             "'on_timeout'?); expected topic, field, input, on_timeout, derived", "4.7") in ds
     assert (*at(text, "derivd"), "relations.inputs[1]: unknown key 'derivd' (did you mean 'derived'?); "
@@ -664,6 +664,8 @@ def test_emitted_coq_fields(tmp_path):
         '    nm_stamps :=\n'
         '      [];\n'
         '    nm_stamp_from :=\n'
+        '      [];\n'
+        '    nm_strings :=\n'
         '      []\n'
     )
     # the fields come last in the record, after nm_outrels
@@ -676,7 +678,7 @@ def test_emitted_coq_fields_are_always_there():
     v = render_node_file(load_model(LANDSHARK), ddc_available=True)
     i = v.index("nm_outrels :=")
     assert ("\n    nm_timeouts :=\n      [];\n    nm_fallbacks :=\n      [];\n    nm_drels :=\n      [];"
-            "\n    nm_stamps :=\n      [];\n    nm_stamp_from :=\n      []\n  |}") in v[i:]
+            "\n    nm_stamps :=\n      [];\n    nm_stamp_from :=\n      [];\n    nm_strings :=\n      []\n  |}") in v[i:]
 
 
 def test_emitted_values_of_every_type(tmp_path):
