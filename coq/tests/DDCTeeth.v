@@ -239,12 +239,14 @@ Proof.
     + exists right_wheel, (Vfloat f_inf). split; [simpl; auto|]. split; [reflexivity|]. split; vm_compute; reflexivity.
     + exists gps, (Vfloat f_zero). split; [simpl; auto|]. split; [reflexivity|]. split; vm_compute; reflexivity.
   - reflexivity.
-  - constructor; [|constructor]. split; [apply mval_typecheck_iff; vm_compute; reflexivity|split; [|split]].
+  - constructor; [|constructor]. split; [apply mval_typecheck_iff; vm_compute; reflexivity|split; [|split; [|split]]].
     + intros o Ho Eo. simpl in Ho. destruct Ho as [<-|[]].
       exists (Vfloat f_inf). split; vm_compute; reflexivity.
     + (* LandShark stamps nothing *)
       intros sp E. discriminate E.
-    + intros lp q R NF _. apply (leaves_spec landshark _ lp q W) in R.
+    + (* nor has constant strings *)
+      intros sp bs [].
+    + intros lp q R NF _ _. apply (leaves_spec landshark _ lp q W) in R.
       vm_compute in R.
       destruct R as [R|[R|[R|[R|[R|[R|[R|[R|[R|[]]]]]]]]]]; inversion R; subst lp q;
         try (vm_compute; reflexivity).

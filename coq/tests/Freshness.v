@@ -35,7 +35,7 @@ Definition with_fresh (timeouts : list (ident * Z)) (fallbacks : list (ident * v
      nm_out_var := nm_out_var landshark; nm_out_struct := nm_out_struct landshark;
      nm_outputs := nm_outputs landshark; nm_msgs := nm_msgs landshark; nm_topics := nm_topics landshark;
      nm_inrels := nm_inrels landshark; nm_outrels := nm_outrels landshark;
-     nm_timeouts := timeouts; nm_fallbacks := fallbacks; nm_drels := drels; nm_stamps := []; nm_stamp_from := [] |}.
+     nm_timeouts := timeouts; nm_fallbacks := fallbacks; nm_drels := drels; nm_stamps := []; nm_stamp_from := []; nm_strings := [] |}.
 
 Definition derived_inputs : list (ident * prim) :=
   [("Gnew", Pbool); ("Grcvd", Pbool); ("Gage", Puint32); ("Rage", Puint32)].

@@ -95,7 +95,8 @@ Example input_glue_is_figure_8:
   find_def landshark_prog "input_glue" = Some (Gfun (Internal expected_input_glue)).
 Proof. vm_compute. reflexivity. Qed.
 
-(** [output_glue]: zero the 9 leaves of [*command], then one copy. *)
+(** [output_glue]: zero the 9 leaves of [*command], then one copy, then
+    no constant string. *)
 Definition expected_output_copy : statement :=
   Ssequence (Sset "_t_double" (Efield (Evar "Controller_Y" (Tstruct "ExtY_Controller_T")) "Out1" tdouble))
             (Sassign (twist_x_of (Ederef (Etempvar "command" (tptr TS)) TS))
@@ -103,11 +104,11 @@ Definition expected_output_copy : statement :=
 
 Example output_glue_shape:
   match body_of landshark_prog "output_glue_landshark_control_base_velocity" with
-  | Ssequence zeros copies =>
-      count_assigns zeros = 9%nat /\ copies = Ssequence expected_output_copy Sskip
+  | Ssequence (Ssequence zeros copies) strings =>
+      count_assigns zeros = 9%nat /\ copies = Ssequence expected_output_copy Sskip /\ strings = Sskip
   | _ => False
   end.
-Proof. vm_compute. split; reflexivity. Qed.
+Proof. vm_compute. repeat split; reflexivity. Qed.
 
 (** [loop]: test, spin, [input_glue], step, output glue, publish, sleep. *)
 Example loop_shape:
@@ -157,14 +158,14 @@ Definition with_inrels (m : node_model) (l : list inrel) : node_model :=
      nm_in_var := nm_in_var m; nm_in_struct := nm_in_struct m; nm_inputs := nm_inputs m;
      nm_out_var := nm_out_var m; nm_out_struct := nm_out_struct m; nm_outputs := nm_outputs m;
      nm_msgs := nm_msgs m; nm_topics := nm_topics m; nm_inrels := l; nm_outrels := nm_outrels m;
-  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [] |}.
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := []; nm_strings := [] |}.
 
 Definition with_outrels (m : node_model) (l : list outrel) : node_model :=
   {| nm_name := nm_name m; nm_period_ms := nm_period_ms m; nm_ctrl := nm_ctrl m;
      nm_in_var := nm_in_var m; nm_in_struct := nm_in_struct m; nm_inputs := nm_inputs m;
      nm_out_var := nm_out_var m; nm_out_struct := nm_out_struct m; nm_outputs := nm_outputs m;
      nm_msgs := nm_msgs m; nm_topics := nm_topics m; nm_inrels := nm_inrels m; nm_outrels := l;
-  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [] |}.
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := []; nm_strings := [] |}.
 
 Definition with_inputs (m : node_model) (l : list (ident * prim)) : node_model :=
   {| nm_name := nm_name m; nm_period_ms := nm_period_ms m; nm_ctrl := nm_ctrl m;
@@ -172,7 +173,7 @@ Definition with_inputs (m : node_model) (l : list (ident * prim)) : node_model :
      nm_out_var := nm_out_var m; nm_out_struct := nm_out_struct m; nm_outputs := nm_outputs m;
      nm_msgs := nm_msgs m; nm_topics := nm_topics m; nm_inrels := nm_inrels m;
      nm_outrels := nm_outrels m;
-  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [] |}.
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := []; nm_strings := [] |}.
 
 Definition with_topics_msgs (m : node_model) (tps : list topic) (msgs : list msgdef) : node_model :=
   {| nm_name := nm_name m; nm_period_ms := nm_period_ms m; nm_ctrl := nm_ctrl m;
@@ -180,7 +181,7 @@ Definition with_topics_msgs (m : node_model) (tps : list topic) (msgs : list msg
      nm_out_var := nm_out_var m; nm_out_struct := nm_out_struct m; nm_outputs := nm_outputs m;
      nm_msgs := msgs; nm_topics := tps; nm_inrels := nm_inrels m;
      nm_outrels := nm_outrels m;
-  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [] |}.
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := []; nm_strings := [] |}.
 
 (** An input fed twice. *)
 Example refuse_input_fed_twice:
@@ -330,7 +331,7 @@ Example refuse_global_hidden_by_local:
              nm_out_struct := "ExtY_Controller_T"; nm_outputs := nm_outputs landshark;
              nm_msgs := landshark_msgs; nm_topics := nm_topics landshark;
              nm_inrels := nm_inrels landshark; nm_outrels := nm_outrels landshark;
-  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [] |}
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := []; nm_strings := [] |}
     "Generator: name defined twice: 'msg'".
 Proof. vm_compute. split; reflexivity. Qed.
 
@@ -372,7 +373,7 @@ Example refuse_period_0:
              nm_out_struct := "ExtY_Controller_T"; nm_outputs := nm_outputs landshark;
              nm_msgs := landshark_msgs; nm_topics := nm_topics landshark;
              nm_inrels := nm_inrels landshark; nm_outrels := nm_outrels landshark;
-  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [] |}
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := []; nm_strings := [] |}
     "Generator: period_ms must be positive".
 Proof. vm_compute. split; reflexivity. Qed.
 
@@ -386,6 +387,6 @@ Example refuse_short_timeout:
              nm_outputs := nm_outputs landshark; nm_msgs := nm_msgs landshark;
              nm_topics := nm_topics landshark; nm_inrels := nm_inrels landshark;
              nm_outrels := nm_outrels landshark;
-             nm_timeouts := [("landshark_gps_velocity", 1%Z)]; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [] |}
+             nm_timeouts := [("landshark_gps_velocity", 1%Z)]; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := []; nm_strings := [] |}
     "Generator: bad timeout (rule 4.12) on topic 'landshark_gps_velocity': 1 ms must be on a subscribed topic, from the period to 86400000 ms".
 Proof. vm_compute. split; reflexivity. Qed.

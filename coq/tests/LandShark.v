@@ -66,7 +66,7 @@ Definition landshark : node_model := {|
      mkinrel "landshark_right_wheel_velocity" twist_x "In2";
      mkinrel "landshark_gps_velocity" twist_x "In3"];
   nm_outrels := [mkoutrel "Out1" "landshark_control_base_velocity" twist_x];
-  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := []
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := []; nm_strings := []
 |}.
 
 (** ** The generated program *)

@@ -403,7 +403,8 @@ Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.
 Definition m_wrong_output_field : program :=
   on_def (output_glue_name base_c)
     (on_body (fun s => match s with
-                       | Ssequence zero copies => Ssequence zero (on_seq (map (on_copy_dst (rename_field "x" "y"))) copies)
+                       | Ssequence (Ssequence zero copies) strs =>
+                           Ssequence (Ssequence zero (on_seq (map (on_copy_dst (rename_field "x" "y"))) copies)) strs
                        | _ => s
                        end)) p.
 Theorem wrong_output_field_refuted: ~ node_ddc landshark m_wrong_output_field.

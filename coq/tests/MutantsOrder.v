@@ -44,7 +44,7 @@ Definition landshark2 : node_model := {|
      mkinrel "landshark_gps_velocity" twist_x "In3"];
   nm_outrels := [mkoutrel "Out1" "landshark_control_base_velocity" twist_x;
                  mkoutrel "Out2" "landshark_control_base_velocity2" twist_x];
-  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := []
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := []; nm_strings := []
 |}.
 
 Definition landshark2_result : res program := Eval vm_compute in generate landshark2.

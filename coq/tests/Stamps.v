@@ -22,7 +22,7 @@ Definition with_stamps (m : node_model) (l : list (ident * path)) : node_model :
      nm_out_var := nm_out_var m; nm_out_struct := nm_out_struct m; nm_outputs := nm_outputs m;
      nm_msgs := nm_msgs m; nm_topics := nm_topics m; nm_inrels := nm_inrels m;
      nm_outrels := nm_outrels m; nm_timeouts := nm_timeouts m; nm_fallbacks := nm_fallbacks m;
-     nm_drels := nm_drels m; nm_stamps := l; nm_stamp_from := nm_stamp_from m |}.
+     nm_drels := nm_drels m; nm_stamps := l; nm_stamp_from := nm_stamp_from m; nm_strings := nm_strings m |}.
 
 Definition header_stamp : path := [PField "header"; PField "stamp"].
 
@@ -78,7 +78,7 @@ Definition stamp_and_relation : node_model :=
      nm_msgs := nm_msgs stamped; nm_topics := nm_topics stamped; nm_inrels := nm_inrels stamped;
      nm_outrels := nm_outrels stamped ++
                    [mkoutrel "Sec" "landshark_control_base_velocity" (header_stamp ++ [PField "sec"])%list];
-     nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := nm_stamps stamped; nm_stamp_from := nm_stamp_from stamped |}.
+     nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := nm_stamps stamped; nm_stamp_from := nm_stamp_from stamped; nm_strings := [] |}.
 
 Example refuse_stamp_overwritten:
   refused stamp_and_relation
@@ -225,20 +225,20 @@ Fixpoint swap_time (s : statement) : statement :=
 
 (** (s1) the seconds and nanoseconds swapped *)
 Definition m_stamp_swapped : program :=
-  on_output_glue (fun b => match b with Ssequence base st => Ssequence base (swap_time st) | _ => b end)
+  on_output_glue (fun b => match b with Ssequence (Ssequence base st) strs => Ssequence (Ssequence base (swap_time st)) strs | _ => b end)
                  stamped_prog.
 Theorem m_stamp_swapped_refuted: ~ node_ddc stamped m_stamp_swapped.
 Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.
 
 (** (s2) the stamp left out: the header keeps the zero time *)
 Definition m_stamp_missing : program :=
-  on_output_glue (fun b => match b with Ssequence base _ => base | _ => b end) stamped_prog.
+  on_output_glue (fun b => match b with Ssequence (Ssequence base _) strs => Ssequence base strs | _ => b end) stamped_prog.
 Theorem m_stamp_missing_refuted: ~ node_ddc stamped m_stamp_missing.
 Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.
 
 (** (s3) the stamp written before the zeroing, which then erases it *)
 Definition m_stamp_first : program :=
-  on_output_glue (fun b => match b with Ssequence base st => Ssequence st base | _ => b end) stamped_prog.
+  on_output_glue (fun b => match b with Ssequence (Ssequence base st) strs => Ssequence (Ssequence st base) strs | _ => b end) stamped_prog.
 Theorem m_stamp_first_refuted: ~ node_ddc stamped m_stamp_first.
 Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.
 
@@ -254,7 +254,7 @@ Definition copied : node_model :=
      nm_msgs := nm_msgs stamped; nm_topics := nm_topics stamped; nm_inrels := nm_inrels stamped;
      nm_outrels := nm_outrels stamped; nm_timeouts := []; nm_fallbacks := []; nm_drels := [];
      nm_stamps := nm_stamps stamped;
-     nm_stamp_from := [("landshark_control_base_velocity", ("landshark_gps_velocity", header_stamp))] |}.
+     nm_stamp_from := [("landshark_control_base_velocity", ("landshark_gps_velocity", header_stamp))]; nm_strings := [] |}.
 
 Definition copied_result : res program := Eval vm_compute in generate copied.
 Definition copied_prog : program :=
@@ -270,7 +270,7 @@ Definition with_stamp_from (l : list (ident * (ident * path))) : node_model :=
      nm_out_struct := nm_out_struct copied; nm_outputs := nm_outputs copied;
      nm_msgs := nm_msgs copied; nm_topics := nm_topics copied; nm_inrels := nm_inrels copied;
      nm_outrels := nm_outrels copied; nm_timeouts := []; nm_fallbacks := []; nm_drels := [];
-     nm_stamps := nm_stamps copied; nm_stamp_from := l |}.
+     nm_stamps := nm_stamps copied; nm_stamp_from := l; nm_strings := [] |}.
 
 (** A source that is published, or not a [time] field. *)
 Example refuse_source_published:
@@ -388,6 +388,6 @@ Fixpoint from_left (s : statement) : statement :=
   end.
 
 Definition m_stamp_wrong_topic : program :=
-  on_output_glue (fun b => match b with Ssequence base st => Ssequence base (from_left st) | _ => b end) copied_prog.
+  on_output_glue (fun b => match b with Ssequence (Ssequence base st) strs => Ssequence (Ssequence base (from_left st)) strs | _ => b end) copied_prog.
 Theorem m_stamp_wrong_topic_refuted: ~ node_ddc copied m_stamp_wrong_topic.
 Proof. apply (crefute _ 1). vm_compute. reflexivity. Qed.

@@ -522,7 +522,8 @@ Proof. exact Generatorproof.generate_clock_globals. Qed.
     [*command], then performs the copies of the topic's output relations,
     in model order ([output_base]), then, if the topic is stamped (rule
     4.13), writes the time's [sec] and [nsec] into the stamp
-    ([stamp_stmts]). *)
+    ([stamp_stmts]), and last stores the topic's constant strings (rule
+    4.14: [strings_stmts], the length then each byte). *)
 Theorem generate_output_glue:
   forall m p tp, generate m = OK p -> In tp (published m) ->
   let c := tp_cname tp in
@@ -534,10 +535,11 @@ Theorem generate_output_glue:
   /\ fn_params f = [(command_param, tptr (Tstruct M))]
   /\ fn_vars f = []
   /\ fn_body f
-     = match topic_stamp m c with
-       | None => output_base m tp
-       | Some sp => Ssequence (output_base m tp) (stamp_stmts m (make_tables m) c M sp)
-       end
+     = Ssequence (match topic_stamp m c with
+                  | None => output_base m tp
+                  | Some sp => Ssequence (output_base m tp) (stamp_stmts m (make_tables m) c M sp)
+                  end)
+                 (strings_stmts m c M)
   /\ NoDup (map fst (fn_temps f))
   /\ (forall o, In o lor ->
         find_assoc (temp_name (output_prim (make_tables m) (or_output o))) (fn_temps f)

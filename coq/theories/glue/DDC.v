@@ -245,7 +245,10 @@ Definition input_glue_ddc (m : node_model) (p : program) : Prop :=
     the related output field of [y], the stamp, if the topic has one
     (rule 4.13), holds the [sec] and [nsec] of [now], or, for a stamp
     copied from a subscribed topic [s], the [sec] and [nsec] of the
-    source field of [g s], and every other scalar field is zero. *)
+    source field of [g s], every constant string of the topic (rule
+    4.14) holds its bytes ([len] their number, [data[i]] the [i]-th),
+    and every other scalar field is zero: [truncated], and the bytes of
+    a string past its length, among them. *)
 Definition published_value (m : node_model) (y : mval) (now : Z) (g : ident -> mval)
                            (tp : topic) (mv : mval) : Prop :=
   mval_has_type (composites m) (Tstruct (tp_msg tp)) mv
@@ -263,10 +266,17 @@ Definition published_value (m : node_model) (y : mval) (now : Z) (g : ident -> m
          /\ mval_get mv (path_steps (sp ++ [PField "nsec"%string]))
             = mval_get (g s) (path_steps (sp' ++ [PField "nsec"%string]))
         end)
+  /\ (forall sp bs, In (tp_cname tp, (sp, bs)) (nm_strings m) ->
+        mval_get mv (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint (Z.of_nat (length bs))))
+     /\ forall i b, nth_error bs i = Some b ->
+          mval_get mv (path_steps (sp ++ [PField "data"%string; PIndex (Z.of_nat i)])) = Some (MVscalar (Vint b)))
   /\ (forall lp q, resolve (nm_msgs m) (FTmsg (tp_msg tp)) lp = Some (FTprim q) ->
         (forall o, In o (nm_outrels m) -> or_topic o = tp_cname tp -> or_path o <> lp) ->
         (forall sp, find_assoc (tp_cname tp) (nm_stamps m) = Some sp ->
            lp <> sp ++ [PField "sec"%string] /\ lp <> sp ++ [PField "nsec"%string]) ->
+        (forall sp bs, In (tp_cname tp, (sp, bs)) (nm_strings m) ->
+           lp <> sp ++ [PField "len"%string]
+        /\ forall i, (i < length bs)%nat -> lp <> sp ++ [PField "data"%string; PIndex (Z.of_nat i)]) ->
         mval_get mv (path_steps lp) = Some (zero_mval (composites m) (ctype_of_prim q))).
 
 (** The message held by the global [s_msg] of a subscribed topic. *)

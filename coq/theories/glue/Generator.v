@@ -387,19 +387,44 @@ Definition stamp_stmts (c M : ident) (sp : path) : statement :=
       seq_of [copy Puint32 (dst "sec") (src "sec"); copy Puint32 (dst "nsec") (src "nsec")]
   end.
 
+(** The constant strings of the topic with C name [c] (rule 4.14): each
+    string's path and bytes, in model order. *)
+Definition topic_strings (c : ident) : list (path * list Z) :=
+  map snd (filter (fun st => ident_eqb (fst st) c) (nm_strings m)).
+
+(** The leaves that a constant string [bs] at path [sp] writes, with
+    their values: [sp.len] the number of bytes, [sp.data[i]] the [i]-th
+    byte. *)
+Definition string_stores (sp : path) (bs : list Z) : list (path * prim * Z) :=
+  (sp ++ [PField "len"], Puint32, Z.of_nat (length bs))
+  :: map (fun ib => (sp ++ [PField "data"; PIndex (fst ib)], Puint8, snd ib))
+         (combine (zrange (Z.of_nat (length bs))) bs).
+
+(** [command->lp = v;] *)
+Definition const_store (M : ident) (a : path * prim * Z) : statement :=
+  Sassign (path_expr ce (deref_param command_param M) (fst (fst a))) (Econst_int (snd a) (ctype_of_prim (snd (fst a)))).
+
+(** The stores of the constant strings of the topic with C name [c]. *)
+Definition topic_stores (c : ident) : list (path * prim * Z) :=
+  flat_map (fun sb => string_stores (fst sb) (snd sb)) (topic_strings c).
+
+Definition strings_stmts (c M : ident) : statement :=
+  seq_of (map (const_store M) (topic_stores c)).
+
 (** [void output_glue_c(struct M *command)]: zero every leaf of
     [*command], then one copy per output relation of the topic, then,
-    if the topic is stamped, the stamp. *)
+    if the topic is stamped, the stamp, then the constant strings. *)
 Definition output_glue_function (tp : topic) : function :=
   let M := tp_msg tp in
   let os := topic_outrels (tp_cname tp) in
   let qs := map (fun o => output_prim (or_output o)) os in
   let body := Ssequence (seq_of (map (leaf_zero ce (deref_param command_param M)) (leaves (nm_msgs m) M)))
                         (seq_of (map (output_copy M) os)) in
+  let strs := strings_stmts (tp_cname tp) M in
   match topic_stamp (tp_cname tp) with
-  | None => mkfunction Tvoid [(command_param, tptr (Tstruct M))] [] (temps_of qs) body
+  | None => mkfunction Tvoid [(command_param, tptr (Tstruct M))] [] (temps_of qs) (Ssequence body strs)
   | Some sp => mkfunction Tvoid [(command_param, tptr (Tstruct M))] [] (temps_of (Puint32 :: qs))
-                 (Ssequence body (stamp_stmts (tp_cname tp) M sp))
+                 (Ssequence (Ssequence body (stamp_stmts (tp_cname tp) M sp)) strs)
   end.
 
 (** ** The loop and main (Figures 2, 7) *)

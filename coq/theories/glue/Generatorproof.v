@@ -482,18 +482,22 @@ Proof.
   induction l as [|o l IH]; simpl; auto. rewrite IH; auto.
 Qed.
 
+(** The zeroing, the copies and the stamp if the topic has one. *)
+Definition output_pre (m : node_model) (tp : topic) : statement :=
+  match topic_stamp m (tp_cname tp) with
+  | None => output_base m tp
+  | Some sp => Ssequence (output_base m tp) (stamp_stmts m (make_tables m) (tp_cname tp) (tp_msg tp) sp)
+  end.
+
 (** The body of [output_glue_c]: zero every leaf of [*command], then the
     copies of the topic's output relations, in order, then the stamp if
-    the topic has one. *)
+    the topic has one, then the constant strings. *)
 Lemma output_glue_body:
   forall m tp,
   fn_body (output_glue_function m (make_tables m) tp)
-  = match topic_stamp m (tp_cname tp) with
-    | None => output_base m tp
-    | Some sp => Ssequence (output_base m tp) (stamp_stmts m (make_tables m) (tp_cname tp) (tp_msg tp) sp)
-    end.
+  = Ssequence (output_pre m tp) (strings_stmts m (tp_cname tp) (tp_msg tp)).
 Proof.
-  intros m tp. unfold output_glue_function, output_base.
+  intros m tp. unfold output_glue_function, output_pre, output_base.
   destruct (topic_stamp m (tp_cname tp)); simpl; rewrite output_copies_eq; reflexivity.
 Qed.
 
@@ -607,11 +611,7 @@ Theorem generate_output_glue:
   /\ fn_return f = Tvoid
   /\ fn_params f = [(command_param, tptr (Tstruct M))]
   /\ fn_vars f = []
-  /\ fn_body f
-     = match topic_stamp m c with
-       | None => output_base m tp
-       | Some sp => Ssequence (output_base m tp) (stamp_stmts m (make_tables m) c M sp)
-       end
+  /\ fn_body f = Ssequence (output_pre m tp) (strings_stmts m c M)
   /\ NoDup (map fst (fn_temps f))
   /\ (forall o, In o lor ->
         find_assoc (temp_name (output_prim (make_tables m) (or_output o))) (fn_temps f)
@@ -794,6 +794,22 @@ Lemma valid_copy:
   valid_assignments ce temps (copy q d s).
 Proof.
   intros; simpl. rewrite H2, H0. repeat split; auto. apply ctype_of_prim_scalar.
+Qed.
+
+(** The stores of the constant strings are valid assignments. *)
+Lemma valid_strings:
+  forall m tp temps, wf_facts m -> In tp (published m) ->
+  valid_assignments (composites m) temps (strings_stmts m (tp_cname tp) (tp_msg tp)).
+Proof.
+  intros m tp temps W Htp. unfold strings_stmts.
+  apply valid_assignments_seq. intros st Hst.
+  apply in_map_iff in Hst; destruct Hst as (a & <- & Ha).
+  apply in_flat_map in Ha. destruct Ha as ([sp bs] & Hsb & Ha).
+  apply In_topic_strings in Hsb.
+  destruct (string_store_leaf m tp sp bs a W Htp Hsb Ha) as [R _].
+  destruct (leaf_path_expr_typed m _ _ _ (deref_param command_param (tp_msg tp)) R)
+    as [T1 W1]; auto; [constructor|].
+  unfold const_store. simpl. rewrite T1. repeat split; auto. apply ctype_of_prim_scalar.
 Qed.
 
 Lemma typeof_const_of: forall q v, typeof (const_of q v) = ctype_of_prim q.
@@ -1010,7 +1026,8 @@ Proof.
     apply in_published in Htp; destruct Htp as [Htp _].
     assert (BASE: valid_assignments (composites m) (fn_temps (output_glue_function m (make_tables m) tp))
                     (output_base m tp)).
-    2:{ rewrite output_glue_body. destruct (topic_stamp m (tp_cname tp)) as [sp|] eqn:ST; auto.
+    2:{ rewrite output_glue_body. split; [|apply valid_strings; auto].
+        unfold output_pre. destruct (topic_stamp m (tp_cname tp)) as [sp|] eqn:ST; auto.
         split; auto. apply valid_stamp; auto. eapply output_temp_uint; eauto. }
     unfold output_base. split.
     + apply valid_assignments_seq. intros st Hst.
@@ -1164,6 +1181,12 @@ Proof.
         unfold gen_list_message_expr_output_glue in Hd.
         apply in_map_iff in Hd; destruct Hd as (o & <- & _).
         exists (or_path o). apply expr_place_path_expr with (q := []); auto. }
+    cbn [assigned_places] in Hpl. apply in_app_iff in Hpl. destruct Hpl as [Hpl|Hpl].
+    2:{ unfold strings_stmts in Hpl. rewrite assigned_places_seq in Hpl. apply in_flat_map in Hpl.
+        destruct Hpl as (st & Hst & Hpl). apply in_map_iff in Hst; destruct Hst as (a & <- & _).
+        unfold const_store in Hpl. simpl in Hpl; destruct Hpl as [<-|[]].
+        eexists tp, _; repeat split; auto. apply expr_place_path_expr with (q := []); auto. }
+    unfold output_pre in Hpl.
     destruct (topic_stamp m (tp_cname tp)) as [sp|] eqn:ST.
     + simpl in Hpl. apply in_app_iff in Hpl. destruct Hpl as [Hpl|Hpl].
       * destruct (BASE pl Hpl) as (pa & ->). exists tp, pa; auto.
@@ -1397,7 +1420,12 @@ Proof.
       destruct (dr_kind dr); discriminate.
     + apply in_map_iff in Hst. destruct Hst as (tp & <- & _). discriminate.
   - exfalso. apply in_map_iff in F; destruct F as (tp & E & Htp); inversion E; subst; clear E.
-    rewrite output_glue_body in T.
+    rewrite output_glue_body in T. cbn [stmt_takes_addr] in T. apply orb_true_iff in T. destruct T as [T|T].
+    2:{ unfold strings_stmts in T. rewrite stmt_takes_addr_seq in T.
+        apply existsb_exists in T; destruct T as (st & Hst & T).
+        apply in_map_iff in Hst; destruct Hst as (a & <- & _).
+        unfold const_store in T; simpl in T; rewrite expr_takes_addr_path in T; simpl in T; discriminate. }
+    unfold output_pre in T.
     destruct (topic_stamp m (tp_cname tp)) as [sp|]; [simpl in T; apply orb_true_iff in T; destruct T as [T|T]|].
     2:{ unfold stamp_stmts in T. destruct (topic_stamp_from m (tp_cname tp)) as [[s0 sp']|]; simpl in T;
         rewrite !expr_takes_addr_path in T; simpl in T; discriminate. }

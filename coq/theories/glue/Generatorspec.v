@@ -216,7 +216,9 @@ Record wf_facts (m : node_model) : Prop := {
   wf_stamps: forall st, In st (nm_stamps m) -> stamp_ok m (make_tables m) st = true;
   wf_stamps_nodup: NoDup (map fst (nm_stamps m));
   wf_stamp_froms: forall sf, In sf (nm_stamp_from m) -> stamp_from_ok m (make_tables m) sf = true;
-  wf_stamp_from_nodup: NoDup (map fst (nm_stamp_from m))
+  wf_stamp_from_nodup: NoDup (map fst (nm_stamp_from m));
+  wf_strings: forall st, In st (nm_strings m) -> string_ok m (make_tables m) st = true;
+  wf_strings_nodup: NoDup (map string_target (nm_strings m))
 }.
 
 Lemma null_false: forall (A : Type) (l : list A), negb (null l) = true -> l <> [].
@@ -1125,4 +1127,214 @@ Proof.
   apply andb_true_iff in TM; destruct TM as [Es En].
   apply ident_eqb_true in Es, En; subst s1 n.
   exists tp. rewrite !resolve_app, Rs. simpl. rewrite Fm, Fd. simpl. repeat split; eauto.
+Qed.
+
+(** ** Constant strings (rule 4.14) *)
+
+Lemma string_msg_spec:
+  forall msgs id n, string_msg msgs id = Some n ->
+  exists md, find_msg msgs id = Some md
+  /\ md_fields md = [("len", FTprim Puint32); ("truncated", FTprim Pbool); ("data", FTarray (FTprim Puint8) n)]
+  /\ (n <= max_string)%Z.
+Proof.
+  intros msgs id n H. unfold string_msg in H.
+  destruct (find_msg msgs id) as [md|]; [|discriminate]. exists md. split; [auto|].
+  destruct (md_fields md) as [|[l t1] r]; [discriminate|].
+  destruct t1 as [q1| |]; try discriminate. destruct q1; try discriminate.
+  destruct r as [|[t t2] r]; [discriminate|].
+  destruct t2 as [q2| |]; try discriminate. destruct q2; try discriminate.
+  destruct r as [|[d t3] r]; [discriminate|].
+  destruct t3 as [| |t3 k]; try discriminate. destruct t3 as [q3| |]; try discriminate.
+  destruct q3; try discriminate.
+  destruct r; [|discriminate].
+  destruct (ident_eqb l "len" && ident_eqb t "truncated" && ident_eqb d "data" && (k <=? max_string)%Z) eqn:E;
+    [|discriminate].
+  inversion H; subst k. rewrite !andb_true_iff in E. destruct E as [[[El Et] Ed] Mx].
+  apply ident_eqb_true in El, Et, Ed; subst l t d. apply Z.leb_le in Mx. auto.
+Qed.
+
+(** A constant string of a published topic is at a string field of its
+    message, long enough: [len], [truncated] and the [n] bytes of [data]
+    are leaves, the constant has at most [n] bytes, each a byte, and no
+    output relation of the topic writes into the string. *)
+Lemma wf_string:
+  forall m tp sp bs, wf_facts m -> In tp (published m) ->
+  In (tp_cname tp, (sp, bs)) (nm_strings m) ->
+  exists n,
+     resolve (nm_msgs m) (FTmsg (tp_msg tp)) (sp ++ [PField "len"]) = Some (FTprim Puint32)
+  /\ resolve (nm_msgs m) (FTmsg (tp_msg tp)) (sp ++ [PField "truncated"]) = Some (FTprim Pbool)
+  /\ (forall i, (0 <= i < n)%Z ->
+        resolve (nm_msgs m) (FTmsg (tp_msg tp)) (sp ++ [PField "data"; PIndex i]) = Some (FTprim Puint8))
+  /\ (Z.of_nat (length bs) <= n)%Z /\ (n <= max_string)%Z
+  /\ (forall b, In b bs -> (0 <= b <= 255)%Z)
+  /\ (forall o q, In o (nm_outrels m) -> or_topic o = tp_cname tp -> or_path o <> sp ++ q).
+Proof.
+  intros m tp sp bs W Htp Hin.
+  generalize (wf_strings m W _ Hin). unfold string_ok; cbn [fst snd].
+  assert (Htop: In tp (nm_topics m)) by (unfold published in Htp; apply filter_In in Htp; tauto).
+  rewrite tables_topics, (In_find_topic _ tp (wf_cnames_nodup m W) Htop).
+  rewrite !andb_true_iff. intros [[[_ R] B] NO].
+  destruct (resolve (nm_msgs m) (FTmsg (tp_msg tp)) sp) as [[| id |]|] eqn:Rs; try discriminate.
+  destruct (string_msg (nm_msgs m) id) as [n|] eqn:SM; [|discriminate].
+  apply string_msg_spec in SM. destruct SM as (md & Fm & Fd & Mx).
+  apply Z.leb_le in R.
+  exists n. rewrite !resolve_app, Rs. simpl. rewrite Fm, Fd. simpl.
+  split; [auto|split; [auto|split; [|split; [auto|split; [auto|split]]]]].
+  - intros i [H1 H2]. rewrite !resolve_app, Rs. simpl. rewrite Fm, Fd. simpl.
+    rewrite (proj2 (Z.leb_le 0 i) H1), (proj2 (Z.ltb_lt i n) H2). reflexivity.
+  - intros b Hb. rewrite forallb_forall in B. generalize (B b Hb). unfold is_byte.
+    rewrite andb_true_iff, !Z.leb_le. lia.
+  - intros o q Ho Eo Ep. rewrite forallb_forall in NO. generalize (NO o Ho).
+    rewrite Eo, ident_eqb_refl, Ep, path_prefixb_app. discriminate.
+Qed.
+
+Lemma In_topic_strings:
+  forall m c sp bs, In (sp, bs) (topic_strings m c) <-> In (c, (sp, bs)) (nm_strings m).
+Proof.
+  intros m c sp bs. unfold topic_strings. rewrite in_map_iff. split.
+  - intros ([c' [sp' bs']] & E & H). apply filter_In in H. destruct H as [H Ec].
+    simpl in E, Ec. inversion E; subst. apply ident_eqb_true in Ec; subst; auto.
+  - intros H. exists (c, (sp, bs)). split; auto. apply filter_In. split; auto. apply ident_eqb_refl.
+Qed.
+
+Lemma In_combine_zrange:
+  forall (bs : list Z) i b,
+  In (i, b) (combine (zrange (Z.of_nat (length bs))) bs) <->
+  (0 <= i < Z.of_nat (length bs))%Z /\ nth_error bs (Z.to_nat i) = Some b.
+Proof.
+  intros bs i b. unfold zrange. rewrite Nat2Z.id.
+  assert (G: forall k, In (i, b) (combine (map Z.of_nat (seq k (length bs))) bs) <->
+                       (Z.of_nat k <= i < Z.of_nat k + Z.of_nat (length bs))%Z
+                       /\ nth_error bs (Z.to_nat i - k) = Some b).
+  { induction bs as [|x bs IH]; intros k; simpl.
+    - split; [tauto|]. intros [H _]. lia.
+    - rewrite IH. split.
+      + intros [E|[H1 H2]].
+        * inversion E; subst. rewrite Nat2Z.id, Nat.sub_diag. simpl. split; [lia|auto].
+        * split; [lia|]. replace (Z.to_nat i - k)%nat with (S (Z.to_nat i - S k)) by lia. auto.
+      + intros [H1 H2]. destruct (Z.eq_dec i (Z.of_nat k)) as [->|N].
+        * left. rewrite Nat2Z.id, Nat.sub_diag in H2. simpl in H2. inversion H2; auto.
+        * right. split; [lia|]. replace (Z.to_nat i - k)%nat with (S (Z.to_nat i - S k)) in H2 by lia. auto. }
+  rewrite G. rewrite Nat.sub_0_r. simpl. tauto.
+Qed.
+
+(** Every store of a constant string is at a leaf of its type, of a
+    value of that type. *)
+Lemma string_store_leaf:
+  forall m tp sp bs a, wf_facts m -> In tp (published m) ->
+  In (tp_cname tp, (sp, bs)) (nm_strings m) -> In a (string_stores sp bs) ->
+     resolve (nm_msgs m) (FTmsg (tp_msg tp)) (fst (fst a)) = Some (FTprim (snd (fst a)))
+  /\ val_has_type (Vint (snd a)) (ctype_of_prim (snd (fst a))).
+Proof.
+  intros m tp sp bs a W Htp Hin Ha.
+  destruct (wf_string m tp sp bs W Htp Hin) as (n & Rl & _ & Rd & Ln & Mx & Bs & _).
+  unfold string_stores in Ha. destruct Ha as [<-|Ha].
+  - simpl. split; [auto|].
+    unfold norm_int, wrap, wrap_unsigned, bitsize. simpl. apply Z.mod_small.
+    unfold max_string in Mx. lia.
+  - apply in_map_iff in Ha. destruct Ha as ([i b] & <- & Hib). apply In_combine_zrange in Hib.
+    destruct Hib as [Hi Hb]. simpl. split; [apply Rd; lia|].
+    assert (B: In b bs) by (eapply nth_error_In; eauto). apply Bs in B.
+    unfold norm_int, wrap, wrap_unsigned, bitsize. simpl. apply Z.mod_small. lia.
+Qed.
+
+(** The paths that the stores of a string write: [sp.len] and
+    [sp.data[i]] for [i] below the constant's length. *)
+Lemma string_stores_path:
+  forall sp bs a, In a (string_stores sp bs) ->
+     (fst (fst a) = sp ++ [PField "len"] /\ snd a = Z.of_nat (length bs))
+  \/ exists i b, fst (fst a) = sp ++ [PField "data"; PIndex (Z.of_nat i)] /\ nth_error bs i = Some b
+                 /\ snd a = b /\ (i < length bs)%nat.
+Proof.
+  intros sp bs a Ha. unfold string_stores in Ha. destruct Ha as [<-|Ha]; [left; auto|right].
+  apply in_map_iff in Ha. destruct Ha as ([j b] & <- & Hj). apply In_combine_zrange in Hj.
+  destruct Hj as [Hj Hb]. exists (Z.to_nat j), b. simpl. rewrite Z2Nat.id by lia.
+  repeat split; auto. apply nth_error_Some. congruence.
+Qed.
+
+Lemma string_stores_len:
+  forall sp bs, In (sp ++ [PField "len"], Puint32, Z.of_nat (length bs)) (string_stores sp bs).
+Proof. intros; left; auto. Qed.
+
+Lemma string_stores_data:
+  forall sp bs i b, nth_error bs i = Some b ->
+  In (sp ++ [PField "data"; PIndex (Z.of_nat i)], Puint8, b) (string_stores sp bs).
+Proof.
+  intros sp bs i b H. right. apply in_map_iff. exists (Z.of_nat i, b). split; auto.
+  apply In_combine_zrange. rewrite Nat2Z.id. split; auto.
+  assert (i < length bs)%nat by (apply nth_error_Some; congruence). lia.
+Qed.
+
+(** Two stores of strings at one path are stores of one string. *)
+Lemma string_store_path_inj:
+  forall sp1 bs1 sp2 bs2 a1 a2,
+  In a1 (string_stores sp1 bs1) -> In a2 (string_stores sp2 bs2) ->
+  fst (fst a1) = fst (fst a2) -> sp1 = sp2.
+Proof.
+  intros sp1 bs1 sp2 bs2 a1 a2 H1 H2 E.
+  destruct (string_stores_path _ _ _ H1) as [[E1 _]|(i & b & E1 & _)];
+  destruct (string_stores_path _ _ _ H2) as [[E2 _]|(j & c & E2 & _)];
+  rewrite E1, E2 in E.
+  - apply app_inj_tail in E. tauto.
+  - replace [PField "data"; PIndex (Z.of_nat j)] with ([PField "data"] ++ [PIndex (Z.of_nat j)]) in E by reflexivity.
+    rewrite app_assoc in E. apply app_inj_tail in E. destruct E as [_ E]; discriminate.
+  - replace [PField "data"; PIndex (Z.of_nat i)] with ([PField "data"] ++ [PIndex (Z.of_nat i)]) in E by reflexivity.
+    rewrite app_assoc in E. apply app_inj_tail in E. destruct E as [_ E]; discriminate.
+  - replace [PField "data"; PIndex (Z.of_nat i)] with ([PField "data"] ++ [PIndex (Z.of_nat i)]) in E by reflexivity.
+    replace [PField "data"; PIndex (Z.of_nat j)] with ([PField "data"] ++ [PIndex (Z.of_nat j)]) in E by reflexivity.
+    rewrite !app_assoc in E. apply app_inj_tail in E. destruct E as [E _].
+    apply app_inj_tail in E. tauto.
+Qed.
+
+Lemma string_stores_nodup:
+  forall sp bs, NoDup (map (fun a => fst (fst a)) (string_stores sp bs)).
+Proof.
+  intros sp bs. unfold string_stores. cbn [map fst]. constructor.
+  - rewrite map_map. intros H. apply in_map_iff in H. destruct H as ([j b] & E & _). simpl in E.
+    replace [PField "data"; PIndex j] with ([PField "data"] ++ [PIndex j]) in E by reflexivity.
+    rewrite app_assoc in E. apply app_inj_tail in E. destruct E as [_ E]; discriminate.
+  - rewrite map_map.
+    assert (Hf: forall (l1 l2 : list Z), NoDup l1 ->
+                NoDup (map (fun x : Z * Z => sp ++ [PField "data"; PIndex (fst x)]) (combine l1 l2))).
+    { induction l1 as [|x l1 IH]; intros [|y l2] N; simpl; [constructor|constructor|constructor|].
+      inversion N as [|? ? Hn N']; subst. constructor; [|apply IH; auto].
+      intros H. apply in_map_iff in H. destruct H as ([x' y'] & E & Hin). simpl in E.
+      apply app_inv_head in E. inversion E; subst x'. apply in_combine_l in Hin. contradiction. }
+    exact (Hf _ bs (NoDup_map_inv _ _ (NoDup_zrange _))).
+Qed.
+
+Lemma In_topic_stores:
+  forall m c a, In a (topic_stores m c) <->
+  exists sp bs, In (c, (sp, bs)) (nm_strings m) /\ In a (string_stores sp bs).
+Proof.
+  intros m c a. unfold topic_stores. rewrite in_flat_map. split.
+  - intros ([sp bs] & H & Ha). exists sp, bs. split; auto. apply In_topic_strings; auto.
+  - intros (sp & bs & H & Ha). exists (sp, bs). split; auto. apply In_topic_strings; auto.
+Qed.
+
+(** A topic's stores of constant strings write each path once. *)
+Lemma topic_stores_nodup:
+  forall m c, wf_facts m -> NoDup (map (fun a => fst (fst a)) (topic_stores m c)).
+Proof.
+  intros m c W. unfold topic_stores, topic_strings.
+  assert (ND: NoDup (map string_target (filter (fun st => ident_eqb (fst st) c) (nm_strings m)))).
+  { generalize (wf_strings_nodup m W). generalize (nm_strings m). induction l as [|x l IH]; simpl; auto.
+    intros N. inversion N as [|? ? Hn N']; subst. destruct (ident_eqb (fst x) c); simpl; auto.
+    constructor; auto. intros H. apply Hn. apply in_map_iff in H. destruct H as (y & E & Hy).
+    apply filter_In in Hy. apply in_map_iff. exists y; tauto. }
+  assert (Hc: forall st, In st (filter (fun st => ident_eqb (fst st) c) (nm_strings m)) -> fst st = c).
+  { intros st H. apply filter_In in H. apply ident_eqb_true; tauto. }
+  generalize dependent (filter (fun st => ident_eqb (fst st) c) (nm_strings m)).
+  induction l as [|[c' [sp bs]] l IH]; intros ND Hc; cbn [map flat_map fst snd]; [constructor|].
+  inversion ND as [|? ? Hn ND']; subst. rewrite map_app. apply NoDup_app_intro.
+  - apply string_stores_nodup.
+  - apply IH; auto. intros st H; apply Hc; simpl; auto.
+  - intros x H1 H2. apply in_map_iff in H1. destruct H1 as (a1 & E1 & H1).
+    apply in_map_iff in H2. destruct H2 as (a2 & E2 & H2).
+    apply in_flat_map in H2. destruct H2 as ([sp2 bs2] & H2 & Ha2).
+    apply in_map_iff in H2. destruct H2 as ([c2 [sp3 bs3]] & E3 & H3). simpl in E3. inversion E3; subst sp3 bs3.
+    assert (Esp: sp = sp2) by (apply (string_store_path_inj sp bs sp2 bs2 a1 a2); auto; congruence).
+    subst sp2. apply Hn. apply in_map_iff. exists (c2, (sp, bs2)). split; auto.
+    unfold string_target; simpl. f_equal.
+    transitivity c; [apply (Hc (c2, (sp, bs2))); simpl; auto|symmetry; apply (Hc (c', (sp, bs))); simpl; auto].
 Qed.

@@ -1441,6 +1441,7 @@ Lemma stamp_run:
   get_block mm1 b = Some (Tstruct M, v1) -> mval_has_type ce (Tstruct M) v1 ->
   exists le' mm2 v2,
      exec_stmt ctx ge [] le mm1 w (stamp_stmts m (make_tables m) c M sp) [] le' mm2 w Out_normal
+  /\ le_ok le'
   /\ get_block mm2 b = Some (Tstruct M, v2) /\ mval_has_type ce (Tstruct M) v2
   /\ mem_next mm2 = mem_next mm1 /\ (forall b', b' <> b -> get_block mm2 b' = get_block mm1 b')
   /\ match find_assoc c (nm_stamp_from m) with
@@ -1541,7 +1542,85 @@ Proof.
       apply (mval_get_set_disjoint _ _ _ _ _ D1 S2).
 Qed.
 
+(** The constant strings: [command->sp.len = n; command->sp.data[i] = b;]
+    for a list of stores at leaves, each path once. *)
+Lemma exec_const_stores:
+  forall (CS : Type) (ctx : ros_context CS) (w : world CS) L le mm1 v1,
+  le_ok le ->
+  get_block mm1 b = Some (Tstruct M, v1) -> mval_has_type ce (Tstruct M) v1 ->
+  (forall a, In a L -> resolve msgs (FTmsg M) (fst (fst a)) = Some (FTprim (snd (fst a)))
+                     /\ val_has_type (Vint (snd a)) (ctype_of_prim (snd (fst a)))) ->
+  NoDup (map (fun a => fst (fst a)) L) ->
+  exists mm2 v2,
+     exec_stmt ctx ge [] le mm1 w (seq_of (map (const_store m M) L)) [] le mm2 w Out_normal
+  /\ get_block mm2 b = Some (Tstruct M, v2) /\ mval_has_type ce (Tstruct M) v2
+  /\ mem_next mm2 = mem_next mm1 /\ (forall b', b' <> b -> get_block mm2 b' = get_block mm1 b')
+  /\ (forall a, In a L -> mval_get v2 (path_steps (fst (fst a))) = Some (MVscalar (Vint (snd a))))
+  /\ (forall p', (forall a, In a L -> path_disjoint (path_steps (fst (fst a))) p') -> mval_get v2 p' = mval_get v1 p').
+Proof.
+  intros CS ctx w L; induction L as [|[[lp q] x] L IH]; intros le mm1 v1 Hle G1 H1 OK NDs.
+  - exists mm1, v1. repeat split; auto. apply exec_Sskip. intros ? [].
+  - destruct (OK _ (or_introl eq_refl)) as [R Tx]. simpl in R, Tx.
+    destruct (eval_leaf m W ge [] le mm1 M lp q cmdE b [] R) as (A & T & _); auto.
+    { apply eval_lvalue_deref_param; auto. }
+    assert (Tp: type_at ce (Tstruct M) (path_steps lp) = Some (ctype_of_prim q)).
+    { change (Tstruct M) with (ctype_of_ftype (FTmsg M)). rewrite type_at_ctype; auto.
+      - rewrite R; reflexivity.
+      - apply ftype_ok_msg. eapply resolve_leaf_msg; eauto. }
+    assert (Hx: mval_has_type ce (ctype_of_prim q) (MVscalar (Vint x)))
+      by (constructor; auto; apply ctype_of_prim_scalar_type).
+    destruct (store_typed ce mm1 b (Tstruct M) v1 (path_steps lp) _ _ G1 H1 Tp Hx)
+      as (mm2 & v2 & S & Sv & G2 & H2 & N2 & O2).
+    simpl in NDs. inversion NDs as [|? ? Hnin ND']; subst.
+    destruct (IH le mm2 v2) as (mm3 & v3 & X3 & G3 & H3 & N3 & O3 & Set3 & Keep3); auto.
+    { intros a Ha; apply OK; simpl; auto. }
+    exists mm3, v3. repeat split; auto.
+    + simpl. change (@nil event) with (@nil event ++ @nil event).
+      eapply exec_Sseq_1; [|exact X3].
+      apply exec_Sassign. unfold const_store; simpl.
+      rewrite app_nil_l in A.
+      rewrite (eval_assign_scalar ge [] le mm1 _ _ b (path_steps lp) (Vint x) A).
+      * rewrite T. unfold store. rewrite sem_cast_same by exact Tx. exact S.
+      * rewrite T. apply ctype_of_prim_scalar_type.
+      * exact (eval_const_of le mm1 q (Vint x) Tx).
+    + congruence.
+    + intros b' N. rewrite O3, O2; auto.
+    + intros a [<-|Ha]; simpl.
+      * rewrite Keep3; [eapply mval_get_set_same; eauto|].
+        intros a' Ha'. destruct (OK a' (or_intror Ha')) as [R' _].
+        apply (leaves_disjoint m _ _ (FTmsg M) _ q R' R).
+        intros E. apply Hnin. rewrite <- E. apply (in_map (fun a => fst (fst a)) _ _ Ha').
+      * apply Set3; auto.
+    + intros p' D. rewrite Keep3 by (intros a Ha; apply D; simpl; auto).
+      apply (mval_get_set_disjoint _ _ _ _ _ (D _ (or_introl eq_refl)) Sv).
+Qed.
+
 End OUTPUT.
+
+(** What the output glue has written once the zeroing, the copies and
+    the stamp have run: [DDC.published_value] without the constant
+    strings. *)
+Definition pre_value (m : node_model) (y : mval) (now : Z) (g : ident -> mval) (tp : topic) (mv : mval) : Prop :=
+  mval_has_type (composites m) (Tstruct (tp_msg tp)) mv
+  /\ (forall o, In o (nm_outrels m) -> or_topic o = tp_cname tp ->
+        exists v, mval_get y [Sfield (or_output o)] = Some (MVscalar v)
+               /\ mval_get mv (path_steps (or_path o)) = Some (MVscalar v))
+  /\ (forall sp, find_assoc (tp_cname tp) (nm_stamps m) = Some sp ->
+        match find_assoc (tp_cname tp) (nm_stamp_from m) with
+        | None =>
+            mval_get mv (path_steps (sp ++ [PField "sec"%string])) = Some (MVscalar (Vint (time_sec now)))
+         /\ mval_get mv (path_steps (sp ++ [PField "nsec"%string])) = Some (MVscalar (Vint (time_nsec now)))
+        | Some (s, sp') =>
+            mval_get mv (path_steps (sp ++ [PField "sec"%string]))
+            = mval_get (g s) (path_steps (sp' ++ [PField "sec"%string]))
+         /\ mval_get mv (path_steps (sp ++ [PField "nsec"%string]))
+            = mval_get (g s) (path_steps (sp' ++ [PField "nsec"%string]))
+        end)
+  /\ (forall lp q, resolve (nm_msgs m) (FTmsg (tp_msg tp)) lp = Some (FTprim q) ->
+        (forall o, In o (nm_outrels m) -> or_topic o = tp_cname tp -> or_path o <> lp) ->
+        (forall sp, find_assoc (tp_cname tp) (nm_stamps m) = Some sp ->
+           lp <> sp ++ [PField "sec"%string] /\ lp <> sp ++ [PField "nsec"%string]) ->
+        mval_get mv (path_steps lp) = Some (zero_mval (composites m) (ctype_of_prim q))).
 
 Lemma generate_output_glue_ddc_aux:
   forall tp, In tp (published m) -> output_glue_ddc m p tp.
@@ -1559,44 +1638,98 @@ Proof.
   apply quiet_call_at_intro with (le := le0); auto.
   - unfold function_entry. rewrite Fvars, Fpar. reflexivity.
   - intros CS ctx w.
-    destruct (output_body tp Htp mm b by_ y NG Vy Gy Hy CS ctx w le0 mv0)
-      as (le' & mm' & mv & X & Hle' & G' & [Tm [Rel Zero]] & [U1 U2]); auto.
-    { unfold le0. apply find_assoc_set_same. }
-    assert (Xb: exec_stmt ctx ge [] le0 mm w (output_base m tp) [] le' mm' w Out_normal).
-    { unfold output_base, gen_list_message_expr_output_glue, gen_list_controller_expr_output_glue.
-      rewrite copies_map. exact X. }
     assert (Htop: In tp (nm_topics m)) by (apply in_published in Htp; tauto).
     assert (FT: find_topic (nm_topics m) (tp_cname tp) = Some tp)
       by (apply In_find_topic; [apply (wf_cnames_nodup m W)|auto]).
-    assert (ROUT: forall o, In o (nm_outrels m) -> or_topic o = tp_cname tp ->
-                  exists q, resolve msgs (FTmsg (tp_msg tp)) (or_path o) = Some (FTprim q)).
-    { intros o Ho Eo. destruct (wf_outrel m o W Ho) as (tp' & q & Ft & _ & _ & R).
-      rewrite Eo, FT in Ft. inversion Ft; subst tp'. eauto. }
-    destruct (topic_stamp m (tp_cname tp)) as [sp|] eqn:ST.
-    + destruct (stamp_run tp Htp mm b GT NG CS ctx w le' mm' mv sp Hle' ST ltac:(intros b' Nb; destruct U1 as [_ U2']; auto) G' Tm)
-        as (le2 & mm2 & v2 & X2 & G2 & H2 & N2 & O2 & STV & Keep).
-      destruct (wf_stamp m tp sp W Htp ST) as (Rs & Rn & NO).
-      assert (DJ: forall lp q, resolve msgs (FTmsg (tp_msg tp)) lp = Some (FTprim q) ->
-                  lp <> sp ++ [PField "sec"%string] -> lp <> sp ++ [PField "nsec"%string] ->
-                  mval_get v2 (path_steps lp) = mval_get mv (path_steps lp)).
-      { intros lp q R N1 N2'. apply Keep.
-        - apply (leaves_disjoint m _ _ (FTmsg (tp_msg tp)) Puint32 q Rs R). auto.
-        - apply (leaves_disjoint m _ _ (FTmsg (tp_msg tp)) Puint32 q Rn R). auto. }
-      exists le2, mm2. split.
-      * rewrite Fbody. change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; eauto.
-      * exists v2. split; [auto|split].
-        -- split; [exact H2|split; [|split]].
-           ++ intros o Ho Eo. destruct (Rel o Ho Eo) as (v & Yv & Mv). exists v. split; auto.
-              destruct (ROUT o Ho Eo) as (q & R). rewrite DJ with (q := q); auto;
-                intros E; apply (NO o _ Ho Eo E).
-           ++ intros sp' E. unfold topic_stamp in ST. rewrite ST in E. inversion E; subst sp'. exact STV.
-           ++ intros lp q R NOUT NS. destruct (NS sp ST) as [N1 N2']. rewrite DJ with (q := q); auto.
-        -- split; [congruence|]. intros b' Nb. rewrite O2, U2; auto.
-    + exists le', mm'. split; [rewrite Fbody; exact Xb|].
-      exists mv. split; [auto|split; [|split; auto]].
-      split; [exact Tm|split; [exact Rel|split]].
-      * intros sp E. unfold topic_stamp in ST. rewrite ST in E. discriminate.
-      * intros lp q R NOUT _. apply Zero; auto.
+    assert (PRE: exists le2 mm2 v2,
+        exec_stmt ctx ge [] le0 mm w (output_pre m tp) [] le2 mm2 w Out_normal
+     /\ find_assoc command_param le2 = Some (Vptr b [])
+     /\ get_block mm2 b = Some (Tstruct (tp_msg tp), v2)
+     /\ unchanged_except mm mm2 b
+     /\ pre_value m y (w_time w) (global_msg p mm) tp v2).
+    { destruct (output_body tp Htp mm b by_ y NG Vy Gy Hy CS ctx w le0 mv0)
+        as (le' & mm' & mv & X & Hle' & G' & [Tm [Rel Zero]] & [U1 U2]); auto.
+      { unfold le0. apply find_assoc_set_same. }
+      assert (Xb: exec_stmt ctx ge [] le0 mm w (output_base m tp) [] le' mm' w Out_normal).
+      { unfold output_base, gen_list_message_expr_output_glue, gen_list_controller_expr_output_glue.
+        rewrite copies_map. exact X. }
+      assert (ROUT: forall o, In o (nm_outrels m) -> or_topic o = tp_cname tp ->
+                    exists q, resolve msgs (FTmsg (tp_msg tp)) (or_path o) = Some (FTprim q)).
+      { intros o Ho Eo. destruct (wf_outrel m o W Ho) as (tp' & q & Ft & _ & _ & R).
+        rewrite Eo, FT in Ft. inversion Ft; subst tp'. eauto. }
+      destruct (topic_stamp m (tp_cname tp)) as [sp|] eqn:ST.
+      + destruct (stamp_run tp Htp mm b GT NG CS ctx w le' mm' mv sp Hle' ST ltac:(intros b' Nb; destruct U1 as [_ U2']; auto) G' Tm)
+          as (le2 & mm2 & v2 & X2 & Hle2 & G2 & H2 & N2 & O2 & STV & Keep).
+        destruct (wf_stamp m tp sp W Htp ST) as (Rs & Rn & NO).
+        assert (DJ: forall lp q, resolve msgs (FTmsg (tp_msg tp)) lp = Some (FTprim q) ->
+                    lp <> sp ++ [PField "sec"%string] -> lp <> sp ++ [PField "nsec"%string] ->
+                    mval_get v2 (path_steps lp) = mval_get mv (path_steps lp)).
+        { intros lp q R N1 N2'. apply Keep.
+          - apply (leaves_disjoint m _ _ (FTmsg (tp_msg tp)) Puint32 q Rs R). auto.
+          - apply (leaves_disjoint m _ _ (FTmsg (tp_msg tp)) Puint32 q Rn R). auto. }
+        exists le2, mm2, v2. split; [|split; [exact Hle2|split; [exact G2|split]]].
+        * unfold output_pre. rewrite ST. change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; eauto.
+        * split; [congruence|]. intros b' Nb. rewrite O2, U2; auto.
+        * split; [exact H2|split; [|split]].
+          -- intros o Ho Eo. destruct (Rel o Ho Eo) as (v & Yv & Mv). exists v. split; auto.
+             destruct (ROUT o Ho Eo) as (q & R). rewrite DJ with (q := q); auto;
+               intros E; apply (NO o _ Ho Eo E).
+          -- intros sp' E. unfold topic_stamp in ST. rewrite ST in E. inversion E; subst sp'. exact STV.
+          -- intros lp q R NOUT NS. destruct (NS sp ST) as [N1 N2']. rewrite DJ with (q := q); auto.
+      + exists le', mm', mv. split; [unfold output_pre; rewrite ST; exact Xb|split; [exact Hle'|split; [exact G'|split]]].
+        * split; auto.
+        * split; [exact Tm|split; [exact Rel|split]].
+          -- intros sp E. unfold topic_stamp in ST. rewrite ST in E. discriminate.
+          -- intros lp q R NOUT _. apply Zero; auto. }
+    destruct PRE as (le2 & mm2 & v2 & X2 & Hle2 & G2 & [U2n U2o] & (T2 & Rel2 & STV2 & Zero2)).
+    set (L := topic_stores m (tp_cname tp)).
+    assert (OKs: forall a, In a L -> resolve msgs (FTmsg (tp_msg tp)) (fst (fst a)) = Some (FTprim (snd (fst a)))
+                                  /\ val_has_type (Vint (snd a)) (ctype_of_prim (snd (fst a)))).
+    { intros a Ha. apply In_topic_stores in Ha. destruct Ha as (sp & bs & Hs & Ha).
+      apply (string_store_leaf m tp sp bs a W Htp Hs Ha). }
+    destruct (exec_const_stores tp b CS ctx w L le2 mm2 v2 Hle2 G2 T2 OKs
+                (topic_stores_nodup m _ W))
+      as (mm3 & v3 & X3 & G3 & H3 & N3 & O3 & Set3 & Keep3).
+    (* a leaf that no store writes keeps its value *)
+    assert (KL: forall lp q, resolve msgs (FTmsg (tp_msg tp)) lp = Some (FTprim q) ->
+                (forall a, In a L -> fst (fst a) <> lp) ->
+                mval_get v3 (path_steps lp) = mval_get v2 (path_steps lp)).
+    { intros lp q R N. apply Keep3. intros a Ha. destruct (OKs a Ha) as [Ra _].
+      apply (leaves_disjoint m _ _ (FTmsg (tp_msg tp)) _ q Ra R). apply N; auto. }
+    assert (NF: forall fl lp, fl <> "len"%string -> forall a, In a L -> fst (fst a) <> lp ++ [PField fl]).
+    { intros fl lp Nf a Ha E. apply In_topic_stores in Ha. destruct Ha as (sp & bs & _ & Ha).
+      destruct (string_stores_path _ _ _ Ha) as [[E1 _]|(i & b' & E1 & _)]; rewrite E1 in E.
+      - apply app_inj_tail in E. destruct E as [_ E]. inversion E. auto.
+      - replace [PField "data"%string; PIndex (Z.of_nat i)] with ([PField "data"%string] ++ [PIndex (Z.of_nat i)]) in E
+          by reflexivity.
+        rewrite app_assoc in E. apply app_inj_tail in E. destruct E as [_ E]. discriminate. }
+    exists le2, mm3. split.
+    + rewrite Fbody. change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; eauto.
+    + exists v3. split; [auto|split].
+      * split; [exact H3|split; [|split; [|split]]].
+        -- intros o Ho Eo. destruct (Rel2 o Ho Eo) as (v & Yv & Mv). exists v. split; auto.
+           destruct (wf_outrel m o W Ho) as (tp' & q & Ft & _ & _ & R).
+           rewrite Eo, FT in Ft. inversion Ft; subst tp'.
+           rewrite (KL _ q R); auto.
+           intros a Ha E. apply In_topic_stores in Ha. destruct Ha as (sp & bs & Hs & Ha).
+           destruct (wf_string m tp sp bs W Htp Hs) as (_ & _ & _ & _ & _ & _ & _ & NO).
+           destruct (string_stores_path _ _ _ Ha) as [[E1 _]|(i & b' & E1 & _)]; rewrite E1 in E;
+             symmetry in E; exact (NO o _ Ho Eo E).
+        -- intros sp E. generalize (STV2 sp E).
+           destruct (wf_stamp m tp sp W Htp E) as (Rs & Rn & _).
+           rewrite (KL _ _ Rs), (KL _ _ Rn) by (apply NF; discriminate). auto.
+        -- intros sp bs Hs. split.
+           ++ apply (Set3 (_, Puint32, _)). apply In_topic_stores. exists sp, bs. split; auto.
+              apply string_stores_len.
+           ++ intros i b' Hb. apply (Set3 (_, Puint8, b')). apply In_topic_stores. exists sp, bs. split; auto.
+              apply string_stores_data; auto.
+        -- intros lp q R NOUT NS NSTR. rewrite (KL _ q R); [apply Zero2; auto|].
+           intros a Ha E. apply In_topic_stores in Ha. destruct Ha as (sp & bs & Hs & Ha).
+           destruct (NSTR sp bs Hs) as [N1 N2].
+           destruct (string_stores_path _ _ _ Ha) as [[E1 _]|(i & b' & E1 & _ & _ & Hi)]; rewrite E1 in E.
+           ++ apply N1; auto.
+           ++ apply (N2 i Hi); auto.
+      * split; [congruence|]. intros b' Nb. rewrite O3 by auto. auto.
 Qed.
 
 End GENERATED.

@@ -999,7 +999,7 @@ Lemma published_value_ext:
   (forall tp', In tp' (subscribed m) -> g1 (tp_cname tp') = g2 (tp_cname tp')) ->
   published_value m y now g1 tp mv -> published_value m y now g2 tp mv.
 Proof.
-  intros g1 g2 y now tp mv E (T & R & S & Z). split; [auto|split; [auto|split; [|auto]]].
+  intros g1 g2 y now tp mv E (T & R & S & Z). split; [auto|split; [auto|split; [|exact Z]]].
   intros sp F. generalize (S sp F). destruct (find_assoc (tp_cname tp) (nm_stamp_from m)) as [[s0 sp']|] eqn:SF; auto.
   assert (Hin: In (tp_cname tp, (s0, sp')) (nm_stamp_from m)) by (apply find_assoc_In; auto).
   destruct (wf_stamp_from m _ _ _ W Hin) as (tp' & Ft & Sub & _).

@@ -31,6 +31,9 @@
                                            bits: 0x and 16 or 8 hex digits)
     derived_input TOPIC KIND INPUT        (KIND: is_new | received | age_ms)
     stamp TOPIC PATH                      (rule 4.13)
+    stamp_from TOPIC SOURCE PATH          (rule 4.13)
+    string TOPIC PATH BYTES               (rule 4.14; BYTES: the decimal bytes
+                                           joined by commas, [-] if none)
 >>
     TOPIC is a topic's C name.
 *)
@@ -108,6 +111,16 @@ Definition stamp_line (s : ident * NodeModel.path) : string :=
 Definition stamp_from_line (s : ident * (ident * NodeModel.path)) : string :=
   "stamp_from " ++ fst s ++ " " ++ fst (snd s) ++ " " ++ path_text (snd (snd s)).
 
+(** The bytes of a constant string: [98,97] or [-]. *)
+Definition bytes_text (bs : list Z) : string :=
+  match bs with
+  | [] => "-"
+  | b :: rest => fold_left (fun acc x => acc ++ "," ++ string_of_Z x) rest (string_of_Z b)
+  end.
+
+Definition string_line (s : ident * (NodeModel.path * list Z)) : string :=
+  "string " ++ fst s ++ " " ++ path_text (fst (snd s)) ++ " " ++ bytes_text (snd (snd s)).
+
 (** The lines of the model. *)
 Definition model_lines (m : node_model) : list string :=
   [ "pyrosgen-model 1";
@@ -126,7 +139,8 @@ Definition model_lines (m : node_model) : list string :=
   ++ map fallback_line (nm_fallbacks m)
   ++ map drel_line (nm_drels m)
   ++ map stamp_line (nm_stamps m)
-  ++ map stamp_from_line (nm_stamp_from m).
+  ++ map stamp_from_line (nm_stamp_from m)
+  ++ map string_line (nm_strings m).
 
 (** The text: every line followed by a newline. *)
 Definition print_model (m : node_model) : string := concat_lines (model_lines m).

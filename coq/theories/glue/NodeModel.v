@@ -187,7 +187,14 @@ Record drel : Type := mkdrel {
     path (the topic's [header.stamp]): the cycle's ROS time, or, for a
     topic that [nm_stamp_from] maps to a subscribed topic (by C name) and
     a [time] field of its message, that field of the newest message
-    received on it. *)
+    received on it.
+
+    Constant strings (rule 4.14): [nm_strings] lists, for published
+    topics (by C name), the path of a [string] field of the topic's
+    message and the bytes of the constant it always holds.  A carried
+    string of at most [N] bytes is a nested message of three fields,
+    [len] ([uint32]), [truncated] ([bool]) and [data] ([uint8[N]])
+    ([Wellformed.string_msg]). *)
 Record node_model : Type := mknode_model {
   nm_name : ident;
   nm_period_ms : Z;
@@ -206,7 +213,8 @@ Record node_model : Type := mknode_model {
   nm_fallbacks : list (ident * val);
   nm_drels : list drel;
   nm_stamps : list (ident * path);
-  nm_stamp_from : list (ident * (ident * path))
+  nm_stamp_from : list (ident * (ident * path));
+  nm_strings : list (ident * (path * list Z))
 }.
 
 (** ** Lookups *)

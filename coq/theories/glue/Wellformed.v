@@ -490,6 +490,50 @@ Definition stamp_from_ok (m : node_model) (tb : tables) (sf : ident * (ident * p
      | None => false
      end.
 
+(** Rule 4.14: a carried string of at most [n] bytes is a message of the
+    fields [len] ([uint32]), [truncated] ([bool]) and [data] ([uint8[n]]),
+    [string_msg] gives its [n]. *)
+Definition max_string : Z := 1048576.
+
+Definition string_msg (msgs : list msgdef) (id : ident) : option Z :=
+  match find_msg msgs id with
+  | Some md =>
+      match md_fields md with
+      | [(l, FTprim Puint32); (t, FTprim Pbool); (d, FTarray (FTprim Puint8) n)] =>
+          if ident_eqb l "len" && ident_eqb t "truncated" && ident_eqb d "data" && (n <=? max_string)%Z
+          then Some n else None
+      | _ => None
+      end
+  | None => None
+  end.
+
+(** Rule 4.14: a constant string is written in a published topic's
+    message, at a string field of at least as many bytes as the constant
+    has, each a byte, and no output relation of the topic writes into
+    the string. *)
+Definition is_byte (b : Z) : bool := (0 <=? b)%Z && (b <=? 255)%Z.
+
+Definition string_ok (m : node_model) (tb : tables) (st : ident * (path * list Z)) : bool :=
+  match lookup_topic tb (fst st) with
+  | None => false
+  | Some tp =>
+      is_published tp
+      && match resolve (nm_msgs m) (FTmsg (tp_msg tp)) (fst (snd st)) with
+         | Some (FTmsg id) =>
+             match string_msg (nm_msgs m) id with
+             | Some n => (Z.of_nat (length (snd (snd st))) <=? n)%Z
+             | None => false
+             end
+         | _ => false
+         end
+      && forallb is_byte (snd (snd st))
+      && forallb (fun o => negb (ident_eqb (or_topic o) (fst st) && path_prefixb (fst (snd st)) (or_path o)))
+                 (nm_outrels m)
+  end.
+
+(** The topic and path of a constant string. *)
+Definition string_target (st : ident * (path * list Z)) : ident * path := (fst st, fst (snd st)).
+
 (** Rule 4.12: a timeout is on a subscribed topic, from the period to a
     day (86,400,000 ms). *)
 Definition max_timeout_ms : Z := 86400000.
@@ -563,6 +607,8 @@ Definition wf (m : node_model) : bool :=
   && nodup_keys enc_string (map fst (nm_stamps m))
   && forallb (stamp_from_ok m tb) (nm_stamp_from m)
   && nodup_keys enc_string (map fst (nm_stamp_from m))
+  && forallb (string_ok m tb) (nm_strings m)
+  && nodup_keys enc_target (map string_target (nm_strings m))
   && nodup_keys enc_target (map (fun o => (or_topic o, or_path o)) (nm_outrels m)).
 
 (** ** The same rules, failing with a message that names the culprit *)
@@ -720,6 +766,14 @@ Definition wf_check (m : node_model) : res unit :=
                                   MSG " must be a time field of a subscribed topic's message, for a stamped topic"])
             (nm_stamp_from m);
   do _ <- check_nodup_keys enc_string (gen_error "stamp source given twice for topic ") (map fst (nm_stamp_from m));
+  do _ <- check_all (fun st => assertion (string_ok m tb st)
+                                 [MSG "Generator: bad constant string (rule 4.14) on topic "; CTX (fst st);
+                                  MSG ": "; CTX (string_of_path (fst (snd st)));
+                                  MSG " must be a string field of a published message, long enough, that no output relation writes, and the constant bytes"])
+            (nm_strings m);
+  do _ <- check_nodup_keys enc_target
+            (fun tp => gen_error "constant string given twice: " (fst tp ++ string_of_path (snd tp))%string)
+            (map string_target (nm_strings m));
   check_nodup_keys enc_target
     (fun tp => gen_error "published field fed twice: " (fst tp ++ string_of_path (snd tp))%string)
     (map (fun o => (or_topic o, or_path o)) (nm_outrels m)).
