@@ -51,7 +51,8 @@
       [q] keeps the newest [q] ([q = 0]: unbounded, as in roscpp);
       messages of topics nobody subscribed to are dropped; arrival order
       is kept.  Then, for each kept message in order, a fresh block
-      holding the message value (of type [struct msgty]) is allocated,
+      holding the message value (of type [struct msgty]), its bounded
+      sequences converted ([delivered], [clamp]), is allocated,
       the callback is called with a pointer to it, and the block is freed
       ([deliver]).  Finally the spin counter is incremented.  It emits
       nothing itself (the callbacks may).
@@ -93,7 +94,7 @@
     and the [Einit] event makes the initialisation visible even in runs
     that never step (zero cycles). *)
 
-From Coq Require Import String List ZArith Bool.
+From Coq Require Import String List ZArith Bool Lia.
 From ROSGen Require Import Syntax Values Memory.
 Import ListNotations.
 
@@ -150,6 +151,132 @@ Record arrival : Type := mkarrival {
   ar_msg : mval;
   ar_time : Z
 }.
+
+(** ** Bounded sequences and strings *)
+
+(** A ROS sequence ([T[]]) or [string] that the node carries is held in C
+    by a struct named [ros_seq_...] or [ros_string...] of three members:
+    [unsigned int len], [unsigned char truncated] and [T data[N]] ([T] a
+    scalar type, [N] the sequence's maximum).  An arrival holds the ROS
+    message as it was sent: in each bounded sequence, [len] is the
+    sequence's real length (any [uint32]) and [data] its first [N]
+    elements (the elements past [N] cannot matter to the node, so they
+    are not represented; what [data] holds past [len] does not matter
+    either).  The wrapper delivers it converted by [clamp] (policy
+    "truncate"): [len] becomes [min(len, N)], [truncated] is 1 exactly
+    when the sequence was longer than [N], and [data] keeps its first
+    [min(len, N)] elements, every other element being zero.  Sequences
+    are found by the struct names along the message's type, through
+    nested structs and fixed-size arrays. *)
+Definition bounded_name (id : ident) : bool :=
+  String.prefix "ros_string" id || String.prefix "ros_seq_" id.
+
+Definition clamp_seq (members : list (ident * type)) (fs : list (ident * mval)) : option mval :=
+  match members, fs with
+  | [(_, Tint I32 Unsigned); (_, Tint I8 Unsigned); (_, Tarray t n)],
+    [(fl, MVscalar (Vint l)); (ft, _); (fd, MVarray es)] =>
+      if is_scalar_type t then
+        let k := Z.min l n in
+        Some (MVstruct [(fl, MVscalar (Vint k));
+                        (ft, MVscalar (Vint (if (n <? l)%Z then 1 else 0)));
+                        (fd, MVarray (firstn (Z.to_nat k) es
+                                      ++ repeat (MVscalar (zero_val t)) (length es - Z.to_nat k)))])
+      else None
+  | _, _ => None
+  end.
+
+Fixpoint clamp (ce : composite_env) (ty : type) (mv : mval) {struct mv} : mval :=
+  match mv with
+  | MVscalar _ => mv
+  | MVstruct fs =>
+      match ty with
+      | Tstruct id =>
+          match struct_members ce id with
+          | Some members =>
+              match (if bounded_name id then clamp_seq members fs else None) with
+              | Some mv' => mv'
+              | None =>
+                  MVstruct ((fix go (ms : list (ident * type)) (l : list (ident * mval)) {struct l}
+                               : list (ident * mval) :=
+                               match ms, l with
+                               | (_, t) :: ms', (g, v) :: l' => (g, clamp ce t v) :: go ms' l'
+                               | _, _ => l
+                               end) members fs)
+              end
+          | None => mv
+          end
+      | _ => mv
+      end
+  | MVarray es =>
+      match ty with
+      | Tarray t _ => MVarray (map (clamp ce t) es)
+      | _ => mv
+      end
+  end.
+
+Lemma elems_firstn:
+  forall ce t es k, elems_have_type ce t es -> elems_have_type ce t (firstn k es).
+Proof.
+  intros ce t es k E. revert k. induction E as [|t0 e es' Te Es IH]; intros [|k]; simpl; constructor; auto.
+Qed.
+
+Lemma elems_app:
+  forall ce t l1 l2, elems_have_type ce t l1 -> elems_have_type ce t l2 -> elems_have_type ce t (l1 ++ l2).
+Proof. intros ce t l1 l2 E1 E2. induction E1; simpl; auto. constructor; auto. Qed.
+
+Lemma clamp_seq_typed:
+  forall ce id members fs mv',
+  struct_members ce id = Some members -> fields_have_type ce members fs ->
+  clamp_seq members fs = Some mv' -> mval_has_type ce (Tstruct id) mv'.
+Proof.
+  intros ce id members fs mv' SM F C. unfold clamp_seq in C.
+  destruct members as [|[x1 t1] [|[x2 t2] [|[x3 t3] [|]]]]; try discriminate;
+  destruct fs as [|[f1 v1] [|[f2 v2] [|[f3 v3] [|]]]]; try discriminate;
+  destruct t1 as [| [] [] | | | | | |]; try discriminate;
+  destruct t2 as [| [] [] | | | | | |]; try discriminate;
+  destruct t3 as [| | | | | t n | |]; try discriminate;
+  destruct v1 as [[| len0 | | | | |]| |]; try discriminate;
+  destruct v3 as [| |es]; try discriminate.
+  destruct (is_scalar_type t) eqn:St; [|discriminate].
+  inversion C; subst mv'; clear C.
+  inversion F as [|? ? ? ? ? T1 F2]; subst. inversion F2 as [|? ? ? ? ? T2 F3]; subst.
+  inversion F3 as [|? ? ? ? ? T3 F4]; subst.
+  inversion T1 as [? ? _ V1| |]; subst. inversion T3 as [| |? ? ? L3 E3]; subst.
+  simpl in V1. unfold norm_int, wrap, wrap_unsigned, bitsize in V1. simpl in V1.
+  assert (Hl: (0 <= len0 < 4294967296)%Z) by (rewrite <- V1; apply Z.mod_pos_bound; lia).
+  assert (Lk: (Z.to_nat (Z.min len0 (Z.of_nat (length es))) <= length es)%nat) by lia.
+  econstructor; [exact SM|]. constructor; [|constructor; [|constructor; [|constructor]]].
+  - constructor; [reflexivity|]. simpl. unfold norm_int, wrap, wrap_unsigned, bitsize. simpl.
+    apply Z.mod_small. lia.
+  - constructor; [reflexivity|]. simpl. destruct (_ <? len0)%Z; reflexivity.
+  - constructor.
+    + rewrite app_length, firstn_length, repeat_length. lia.
+    + apply elems_app; [apply elems_firstn; auto|].
+      generalize (length es - Z.to_nat (Z.min len0 (Z.of_nat (length es))))%nat.
+      induction n; simpl; constructor; auto. constructor; auto. apply zero_val_has_type; auto.
+Qed.
+
+Lemma clamp_typed:
+  forall ce mv ty, mval_has_type ce ty mv -> mval_has_type ce ty (clamp ce ty mv).
+Proof.
+  intros ce mv. induction mv as [v|fs IH|es IH] using mval_ind2; intros ty T.
+  - simpl. exact T.
+  - inversion T as [|id members fs' SM F|]; subst. simpl. rewrite SM.
+    destruct (if bounded_name id then clamp_seq members fs else None) as [mv'|] eqn:C.
+    + destruct (bounded_name id); [|discriminate]. eapply clamp_seq_typed; eauto.
+    + econstructor; [exact SM|]. clear SM C T.
+      revert members F. induction IH as [|[g v] fs Hv Hfs IHfs]; intros members F.
+      * inversion F; subst. constructor.
+      * inversion F as [|f t mv' members' fs' Tv F']; subst. simpl. constructor; auto.
+  - inversion T as [| |t n es' L E]; subst. simpl. constructor.
+    + rewrite map_length. reflexivity.
+    + clear T. induction IH as [|e es He Hes IHes]; simpl; inversion E; subst; constructor; auto.
+Qed.
+
+(** The value that the callback of subscription [s] receives for the
+    arrival [a]: the message with its bounded sequences converted. *)
+Definition delivered (ge : genv) (s : subscription) (a : arrival) : mval :=
+  clamp (ge_comp ge) (Tstruct (sub_msgty s)) (ar_msg a).
 
 (** What the environment of a run fixes: the message arrivals with their
     receipt times, the ROS time of each cycle and the controller. *)

@@ -143,7 +143,7 @@ with deliver_fuel (fuel : nat) (m : mem) (w : world CS) (msgs : list (subscripti
       match msgs with
       | [] => Some ([], m, w)
       | (s, a) :: rest =>
-          let (m1, b) := alloc m (Tstruct (sub_msgty s)) (ar_msg a) in
+          let (m1, b) := alloc m (Tstruct (sub_msgty s)) (delivered ge s a) in
           match find_funct ge (sub_callback s) with
           | Some fd =>
               match call_fuel fuel' m1 (set_time w (ar_time a)) fd [Vptr b []] with

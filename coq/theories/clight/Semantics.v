@@ -380,7 +380,7 @@ with deliver : mem -> world CS -> list (subscription * arrival) ->
   | deliver_nil: forall m w,
       deliver m w [] [] m w
   | deliver_cons: forall m w s a rest m1 b fd t1 m2 w1 v t2 m3 w2,
-      alloc m (Tstruct (sub_msgty s)) (ar_msg a) = (m1, b) ->
+      alloc m (Tstruct (sub_msgty s)) (delivered ge s a) = (m1, b) ->
       find_funct ge (sub_callback s) = Some fd ->
       eval_funcall m1 (set_time w (ar_time a)) fd [Vptr b []] t1 m2 w1 v ->
       deliver (free m2 b) w1 rest t2 m3 w2 ->

@@ -330,11 +330,16 @@ Definition arrivals_upto {CS : Type} (ctx : ros_context CS) (i : nat) : list arr
 Definition newest_arrival {CS : Type} (ctx : ros_context CS) (tp : topic) (i : nat) : option arrival :=
   last_on (tp_name tp) (arrivals_upto ctx i).
 
+(** The message that the callback of topic [tp] receives for the
+    arrival [a]: its bounded sequences converted ([Environment.clamp]). *)
+Definition converted (m : node_model) (tp : topic) (a : arrival) : mval :=
+  clamp (composites m) (Tstruct (tp_msg tp)) (ar_msg a).
+
 (** The newest message that arrived on topic [tp] up to the [i]-th spin,
-    or the zero message if none did. *)
+    as its callback receives it, or the zero message if none did. *)
 Definition newest {CS : Type} (m : node_model) (ctx : ros_context CS) (tp : topic) (i : nat) : mval :=
   match newest_arrival ctx tp i with
-  | Some a => ar_msg a
+  | Some a => converted m tp a
   | None => zero_mval (composites m) (Tstruct (tp_msg tp))
   end.
 

@@ -54,7 +54,7 @@ Definition held {CS : Type} (m : node_model) (ctx : ros_context CS) (tp : topic)
 Lemma newest_step:
   forall CS m (ctx : ros_context CS) tp k,
   newest m ctx tp k
-  = match last_on (tp_name tp) (ctx_arrivals ctx k) with Some a => ar_msg a | None => held m ctx tp k end.
+  = match last_on (tp_name tp) (ctx_arrivals ctx k) with Some a => converted m tp a | None => held m ctx tp k end.
 Proof.
   intros CS m ctx tp k. unfold newest, newest_arrival, arrivals_upto.
   rewrite seq_S, flat_map_app. simpl. rewrite app_nil_r, last_on_app.
@@ -681,7 +681,7 @@ Lemma deliver_run:
   /\ mem_wf mm' /\ globals_typed p mm'
   /\ (forall tp, In tp (subscribed m) ->
         global_value p mm' (msg_var (tp_cname tp))
-        = Some (match last_delivered (sub_of tp) D with Some a => ar_msg a | None => G tp end))
+        = Some (match last_delivered (sub_of tp) D with Some a => converted m tp a | None => G tp end))
   /\ (forall tp, In tp (timed m) ->
         clock_held p mm' (tp_cname tp)
           (match last_delivered (sub_of tp) D with Some _ => true | None => fst (C tp) end)
@@ -691,8 +691,11 @@ Proof.
   intros D; induction D as [|[s a] D IH]; intros w mm G C Wm GT HG HC HD.
   - exists mm, w. split; [apply deliver_nil|]. split; [auto|]. split; [auto|]. split; [auto|].
     split; [auto|]. split; [intros tp Ht; exact (HC tp Ht)|auto].
-  - set (mv := ar_msg a).
-    destruct (HD s a (or_introl eq_refl)) as (tp' & Htp' & -> & Tmv).
+  - destruct (HD s a (or_introl eq_refl)) as (tp' & Htp' & -> & Tmv0).
+    set (mv := converted m tp' a).
+    assert (Tmv: mval_has_type ce (Tstruct (tp_msg tp')) mv) by (apply clamp_typed; exact Tmv0).
+    assert (Dv: delivered ge (sub_of tp') a = mv)
+      by (unfold delivered, mv, converted; rewrite globalenv_comp, types_eq; reflexivity).
     destruct (generate_callback_ddc m p GEN tp' Htp') as (f' & Ff' & Spec).
     destruct (alloc mm (Tstruct (tp_msg tp')) mv) as [m1 bn] eqn:AL.
     assert (Ebn: bn = mem_next mm) by (eapply alloc_result; eauto).
@@ -781,10 +784,11 @@ Proof.
       as (mm' & w' & X & NS & W' & GT' & HG' & HC' & Fr').
     { intros s0 mv0 H0. apply HD; simpl; auto. }
     exists mm', w'. refine (conj _ (conj NS (conj W' (conj GT' (conj _ (conj _ _)))))).
-    + change (@nil event) with (@nil event ++ @nil event). econstructor; eauto.
+    + change (@nil event) with (@nil event ++ @nil event). econstructor; [cbn [sub_msgty sub_of]; rewrite Dv; exact AL|eauto..].
     + intros tp Htp. rewrite HG' by auto. cbn [last_delivered]. unfold G1f.
       destruct (last_delivered (sub_of tp) D); auto.
-      destruct (sub_eq (sub_of tp') (sub_of tp)); auto.
+      destruct (sub_eq (sub_of tp') (sub_of tp)) as [E|]; auto.
+      assert (tp' = tp) by (apply callback_inj; auto; inversion E; auto). subst tp'. auto.
     + intros tp Ht. generalize (HC' tp Ht). cbn [last_delivered]. unfold C1f.
       destruct (last_delivered (sub_of tp) D); auto.
       destruct (sub_eq (sub_of tp') (sub_of tp)); auto.
