@@ -211,7 +211,7 @@ def cmd_build(args: argparse.Namespace) -> int:
 
 def _print_checks(report) -> None:
     for c in report.checks:
-        print(f"  {'ok' if c.ok else 'FAILED':<8}{c.name:<10}{c.summary}")
+        print(f"  {'ok' if c.ok else 'FAILED':<8}{c.name:<9} {c.summary}")
         for line in c.details:
             print(f"          {line.strip()}")
 

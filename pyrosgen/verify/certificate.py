@@ -41,7 +41,7 @@ from pyrosgen.render import render, source_label
 
 __all__ = [
     "MANIFEST_FORMAT", "ProofRecord", "certificate_files", "sha256_file", "tool_versions",
-    "md_code", "write_certificate", "read_manifest", "CertificateError",
+    "md_code", "render_certificate", "write_certificate", "read_manifest", "CertificateError",
 ]
 
 #: Version of the manifest's format.
@@ -188,6 +188,87 @@ def _stamps(pm: ProvedModel, c_text: str) -> list[dict]:
                     "source": pm.topic(src[0]).name if src else None, "source_path": src[1] if src else None,
                     "lines": (_copy_lines(lines, span, f"(*command).{path}.sec")
                               + _copy_lines(lines, span, f"(*command).{path}.nsec"))})
+    return out
+
+
+_CAST = re.compile(r"^\((?:unsigned |signed )?(?:char|short|int|long long|long)\)\s*")
+
+
+def _int_constant(text: str) -> int | None:
+    """The value of the integer constant ``text`` as the printer writes
+    it (``9U``, ``98``, an optional cast), else ``None``."""
+    t = text.strip()
+    while t.startswith("(") and t.endswith(")") and not _CAST.match(t):
+        t = t[1:-1].strip()
+    t = _CAST.sub("", t)
+    m = re.fullmatch(r"(0|[1-9][0-9]*)[uU]?[lL]{0,2}", t)
+    return int(m.group(1)) if m else None
+
+
+def _string_field_capacity(pm: ProvedModel, struct: str, path: str) -> int:
+    """The capacity of the string field at ``path`` of message ``struct``
+    in the proved model (its ``ros_string<N>`` struct: ``len``,
+    ``truncated``, ``data`` of ``N`` bytes)."""
+    cur = struct
+    for name, index in re.findall(r"([A-Za-z_][A-Za-z0-9_]*)((?:\[[0-9]+\])?)", path):
+        ftype = dict(pm.messages.get(cur, [])).get(name)
+        m = re.fullmatch(r"(?:array [0-9]+ )?msg (\w+)", ftype or "")
+        if m is None or (bool(index) != ftype.startswith("array ")):
+            raise CertificateError(f"certificate: {path} is not a string field of struct {struct} in the proved model")
+        cur = m.group(1)
+    fields = pm.messages.get(cur, [])
+    m = re.fullmatch(r"array ([0-9]+) uint8", dict(fields).get("data", ""))
+    if [f for f, _ in fields] != ["len", "truncated", "data"] or m is None:
+        raise CertificateError(f"certificate: {path} of struct {struct} is not a carried string in the proved model")
+    return int(m.group(1))
+
+
+def _strings(pm: ProvedModel, c_text: str) -> list[dict]:
+    """The rows of the strings section (rule 4.14): each constant string
+    with the lines of its topic's output glue that store it, its length
+    and each of its bytes; the final value of every leaf of the string
+    (the last store into it in the output glue, which first zeroes every
+    leaf) must be the constant's, ``truncated`` and the bytes past the
+    length zero, or the printed C is not what the proved model says (a
+    :class:`CertificateError`)."""
+    lines = c_text.splitlines()
+    spans = _function_spans(c_text)
+    out = []
+    for topic_c, path, data in pm.strings:
+        t = pm.topic(topic_c)
+        first, last = _span(spans, t.output_glue)
+        n = _string_field_capacity(pm, t.struct, path)
+        base = f"(*command).{path}"
+        stores: dict[str, tuple[int, int]] = {}  # leaf -> (line, value) of its last store
+        for k in range(first, last + 1):
+            text = lines[k - 1].strip()
+            if text.startswith(base + ".") and " = " in text and text.endswith(";"):
+                leaf, rhs = text[:-1].split(" = ", 1)
+                value = _int_constant(rhs)
+                if value is None:
+                    raise CertificateError(f"certificate: {t.output_glue} stores {rhs!r} into {leaf}, not a constant",
+                                           [f"  line {k} of the printed C"])
+                stores[leaf] = (k, value)
+        want = {f"{base}.len": len(data), f"{base}.truncated": 0}
+        want.update({f"{base}.data[{i}]": (data[i] if i < len(data) else 0) for i in range(n)})
+        wrong = [f"  {leaf}: {'never stored' if leaf not in stores else f'ends as {stores[leaf][1]} (line {stores[leaf][0]})'}"
+                 f", the constant needs {v}" for leaf, v in want.items() if stores.get(leaf, (0, None))[1] != v]
+        extra = sorted(set(stores) - set(want))
+        if wrong or extra:
+            raise CertificateError(f"certificate: {t.output_glue} does not leave {t.name} {path} as the proved "
+                                   "constant", wrong + [f"  {leaf}: not a leaf of the string" for leaf in extra])
+        numbered = [stores[f"{base}.len"]] + [stores[f"{base}.data[{i}]"] for i in range(len(data))]
+        if any(a >= b for (a, _), (b, _) in zip(numbered, numbered[1:])):
+            raise CertificateError(f"certificate: {t.output_glue} does not store {t.name} {path} in order")
+        zero_lines = sorted(k for leaf, (k, _) in stores.items()
+                            if leaf == f"{base}.truncated" or leaf.startswith(f"{base}.data[")
+                            and int(leaf[len(base) + 6:-1]) >= len(data))
+        out.append({
+            "topic": t.name, "path": path, "function": t.output_glue, "length": len(data), "capacity": n,
+            "text": data.decode("utf-8", "replace"), "bytes": ",".join(str(b) for b in data) or "-",
+            "lines": _indented(lines, [(k, "") for k, _ in numbered]),
+            "zeroed": (zero_lines[0], zero_lines[-1]) if zero_lines else None,
+        })
     return out
 
 
@@ -365,29 +446,44 @@ def _hashes(folder: Path, files: list[str]) -> list[tuple[str, str]]:
     return [(name, sha256_file(folder / name)) for name in sorted(set(files))]
 
 
+def render_certificate(rec: ProofRecord, proved: str, glue_text: str, hashes: list[tuple[str, str]],
+                       diagram: str | None = None) -> str:
+    """The certificate of ``rec``: rendered from the proved model text
+    ``proved``, the printed glue ``glue_text``, the digests ``hashes``
+    ((file, SHA-256), sorted by file) and the proved diagram's text.
+    Deterministic: ``pyrosgen verify`` renders it again from the proof's
+    texts and the manifest and compares."""
+    cert_name, manifest_name, sums_name = certificate_files(rec.node)
+    pm = parse_model_text(proved, origin=rec.model_file)
+    inputs, outputs = _relations(pm, glue_text)
+    stamps = _stamps(pm, glue_text)
+    freshness = _freshness(pm, glue_text)
+    strings = _strings(pm, glue_text)
+    built = any(name.startswith("bin/") for name, _ in hashes)
+    string_structs = sorted(name for name, fields in pm.messages.items()
+                            if [f for f, _ in fields] == ["len", "truncated", "data"])
+    return render(
+        "CERTIFICATE.md.j2",
+        rec=rec, pm=pm, md=md_code, source=md_code(source_label(rec.source_name)), diagram=diagram,
+        inputs=inputs, outputs=outputs, stamps=stamps, freshness=freshness, strings=strings,
+        string_structs=string_structs, hashes=hashes, built=built,
+        manifest=manifest_name, sums=sums_name, certificate=cert_name,
+    )
+
+
 def write_certificate(rec: ProofRecord, folder: Path, files: list[str]) -> list[str]:
     """Write the certificate, the manifest and the digest file of ``rec``
     into ``folder``, covering ``files`` (paths relative to ``folder``, each
     present); return the three names."""
     cert_name, manifest_name, sums_name = certificate_files(rec.node)
     proved = (folder / rec.model_file).read_text(encoding="utf-8")
-    pm = parse_model_text(proved, origin=rec.model_file)
     glue_text = (folder / rec.glue_c).read_text(encoding="utf-8")
-    inputs, outputs = _relations(pm, glue_text)
-    stamps = _stamps(pm, glue_text)
-    freshness = _freshness(pm, glue_text)
     hashes = _hashes(folder, files)
-    built = any(name.startswith("bin/") for name, _ in hashes)
     # the proved diagram as Coq printed it (names checked by the front end
     # and Coq; a line is shown in a code block, never as Markdown)
     diagram = ((folder / rec.controller["text"]).read_text(encoding="utf-8").rstrip("\n")
                if rec.controller and rec.controller.get("text") else None)
-    text = render(
-        "CERTIFICATE.md.j2",
-        rec=rec, pm=pm, md=md_code, source=md_code(source_label(rec.source_name)), diagram=diagram,
-        inputs=inputs, outputs=outputs, stamps=stamps, freshness=freshness, hashes=hashes, built=built,
-        manifest=manifest_name, sums=sums_name, certificate=cert_name,
-    )
+    text = render_certificate(rec, proved, glue_text, hashes, diagram)
     manifest = {
         "format": MANIFEST_FORMAT,
         **{k: v for k, v in asdict(rec).items() if k != "tools"},

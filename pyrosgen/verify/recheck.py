@@ -18,11 +18,14 @@ certificate.  The checks, from the folder's manifest
    are printed again from the freshly checked term and must equal the
    folder's files byte for byte; the printed C is validated against the
    dump (pycparser);
-5. **model** (with ``--model MODEL.yaml``): the model text Coq printed is
+5. **certificate**: the folder's certificate is the one rendered from the
+   texts the proof printed and the manifest (its relations' and
+   constants' C lines are in the printed C, its digests the recorded ones);
+6. **model** (with ``--model MODEL.yaml``): the model text Coq printed is
    the front end's reading of that file;
-6. **wrapper** (a ``build`` folder): the C++ wrapper registers exactly the
+7. **wrapper** (a ``build`` folder): the C++ wrapper registers exactly the
    proved topics, types and queue sizes and sleeps with the proved period;
-7. **WP** (with ``--wp``): Frama-C WP proves the folder's ACSL contracts
+8. **WP** (with ``--wp``): Frama-C WP proves the folder's ACSL contracts
    file on the folder's C, every goal; with ``--model`` too, the contracts
    file must be the one generated from that model (without it, only its
    digest vouches that the contracts were not weakened).
@@ -127,6 +130,33 @@ def _check_hashes(folder: Path, rec: ProofRecord, files: dict[str, str]) -> Chec
     return Check("hashes", True, f"{len(files)} files as recorded")
 
 
+def _check_certificate(folder: Path, rec: ProofRecord, files: dict[str, str], proved_text: str | None,
+                       proved_glue: str | None, proved_diagram: str | None) -> Check:
+    """The folder's certificate is the one rendered from the texts the
+    proof printed (the model text, the glue, the diagram) and the
+    manifest's record and digests."""
+    from pyrosgen.verify.certificate import CertificateError, render_certificate
+
+    name = certificate_files(rec.node)[0]
+    if proved_text is None or proved_glue is None:
+        return Check("certificate", False, "not run: no proved model text")
+    try:
+        want = render_certificate(rec, proved_text, proved_glue, sorted(files.items()),
+                                  proved_diagram.rstrip("\n") if proved_diagram is not None else None)
+        have = (folder / name).read_text(encoding="utf-8")
+    except CertificateError as exc:
+        return Check("certificate", False, exc.summary, list(exc.lines))
+    except (OSError, UnicodeDecodeError) as exc:
+        return Check("certificate", False, f"cannot read {name}: {getattr(exc, 'strerror', None) or exc}")
+    if have != want:
+        a, b = have.splitlines(), want.splitlines()
+        k = next((i for i in range(min(len(a), len(b))) if a[i] != b[i]), min(len(a), len(b)))
+        return Check("certificate", False, f"{name} is not the certificate of the proof", [
+            f"  line {k + 1}: the folder's {a[k] if k < len(a) else '(nothing)'!r}",
+            f"  line {k + 1}: rendered   {b[k] if k < len(b) else '(nothing)'!r}"])
+    return Check("certificate", True, f"{name} is the one rendered from the proof and the manifest")
+
+
 def verify_folder(folder: str | Path, *, node: str | None = None, model: str | Path | None = None,
                   wp: bool = False, driver: CoqDriver | None = None,
                   progress: Callable[[str], None] | None = None) -> VerifyReport:
@@ -143,7 +173,7 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
         raise NotAnOutputFolder(f"{mpath}: unreadable manifest: {exc}") from None
     report = VerifyReport(folder, rec.node)
     checks = report.checks
-    total = 4 + (model is not None) + (wp is True) + any(n.endswith("_ros.cpp") for n in files)
+    total = 5 + (model is not None) + (wp is True) + any(n.endswith("_ros.cpp") for n in files)
     step = 0
 
     def begin(what: str) -> None:
@@ -189,6 +219,7 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
 
         begin("re-printing the C, the AST dump and the model from the proof")
         proved_text = None
+        proved_glue = None
         proved_diagram = None
         if not compiled:
             checks.append(Check("re-print", False, "not run: the .v did not check"))
@@ -211,6 +242,7 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
                 validate_glue(outs[1].read_text(encoding="utf-8"), outs[0].read_text(encoding="utf-8"),
                               outs[2].read_text(encoding="utf-8"), glue_name=rec.glue_c, header_name=rec.types_h)
                 proved_text = outs[3].read_text(encoding="utf-8")
+                proved_glue = outs[1].read_text(encoding="utf-8")
                 proved_diagram = outs[6].read_text(encoding="utf-8") if rec.controller else None
                 if rec.controller:
                     from pyrosgen.verify.printer_validation import validate_program
@@ -225,6 +257,9 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
             except CoqError as exc:
                 checks.append(Check("re-print", False, getattr(exc, "summary", str(exc)),
                                     list(getattr(exc, "lines", ()))))
+
+        begin("certificate")
+        checks.append(_check_certificate(folder, rec, files, proved_text, proved_glue, proved_diagram))
 
         loaded = None  # the front end's model of --model
         if model is not None:

@@ -61,7 +61,7 @@ def test_a_fresh_folder_verifies(folder, capsys):
     code = cli.main(["verify", str(folder), "--model", str(LANDSHARK), "-q"])
     out = capsys.readouterr().out
     assert code == 0, out
-    for name in ("hashes", "library", "coqc", "re-print", "model"):
+    for name in ("hashes", "library", "coqc", "re-print", "certificate", "model"):
         assert f"  ok      {name:<10}" in out, out
     assert f"{NODE}_ddc, {NODE}_wf: Closed under the global context; coqchk OK" in out
     assert "FAILED" not in out
@@ -81,13 +81,16 @@ def test_edited_glue_is_refused(copy, capsys):
 
 
 def test_rehashed_edit_is_still_refused(copy):
-    """Digests updated after the edit: the re-printing still refuses it."""
+    """Digests updated after the edit: the re-printing still refuses it,
+    and the certificate, which lists the old digest, is no longer the one
+    the manifest's digests give."""
     h = copy / f"{NODE}_types.h"
     h.write_text(h.read_text().replace("double", "float", 1))
     _rehash(copy)
     failed = _failed(copy)
-    assert set(failed) == {"re-print"}
+    assert set(failed) == {"re-print", "certificate"}
     assert any(f"{NODE}_types.h: differs" in line for line in failed["re-print"])
+    assert any(f"{NODE}_types.h" in line for line in failed["certificate"]), failed["certificate"]
 
 
 def test_swapped_model_in_the_v_is_refused(copy):
@@ -112,6 +115,19 @@ def test_missing_file_and_broken_v(copy):
     failed = _failed(copy)
     assert any(f"{NODE}.sexp: missing" in line for line in failed["hashes"])
     assert "coqc" in failed and "re-print" in failed
+
+
+def test_edited_certificate_is_refused(copy):
+    """The certificate is not covered by the digests (it lists them), but
+    verify renders it again from the proof's texts and the manifest: a
+    reworded relation is refused, and nothing else fails."""
+    cert = copy / f"{NODE}.certificate.md"
+    text = cert.read_text()
+    assert "(cycle property `DDC.input_values`)" in text
+    cert.write_text(text.replace("(cycle property `DDC.input_values`)", "(cycle property `DDC.anything`)", 1))
+    failed = _failed(copy)
+    assert set(failed) == {"certificate"}
+    assert any("DDC.anything" in line for line in failed["certificate"]), failed["certificate"]
 
 
 def test_other_library_is_refused(copy, monkeypatch):
