@@ -1597,30 +1597,21 @@ Qed.
 
 End OUTPUT.
 
+(** The model without its constant strings. *)
+Definition without_strings (m : node_model) : node_model :=
+  {| nm_name := nm_name m; nm_period_ms := nm_period_ms m; nm_ctrl := nm_ctrl m;
+     nm_in_var := nm_in_var m; nm_in_struct := nm_in_struct m; nm_inputs := nm_inputs m;
+     nm_out_var := nm_out_var m; nm_out_struct := nm_out_struct m; nm_outputs := nm_outputs m;
+     nm_msgs := nm_msgs m; nm_topics := nm_topics m; nm_inrels := nm_inrels m;
+     nm_outrels := nm_outrels m; nm_timeouts := nm_timeouts m; nm_fallbacks := nm_fallbacks m;
+     nm_drels := nm_drels m; nm_stamps := nm_stamps m; nm_stamp_from := nm_stamp_from m;
+     nm_strings := [] |}.
+
 (** What the output glue has written once the zeroing, the copies and
-    the stamp have run: [DDC.published_value] without the constant
-    strings. *)
+    the stamp have run: [DDC.published_value] of the model without its
+    constant strings. *)
 Definition pre_value (m : node_model) (y : mval) (now : Z) (g : ident -> mval) (tp : topic) (mv : mval) : Prop :=
-  mval_has_type (composites m) (Tstruct (tp_msg tp)) mv
-  /\ (forall o, In o (nm_outrels m) -> or_topic o = tp_cname tp ->
-        exists v, mval_get y [Sfield (or_output o)] = Some (MVscalar v)
-               /\ mval_get mv (path_steps (or_path o)) = Some (MVscalar v))
-  /\ (forall sp, find_assoc (tp_cname tp) (nm_stamps m) = Some sp ->
-        match find_assoc (tp_cname tp) (nm_stamp_from m) with
-        | None =>
-            mval_get mv (path_steps (sp ++ [PField "sec"%string])) = Some (MVscalar (Vint (time_sec now)))
-         /\ mval_get mv (path_steps (sp ++ [PField "nsec"%string])) = Some (MVscalar (Vint (time_nsec now)))
-        | Some (s, sp') =>
-            mval_get mv (path_steps (sp ++ [PField "sec"%string]))
-            = mval_get (g s) (path_steps (sp' ++ [PField "sec"%string]))
-         /\ mval_get mv (path_steps (sp ++ [PField "nsec"%string]))
-            = mval_get (g s) (path_steps (sp' ++ [PField "nsec"%string]))
-        end)
-  /\ (forall lp q, resolve (nm_msgs m) (FTmsg (tp_msg tp)) lp = Some (FTprim q) ->
-        (forall o, In o (nm_outrels m) -> or_topic o = tp_cname tp -> or_path o <> lp) ->
-        (forall sp, find_assoc (tp_cname tp) (nm_stamps m) = Some sp ->
-           lp <> sp ++ [PField "sec"%string] /\ lp <> sp ++ [PField "nsec"%string]) ->
-        mval_get mv (path_steps lp) = Some (zero_mval (composites m) (ctype_of_prim q))).
+  published_value (without_strings m) y now g tp mv.
 
 Lemma generate_output_glue_ddc_aux:
   forall tp, In tp (published m) -> output_glue_ddc m p tp.
@@ -1647,7 +1638,9 @@ Proof.
      /\ get_block mm2 b = Some (Tstruct (tp_msg tp), v2)
      /\ unchanged_except mm mm2 b
      /\ pre_value m y (w_time w) (global_msg p mm) tp v2).
-    { destruct (output_body tp Htp mm b by_ y NG Vy Gy Hy CS ctx w le0 mv0)
+    { unfold pre_value, published_value. cbn [without_strings nm_outrels nm_stamps nm_stamp_from nm_strings].
+      change (composites (without_strings m)) with (composites m).
+      change (nm_msgs (without_strings m)) with (nm_msgs m). destruct (output_body tp Htp mm b by_ y NG Vy Gy Hy CS ctx w le0 mv0)
         as (le' & mm' & mv & X & Hle' & G' & [Tm [Rel Zero]] & [U1 U2]); auto.
       { unfold le0. apply find_assoc_set_same. }
       assert (Xb: exec_stmt ctx ge [] le0 mm w (output_base m tp) [] le' mm' w Out_normal).
@@ -1670,18 +1663,20 @@ Proof.
         exists le2, mm2, v2. split; [|split; [exact Hle2|split; [exact G2|split]]].
         * unfold output_pre. rewrite ST. change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; eauto.
         * split; [congruence|]. intros b' Nb. rewrite O2, U2; auto.
-        * split; [exact H2|split; [|split]].
+        * split; [exact H2|split; [|split; [|split]]].
           -- intros o Ho Eo. destruct (Rel o Ho Eo) as (v & Yv & Mv). exists v. split; auto.
              destruct (ROUT o Ho Eo) as (q & R). rewrite DJ with (q := q); auto;
                intros E; apply (NO o _ Ho Eo E).
           -- intros sp' E. unfold topic_stamp in ST. rewrite ST in E. inversion E; subst sp'. exact STV.
-          -- intros lp q R NOUT NS. destruct (NS sp ST) as [N1 N2']. rewrite DJ with (q := q); auto.
+          -- intros ? ? [].
+          -- intros lp q R NOUT NS _. destruct (NS sp ST) as [N1 N2']. rewrite DJ with (q := q); auto.
       + exists le', mm', mv. split; [unfold output_pre; rewrite ST; exact Xb|split; [exact Hle'|split; [exact G'|split]]].
         * split; auto.
-        * split; [exact Tm|split; [exact Rel|split]].
+        * split; [exact Tm|split; [exact Rel|split; [|split]]].
           -- intros sp E. unfold topic_stamp in ST. rewrite ST in E. discriminate.
-          -- intros lp q R NOUT _. apply Zero; auto. }
-    destruct PRE as (le2 & mm2 & v2 & X2 & Hle2 & G2 & [U2n U2o] & (T2 & Rel2 & STV2 & Zero2)).
+          -- intros ? ? [].
+          -- intros lp q R NOUT _ _. apply Zero; auto. }
+    destruct PRE as (le2 & mm2 & v2 & X2 & Hle2 & G2 & [U2n U2o] & (T2 & Rel2 & STV2 & _ & Zero2)).
     set (L := topic_stores m (tp_cname tp)).
     assert (OKs: forall a, In a L -> resolve msgs (FTmsg (tp_msg tp)) (fst (fst a)) = Some (FTprim (snd (fst a)))
                                   /\ val_has_type (Vint (snd a)) (ctype_of_prim (snd (fst a)))).
@@ -1723,7 +1718,7 @@ Proof.
               apply string_stores_len.
            ++ intros i b' Hb. apply (Set3 (_, Puint8, b')). apply In_topic_stores. exists sp, bs. split; auto.
               apply string_stores_data; auto.
-        -- intros lp q R NOUT NS NSTR. rewrite (KL _ q R); [apply Zero2; auto|].
+        -- intros lp q R NOUT NS NSTR. rewrite (KL _ q R); [apply Zero2; auto; intros ? ? []|].
            intros a Ha E. apply In_topic_stores in Ha. destruct Ha as (sp & bs & Hs & Ha).
            destruct (NSTR sp bs Hs) as [N1 N2].
            destruct (string_stores_path _ _ _ Ha) as [[E1 _]|(i & b' & E1 & _ & _ & Hi)]; rewrite E1 in E.
