@@ -1,0 +1,109 @@
+"""What a constant frame_id costs (BENCHMARKS.md, section "Constant strings").
+
+Glue instructions per cycle (callgrind, exact, counted as bench/runtime.py
+counts LandShark's: the glue linked with the fake ROS of
+bench/runtime/fake_ros_landshark.c, ``-O2 -fno-inline``, only the callbacks,
+``input_glue`` and ``output_glue_*`` counted, per cycle = (count at 2000
+cycles - count at 1000) / 1000) of LandShark against
+bench/models/landshark_framed.yaml: the same model (checked) whose published
+command carries ``header.frame_id = base_link`` (rule 4.14).  Carrying the
+string gives every ``std_msgs/Header`` of the node a ``ros_string128`` (132
+bytes), the subscribed ones included, so the callbacks copy it too: the
+table shows where the instructions go.
+
+usage: .venv/bin/python bench/strings.py
+Writes strings.json into bench/results/ and prints a Markdown table.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from common import BENCH, PYROSGEN, REPO, WORK, machine, run, save_json  # noqa: E402
+
+LANDSHARK = REPO / "examples" / "landshark" / "landshark_controller.yaml"
+FRAMED = BENCH / "models" / "landshark_framed.yaml"
+ST = WORK / "strings"
+
+
+def log(msg: str) -> None:
+    print(f"strings: {msg}", file=sys.stderr, flush=True)
+
+
+def check_framed_model() -> None:
+    """bench/models/landshark_framed.yaml is the example plus the command's
+    frame_id, and nothing else."""
+    import yaml
+
+    a = yaml.safe_load(LANDSHARK.read_text())
+    b = yaml.safe_load(FRAMED.read_text())
+    cmd = a["topics"][3]
+    assert cmd["name"] == "/landshark_control/base_velocity"
+    cmd["frame_id"] = "base_link"
+    if a != b:
+        raise SystemExit(f"strings: {FRAMED} differs from {LANDSHARK} in more than the command's frame_id")
+
+
+def instructions() -> dict:
+    from runtime import RT, _callgrind, _short  # bench/runtime.py
+
+    check_framed_model()
+    RT.mkdir(parents=True, exist_ok=True)
+    ST.mkdir(parents=True, exist_ok=True)
+    fake, stub = BENCH / "runtime" / "fake_ros_landshark.c", BENCH / "runtime" / "stub_controller_landshark.c"
+    out = {}
+    for label, model in (("plain", LANDSHARK), ("framed", FRAMED)):
+        d = ST / f"glue_{label}"
+        log(f"pyrosgen generate {model.relative_to(REPO)}")
+        p = run([PYROSGEN, "generate", model, "-o", d, "-q"], env=dict(os.environ), timeout=1800, check=False)
+        if p.rc != 0:
+            raise SystemExit(f"strings: pyrosgen generate failed (exit {p.rc}):\n{p.stderr.strip()[-3000:]}")
+        objs = []
+        for src, flags in ((d / "landshark_controller_glue.c", ["-fno-inline"]), (fake, []), (stub, [])):
+            o = ST / f"{label}_{src.stem}.o"
+            run(["gcc", "-std=c11", "-O2", *flags, "-I", d, "-c", src, "-o", o])
+            objs.append(o)
+        exe = ST / f"landshark_{label}_fake"
+        run(["gcc", *objs, "-o", exe])
+        check = run([exe]).stdout.strip()
+        toggles = ["input_glue", "*_callback", "output_glue_*"]
+        c1, c2 = _callgrind(exe, 1000, toggles), _callgrind(exe, 2000, toggles)
+        funcs = {_short(f): (c2.get(f, 0) - c1.get(f, 0)) / 1000 for f in set(c1) | set(c2)}
+        out[label] = {"model": str(model.relative_to(REPO)), "per_cycle": sum(funcs.values()), "functions": funcs,
+                      "check": check}
+        log(f"  glue instructions per cycle, {label}: {sum(funcs.values()):.1f} "
+            f"({', '.join(f'{k} {v:.1f}' for k, v in sorted(funcs.items()))})")
+    if out["plain"]["check"] != out["framed"]["check"]:
+        raise SystemExit(f"strings: the two nodes publish different commands: {out['plain']['check']} "
+                         f"against {out['framed']['check']}")
+    return out
+
+
+def table(ins: dict) -> str:
+    p, f = ins["plain"], ins["framed"]
+    names = sorted(set(p["functions"]) | set(f["functions"]), key=lambda n: (n != "input_glue", n))
+    lines = [
+        "| glue function | LandShark | with `frame_id: base_link` | difference |",
+        "|---|---|---|---|",
+    ]
+    for n in names:
+        a, b = p["functions"].get(n, 0.0), f["functions"].get(n, 0.0)
+        lines.append(f"| `{n}` | {a:.1f} | {b:.1f} | {b - a:+.1f} |")
+    lines.append(f"| **per cycle** | **{p['per_cycle']:.1f}** | **{f['per_cycle']:.1f}** | "
+                 f"**{f['per_cycle'] - p['per_cycle']:+.1f}** (x{f['per_cycle'] / p['per_cycle']:.2f}) |")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ins = instructions()
+    save_json("strings.json", {"machine": machine(), "instructions": ins})
+    print(table(ins))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
