@@ -461,7 +461,7 @@ def render_certificate(rec: ProofRecord, proved: str, glue_text: str, hashes: li
     strings = _strings(pm, glue_text)
     built = any(name.startswith("bin/") for name, _ in hashes)
     string_structs = sorted(name for name, fields in pm.messages.items()
-                            if [f for f, _ in fields] == ["len", "truncated", "data"])
+                            if name.startswith("ros_string") and [f for f, _ in fields] == ["len", "truncated", "data"])
     return render(
         "CERTIFICATE.md.j2",
         rec=rec, pm=pm, md=md_code, source=md_code(source_label(rec.source_name)), diagram=diagram,

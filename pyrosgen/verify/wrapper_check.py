@@ -171,7 +171,8 @@ def _string_problems(cpp: str, messages: dict[str, list[tuple[str, str]]]) -> li
     """What in ``cpp`` departs from the conversions of the proved model's
     carried strings (rule 4.14)."""
     cpp = _strip_comments(cpp)
-    want = {name: n for name, fields in messages.items() if (n := _string_capacity(fields)) is not None}
+    want = {name: n for name, fields in messages.items()
+            if name.startswith("ros_string") and (n := _string_capacity(fields)) is not None}
     problems = []
     for name, n in sorted(want.items()):
         if cpp.count(_string_to_c(name, n)) != 1:
