@@ -27,6 +27,25 @@ MUTATIONS = {
 }
 
 
+#: Mutations of the conversions of a carried string (rule 4.14), on the
+#: wrapper of examples/landshark/landshark_stamped.yaml (frame_id: base_link).
+STRING_MUTATIONS = {
+    "received string not clamped": ("std::min<std::size_t>(n, 128)", "n"),
+    "published string not clamped": ("std::min<std::size_t>(c->len, 128)", "c->len"),
+    "truncated never set": ("c->truncated = n > 128 ? 1 : 0;", "c->truncated = 0;"),
+    "bytes past len not zeroed": ("    std::memset(c->data + len, 0, 128 - len);\n", ""),
+    "received into 127 bytes": ("std::min<std::size_t>(n, 128)", "std::min<std::size_t>(n, 127)"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(STRING_MUTATIONS))
+def test_mutated_string_conversion_is_refused(name):
+    m = load_model(LANDSHARK.parent / "landshark_stamped.yaml")
+    cpp = wrapper.render_wrapper(m)[wrapper.wrapper_files(m).api_source]
+    check_wrapper(cpp, model_text(m), wrapper_name="w.cpp")
+    assert_wrapper_refused(cpp, *STRING_MUTATIONS[name], model_text(m))
+
+
 def _landshark():
     m = load_model(LANDSHARK)
     return m, wrapper.render_wrapper(m)[wrapper.wrapper_files(m).api_source]
