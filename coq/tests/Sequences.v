@@ -191,3 +191,13 @@ Definition max_len (e : expr) : expr :=
 Definition m_max_length : program := on_input_glue (map_exprs max_len) scanner_prog.
 Theorem m_max_length_refuted: ~ node_ddc scanner m_max_length.
 Proof. apply (srefute _ 1). vm_compute. reflexivity. Qed.
+
+(** [Main.converted_sequence] applies to the scanner's [ranges]: the path
+    reaches the bounded sequence through no other one. *)
+Example ranges_unbounded_path:
+  unbounded_path sce (Tstruct "sensor_msgs_LaserScan") (path_steps [PField "ranges"]) = true
+  /\ type_at sce (Tstruct "sensor_msgs_LaserScan") (path_steps [PField "ranges"]) = Some (Tstruct "ros_seq_float32_4")
+  /\ bounded_name "ros_seq_float32_4" = true
+  /\ struct_members sce "ros_seq_float32_4"
+     = Some [("len", Tint I32 Unsigned); ("truncated", Tint I8 Unsigned); ("data", Tarray (Tfloat F32) 4)].
+Proof. vm_compute. repeat split. Qed.

@@ -72,11 +72,45 @@ Proof. exact Glueproof.generate_input_glue_ddc. Qed.
     the outputs [y] held by [Controller_Y] and the ROS time [now] of the
     world it runs in: every field named by an output relation of the
     topic holds the related field of [y], the stamp of a stamped topic
-    holds [now]'s [sec] and [nsec], every other scalar field is zero. *)
+    holds [now]'s [sec] and [nsec], each constant string of the topic
+    (rule 4.14) its bytes, every other scalar field is zero. *)
 Theorem generate_output_glue_ddc:
   forall m p, generate m = OK p ->
   forall tp, In tp (published m) -> output_glue_ddc m p tp.
 Proof. exact Glueproof.generate_output_glue_ddc. Qed.
+
+(** ** Bounded sequences: what a callback receives *)
+
+(** The environment delivers a message with its bounded sequences
+    converted (issue 15, policy "truncate": [Environment.clamp]), and T2's
+    [newest] is the converted message.  Meaning: for a bounded sequence
+    at the model path [sp] of a well-typed arrival (a struct named
+    [ros_seq_...] or [ros_string...] of [len], [truncated] and
+    [data[n]], reached through no other bounded sequence), the message
+    the callback receives has the length capped at [n], [truncated] 1
+    exactly when the sequence was longer than [n], and the first
+    [min(len, n)] elements followed by zeros.  With T2's
+    [input_values], this is what an input related to [sp.len],
+    [sp.truncated] or [sp.data[j]] receives. *)
+Theorem converted_sequence:
+  forall m tp a sp id n t l,
+  mval_has_type (composites m) (Tstruct (tp_msg tp)) (ar_msg a) ->
+  unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = true ->
+  type_at (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = Some (Tstruct id) ->
+  bounded_name id = true ->
+  struct_members (composites m) id
+    = Some [("len"%string, Tint I32 Unsigned); ("truncated"%string, Tint I8 Unsigned); ("data"%string, Tarray t n)] ->
+  is_scalar_type t = true ->
+  mval_get (ar_msg a) (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint l)) ->
+  let v := converted m tp a in
+     mval_get v (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint (Z.min l n)))
+  /\ mval_get v (path_steps (sp ++ [PField "truncated"%string]))
+     = Some (MVscalar (Vint (if (n <? l)%Z then 1 else 0)))
+  /\ (forall j, (0 <= j < n)%Z ->
+        mval_get v (path_steps (sp ++ [PField "data"%string; PIndex j]))
+        = if (j <? Z.min l n)%Z then mval_get (ar_msg a) (path_steps (sp ++ [PField "data"%string; PIndex j]))
+          else Some (MVscalar (zero_val t))).
+Proof. exact DDC.converted_sequence. Qed.
 
 (** ** T2: data delivery correctness of every generated node *)
 

@@ -322,6 +322,69 @@ Proof.
     rewrite nth_error_repeat; [reflexivity|]. rewrite firstn_length. lia.
 Qed.
 
+(** [p] leads from a value of type [ty] through no bounded sequence
+    (the last step may reach one). *)
+Fixpoint unbounded_path (ce : composite_env) (ty : type) (p : path) : bool :=
+  match p with
+  | [] => true
+  | s :: p' =>
+      match ty with Tstruct id => negb (bounded_name id) | _ => true end
+      && match type_step ce ty s with Some t => unbounded_path ce t p' | None => false end
+  end.
+
+Lemma clamp_fields_find:
+  forall ce members fs f v t,
+  fields_have_type ce members fs -> find_assoc f fs = Some v -> field_type f members = Some t ->
+  find_assoc f ((fix go (ms : list (ident * type)) (l : list (ident * mval)) {struct l}
+                   : list (ident * mval) :=
+                   match ms, l with
+                   | (_, t) :: ms', (g, v) :: l' => (g, clamp ce t v) :: go ms' l'
+                   | _, _ => l
+                   end) members fs) = Some (clamp ce t v).
+Proof.
+  intros ce members fs f v t F. revert v t. induction F as [|g tg mv members fs Tg F IH]; intros v t Hf Ht.
+  - discriminate.
+  - simpl in Hf, Ht |- *. unfold field_type in Ht. simpl in Ht.
+    destruct (string_dec f g) as [->|N].
+    + inversion Hf; inversion Ht; subst. reflexivity.
+    + apply IH; auto.
+Qed.
+
+(** Converting a message and then following a path through no bounded
+    sequence is following the path and then converting. *)
+Lemma clamp_get:
+  forall ce p ty mv t v,
+  mval_has_type ce ty mv -> unbounded_path ce ty p = true ->
+  type_at ce ty p = Some t -> mval_get mv p = Some v ->
+  mval_get (clamp ce ty mv) p = Some (clamp ce t v).
+Proof.
+  intros ce p; induction p as [|s p IH]; intros ty mv t v T U Ty G.
+  - simpl in Ty, G. inversion Ty; inversion G; subst. reflexivity.
+  - simpl in U, Ty, G. apply andb_true_iff in U. destruct U as [Nb U].
+    destruct (type_step ce ty s) as [ts|] eqn:Ts; [|discriminate].
+    destruct (get_step mv s) as [x|] eqn:Gs; [|discriminate].
+    destruct s as [f|i]; destruct ty as [| | | |t0 | t0 n | | id]; try discriminate.
+    + (* a field *)
+      simpl in Ts. destruct (struct_members ce id) as [members|] eqn:SM; [|discriminate].
+      inversion T as [? ? Hs|? members' fs SM' F|]; subst; [discriminate Hs|].
+      rewrite SM in SM'. inversion SM'; subst members'. clear SM'.
+      apply negb_true_iff in Nb. simpl. rewrite SM, Nb.
+      simpl in Gs. simpl. rewrite (clamp_fields_find ce members fs f x ts F Gs Ts).
+      apply IH; auto.
+      clear IH G T SM. revert x Ts Gs. induction F as [|g tg mv members fs Tg F IHF]; intros x Ts Gx.
+      * discriminate.
+      * simpl in Gx. unfold field_type in Ts. simpl in Ts.
+        destruct (string_dec f g) as [->|N]; [inversion Gx; inversion Ts; subst; auto|].
+        eapply IHF; eauto.
+    + (* an element *)
+      simpl in Ts. destruct (Z.leb 0 i && Z.ltb i n) eqn:B; [|discriminate]. inversion Ts; subst ts.
+      inversion T as [? ? Hs| |t' n' es L E]; subst; [discriminate Hs|].
+      simpl in Gs |- *. destruct (Z.leb 0 i); [|discriminate].
+      rewrite nth_error_map, Gs. simpl. apply IH; auto.
+      clear IH G T B Ts. revert Gs. generalize (Z.to_nat i). induction E as [|t1 e es' Te Es IHE]; intros [|k] Gk;
+        simpl in Gk; try discriminate; [inversion Gk; subst; auto|eapply IHE; eauto].
+Qed.
+
 (** The value that the callback of subscription [s] receives for the
     arrival [a]: the message with its bounded sequences converted. *)
 Definition delivered (ge : genv) (s : subscription) (a : arrival) : mval :=

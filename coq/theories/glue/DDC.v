@@ -335,6 +335,44 @@ Definition newest_arrival {CS : Type} (ctx : ros_context CS) (tp : topic) (i : n
 Definition converted (m : node_model) (tp : topic) (a : arrival) : mval :=
   clamp (composites m) (Tstruct (tp_msg tp)) (ar_msg a).
 
+(** What the callback receives of a bounded sequence at the model path
+    [sp] of a message (a struct [id] named [ros_seq_...] or
+    [ros_string...] of [len], [truncated], [data[n]]), reached through no
+    other bounded sequence: the length capped at [n], whether the
+    sequence was longer than [n], and its first [min(len, n)] elements
+    followed by zeros.  With [input_values] (T2), this is what an input
+    related to [sp.len], [sp.truncated] or [sp.data[j]] receives. *)
+Lemma converted_sequence:
+  forall m tp a sp id n t l,
+  mval_has_type (composites m) (Tstruct (tp_msg tp)) (ar_msg a) ->
+  unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = true ->
+  type_at (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = Some (Tstruct id) ->
+  bounded_name id = true ->
+  struct_members (composites m) id
+    = Some [("len"%string, Tint I32 Unsigned); ("truncated"%string, Tint I8 Unsigned); ("data"%string, Tarray t n)] ->
+  is_scalar_type t = true ->
+  mval_get (ar_msg a) (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint l)) ->
+  let v := converted m tp a in
+     mval_get v (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint (Z.min l n)))
+  /\ mval_get v (path_steps (sp ++ [PField "truncated"%string]))
+     = Some (MVscalar (Vint (if (n <? l)%Z then 1 else 0)))
+  /\ (forall j, (0 <= j < n)%Z ->
+        mval_get v (path_steps (sp ++ [PField "data"%string; PIndex j]))
+        = if (j <? Z.min l n)%Z then mval_get (ar_msg a) (path_steps (sp ++ [PField "data"%string; PIndex j]))
+          else Some (MVscalar (zero_val t))).
+Proof.
+  intros m tp a sp id n t l T U Ty B SM St Gl v.
+  destruct (mval_get_has_type _ _ _ _ _ T Ty) as (sv & Gs & Ts).
+  assert (C: mval_get v (path_steps sp) = Some (clamp (composites m) (Tstruct id) sv))
+    by (unfold v, converted; apply clamp_get; auto).
+  unfold path_steps in *. rewrite !map_app in *. cbn [map step_of_pstep] in *.
+  rewrite mval_get_app, Gs in Gl.
+  destruct (clamp_bounded (composites m) id sv l n t B SM St Ts Gl) as (L & Tr & D).
+  rewrite !mval_get_app, C. split; [exact L|split; [exact Tr|]].
+  intros j Hj. rewrite !map_app. cbn [map step_of_pstep].
+  rewrite !mval_get_app, C, (D j Hj), Gs. reflexivity.
+Qed.
+
 (** The newest message that arrived on topic [tp] up to the [i]-th spin,
     as its callback receives it, or the zero message if none did. *)
 Definition newest {CS : Type} (m : node_model) (ctx : ros_context CS) (tp : topic) (i : nat) : mval :=
