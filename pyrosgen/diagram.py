@@ -155,7 +155,7 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
                 "tail": var_of[r.topic.name],
                 "head": u["id"],
                 "port": u_port[r.input_field],
-                "path": str(r.path),
+                "path": r.field_text,   # as the model writes it: ranges[540], ranges (length)
                 "prim": r.path.prim,
             }
         )

@@ -33,6 +33,7 @@ __all__ = [
     "DerivedRelation",
     "DERIVED_KINDS",
     "DERIVED_PRIMS",
+    "SEQUENCE_DERIVED",
     "ON_TIMEOUT_POLICIES",
     "MAX_TIMEOUT_MS",
     "OutputRelation",
@@ -410,6 +411,12 @@ DERIVED_KINDS = ("is_new", "received", "age_ms")
 #: The type of the controller input each derived kind feeds.
 DERIVED_PRIMS = {"is_new": "bool", "received": "bool", "age_ms": "uint32"}
 
+#: The ``derived`` kinds that go with a ``field`` naming a variable-length
+#: array or a string (rule 4.15), each the leaf of the bounded struct it
+#: reads and that leaf's type: they are ordinary input relations on that
+#: leaf (``ranges.len``, ``ranges.truncated``).
+SEQUENCE_DERIVED = {"length": ("len", "uint32"), "truncated": ("truncated", "bool")}
+
 
 @dataclass(frozen=True)
 class InputRelation:
@@ -427,6 +434,15 @@ class InputRelation:
     input_field: str
     pos: Pos = field(default=_NOPOS, compare=False, repr=False)
     fallback: Scalar | None = None
+    #: the field as the model writes it when that is not ``path`` (rule
+    #: 4.15: ``ranges[540]`` for the leaf ``ranges.data[540]``, ``ranges
+    #: (length)`` for ``ranges.len``), else ``None``
+    written: str | None = field(default=None, compare=False)
+
+    @property
+    def field_text(self) -> str:
+        """The field as the model writes it."""
+        return self.written or str(self.path)
 
 
 @dataclass(frozen=True)
@@ -549,6 +565,15 @@ class NodeModel:
         constant string (rule 4.14), in topic order, then in the order the
         model writes them (``NodeModel.nm_strings``)."""
         return tuple((t.c_name, s.path, s.data) for t in self.topics for s in t.strings)
+
+    @property
+    def bounded_fields(self) -> tuple[tuple[str, str, MsgType], ...]:
+        """``(message type, field name, bounded struct)`` of each carried
+        string (rules 4.14, 4.15) and variable-length array (rule 4.15),
+        in the order of :attr:`messages`."""
+        by_name = {m.name: m for m in self.messages}
+        return tuple((m.name, f.name, by_name[f.msg]) for m in self.messages for f in m.fields
+                     if f.kind == "msg" and f.msg in by_name and by_name[f.msg].is_bounded)
 
     def derived_relation(self, input_field: str) -> DerivedRelation:
         """The derived relation feeding controller input ``input_field``."""

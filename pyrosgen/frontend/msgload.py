@@ -11,13 +11,18 @@ turns them into the *carried* view that the generators use:
   nested message carries at least one field;
 - ``time`` and ``duration`` are the pseudo message types :data:`TIME` and
   :data:`DURATION` (``sec``/``nsec``, 32-bit);
-- a ``string`` field is carried, as the bounded struct ``ros_string128``
+- a ``string`` field is carried, as the bounded struct ``ros_string<N>``
   (:func:`~pyrosgen.frontend.msgmodel.string_type`), exactly when the
-  model gives it a constant (rule 4.14: :attr:`MsgRegistry.carry_strings`
-  names it by its message type and field name); every other string is
+  model gives it a constant (rule 4.14) or an input relation reads it
+  (rule 4.15): :attr:`MsgRegistry.carry_bounded` names it by its message
+  type and field name, with its capacity ``N``; every other string is
   dropped;
-- variable-length (and bounded) arrays, arrays of strings and fields of
-  other base types are dropped.
+- a variable-length array ``T[]`` of a primitive ``T`` is carried, as the
+  bounded struct ``ros_seq_<T>_<N>``
+  (:func:`~pyrosgen.frontend.msgmodel.seq_type`), exactly when an input
+  relation reads it (rule 4.15, :attr:`MsgRegistry.carry_bounded`); every
+  other variable-length (or bounded) array, arrays of strings and fields
+  of other base types are dropped.
 
 It also resolves field paths such as ``pose.covariance[35]`` against the
 original definitions, so that naming a dropped field is reported with the
@@ -41,11 +46,13 @@ from pyrosgen.frontend.msgmodel import (
     MsgType,
     PRIMITIVES,
     ROS1_ALIASES,
+    DEFAULT_MAX_LENGTH,
     _PSEUDO,
-    is_string_type,
+    bounded_type,
+    is_bounded_type,
     leaf_paths,
     msg_c_name,
-    string_type,
+    seq_type_name,
     string_type_name,
 )
 
@@ -54,6 +61,8 @@ __all__ = [
     "PathError",
     "StringPathError",
     "StringTarget",
+    "BoundedPathError",
+    "BoundedTarget",
 ]
 
 # --------------------------------------------------------------------------
@@ -191,6 +200,36 @@ class StringPathError(PathError):
     one: strings never meet the controller (rule 4.14)."""
 
 
+class BoundedPathError(PathError):
+    """A field path that names a variable-length array or a string in a
+    way rule 4.15 refuses (a whole sequence, an index past its maximum, a
+    sequence of messages, a sequence written by an output relation)."""
+
+
+@dataclass(frozen=True)
+class BoundedTarget:
+    """A variable-length array of a primitive type or a ``string`` field
+    (rule 4.15): ``steps`` from the topic's message to the field (names
+    and constant indices), ``owner`` the message type that defines the
+    field, ``field`` its name, ``elem`` its element type (a primitive, or
+    ``'string'``)."""
+
+    steps: tuple[str | int, ...]
+    owner: str
+    field: str
+    elem: str
+
+    @property
+    def key(self) -> tuple[str, str]:
+        """``(owner, field)``: the field of its message type, which one
+        bounded struct holds in every topic of the type."""
+        return (self.owner, self.field)
+
+    @property
+    def is_string(self) -> bool:
+        return self.elem == "string"
+
+
 @dataclass(frozen=True)
 class StringTarget:
     """A ``string`` field named by a constant (rule 4.14): ``steps`` from
@@ -216,16 +255,35 @@ class MsgRegistry:
     _broken: set[str] = field(default_factory=set)
     _typestore: object = None
     failed: set[str] = field(default_factory=set)
-    #: the ``string`` fields that are carried (rule 4.14), as (message
-    #: type, field name): those the model's constants name
-    carry_strings: frozenset[tuple[str, str]] = frozenset()
+    #: the ``string`` fields and variable-length arrays of primitives that
+    #: are carried (rules 4.14, 4.15), as (message type, field name) ->
+    #: capacity: those the model's constants and input relations name
+    carry_bounded: dict[tuple[str, str], int] = field(default_factory=dict)
+
+    @property
+    def carry_strings(self) -> frozenset[tuple[str, str]]:
+        """The carried fields (strings and sequences alike), as (message
+        type, field name) pairs."""
+        return frozenset(self.carry_bounded)
 
     def set_carried_strings(self, fields) -> None:
         """Carry the ``string`` fields ``fields`` ((message type, field
-        name) pairs) and forget the carried views computed so far."""
-        self.carry_strings = frozenset(fields)
+        name) pairs) with the default capacity, and forget the carried
+        views computed so far."""
+        self.set_carried({f: DEFAULT_MAX_LENGTH for f in fields})
+
+    def set_carried(self, fields: dict[tuple[str, str], int]) -> None:
+        """Carry the strings and variable-length arrays ``fields``
+        ((message type, field name) -> capacity) and forget the carried
+        views computed so far."""
+        self.carry_bounded = dict(fields)
         self._carried.clear()
         self._broken.clear()
+
+    def capacity(self, owner: str, field_name: str) -> int | None:
+        """The capacity of carried string or sequence ``field_name`` of
+        ``owner``, or ``None`` when it is not carried."""
+        return self.carry_bounded.get((owner, field_name))
 
     # -- loading -----------------------------------------------------------
 
@@ -379,8 +437,8 @@ class MsgRegistry:
         broken (see :meth:`is_broken`; the problem is in ``diagnostics``)."""
         if name in _PSEUDO:
             return _PSEUDO[name]
-        if is_string_type(name):
-            return string_type(int(name[len("ros_string"):]))
+        if is_bounded_type(name):
+            return bounded_type(name)
         if name in self._carried:
             return self._carried[name]
         raw = self.raw(name)
@@ -415,11 +473,14 @@ class MsgRegistry:
                     continue
                 mf = MsgField(f.name, "msg", msg=f.base, array_len=f.size if f.card == "array" else None)
             elif f.base_kind == "prim":
-                if f.card == "sequence" or (f.card == "array" and f.size == 0):
+                if f.card == "sequence" and (name, f.name) in self.carry_bounded:
+                    mf = MsgField(f.name, "msg", msg=seq_type_name(f.base, self.carry_bounded[(name, f.name)]))
+                elif f.card == "sequence" or (f.card == "array" and f.size == 0):
                     continue
-                mf = MsgField(f.name, "prim", prim=f.base, array_len=f.size if f.card == "array" else None)
-            elif f.base_kind == "string" and f.card == "scalar" and (name, f.name) in self.carry_strings:
-                mf = MsgField(f.name, "msg", msg=string_type_name())
+                else:
+                    mf = MsgField(f.name, "prim", prim=f.base, array_len=f.size if f.card == "array" else None)
+            elif f.base_kind == "string" and f.card == "scalar" and (name, f.name) in self.carry_bounded:
+                mf = MsgField(f.name, "msg", msg=string_type_name(self.carry_bounded[(name, f.name)]))
             else:
                 continue
             if raw.file is not None:
@@ -475,9 +536,16 @@ class MsgRegistry:
 
     # -- field paths ----------------------------------------------------------
 
-    def walk_path(self, type_name: str, text: object) -> FieldPath:
+    def walk_path(self, type_name: str, text: object, *, bounded: bool = False) -> FieldPath:
         """Resolve field path ``text`` in message type ``type_name`` to a
-        carried scalar leaf; raises :class:`PathError` saying why not."""
+        carried scalar leaf; raises :class:`PathError` saying why not.
+
+        With ``bounded`` (an input relation, rule 4.15), an element of a
+        carried variable-length array of primitives (``ranges[540]``) or
+        a byte of a carried string (``header.frame_id[0]``) is a leaf: the
+        element ``data[540]`` of its bounded struct, within its capacity.
+        Without it (an output relation), a path into a variable-length
+        array is refused as rule 4.15 says."""
         steps = parse_path(text)
         cur = self.raw(type_name)
         assert cur is not None
@@ -497,11 +565,9 @@ class MsgRegistry:
             shown = f"{shown}.{fname}" if shown else fname
             out.append(fname)
             ftype = f.type_text()
-            if f.card == "sequence":
-                raise PathError(
-                    f"field path {show(text)}: {show(shown)} is a variable-length array "
-                    f"({ftype}); variable-length arrays are not carried by the glue"
-                )
+            if f.card == "sequence" or (bounded and f.base_kind == "string" and f.card == "scalar"):
+                nxt_name = steps[i + 1][0] if not last else None
+                return self._bounded_leaf(text, cur, f, index, nxt_name, tuple(out), shown, bounded)
             if f.card == "array":
                 if index is None:
                     hint = f"{shown}[0]" + ("" if last else "." + ".".join(s for s, _ in steps[i + 1 :]))
@@ -561,6 +627,176 @@ class MsgRegistry:
             cur = nxt
         raise PathError(f"field path {show(text)} is empty")  # pragma: no cover
 
+    def _bounded_leaf(self, text: object, cur: _RawMsg, f: _RawField, index: int | None, nxt: str | None,
+                      out: tuple[str | int, ...], shown: str, bounded: bool) -> FieldPath:
+        """The leaf of :meth:`walk_path` when the path reaches ``f``, a
+        variable-length array or (``bounded``) a string field of ``cur``
+        (rule 4.15): ``index`` the index written after it, ``nxt`` the
+        name of the next step (``None`` when ``f`` ends the path)."""
+        ftype = f.type_text()
+        if f.card == "sequence" and f.base_kind != "prim":
+            of = {"string": "strings", "msg": "messages"}.get(f.base_kind, f.base)
+            raise BoundedPathError(
+                f"field path {show(text)}: {show(shown)} is a variable-length array of {of} ({ftype}); "
+                "variable-length arrays of messages or strings are not carried yet (issue 15)"
+            )
+        if not bounded:
+            raise BoundedPathError(
+                f"field path {show(text)}: {show(shown)} is a variable-length array ({ftype}); an output "
+                "relation does not write into a variable-length array (publishing a sequence from the "
+                "controller is not carried yet, issue 15)"
+            )
+        string = f.base_kind == "string"
+        what = "a string" if string else f"a variable-length array ({ftype})"
+        elem = "uint8" if string else f.base
+        items = "bytes" if string else "elements"
+        if index is None:
+            if nxt is None:
+                raise BoundedPathError(
+                    f"field path {show(text)}: {show(shown)} is {what}; a relation reads one of its {items} "
+                    f"({show(shown + '[0]')}, {_prim_article(elem)} {elem}), or its length or whether it was "
+                    "truncated (derived: length, derived: truncated)"
+                )
+            raise BoundedPathError(
+                f"field path {show(text)}: {show(shown)} is {what}; a path does not go inside it "
+                f"({show(nxt)}: len, truncated and data are fields of its C struct, not of the ROS message); "
+                f"name one of its {items} ({show(shown + '[0]')}) or use derived: length or derived: truncated"
+            )
+        shown_i = f"{shown}[{index}]"
+        if nxt is not None:
+            raise BoundedPathError(
+                f"field path {show(text)}: {show(shown_i)} is {_prim_article(elem)} {elem}, it has no field {show(nxt)}"
+            )
+        n = self.capacity(cur.name, f.name)
+        if n is None:  # pragma: no cover - the front end carries what relations name
+            raise BoundedPathError(f"field path {show(text)}: {show(shown)} ({what}) is not carried")
+        if index >= n:
+            raise BoundedPathError(
+                f"field path {show(text)}: index {index} is beyond the maximum length of {show(shown)}: "
+                f"the node carries at most {n} of its {items} (max_length, default {DEFAULT_MAX_LENGTH}); "
+                f"valid indices are 0..{n - 1}"
+            )
+        return FieldPath((*out, "data", index), elem)
+
+    def bounded_in_path(self, type_name: str, text: object) -> BoundedTarget | None:
+        """The variable-length array of primitives or ``string`` field that
+        field path ``text`` of ``type_name`` reaches (through nested
+        messages and fixed-size arrays of messages, on the definitions as
+        written), whether the path ends there or names an element; ``None``
+        when it reaches none (nothing is reported here: the path is
+        checked again when it is resolved)."""
+        try:
+            steps = parse_path(text)
+        except PathError:
+            return None
+        cur = self.raw(type_name)
+        out: list[str | int] = []
+        for fname, index in steps:
+            f = cur.field(fname) if cur is not None else None
+            if f is None:
+                return None
+            out.append(fname)
+            if f.card == "sequence":
+                return BoundedTarget(tuple(out), cur.name, f.name, f.base) if f.base_kind == "prim" else None
+            if f.base_kind == "string":
+                return BoundedTarget(tuple(out), cur.name, f.name, "string") if f.card == "scalar" else None
+            if f.card == "array":
+                if index is None or index >= f.size:
+                    return None
+                out.append(index)
+            elif index is not None:
+                return None
+            if f.base_kind != "msg":
+                return None
+            cur = self.raw(f.base)
+        return None
+
+    def walk_bounded(self, type_name: str, text: object, what: str) -> BoundedTarget:
+        """Resolve field path ``text`` of ``type_name`` to a whole
+        variable-length array of primitives or ``string`` field (rule
+        4.15: the key of a ``max_length``, the field of a ``derived:
+        length`` or ``truncated``; ``what`` names it in messages), through
+        nested messages and fixed-size arrays of messages; raises
+        :class:`PathError` saying why not."""
+        steps = parse_path(text)
+        cur = self.raw(type_name)
+        assert cur is not None
+        out: list[str | int] = []
+        shown = ""
+        for i, (fname, index) in enumerate(steps):
+            last = i == len(steps) - 1
+            f = cur.field(fname)
+            if f is None:
+                names = [x.name for x in cur.fields]
+                owner = f"{cur.name} (at {show(shown)})" if shown else cur.name
+                raise PathError(
+                    f"field path {show(text)}: message type {owner} has no field "
+                    f"{show(fname)}{did_you_mean(fname, names)}"
+                )
+            shown = f"{shown}.{fname}" if shown else fname
+            out.append(fname)
+            ftype = f.type_text()
+            bounded = f.card == "sequence" or (f.base_kind == "string" and f.card == "scalar")
+            if f.card == "sequence" and f.base_kind != "prim":
+                of = {"string": "strings", "msg": "messages"}.get(f.base_kind, f.base)
+                raise BoundedPathError(
+                    f"field path {show(text)}: {show(shown)} is a variable-length array of {of} ({ftype}); "
+                    "variable-length arrays of messages or strings are not carried yet (issue 15)"
+                )
+            if bounded:
+                kind = "a string" if f.base_kind == "string" else f"a variable-length array ({ftype})"
+                if index is not None:
+                    raise BoundedPathError(
+                        f"field path {show(text)}: {show(shown + f'[{index}]')} is one element of {kind}; "
+                        f"{what} names the whole {'string' if f.base_kind == 'string' else 'array'} ({show(shown)})"
+                    )
+                if not last:
+                    raise BoundedPathError(
+                        f"field path {show(text)}: {show(shown)} is {kind}; a path does not go inside it "
+                        f"({show(steps[i + 1][0])}: len, truncated and data are fields of its C struct, not of "
+                        f"the ROS message)"
+                    )
+                return BoundedTarget(tuple(out), cur.name, f.name, "string" if f.base_kind == "string" else f.base)
+            if f.card == "array" and f.base_kind == "string":
+                raise BoundedPathError(
+                    f"field path {show(text)}: {show(shown)} is an array of strings ({ftype}); "
+                    "arrays of strings are not carried yet (issue 15)"
+                )
+            if f.card == "array" and f.base_kind == "msg":
+                if index is None:
+                    hint = f"{shown}[0]" + ("" if last else "." + ".".join(s for s, _ in steps[i + 1 :]))
+                    raise PathError(
+                        f"field path {show(text)}: {show(shown)} is an array ({ftype}); "
+                        f"name one element with a constant index, e.g. {show(hint)}"
+                    )
+                if index >= f.size:
+                    valid = f"valid indices are 0..{f.size - 1}" if f.size else "it has no elements"
+                    raise PathError(
+                        f"field path {show(text)}: index {index} is out of range for "
+                        f"{show(shown)} ({ftype}; {valid})"
+                    )
+                shown += f"[{index}]"
+                out.append(index)
+            elif index is not None and f.card != "array":
+                raise PathError(
+                    f"field path {show(text)}: {show(shown)} is not an array "
+                    f"(it is {_article(f.base)} {f.base}), it cannot be indexed"
+                )
+            if f.base_kind != "msg" or f.card == "array" and index is None:
+                raise BoundedPathError(
+                    f"field path {show(text)}: {show(shown)} is {_article(f.base)} {ftype}, "
+                    f"not a variable-length array or a string ({what} is for those)"
+                )
+            nxt = self.raw(f.base)
+            if nxt is None:  # pragma: no cover - the type was loaded
+                raise PathError(f"field path {show(text)}: {show(shown)} has the unknown message type {show(f.base)}")
+            if last:
+                raise BoundedPathError(
+                    f"field path {show(text)}: {show(shown)} is a whole sub-message ({f.base}), "
+                    f"not a variable-length array or a string ({what} is for those)"
+                )
+            cur = nxt
+        raise PathError(f"field path {show(text)} is empty")  # pragma: no cover
 
     def walk_string_path(self, type_name: str, text: object) -> StringTarget:
         """Resolve field path ``text`` in message type ``type_name`` to a
@@ -658,7 +894,7 @@ class MsgRegistry:
 
 def _ros_leaf(t: MsgType, messages) -> FieldPath | None:
     """The first leaf of ``t`` that is a field of the ROS message (not one
-    of a carried string's struct), or ``None``."""
+    of a carried string's or sequence's struct), or ``None``."""
     for p in leaf_paths(t, messages):
         if not _inside_string(t, p, messages):
             return p
@@ -666,7 +902,8 @@ def _ros_leaf(t: MsgType, messages) -> FieldPath | None:
 
 
 def _inside_string(t: MsgType, p: FieldPath, messages) -> bool:
-    """Whether leaf path ``p`` of ``t`` goes through a carried string."""
+    """Whether leaf path ``p`` of ``t`` goes through a carried string or
+    sequence (a bounded struct)."""
     cur: MsgType | None = t
     for s in p.steps:
         if isinstance(s, int) or cur is None:
@@ -674,7 +911,7 @@ def _inside_string(t: MsgType, p: FieldPath, messages) -> bool:
         f = cur.field(s)
         if f is None or f.kind != "msg":
             return False
-        if is_string_type(f.msg):
+        if is_bounded_type(f.msg):
             return True
         cur = _PSEUDO.get(f.msg) or messages.get(f.msg)
     return False
@@ -691,6 +928,11 @@ def _display(path) -> str:
     except ValueError:  # pragma: no cover - other drive on Windows
         return text
     return text if rel.startswith("..") else rel
+
+
+def _prim_article(prim: str) -> str:
+    """The article of a primitive type's name as read aloud: an int8, a uint8."""
+    return "an" if prim[:1] in "aeio" else "a"
 
 
 def _article(word: str) -> str:

@@ -33,6 +33,13 @@ __all__ = [
     "string_type_name",
     "string_type",
     "is_string_type",
+    "DEFAULT_MAX_LENGTH",
+    "MAX_SEQUENCE_LENGTH",
+    "seq_type_name",
+    "seq_type",
+    "is_seq_type",
+    "bounded_type",
+    "is_bounded_type",
     "FieldPath",
     "TIME",
     "DURATION",
@@ -169,6 +176,10 @@ class MsgType:
     #: ``ros_string<N>`` of :func:`string_type`, ``N`` its capacity in
     #: bytes; ``None`` for every other type
     string_capacity: int | None = None
+    #: a carried variable-length array ``T[]`` of a primitive ``T`` (rule
+    #: 4.15): the bounded struct ``ros_seq_<T>_<N>`` of :func:`seq_type`,
+    #: ``(T, N)``; ``None`` for every other type
+    seq_of: tuple[str, int] | None = None
 
     @property
     def is_pseudo(self) -> bool:
@@ -180,6 +191,32 @@ class MsgType:
     def is_string(self) -> bool:
         """Whether this is the struct of a carried string (rule 4.14)."""
         return self.string_capacity is not None
+
+    @property
+    def is_seq(self) -> bool:
+        """Whether this is the struct of a carried variable-length array
+        of a primitive type (rule 4.15)."""
+        return self.seq_of is not None
+
+    @property
+    def is_bounded(self) -> bool:
+        """Whether this is a bounded struct (``len``, ``truncated``,
+        ``data``): a carried string or variable-length array."""
+        return self.is_string or self.is_seq
+
+    @property
+    def capacity(self) -> int | None:
+        """The capacity of a bounded struct (bytes of a string, elements
+        of a sequence), else ``None``."""
+        if self.is_string:
+            return self.string_capacity
+        return self.seq_of[1] if self.seq_of is not None else None
+
+    @property
+    def element_cpp(self) -> str | None:
+        """The C++ element type roscpp gives a carried sequence
+        (``std::vector<element_cpp>``), else ``None``."""
+        return CPP_ELEMENT_TYPES[self.seq_of[0]] if self.seq_of is not None else None
 
     @property
     def package(self) -> str | None:
@@ -200,6 +237,8 @@ class MsgType:
             return "ros::Duration"
         if self.is_string:
             return "std::string"
+        if self.is_seq:
+            return f"std::vector<{self.element_cpp}>"
         return self.name.replace("/", "::")
 
     def field(self, name: str) -> MsgField | None:
@@ -263,6 +302,85 @@ def string_type(capacity: int = STRING_CAPACITY) -> MsgType:
 def is_string_type(name: str) -> bool:
     """Whether ``name`` is the name of a carried string's struct."""
     return isinstance(name, str) and _STRING_NAME.fullmatch(name) is not None
+
+
+#: The maximum number of elements (bytes for a string) carried of a
+#: variable-length array or string that the model gives none (rule 4.15,
+#: ``max_length``): 128, Simulink's default for both.
+DEFAULT_MAX_LENGTH = 128
+
+#: The largest ``max_length`` a model may give (rule 4.15).  (The leaf
+#: limits of rule 4.5 bound it further: a message carries at most
+#: :data:`MAX_LEAVES` leaves.)
+MAX_SEQUENCE_LENGTH = 65536
+
+#: The element type that roscpp gives a ``T[]`` of each primitive ``T``
+#: (``std::vector<...>``; ROS 1's ``bool`` is a ``uint8_t``).
+CPP_ELEMENT_TYPES: dict[str, str] = {
+    "bool": "uint8_t",
+    "int8": "int8_t",
+    "uint8": "uint8_t",
+    "int16": "int16_t",
+    "uint16": "uint16_t",
+    "int32": "int32_t",
+    "uint32": "uint32_t",
+    "int64": "int64_t",
+    "uint64": "uint64_t",
+    "float32": "float",
+    "float64": "double",
+}
+
+_SEQ_NAME = re.compile(r"ros_seq_(" + "|".join(PRIMITIVES) + r")_([1-9][0-9]{0,5})")
+
+
+def seq_type_name(prim: str, capacity: int = DEFAULT_MAX_LENGTH) -> str:
+    """The name (and C struct name) of a carried ``prim[]`` of at most
+    ``capacity`` elements: ``ros_seq_float32_1081``."""
+    if prim not in PRIMITIVES:
+        raise ValueError(f"not a primitive type: {prim!r}")
+    return f"ros_seq_{prim}_{capacity}"
+
+
+def seq_type(prim: str, capacity: int = DEFAULT_MAX_LENGTH) -> MsgType:
+    """The C struct of a carried variable-length array of ``prim`` of at
+    most ``capacity`` elements (rule 4.15; the environment model's bounded
+    sequence, ``Environment.bounded_name``, ``clamp``): ``len``
+    (``uint32``, the number of elements received, at most ``capacity``),
+    ``truncated`` (``bool``, set when more were received) and ``data``
+    (``prim[capacity]``, the elements, zero past ``len``)."""
+    name = seq_type_name(prim, capacity)
+    return MsgType(
+        name,
+        name,
+        (
+            MsgField("len", "prim", prim="uint32"),
+            MsgField("truncated", "prim", prim="bool"),
+            MsgField("data", "prim", prim=prim, array_len=capacity),
+        ),
+        seq_of=(prim, capacity),
+    )
+
+
+def is_seq_type(name: str) -> bool:
+    """Whether ``name`` is the name of a carried sequence's struct."""
+    return isinstance(name, str) and _SEQ_NAME.fullmatch(name) is not None
+
+
+def is_bounded_type(name: str) -> bool:
+    """Whether ``name`` is the name of a bounded struct: a carried string
+    (``ros_string<N>``) or sequence (``ros_seq_<T>_<N>``)."""
+    return is_string_type(name) or is_seq_type(name)
+
+
+def bounded_type(name: str) -> MsgType:
+    """The bounded struct called ``name`` (:func:`is_bounded_type`)."""
+    m = _SEQ_NAME.fullmatch(name)
+    if m is not None:
+        return seq_type(m.group(1), int(m.group(2)))
+    m = _STRING_NAME.fullmatch(name)
+    if m is not None:
+        return string_type(int(m.group(1)))
+    raise KeyError(name)
 
 
 def msg_c_name(name: str) -> str:
@@ -374,6 +492,6 @@ def widest_struct(msg: str | MsgType, messages: Mapping[str, MsgType]) -> tuple[
 def _get(messages: Mapping[str, MsgType], name: str) -> MsgType:
     if name in _PSEUDO and name not in messages:
         return _PSEUDO[name]
-    if name not in messages and is_string_type(name):
-        return string_type(int(name[len("ros_string"):]))
+    if name not in messages and is_bounded_type(name):
+        return bounded_type(name)
     return messages[name]

@@ -28,16 +28,19 @@ from pyrosgen.frontend.model import (
     NodeModel,
     OutputRelation,
     Pos,
+    SEQUENCE_DERIVED,
     Scalar,
     StringConstant,
     Topic,
 )
 from pyrosgen.frontend.msgmodel import (
-    MAX_LEAVES, MAX_STRUCT_FIELDS, MAX_TOTAL_LEAVES, PRIMITIVES, ROS1_ALIASES, STRING_CAPACITY, FieldPath,
-    leaf_count, widest_struct,
+    DEFAULT_MAX_LENGTH, MAX_LEAVES, MAX_SEQUENCE_LENGTH, MAX_STRUCT_FIELDS, MAX_TOTAL_LEAVES, PRIMITIVES,
+    ROS1_ALIASES, STRING_CAPACITY, FieldPath, leaf_count, widest_struct,
 )
 from pyrosgen.frontend.blocks import check_diagram, scalar_of, zero
-from pyrosgen.frontend.msgload import MsgRegistry, PathError, StringPathError, StringTarget
+from pyrosgen.frontend.msgload import (
+    BoundedPathError, BoundedTarget, MsgRegistry, PathError, StringPathError, StringTarget,
+)
 from pyrosgen.frontend.names import (
     MAX_NAME_LEN,
     did_you_mean,
@@ -121,8 +124,11 @@ class _Rel:
     path_node: YNode | None = None
     ok: bool = True
     derived: str | None = None       # the kind of a derived input (rule 4.12)
-    is_derived: bool = False         # the row has a `derived` key
+    is_derived: bool = False         # the row has a `derived` key (not length or truncated)
     fallback: Scalar | None = None   # its value when stale (rule 4.12)
+    seq_kind: str | None = None      # `derived: length` or `truncated` with a field (rule 4.15)
+    bounded: BoundedTarget | None = None  # the sequence or string its field reads (rule 4.15)
+    written: str | None = None       # the field as the model writes it, when it is not the leaf's path
 
 
 #: The rule of DESIGN.md section 4 that governs each section of the model,
@@ -139,6 +145,15 @@ _SECTION_RULES = (
     ("msg_paths", "4.5"),
     ("relations", "4.7"),
 )
+
+
+def reserved_package(pkg: str) -> bool:
+    """Whether a custom package may not be called ``pkg``: its C structs
+    (``<pkg>_<Type>``) could be the glue's own ``ros_time``,
+    ``ros_duration``, or names that the environment model takes for
+    bounded sequences and strings (``ros_seq_...``, ``ros_string...``:
+    ``Environment.bounded_name``; rule 4.15)."""
+    return pkg == "ros" or pkg == "ros_seq" or pkg.startswith(("ros_seq_", "ros_string"))
 
 
 def _rule_of(message: str) -> str | None:
@@ -335,6 +350,15 @@ class _Checker:
                 self.err(item, f"{what}: folder {show(text)} is listed twice")
                 continue
             out.append(resolved)
+            reserved = sorted({f.parent.parent.name for f in resolved.glob("*/msg/*.msg")
+                               if reserved_package(f.parent.parent.name)})
+            if reserved:
+                self.err_rule("4.15", item,
+                              f"{what}: folder {show(text)} holds the package {show(reserved[0])}: a package named "
+                              "ros (or starting with ros_seq or ros_string) is refused, its C structs could "
+                              "collide with the glue's own (ros_time, ros_duration, ros_seq_<T>_<N>, "
+                              "ros_string<N>)")
+                continue
             try:
                 n = registry.add_msg_dir(resolved)
             except InvalidNodeModel as exc:
@@ -364,7 +388,8 @@ class _Checker:
             m = self.mapping(item, what)
             if m is None:
                 continue
-            self.keys(m, what, ("name", "direction", "type", "queue_size"), ("timeout_ms", "on_timeout", "stamp", "frame_id", "strings"))
+            self.keys(m, what, ("name", "direction", "type", "queue_size"),
+                      ("timeout_ms", "on_timeout", "stamp", "frame_id", "strings", "max_length"))
             name_node = m.get("name")
             name = self.string(name_node, f"{what}.name")
             usable = name is not None
@@ -483,9 +508,16 @@ class _Checker:
             rel = _Rel(m)
             if kind == "input":
                 # a derived input (rule 4.12) has no field; `field` and
-                # `on_timeout` with it are refused by check_freshness
-                rel.is_derived = m.get("derived") is not None
-                required = ("topic", "derived", "input") if rel.is_derived else ("topic", "field", "input")
+                # `on_timeout` with it are refused by check_freshness; but
+                # `derived: length` and `derived: truncated` name the
+                # variable-length array or string they read with `field`
+                # (rule 4.15)
+                dnode = m.get("derived")
+                if isinstance(dnode, YScalar) and dnode.kind == "str" and dnode.value in SEQUENCE_DERIVED:
+                    rel.seq_kind = dnode.value
+                rel.is_derived = dnode is not None and rel.seq_kind is None
+                required = (("topic", "derived", "input") if rel.is_derived else ("topic", "input")
+                            if rel.seq_kind else ("topic", "field", "input"))
                 self.keys(m, w, required, tuple(k for k in _INPUT_KEYS if k not in required))
             else:
                 self.keys(m, w, ("output", "topic", "field"))
@@ -550,24 +582,52 @@ class _Checker:
             pnode = m.get("field")
             rel.path_node = pnode
             ptext = None
+            if rel.seq_kind is not None and pnode is None:
+                self.err_rule("4.15", m.get("derived"),
+                              f"{w}.derived: {rel.seq_kind} reads a variable-length array or a string: name it "
+                              "with field (e.g. field: ranges)")
             if pnode is not None and not isinstance(pnode, YBad):
                 ptext = self.string(pnode, f"{w}.field")
             if ptext is None:
                 rel.ok = False
             elif rel.topic is not None:
                 try:
-                    rel.path = registry.walk_path(rel.topic.msg_type, ptext)
+                    if rel.seq_kind is not None:
+                        target = registry.walk_bounded(rel.topic.msg_type, ptext, f"derived: {rel.seq_kind}")
+                        leaf, prim = SEQUENCE_DERIVED[rel.seq_kind]
+                        rel.path = FieldPath((*target.steps, leaf), prim)
+                        rel.bounded = target
+                        rel.written = f"{ptext} ({rel.seq_kind})"
+                    else:
+                        rel.path = registry.walk_path(rel.topic.msg_type, ptext, bounded=kind == "input")
+                        if kind == "input":
+                            rel.bounded = registry.bounded_in_path(rel.topic.msg_type, ptext)
+                            if rel.bounded is not None:
+                                rel.written = ptext
                 except PathError as exc:
-                    rule = "4.14" if isinstance(exc, StringPathError) else "4.6"
+                    rule = ("4.15" if isinstance(exc, BoundedPathError) or rel.seq_kind is not None
+                            else "4.14" if isinstance(exc, StringPathError) else "4.6")
                     self.err_rule(rule, pnode, f"{w}.field: {exc.args[0]} (topic {show(rel.topic.name)}, {rel.topic.msg_type})")
                     rel.ok = False
             # types
             if rel.path is not None and rel.ctrl_field is not None:
                 cprim = ctrl[rel.ctrl_field].prim
-                if cprim != rel.path.prim:
+                if cprim != rel.path.prim and rel.seq_kind is not None:
+                    self.err_rule("4.15", rel.ctrl_node,
+                                  f"{w}.input: {rel.seq_kind} related to a non-{rel.path.prim} field: controller "
+                                  f"input {show(rel.ctrl_field)} is {cprim} ({rel.seq_kind} is a {rel.path.prim})")
+                    rel.ok = False
+                elif cprim != rel.path.prim and rel.bounded is not None and rel.bounded.is_string:
+                    self.err_rule("4.15", m,
+                                  f"{w}: a string related to a non-uint8 field: {show(ptext)} of topic "
+                                  f"{show(rel.topic.name)} is a byte of a string (uint8) but controller input "
+                                  f"{show(rel.ctrl_field)} is {cprim} (a string reaches the controller byte by "
+                                  "byte, as uint8, with its length from derived: length)")
+                    rel.ok = False
+                elif cprim != rel.path.prim:
                     if kind == "input":
                         msg = (
-                            f"{w}: type mismatch: field {show(str(rel.path))} of topic "
+                            f"{w}: type mismatch: field {show(rel.written or str(rel.path))} of topic "
                             f"{show(rel.topic.name)} is {rel.path.prim} but controller input "
                             f"{show(rel.ctrl_field)} is {cprim} (relations never convert)"
                         )
@@ -754,10 +814,155 @@ def carried_string_fields(node: YNode | None, registry: MsgRegistry) -> set[tupl
     return out
 
 
-def _string_value(node: YNode) -> tuple[str | None, str | None]:
+@dataclass
+class _MaxItem:
+    """An entry of a topic's ``max_length`` (rule 4.15): ``what`` names it
+    in messages, ``key`` is its field path's node, ``value`` its value's;
+    ``target`` the sequence or string it names, or ``problem`` why its
+    path names none; ``n`` its maximum, or ``value_problem`` why it is not
+    one."""
+
+    what: str
+    key: YNode
+    value: YNode
+    target: BoundedTarget | None = None
+    problem: str | None = None
+    n: int | None = None
+    value_problem: str | None = None
+
+
+def _max_value(node: YNode) -> tuple[int | None, str | None]:
+    """The maximum length written at ``node``, or why it is not one: an
+    integer from 1 to :data:`MAX_SEQUENCE_LENGTH`."""
+    expected = f"an integer from 1 to {MAX_SEQUENCE_LENGTH}"
+    if not (isinstance(node, YScalar) and node.kind == "int"):
+        return None, f"must be {expected} (the most elements carried), got {node.describe()}"
+    if node.value < 1:
+        return None, (f"must be {expected}, got {show(node.text)} (a carried array holds at least one "
+                      "element; its received length may still be 0)")
+    if node.value > MAX_SEQUENCE_LENGTH:
+        return None, f"must be {expected}, got {show(node.text)}"
+    return node.value, None
+
+
+def _max_length_items(mnode: YMap, msg_type: str | None, registry: MsgRegistry, what: str) -> list[_MaxItem]:
+    """The entries of the ``max_length`` mapping ``mnode`` of a topic of
+    ``msg_type`` (``None``: unknown, the paths are not resolved)."""
+    out = []
+    for k, v in mnode.items:
+        it = _MaxItem(f"{what}.max_length[{show(k.text)}]", k, v)
+        if not isinstance(v, YBad):
+            it.n, it.value_problem = _max_value(v)
+        if k.kind != "str":
+            it.problem = f"a key of max_length is a field path, got {k.describe()}"
+        elif msg_type is not None:
+            try:
+                it.target = registry.walk_bounded(msg_type, k.value, "max_length")
+            except PathError as exc:
+                it.problem = exc.args[0]
+        out.append(it)
+    return out
+
+
+def _topic_types(node: YNode | None, registry: MsgRegistry) -> dict[str, tuple[YMap, str | None, str]]:
+    """The topics as written, read before they are checked: name ->
+    (declaration, direction, known message type)."""
+    out: dict[str, tuple[YMap, str | None, str]] = {}
+    if not isinstance(node, YSeq):
+        return out
+    for item in node.items:
+        if not isinstance(item, YMap):
+            continue
+        name, dnode = item.get("name"), item.get("direction")
+        msg_type = _known_type(registry, item.get("type"))
+        if isinstance(name, YScalar) and name.kind == "str" and msg_type is not None and name.value not in out:
+            direction = dnode.value if isinstance(dnode, YScalar) and dnode.kind == "str" else None
+            out[name.value] = (item, direction, msg_type)
+    return out
+
+
+def carried_bounded_fields(topics: YNode | None, relations: YNode | None,
+                           registry: MsgRegistry) -> dict[tuple[str, str], int]:
+    """The strings and variable-length arrays of primitives the glue
+    carries, as (message type, field name) -> capacity: the string fields
+    that constants name (rule 4.14) and the strings and sequences that
+    the input relations of subscribed topics read (rule 4.15), each with
+    the ``max_length`` a topic gives it, or :data:`DEFAULT_MAX_LENGTH`.
+    Read before the topics are checked (a message type's carried view
+    depends on it); nothing is reported here, :func:`check_max_length` and
+    the relations' checks report every problem of the same items."""
+    named = set(carried_string_fields(topics, registry))
+    declared = _topic_types(topics, registry)
+    maxima: dict[tuple[str, str], int] = {}
+    for item, _direction, msg_type in declared.values():
+        mnode = item.get("max_length")
+        if isinstance(mnode, YMap):
+            for it in _max_length_items(mnode, msg_type, registry, ""):
+                if it.target is not None and it.n is not None:
+                    maxima.setdefault(it.target.key, it.n)
+    rows = relations.get("inputs") if isinstance(relations, YMap) else None
+    for row in rows.items if isinstance(rows, YSeq) else ():
+        if not isinstance(row, YMap):
+            continue
+        tnode, fnode = row.get("topic"), row.get("field")
+        if not (isinstance(tnode, YScalar) and tnode.kind == "str" and isinstance(fnode, YScalar)
+                and fnode.kind == "str"):
+            continue
+        info = declared.get(tnode.value)
+        if info is None or info[1] != SUBSCRIBE:
+            continue
+        target = registry.bounded_in_path(info[2], fnode.value)
+        if target is not None:
+            named.add(target.key)
+    return {key: maxima.get(key, DEFAULT_MAX_LENGTH) for key in sorted(named)}
+
+
+def check_max_length(ck: _Checker, decls: list[_TopicDecl], registry: MsgRegistry) -> None:
+    """Rule 4.15: a topic's ``max_length: {<field path>: N}`` names
+    variable-length arrays of primitives or ``string`` fields of its
+    message (through nested messages and fixed-size arrays of messages),
+    each with an integer ``N`` from 1 to :data:`MAX_SEQUENCE_LENGTH`; one
+    field of a message type (held by one C struct in every topic of the
+    type) gets one maximum."""
+    rule = "4.15"
+    seen: dict[tuple[str, str], _MaxItem] = {}
+    for d in decls:
+        mnode = d.node.get("max_length")
+        if mnode is None or isinstance(mnode, YBad):
+            continue
+        if not isinstance(mnode, YMap):
+            ck.err_rule(rule, mnode, f"{d.what}.max_length must be a mapping of field paths to maximum lengths "
+                                     f"(e.g. {{ranges: 1081}}), got {mnode.describe()}")
+            continue
+        msg_type = d.msg_type if d.msg_type is not None and registry.raw(d.msg_type) is not None else None
+        for it in _max_length_items(mnode, msg_type, registry, d.what):
+            if it.value_problem is not None:
+                ck.err_rule(rule, it.value, f"{it.what} {it.value_problem}")
+            if msg_type is None:
+                continue  # the type is reported
+            if it.problem is not None:
+                ck.err_rule(rule, it.key, f"{it.what}: {it.problem} (topic {show(d.name)}, {msg_type})")
+                continue
+            if it.n is None:
+                continue
+            first = seen.get(it.target.key)
+            if first is not None and first.n != it.n:
+                owner, fname = it.target.key
+                ck.err_rule(rule, it.key,
+                            f"{it.what}: {it.n} differs from the maximum {first.n} given to the same field "
+                            f"({fname} of {owner}) at line {first.key.line}, column {first.key.col} "
+                            f"({first.what}); one C struct holds the field in every topic of type {owner}, "
+                            "so it has one maximum")
+            elif first is None:
+                seen[it.target.key] = it
+
+
+def _string_value(node: YNode, capacity: int = STRING_CAPACITY) -> tuple[str | None, str | None]:
     """The constant written at ``node`` and why it is not one: a YAML
-    string of printable text, at most :data:`STRING_CAPACITY` bytes in
-    UTF-8 (``''``, the empty string, is one)."""
+    string of printable text, at most ``capacity`` bytes in UTF-8 (the
+    capacity of its field: :data:`STRING_CAPACITY` unless a
+    ``max_length`` says otherwise, rule 4.15; ``''``, the empty string, is
+    one)."""
     if not (isinstance(node, YScalar) and node.kind == "str"):
         hint = ""
         if isinstance(node, YScalar) and node.kind in ("bool", "int", "float", "timestamp"):
@@ -775,9 +980,10 @@ def _string_value(node: YNode) -> tuple[str | None, str | None]:
         if ord(ch) < 0x20 or ord(ch) == 0x7F:
             return None, (f"contains the control character U+{ord(ch):04X} (character {i + 1}); "
                           "a constant string holds printable text")
-    if len(data) > STRING_CAPACITY:
+    if len(data) > capacity:
+        extra = "" if capacity == STRING_CAPACITY else " (its field's max_length)"
         return None, (f"is {len(data)} bytes long in UTF-8; a carried string holds at most "
-                      f"{STRING_CAPACITY} bytes")
+                      f"{capacity} bytes{extra}")
     return value, None
 
 
@@ -823,7 +1029,9 @@ def check_strings(ck: _Checker, decls: list[_TopicDecl], registry: MsgRegistry) 
             if isinstance(it.value, YBad):
                 ok = False
                 continue
-            value, problem = _string_value(it.value)
+            capacity = (registry.capacity(it.target.owner, it.target.field) if it.target is not None
+                         else None) or STRING_CAPACITY
+            value, problem = _string_value(it.value, capacity)
             if problem is not None:
                 ck.err_rule(rule, it.value, f"{it.what} {problem}" if problem.startswith(("must", "is ")) else
                             f"{it.what}: the string {problem}")
@@ -892,7 +1100,8 @@ def check_freshness(ck: _Checker, decls: list[_TopicDecl], in_rels: list[_Rel],
             fnode = m.get("field")
             if fnode is not None:
                 ck.err_rule(rule, fnode, f"{w}.field: a derived input reads no message field "
-                                         "(a relation has either field or derived)")
+                                         "(a relation has either field or derived; field goes with derived: "
+                                         "length or truncated only)")
                 r.ok = False
             if onode is not None:
                 ck.err_rule(rule, onode, f"{w}.on_timeout: a derived input has no fallback "
@@ -906,8 +1115,10 @@ def check_freshness(ck: _Checker, decls: list[_TopicDecl], in_rels: list[_Rel],
             else:
                 hint = (did_you_mean(dnode.value, DERIVED_KINDS)
                         if isinstance(dnode, YScalar) and dnode.kind == "str" else "")
-                ck.err_rule(rule, dnode, f"{w}.derived must be 'is_new', 'received' or 'age_ms', "
-                                         f"got {dnode.describe()}{hint}")
+                hint = hint or (did_you_mean(dnode.value, tuple(SEQUENCE_DERIVED))
+                                if isinstance(dnode, YScalar) and dnode.kind == "str" else "")
+                ck.err_rule(rule, dnode, f"{w}.derived must be 'is_new', 'received' or 'age_ms' (or, with a "
+                                         f"field, 'length' or 'truncated'), got {dnode.describe()}{hint}")
                 r.ok = False
             if r.derived is not None and r.ctrl_field is not None and inputs is not None:
                 need, prim = DERIVED_PRIMS[r.derived], inputs[r.ctrl_field].prim
@@ -1033,10 +1244,13 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
     cm, ctrl_name, (uvar, ufields), (yvar, yfields) = ck.controller_section(
         ck.mapping(root.get("controller"), "controller")
     )
-    # The string fields the constants name are carried (rule 4.14): known
-    # before any message type's carried view is computed.
-    registry.set_carried_strings(carried_string_fields(root.get("topics"), registry))
+    # The string fields the constants name (rule 4.14) and the strings and
+    # variable-length arrays the input relations read (rule 4.15) are
+    # carried, with their maxima: known before any message type's carried
+    # view is computed.
+    registry.set_carried(carried_bounded_fields(root.get("topics"), root.get("relations"), registry))
     decls = ck.topics_section(root.get("topics"), registry)
+    check_max_length(ck, decls, registry)
     ck.diags.extend(registry.diagnostics)
     registry.diagnostics.clear()
     topics = {d.name: d for d in decls}
@@ -1129,7 +1343,7 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
     )
     irs = tuple(
         InputRelation(topic_objs[r.topic.name], r.path, r.ctrl_field, Pos(r.node.line, r.node.col),
-                      fallback=_fallback(r, inputs[r.ctrl_field].prim))
+                      fallback=_fallback(r, inputs[r.ctrl_field].prim), written=r.written)
         for r in in_rels if not r.is_derived
     )
     drs = tuple(

@@ -31,6 +31,16 @@ well-typed message), and converts a published one back from the first
 ``pyrosgen/templates/ros_api.cpp.j2``, once each, and no other string
 conversion.
 
+And the conversion of each carried variable-length array (rule 4.15):
+for every sequence struct ``ros_seq_<T>_<N>`` of the proved model, the
+wrapper converts a received ``std::vector`` exactly as the environment
+model's ``Environment.clamp`` says (policy truncate): ``len`` is the
+size capped at ``N`` (the clamp), ``truncated`` is set when the vector
+was longer (the flag), its first ``len`` elements are copied and every
+other element of ``data`` is set to zero (the zero fill); and converts a
+published one back from the first ``len`` elements, at most ``N``: the
+text of the template, once each, and no other vector conversion.
+
 With the glue and the wrapper's header (:func:`check_glue_externals`), the
 ROS functions the glue declares are declared by the header with the same C
 types (the two meet only at link time, where C checks nothing).
@@ -193,6 +203,71 @@ def _string_problems(cpp: str, messages: dict[str, list[tuple[str, str]]]) -> li
     return problems
 
 
+#: roscpp's element type of a ``T[]`` of each primitive (``std::vector<...>``).
+_CPP_ELEMENT = {"bool": "uint8_t", "int8": "int8_t", "uint8": "uint8_t", "int16": "int16_t",
+                "uint16": "uint16_t", "int32": "int32_t", "uint32": "uint32_t", "int64": "int64_t",
+                "uint64": "uint64_t", "float32": "float", "float64": "double"}
+
+_SEQ_NAME = re.compile(r"ros_seq_(" + "|".join(_CPP_ELEMENT) + r")_([1-9][0-9]*)")
+
+
+def _seq_shape(name: str, fields: list[tuple[str, str]]) -> tuple[str, int] | None:
+    """``(T, N)`` of a proved message that is a carried sequence's struct
+    ``ros_seq_<T>_<N>`` (``len``, ``truncated``, ``data`` of ``N`` ``T``),
+    else ``None``."""
+    m = _SEQ_NAME.fullmatch(name)
+    if m is None or len(fields) != 3 or fields[0] != ("len", "uint32") or fields[1] != ("truncated", "bool"):
+        return None
+    prim, n = m.group(1), int(m.group(2))
+    return (prim, n) if fields[2] == ("data", f"array {n} {prim}") else None
+
+
+def _seq_to_c(struct: str, prim: str, n: int) -> str:
+    """The one accepted conversion of a received vector into ``struct``."""
+    return (f"inline void to_c(const std::vector<{_CPP_ELEMENT[prim]}> &r, struct {struct} *c)\n{{\n"
+            f"    const std::size_t n = r.size();\n"
+            f"    const std::size_t len = std::min<std::size_t>(n, {n});\n"
+            f"    c->len = static_cast<unsigned int>(len);\n"
+            f"    c->truncated = n > {n} ? 1 : 0;\n"
+            f"    std::copy(r.begin(), r.begin() + len, c->data);\n"
+            f"    std::fill(c->data + len, c->data + {n}, 0);\n}}\n")
+
+
+def _seq_from_c(struct: str, prim: str, n: int) -> str:
+    """The one accepted conversion of ``struct`` into a published vector."""
+    return (f"inline void from_c(const struct {struct} *c, std::vector<{_CPP_ELEMENT[prim]}> &r)\n{{\n"
+            f"    r.assign(c->data, c->data + std::min<std::size_t>(c->len, {n}));\n}}\n")
+
+
+_SEQ_CONV = re.compile(r"\b(?:to_c\s*\(\s*const\s+std::vector\s*<[^>]*>[^)]*\bstruct\s+(\w+)"
+                       r"|from_c\s*\(\s*const\s+struct\s+(\w+)\s*\*\s*\w*\s*,\s*std::vector\b)")
+
+
+def _seq_problems(cpp: str, messages: dict[str, list[tuple[str, str]]]) -> list[str]:
+    """What in ``cpp`` departs from the conversions of the proved model's
+    carried variable-length arrays (rule 4.15)."""
+    cpp = _strip_comments(cpp)
+    want = {name: shape for name, fields in messages.items() if (shape := _seq_shape(name, fields)) is not None}
+    problems = []
+    for name, (prim, n) in sorted(want.items()):
+        if cpp.count(_seq_to_c(name, prim, n)) != 1:
+            problems.append(f"  the wrapper does not convert a received {prim}[] into struct {name} once as rule 4.15 "
+                            f"says (Environment.clamp: len the size capped at {n}, truncated when longer, the first "
+                            "len elements copied, zero past len)")
+        if cpp.count(_seq_from_c(name, prim, n)) != 1:
+            problems.append(f"  the wrapper does not convert struct {name} into a published {prim}[] once as rule "
+                            f"4.15 says (its first len elements, {n} at most)")
+    named = [a or b for a, b in _SEQ_CONV.findall(cpp)]
+    for name in sorted(set(named)):
+        if name not in want:
+            problems.append(f"  the wrapper converts vectors to or from struct {name}, which is not a sequence "
+                            "struct of the proved model")
+        elif named.count(name) != 4:
+            problems.append(f"  the wrapper has {named.count(name)} vector conversions of struct {name}; "
+                            "expected a declaration and a definition of each direction")
+    return problems
+
+
 def check_wrapper(cpp: str, proved_text: str, *, wrapper_name: str) -> None:
     """Raise :class:`WrapperMismatch` unless the wrapper source ``cpp``
     registers exactly the proved topics and sleeps with the proved period."""
@@ -214,6 +289,7 @@ def check_wrapper(cpp: str, proved_text: str, *, wrapper_name: str) -> None:
         problems.append("  the wrapper registers topics outside the ros_subscribe_/ros_advertise_ functions")
     problems += _time_problems(cpp, len(re.findall(r"^void ros_subscribe_\w+\(", cpp, re.M)))
     problems += _string_problems(cpp, parse_model_text(proved_text).messages)
+    problems += _seq_problems(cpp, parse_model_text(proved_text).messages)
     rates = _RATE.findall(cpp)
     if len(rates) != 1:
         problems.append(f"  the wrapper creates {len(rates)} ros::Rate objects; expected one")

@@ -46,6 +46,32 @@ def test_mutated_string_conversion_is_refused(name):
     assert_wrapper_refused(cpp, *STRING_MUTATIONS[name], model_text(m))
 
 
+#: Mutations of the conversions of a carried variable-length array (rule
+#: 4.15), on the wrapper of examples/laser_guard/laser_guard.yaml (ranges:
+#: at most 1081 float32): the environment model's Environment.clamp
+#: without the clamp, the zero fill or the truncated flag, or otherwise off.
+SEQUENCE_MUTATIONS = {
+    "received array not clamped": ("const std::size_t len = std::min<std::size_t>(n, 1081);",
+                                   "const std::size_t len = n;"),
+    "no zero fill past len": ("    std::fill(c->data + len, c->data + 1081, 0);\n", ""),
+    "zero fill one short": ("std::fill(c->data + len, c->data + 1081, 0);", "std::fill(c->data + len, c->data + 1080, 0);"),
+    "truncated never set": ("c->truncated = n > 1081 ? 1 : 0;", "c->truncated = 0;"),
+    "truncated at the maximum": ("c->truncated = n > 1081 ? 1 : 0;", "c->truncated = n >= 1081 ? 1 : 0;"),
+    "copies the whole vector": ("std::copy(r.begin(), r.begin() + len, c->data);",
+                                "std::copy(r.begin(), r.end(), c->data);"),
+    "published array not clamped": ("std::min<std::size_t>(c->len, 1081)", "c->len"),
+    "received into 1080 elements": ("std::min<std::size_t>(n, 1081)", "std::min<std::size_t>(n, 1080)"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(SEQUENCE_MUTATIONS))
+def test_mutated_sequence_conversion_is_refused(name):
+    m = load_model(LANDSHARK.parents[1] / "laser_guard" / "laser_guard.yaml")
+    cpp = wrapper.render_wrapper(m)[wrapper.wrapper_files(m).api_source]
+    check_wrapper(cpp, model_text(m), wrapper_name="w.cpp")
+    assert_wrapper_refused(cpp, *SEQUENCE_MUTATIONS[name], model_text(m))
+
+
 def _landshark():
     m = load_model(LANDSHARK)
     return m, wrapper.render_wrapper(m)[wrapper.wrapper_files(m).api_source]

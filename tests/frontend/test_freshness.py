@@ -429,11 +429,13 @@ def test_derived_refusals(tmp_path):
         (*at(text, "A}"), "relations.inputs[3].input: age_ms related to a non-uint32 field: controller input "
                           "'A' is int32 (age_ms is a uint32)", "4.12"),
         (*at(text, "linear.y"), "relations.inputs[4].field: a derived input reads no message field "
-                                "(a relation has either field or derived)", "4.12"),
+                                "(a relation has either field or derived; field goes with derived: length or "
+                                "truncated only)", "4.12"),
         (*at(text, "hold"), "relations.inputs[5].on_timeout: a derived input has no fallback "
                             "(it does not read a message field)", "4.12"),
-        (*at(text, "is_newer"), "relations.inputs[6].derived must be 'is_new', 'received' or 'age_ms', "
-                                "got string 'is_newer' (did you mean 'is_new'?)", "4.12"),
+        (*at(text, "is_newer"), "relations.inputs[6].derived must be 'is_new', 'received' or 'age_ms' (or, "
+                                "with a field, 'length' or 'truncated'), got string 'is_newer' (did you mean "
+                                "'is_new'?)", "4.12"),
     ]
 
 
@@ -452,7 +454,8 @@ def test_misspelt_keys_get_suggestions(tmp_path):
                        "{topic: /a, derivd: is_new, input: N}"))
     ds = diags(tmp_path, text)
     assert (*at(text, "timout_ms"), "topics[0]: unknown key 'timout_ms' (did you mean 'timeout_ms'?); "
-            "expected name, direction, type, queue_size, timeout_ms, on_timeout, stamp, frame_id, strings", "4.4") in ds
+            "expected name, direction, type, queue_size, timeout_ms, on_timeout, stamp, frame_id, strings, "
+            "max_length", "4.4") in ds
     assert (*at(text, "on_timout"), "relations.inputs[0]: unknown key 'on_timout' (did you mean "
             "'on_timeout'?); expected topic, field, input, on_timeout, derived", "4.7") in ds
     assert (*at(text, "derivd"), "relations.inputs[1]: unknown key 'derivd' (did you mean 'derived'?); "

@@ -480,10 +480,12 @@ _REL_PROBLEM = ("is a string; strings are not carried by the glue to or from the
 @pytest.mark.parametrize("field", ["header.frame_id", "header.frame_id.len", "header.frame_id.truncated",
                                    '"header.frame_id.data[3]"'])
 def test_relations_never_name_a_string(tmp_path, field):
-    """Neither an output relation nor an input relation names a string or
-    the fields of its C struct, carried (/cmd_out, /cmd_in: the Header of
-    TwistStamped carries frame_id here) or not (Odometry's
-    child_frame_id)."""
+    """No output relation names a string or the fields of its C struct,
+    carried (/cmd_out: the Header of TwistStamped carries frame_id here)
+    or not (Odometry's child_frame_id); an input relation reads a string
+    byte by byte (``header.frame_id[0]``, rule 4.15,
+    tests/frontend/test_sequences.py), never whole nor through its C
+    struct."""
     text = BASE.replace("fields: {Out1: float64}", "fields: {Out1: float64, Len: uint32}")
     text = text.replace("    - {output: Out1, topic: /cmd_out, field: twist.linear.x}",
                         "    - {output: Out1, topic: /cmd_out, field: twist.linear.x}\n"
@@ -497,9 +499,13 @@ def test_relations_never_name_a_string(tmp_path, field):
                         f"inputs: [{{topic: /cmd_in, field: twist.linear.x, input: In1}}, "
                         f"{{topic: /cmd_in, field: {field}, input: L}}]")
     line, col = at(text, f"field: {field}")
-    assert one(tmp_path, text) == (line, col + len("field: "),
-                                   f"relations.inputs[1].field: field path '{shown}': 'header.frame_id' "
-                                   f"{_REL_PROBLEM} (topic '/cmd_in', geometry_msgs/TwistStamped)", "4.14")
+    got = one(tmp_path, text)
+    assert got[:2] == (line, col + len("field: ")) and got[3] == "4.15", got
+    assert got[2].startswith(f"relations.inputs[1].field: field path '{shown}': 'header.frame_id' is a string; "), got
+    if shown == "header.frame_id":
+        assert "a relation reads one of its bytes ('header.frame_id[0]', a uint8)" in got[2], got
+    else:
+        assert "a path does not go inside it" in got[2] and "fields of its C struct" in got[2], got
 
 
 def test_every_problem_is_reported_at_once(tmp_path):
@@ -550,15 +556,16 @@ def test_hostile_inputs_are_clean_errors(tmp_path, capsys):
 
 
 def test_a_struct_name_collision_is_refused(tmp_path):
-    """A custom type whose C name is the string struct's is refused (rule
-    4.9), not silently merged."""
+    """A custom type whose C name could be the string struct's is refused,
+    not silently merged: its package, ``ros``, is (rule 4.15)."""
     d = tmp_path / "msgs" / "ros" / "msg"
     d.mkdir(parents=True)
     (d / "string128.msg").write_text("uint32 n\n")
     text = BASE.replace("relations:", "msg_paths: [msgs]\nrelations:").replace(
         "type: nav_msgs/Odometry", "type: ros/string128")
     found = diags(tmp_path, text)
-    assert any(rule == "4.9" and "'ros_string128'" in msg and "collides" in msg for _, _, msg, rule in found), found
+    assert any(rule == "4.15" and "holds the package 'ros'" in msg and "ros_string<N>" in msg
+               for _, _, msg, rule in found), found
 
 
 # --------------------------------------------------------------------------
