@@ -14,6 +14,16 @@ the same message schedule is run
   ``pyrosgen/templates/difftest_runner.ml.j2``, which builds the
   ``ros_context`` of the schedule and prints the trace in the same format.
 
+A message of the schedule is the ROS message as it was sent: in each
+bounded sequence or string (rules 4.14, 4.15: a struct ``ros_seq_<T>_<N>``
+or ``ros_string<N>`` of ``len``, ``truncated`` and ``data[N]``), ``len``
+is the real length, ``data`` its first ``N`` elements and anything past
+the length.  The Coq side delivers it converted, as the environment
+model says (``Environment.delivered``, ``clamp``); the C side converts it
+with a C clamp that does what the wrapper's conversion does
+(:data:`CLAMPS`: ``len = min(len, N)``, ``truncated = len > N``, the
+elements past the new length zero) before calling the callback.
+
 Both must print the same text, byte for byte: every controller input
 handed to the step function, every leaf of every published message
 (floats as IEEE bit patterns, NaN payloads included), the cycle marks.
@@ -56,6 +66,8 @@ __all__ = [
     "DifftestError",
     "leaf_token",
     "MAX_TIME",
+    "CLAMPS",
+    "Bounded",
 ]
 
 #: The warnings the glue and the harness are compiled with.
@@ -90,14 +102,40 @@ class Leaf:
 
 
 @dataclass(frozen=True)
+class Bounded:
+    """A bounded sequence or string inside a struct of the dump (rules
+    4.14, 4.15): its C access path from the struct (``ranges``,
+    ``header.frame_id``), its struct's name, its capacity, and the index
+    of its ``len`` leaf among the struct's leaves (``truncated`` is the
+    next one, then the ``data`` elements)."""
+
+    path: str
+    struct: str
+    capacity: int
+    first_leaf: int
+
+
+@dataclass(frozen=True)
 class Struct:
     """A struct the harness decodes from the schedule (``fill``) and/or
-    prints (``show``)."""
+    prints (``show``); ``bounded``: the bounded sequences and strings
+    inside it, which the harness converts after decoding (Environment.clamp)."""
 
     name: str
     leaves: tuple[Leaf, ...]
     fill: bool
     show: bool
+    bounded: tuple[Bounded, ...] = ()
+
+
+#: The C clamps the harness can apply to a received bounded sequence or
+#: string: ``truncate`` is the wrapper's conversion (and the environment
+#: model's ``Environment.clamp``); ``no_zero_fill`` is a mutant that leaves
+#: the elements past the new length as they came (the differential tests
+#: must catch it).
+CLAMPS = ("truncate", "no_zero_fill")
+
+_BOUNDED_PREFIXES = ("ros_seq_", "ros_string")
 
 
 _CTYPES = {("I8", "signed"): "signed char", ("I8", "unsigned"): "unsigned char",
@@ -177,6 +215,46 @@ class NodeDump:
         go(["struct", struct], "")
         return tuple(out)
 
+    def bounded_capacity(self, name: str) -> int | None:
+        """The capacity of struct ``name`` if it is a bounded sequence or
+        string as the environment model recognises one
+        (``Environment.bounded_name``, ``clamp_seq``: the name's prefix and
+        the members ``len`` (unsigned int), ``truncated`` (unsigned char),
+        ``data`` (an array of scalars)), else ``None``."""
+        members = self.items["structs"].get(name)
+        if not name.startswith(_BOUNDED_PREFIXES) or members is None or len(members) != 3:
+            return None
+        (l, lt), (t, tt), (dname, dt) = members
+        if (l, t, dname) != ("len", "truncated", "data") or lt != ["int", "I32", "unsigned"] \
+                or tt != ["int", "I8", "unsigned"] or dt[0] != "array" or dt[1][0] in ("struct", "array"):
+            return None
+        return int(dt[2])
+
+    def bounded(self, struct: str) -> tuple[Bounded, ...]:
+        """The bounded sequences and strings inside ``struct`` (through
+        nested structs and arrays), in member order."""
+        out: list[Bounded] = []
+        count = 0
+
+        def go(t, path: str) -> None:
+            nonlocal count
+            if t[0] == "struct":
+                n = self.bounded_capacity(t[1])
+                if n is not None and path:
+                    out.append(Bounded(path, t[1], n, count))
+                    count += 2 + n
+                    return
+                for m, mt in self.items["structs"][t[1]]:
+                    go(mt, f"{path}.{m}" if path else m)
+            elif t[0] == "array":
+                for k in range(int(t[2])):
+                    go(t[1], f"{path}[{k}]")
+            else:
+                count += 1
+
+        go(["struct", struct], "")
+        return tuple(out)
+
     def root_structs(self) -> list[str]:
         """The structs the harness reads or prints: messages, inputs, outputs."""
         out: list[str] = []
@@ -186,16 +264,23 @@ class NodeDump:
         return out
 
 
-def harness_source(sexp_text: str, header_name: str, source: str = "the AST dump") -> str:
-    """The C source of the fake ROS C API and the test controller."""
+def harness_source(sexp_text: str, header_name: str, source: str = "the AST dump",
+                   clamp: str = "truncate") -> str:
+    """The C source of the fake ROS C API and the test controller
+    (``clamp``: one of :data:`CLAMPS`, the conversion of a received
+    bounded sequence or string)."""
+    if clamp not in CLAMPS:
+        raise ValueError(f"unknown clamp {clamp!r}; expected one of {CLAMPS}")
     d = NodeDump.from_text(sexp_text)
     filled = {st for _, _, st, _ in d.subs} | {d.y[1]}
     shown = {st for _, _, st in d.pubs} | {d.u[1], d.y[1]}
-    structs = [Struct(s, d.leaves(s), s in filled, s in shown) for s in d.root_structs()]
+    structs = [Struct(s, d.leaves(s), s in filled, s in shown, d.bounded(s) if s in filled else ())
+               for s in d.root_structs()]
     kinds = sorted({leaf.kind for s in structs if s.fill for leaf in s.leaves})
+    clamped = sorted({(b.struct, b.capacity) for s in structs for b in s.bounded})
     return render("difftest_ros.c.j2",
         template=HARNESS_TEMPLATE, source=source_label(source), header=header_name, structs=structs, kinds=kinds,
-        fns=d.fns, subs=d.subs, advs=d.advs, pubs=d.pubs, u=d.u, y=d.y)
+        fns=d.fns, subs=d.subs, advs=d.advs, pubs=d.pubs, u=d.u, y=d.y, clamped=clamped, clamp=clamp)
 
 
 # ---------------------------------------------------------------------------
@@ -213,15 +298,17 @@ def run_tool(argv: list[str], cwd: Path, what: str, timeout: float = 900) -> sub
 
 
 def build_c_harness(out_dir: str | Path, node: str, work: str | Path, *, sanitize: bool = False,
-                    opt: str = "-O1", name: str | None = None) -> Path:
+                    opt: str = "-O1", name: str | None = None, clamp: str = "truncate") -> Path:
     """Compile the printed glue of ``out_dir`` (``pyrosgen generate`` output)
     with the harness, with :data:`GCC_STRICT` warnings (and the sanitizers
-    of :data:`SANITIZE` if ``sanitize``).  Returns the executable."""
+    of :data:`SANITIZE` if ``sanitize``; ``clamp``: the harness's
+    conversion of received bounded sequences, :data:`CLAMPS`).  Returns
+    the executable."""
     out_dir, work = Path(out_dir).resolve(), Path(work)
     work.mkdir(parents=True, exist_ok=True)
     glue, header, sexp = out_dir / f"{node}_glue.c", out_dir / f"{node}_types.h", out_dir / f"{node}.sexp"
-    src = work / f"{node}_difftest_ros.c"
-    src.write_text(harness_source(sexp.read_text(), header.name, sexp.name), encoding="ascii")
+    src = work / f"{name or node}_difftest_ros.c"
+    src.write_text(harness_source(sexp.read_text(), header.name, sexp.name, clamp=clamp), encoding="ascii")
     exe = work / (name or f"{node}_c{'_san' if sanitize else ''}")
     argv = ["gcc", *GCC_STRICT, opt, *(SANITIZE if sanitize else ()), "-I", str(out_dir),
             str(glue), str(src), "-o", str(exe)]
