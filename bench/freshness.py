@@ -154,35 +154,16 @@ def check_fresh_model() -> None:
 def instructions() -> dict:
     """Glue instructions per cycle of LandShark without and with the timed
     GPS topic (see the module's documentation)."""
-    from runtime import RT, _callgrind, _short  # bench/runtime.py
+    from runtime import glue_per_cycle  # bench/runtime.py
 
     check_fresh_model()
-    RT.mkdir(parents=True, exist_ok=True)
-    fake, stub = BENCH / "runtime" / "fake_ros_landshark.c", BENCH / "runtime" / "stub_controller_landshark.c"
     out = {}
     for label, model, fresh in (("plain", LANDSHARK, False), ("timed", LANDSHARK_FRESH, True)):
-        d = FR / f"glue_{label}"
-        log(f"pyrosgen generate {model.relative_to(REPO)}")
-        p = run([PYROSGEN, "generate", model, "-o", d, "-q"], env=dict(os.environ), timeout=1800, check=False)
-        if p.rc != 0:
-            raise SystemExit(f"freshness: pyrosgen generate failed (exit {p.rc}):\n{p.stderr.strip()[-3000:]}")
         defs = ["-DBENCH_GPS_GAPS"] + (["-DBENCH_FRESH"] if fresh else [])
-        objs = []
-        for src, flags in ((d / "landshark_controller_glue.c", ["-fno-inline"]), (fake, defs), (stub, defs)):
-            o = FR / f"{label}_{src.stem}.o"
-            run(["gcc", "-std=c11", "-O2", *flags, "-I", d, "-c", src, "-o", o])
-            objs.append(o)
-        exe = FR / f"landshark_{label}_fake"
-        run(["gcc", *objs, "-o", exe])
-        check = run([exe]).stdout.strip()
-        toggles = ["input_glue", "*_callback", "output_glue_*"]
-        c1, c2 = _callgrind(exe, 1000, toggles), _callgrind(exe, 2000, toggles)
-        funcs = {_short(f): (c2.get(f, 0) - c1.get(f, 0)) / 1000 for f in set(c1) | set(c2)
-                 if _short(f) != "ros_now"}
-        out[label] = {"model": str(model.relative_to(REPO)), "per_cycle": sum(funcs.values()), "functions": funcs,
-                      "ros_now_per_cycle": sum((c2.get(f, 0) - c1.get(f, 0)) / 1000 for f in set(c1) | set(c2)
-                                               if _short(f) == "ros_now"),
-                      "check": check}
+        r = glue_per_cycle(label, model, FR, defs, log)
+        funcs = {f: v for f, v in r["functions"].items() if f != "ros_now"}
+        out[label] = {"model": r["model"], "per_cycle": sum(funcs.values()), "functions": funcs,
+                      "ros_now_per_cycle": r["functions"].get("ros_now", 0.0), "check": r["check"]}
         log(f"  glue instructions per cycle, {label}: {sum(funcs.values()):.1f} "
             f"({', '.join(f'{k} {v:.1f}' for k, v in sorted(funcs.items()))})")
     return out

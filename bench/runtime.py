@@ -128,6 +128,41 @@ def _short(fn: str) -> str:
     return fn.split("(")[0]
 
 
+def glue_per_cycle(label: str, model: Path, work: Path, defs: list[str], log) -> dict:
+    """``pyrosgen generate`` of a LandShark-shaped ``model`` (node name
+    landshark_controller) into ``work``/glue_``label``, linked with the fake
+    ROS of fake_ros_landshark.c and the stub controller (both compiled with
+    ``defs``), the glue with ``-O2 -fno-inline``; the instructions per
+    cycle of each glue function (callbacks, ``input_glue``,
+    ``output_glue_*``, and what they call of the fake ROS, e.g.
+    ``ros_now``) = (count at 2000 cycles - count at 1000) / 1000, and the
+    fake ROS's checksum line."""
+    import os
+
+    from common import BENCH, PYROSGEN, REPO
+
+    RT.mkdir(parents=True, exist_ok=True)
+    work.mkdir(parents=True, exist_ok=True)
+    fake, stub = BENCH / "runtime" / "fake_ros_landshark.c", BENCH / "runtime" / "stub_controller_landshark.c"
+    d = work / f"glue_{label}"
+    log(f"pyrosgen generate {model.relative_to(REPO)}")
+    p = run([PYROSGEN, "generate", model, "-o", d, "-q"], env=dict(os.environ), timeout=1800, check=False)
+    if p.rc != 0:
+        raise SystemExit(f"pyrosgen generate failed (exit {p.rc}):\n{p.stderr.strip()[-3000:]}")
+    objs = []
+    for src, flags in ((d / "landshark_controller_glue.c", ["-fno-inline"]), (fake, defs), (stub, defs)):
+        o = work / f"{label}_{src.stem}.o"
+        run(["gcc", "-std=c11", "-O2", *flags, "-I", d, "-c", src, "-o", o])
+        objs.append(o)
+    exe = work / f"landshark_{label}_fake"
+    run(["gcc", *objs, "-o", exe])
+    check = run([exe]).stdout.strip()
+    toggles = ["input_glue", "*_callback", "output_glue_*"]
+    c1, c2 = _callgrind(exe, 1000, toggles), _callgrind(exe, 2000, toggles)
+    funcs = {_short(f): (c2.get(f, 0) - c1.get(f, 0)) / 1000 for f in set(c1) | set(c2)}
+    return {"model": str(model.relative_to(REPO)), "functions": funcs, "check": check}
+
+
 def instruction_counts(nodes: dict, log) -> dict:
     RT.mkdir(parents=True, exist_ok=True)
     gen_dir: Path = nodes["gen_dir"]

@@ -23,7 +23,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from common import BENCH, PYROSGEN, REPO, WORK, machine, run, save_json  # noqa: E402
+from common import BENCH, REPO, WORK, machine, save_json  # noqa: E402
 
 LANDSHARK = REPO / "examples" / "landshark" / "landshark_controller.yaml"
 FRAMED = BENCH / "models" / "landshark_framed.yaml"
@@ -49,34 +49,15 @@ def check_framed_model() -> None:
 
 
 def instructions() -> dict:
-    from runtime import RT, _callgrind, _short  # bench/runtime.py
+    from runtime import glue_per_cycle  # bench/runtime.py
 
     check_framed_model()
-    RT.mkdir(parents=True, exist_ok=True)
-    ST.mkdir(parents=True, exist_ok=True)
-    fake, stub = BENCH / "runtime" / "fake_ros_landshark.c", BENCH / "runtime" / "stub_controller_landshark.c"
     out = {}
     for label, model in (("plain", LANDSHARK), ("framed", FRAMED)):
-        d = ST / f"glue_{label}"
-        log(f"pyrosgen generate {model.relative_to(REPO)}")
-        p = run([PYROSGEN, "generate", model, "-o", d, "-q"], env=dict(os.environ), timeout=1800, check=False)
-        if p.rc != 0:
-            raise SystemExit(f"strings: pyrosgen generate failed (exit {p.rc}):\n{p.stderr.strip()[-3000:]}")
-        objs = []
-        for src, flags in ((d / "landshark_controller_glue.c", ["-fno-inline"]), (fake, []), (stub, [])):
-            o = ST / f"{label}_{src.stem}.o"
-            run(["gcc", "-std=c11", "-O2", *flags, "-I", d, "-c", src, "-o", o])
-            objs.append(o)
-        exe = ST / f"landshark_{label}_fake"
-        run(["gcc", *objs, "-o", exe])
-        check = run([exe]).stdout.strip()
-        toggles = ["input_glue", "*_callback", "output_glue_*"]
-        c1, c2 = _callgrind(exe, 1000, toggles), _callgrind(exe, 2000, toggles)
-        funcs = {_short(f): (c2.get(f, 0) - c1.get(f, 0)) / 1000 for f in set(c1) | set(c2)}
-        out[label] = {"model": str(model.relative_to(REPO)), "per_cycle": sum(funcs.values()), "functions": funcs,
-                      "check": check}
-        log(f"  glue instructions per cycle, {label}: {sum(funcs.values()):.1f} "
-            f"({', '.join(f'{k} {v:.1f}' for k, v in sorted(funcs.items()))})")
+        r = glue_per_cycle(label, model, ST, [], log)
+        out[label] = dict(r, per_cycle=sum(r["functions"].values()))
+        log(f"  glue instructions per cycle, {label}: {out[label]['per_cycle']:.1f} "
+            f"({', '.join(f'{k} {v:.1f}' for k, v in sorted(r['functions'].items()))})")
     if out["plain"]["check"] != out["framed"]["check"]:
         raise SystemExit(f"strings: the two nodes publish different commands: {out['plain']['check']} "
                          f"against {out['framed']['check']}")
