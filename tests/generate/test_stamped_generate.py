@@ -16,7 +16,7 @@ import pytest
 import pyrosgen.generate as gen
 from pyrosgen import cli
 
-from support.generate import REPO as ROOT, require_library
+from support.generate import REPO as ROOT, generate_with_tampered_node_file, require_library
 
 STAMPED = ROOT / "examples" / "landshark" / "landshark_stamped.yaml"
 STAMPS = '[("landshark_control_base_velocity", [PField "header"; PField "stamp"])]'
@@ -73,17 +73,8 @@ def test_verify_accepts_the_folder(stamped, capsys):
 ])
 def test_tampered_stamp_is_refused(name, new, monkeypatch, capsys, tmp_path):
     require_library()
-    original = gen.render_node_file
-
-    def tampered(model, **kw):
-        text = original(model, **kw)
-        assert STAMPS in text
-        return text.replace(STAMPS, new, 1)
-
-    monkeypatch.setattr(gen, "render_node_file", tampered)
     out = tmp_path / "out"
-    code = cli.main(["generate", str(STAMPED), "-o", str(out), "-q"])
-    err = capsys.readouterr().err
+    code, err = generate_with_tampered_node_file(STAMPED, STAMPS, new, monkeypatch, capsys, out)
     assert not out.exists()
     if name == "stamp dropped":
         assert code == 2, err

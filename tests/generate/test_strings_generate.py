@@ -17,12 +17,11 @@ import subprocess
 
 import pytest
 
-import pyrosgen.generate as gen
 from pyrosgen import cli
 from pyrosgen.proof.modeltext import parse_model_text
 from pyrosgen.verify.certificate import CertificateError, _strings
 
-from support.generate import REPO as ROOT, require_library
+from support.generate import REPO as ROOT, generate_with_tampered_node_file, require_library
 
 STAMPED = ROOT / "examples" / "landshark" / "landshark_stamped.yaml"
 NODE = "landshark_stamped"
@@ -162,17 +161,8 @@ def test_tampered_per_node_file_is_refused(name, new, code, says, monkeypatch, c
     its theorems, about another node: the seam refuses it; a constant on a
     subscribed topic is refused by Coq (``Wellformed.string_ok``)."""
     require_library()
-    original = gen.render_node_file
-
-    def tampered(model, **kw):
-        text = original(model, **kw)
-        assert NM_STRINGS in text
-        return text.replace(NM_STRINGS, new, 1)
-
-    monkeypatch.setattr(gen, "render_node_file", tampered)
     out = tmp_path / "out"
-    got = cli.main(["generate", str(STAMPED), "-o", str(out), "-q"])
-    err = capsys.readouterr().err
+    got, err = generate_with_tampered_node_file(STAMPED, NM_STRINGS, new, monkeypatch, capsys, out)
     assert not out.exists()
     assert got == code, err
     assert says in err, err

@@ -79,6 +79,25 @@ def require_library() -> None:
     CoqDriver().check_library()
 
 
+def generate_with_tampered_node_file(model: Path, old: str, new: str, monkeypatch, capsys, out: Path):
+    """``pyrosgen generate model -o out`` with ``old`` replaced once by
+    ``new`` in the per-node Coq file it writes (``old`` must be there):
+    the exit code and the standard error."""
+    import pyrosgen.generate as gen
+    from pyrosgen import cli
+
+    original = gen.render_node_file
+
+    def tampered(model, **kw):
+        text = original(model, **kw)
+        assert old in text
+        return text.replace(old, new, 1)
+
+    monkeypatch.setattr(gen, "render_node_file", tampered)
+    code = cli.main(["generate", str(model), "-o", str(out), "-q"])
+    return code, capsys.readouterr().err
+
+
 def make_standin_library(dest: Path, *, drop: tuple[str, ...] = (), extra: dict[str, str] | None = None) -> Path:
     """A copy of the ROSGen library in ``dest/theories`` made of symbolic
     links to the real compiled files, whose ``_CoqProject`` omits the
