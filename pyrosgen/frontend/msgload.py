@@ -553,41 +553,12 @@ class MsgRegistry:
         shown = ""
         for i, (fname, index) in enumerate(steps):
             last = i == len(steps) - 1
-            f = cur.field(fname)
-            if f is None:
-                names = [x.name for x in cur.fields]
-                where = f"{shown!s}" if shown else ""
-                owner = f"{cur.name} (at {show(where)})" if where else cur.name
-                raise PathError(
-                    f"field path {show(text)}: message type {owner} has no field "
-                    f"{show(fname)}{did_you_mean(fname, names)}"
-                )
-            shown = f"{shown}.{fname}" if shown else fname
+            f, shown = _field_step(cur, text, fname, shown)
             out.append(fname)
-            ftype = f.type_text()
             if f.card == "sequence" or (bounded and f.base_kind == "string" and f.card == "scalar"):
                 nxt_name = steps[i + 1][0] if not last else None
                 return self._bounded_leaf(text, cur, f, index, nxt_name, tuple(out), shown, bounded)
-            if f.card == "array":
-                if index is None:
-                    hint = f"{shown}[0]" + ("" if last else "." + ".".join(s for s, _ in steps[i + 1 :]))
-                    raise PathError(
-                        f"field path {show(text)}: {show(shown)} is an array ({ftype}); "
-                        f"name one element with a constant index, e.g. {show(hint)}"
-                    )
-                if index >= f.size:
-                    valid = f"valid indices are 0..{f.size - 1}" if f.size else "it has no elements"
-                    raise PathError(
-                        f"field path {show(text)}: index {index} is out of range for "
-                        f"{show(shown)} ({ftype}; {valid})"
-                    )
-                shown += f"[{index}]"
-                out.append(index)
-            elif index is not None:
-                raise PathError(
-                    f"field path {show(text)}: {show(shown)} is not an array "
-                    f"(it is {_article(f.base)} {f.base}), it cannot be indexed"
-                )
+            shown = _index_step(text, steps, i, f, index, shown, out)
             if f.base_kind == "string":
                 raise StringPathError(
                     f"field path {show(text)}: {show(shown)} is a string; "
@@ -634,12 +605,7 @@ class MsgRegistry:
         (rule 4.15): ``index`` the index written after it, ``nxt`` the
         name of the next step (``None`` when ``f`` ends the path)."""
         ftype = f.type_text()
-        if f.card == "sequence" and f.base_kind != "prim":
-            of = {"string": "strings", "msg": "messages"}.get(f.base_kind, f.base)
-            raise BoundedPathError(
-                f"field path {show(text)}: {show(shown)} is a variable-length array of {of} ({ftype}); "
-                "variable-length arrays of messages or strings are not carried yet (issue 15)"
-            )
+        _refuse_sequence_of_non_prims(text, f, shown)
         if not bounded:
             raise BoundedPathError(
                 f"field path {show(text)}: {show(shown)} is a variable-length array ({ftype}); an output "
@@ -725,24 +691,11 @@ class MsgRegistry:
         shown = ""
         for i, (fname, index) in enumerate(steps):
             last = i == len(steps) - 1
-            f = cur.field(fname)
-            if f is None:
-                names = [x.name for x in cur.fields]
-                owner = f"{cur.name} (at {show(shown)})" if shown else cur.name
-                raise PathError(
-                    f"field path {show(text)}: message type {owner} has no field "
-                    f"{show(fname)}{did_you_mean(fname, names)}"
-                )
-            shown = f"{shown}.{fname}" if shown else fname
+            f, shown = _field_step(cur, text, fname, shown)
             out.append(fname)
             ftype = f.type_text()
             bounded = f.card == "sequence" or (f.base_kind == "string" and f.card == "scalar")
-            if f.card == "sequence" and f.base_kind != "prim":
-                of = {"string": "strings", "msg": "messages"}.get(f.base_kind, f.base)
-                raise BoundedPathError(
-                    f"field path {show(text)}: {show(shown)} is a variable-length array of {of} ({ftype}); "
-                    "variable-length arrays of messages or strings are not carried yet (issue 15)"
-                )
+            _refuse_sequence_of_non_prims(text, f, shown)
             if bounded:
                 kind = "a string" if f.base_kind == "string" else f"a variable-length array ({ftype})"
                 if index is not None:
@@ -762,26 +715,8 @@ class MsgRegistry:
                     f"field path {show(text)}: {show(shown)} is an array of strings ({ftype}); "
                     "arrays of strings are not carried yet (issue 15)"
                 )
-            if f.card == "array" and f.base_kind == "msg":
-                if index is None:
-                    hint = f"{shown}[0]" + ("" if last else "." + ".".join(s for s, _ in steps[i + 1 :]))
-                    raise PathError(
-                        f"field path {show(text)}: {show(shown)} is an array ({ftype}); "
-                        f"name one element with a constant index, e.g. {show(hint)}"
-                    )
-                if index >= f.size:
-                    valid = f"valid indices are 0..{f.size - 1}" if f.size else "it has no elements"
-                    raise PathError(
-                        f"field path {show(text)}: index {index} is out of range for "
-                        f"{show(shown)} ({ftype}; {valid})"
-                    )
-                shown += f"[{index}]"
-                out.append(index)
-            elif index is not None and f.card != "array":
-                raise PathError(
-                    f"field path {show(text)}: {show(shown)} is not an array "
-                    f"(it is {_article(f.base)} {f.base}), it cannot be indexed"
-                )
+            if f.card != "array" or f.base_kind == "msg":  # a fixed-size array of primitives is refused below
+                shown = _index_step(text, steps, i, f, index, shown, out)
             if f.base_kind != "msg" or f.card == "array" and index is None:
                 raise BoundedPathError(
                     f"field path {show(text)}: {show(shown)} is {_article(f.base)} {ftype}, "
@@ -811,15 +746,7 @@ class MsgRegistry:
         shown = ""
         for i, (fname, index) in enumerate(steps):
             last = i == len(steps) - 1
-            f = cur.field(fname)
-            if f is None:
-                names = [x.name for x in cur.fields]
-                owner = f"{cur.name} (at {show(shown)})" if shown else cur.name
-                raise PathError(
-                    f"field path {show(text)}: message type {owner} has no field "
-                    f"{show(fname)}{did_you_mean(fname, names)}"
-                )
-            shown = f"{shown}.{fname}" if shown else fname
+            f, shown = _field_step(cur, text, fname, shown)
             out.append(fname)
             ftype = f.type_text()
             if f.card == "sequence":
@@ -832,31 +759,12 @@ class MsgRegistry:
                     f"field path {show(text)}: {show(shown)} is an array of strings ({ftype}); "
                     "a constant is given to a single string field"
                 )
-            if f.card == "array":
-                if index is None:
-                    hint = f"{shown}[0]" + ("" if last else "." + ".".join(s for s, _ in steps[i + 1 :]))
-                    raise PathError(
-                        f"field path {show(text)}: {show(shown)} is an array ({ftype}); "
-                        f"name one element with a constant index, e.g. {show(hint)}"
-                    )
-                if index >= f.size:
-                    valid = f"valid indices are 0..{f.size - 1}" if f.size else "it has no elements"
-                    raise PathError(
-                        f"field path {show(text)}: index {index} is out of range for "
-                        f"{show(shown)} ({ftype}; {valid})"
-                    )
-                shown += f"[{index}]"
-                out.append(index)
-            elif index is not None:
-                if f.base_kind == "string":
-                    raise PathError(
-                        f"field path {show(text)}: {show(shown)} is a string, not an array: "
-                        f"a constant sets the whole string (name {show(shown)})"
-                    )
+            if f.card != "array" and index is not None and f.base_kind == "string":
                 raise PathError(
-                    f"field path {show(text)}: {show(shown)} is not an array "
-                    f"(it is {_article(f.base)} {f.base}), it cannot be indexed"
+                    f"field path {show(text)}: {show(shown)} is a string, not an array: "
+                    f"a constant sets the whole string (name {show(shown)})"
                 )
+            shown = _index_step(text, steps, i, f, index, shown, out)
             if f.base_kind == "string":
                 if not last:
                     raise PathError(
@@ -890,6 +798,64 @@ class MsgRegistry:
                 )
             cur = nxt
         raise PathError(f"field path {show(text)} is empty")  # pragma: no cover
+
+
+def _field_step(cur: _RawMsg, text: object, fname: str, shown: str) -> tuple[_RawField, str]:
+    """One step of a path walker: the field ``fname`` of ``cur`` and the
+    path shown so far with it; raises :class:`PathError` when ``cur`` has
+    no such field (``shown`` is where the walk stands, for the message)."""
+    f = cur.field(fname)
+    if f is None:
+        names = [x.name for x in cur.fields]
+        owner = f"{cur.name} (at {show(shown)})" if shown else cur.name
+        raise PathError(
+            f"field path {show(text)}: message type {owner} has no field "
+            f"{show(fname)}{did_you_mean(fname, names)}"
+        )
+    return f, (f"{shown}.{fname}" if shown else fname)
+
+
+def _index_step(text: object, steps: list[tuple[str, int | None]], i: int, f: _RawField,
+                index: int | None, shown: str, out: list[str | int]) -> str:
+    """The index ``index`` written after field ``f`` (step ``i`` of
+    ``steps``, ``shown`` the path up to it): a fixed-size array needs a
+    constant index within its size (appended to ``out``), any other field
+    none; returns the path shown with the index; raises
+    :class:`PathError` saying why not."""
+    if f.card == "array":
+        if index is None:
+            last = i == len(steps) - 1
+            hint = f"{shown}[0]" + ("" if last else "." + ".".join(s for s, _ in steps[i + 1 :]))
+            raise PathError(
+                f"field path {show(text)}: {show(shown)} is an array ({f.type_text()}); "
+                f"name one element with a constant index, e.g. {show(hint)}"
+            )
+        if index >= f.size:
+            valid = f"valid indices are 0..{f.size - 1}" if f.size else "it has no elements"
+            raise PathError(
+                f"field path {show(text)}: index {index} is out of range for "
+                f"{show(shown)} ({f.type_text()}; {valid})"
+            )
+        out.append(index)
+        return f"{shown}[{index}]"
+    if index is not None:
+        raise PathError(
+            f"field path {show(text)}: {show(shown)} is not an array "
+            f"(it is {_article(f.base)} {f.base}), it cannot be indexed"
+        )
+    return shown
+
+
+def _refuse_sequence_of_non_prims(text: object, f: _RawField, shown: str) -> None:
+    """Raise :class:`BoundedPathError` when ``f`` (reached as ``shown``) is a
+    variable-length array of messages or strings, which are not carried
+    yet (rule 4.15, issue 15)."""
+    if f.card == "sequence" and f.base_kind != "prim":
+        of = {"string": "strings", "msg": "messages"}.get(f.base_kind, f.base)
+        raise BoundedPathError(
+            f"field path {show(text)}: {show(shown)} is a variable-length array of {of} ({f.type_text()}); "
+            "variable-length arrays of messages or strings are not carried yet (issue 15)"
+        )
 
 
 def _ros_leaf(t: MsgType, messages) -> FieldPath | None:
