@@ -217,7 +217,8 @@ Proof.
               int_at mv lp = Some 0%Z).
   { intros lp R N1 N2. unfold int_at.
     destruct R as [R|R]; rewrite (Z lp _ R); try reflexivity.
-    all: try (intros o Ho Eo; simpl in Ho; destruct Ho as [Ho|[]]; subst o; intros E; simpl in E; subst lp;
+    all: try (match goal with |- forall _ : outrel, _ => idtac end;
+              intros o Ho Eo; simpl in Ho; destruct Ho as [Ho|[]]; subst o; intros E; simpl in E; subst lp;
               vm_compute in R; discriminate R).
     all: try (intros sp E; vm_compute in E; discriminate E).
     all: intros sp bs H; simpl in H; destruct H as [E|[]]; inversion E; subst sp bs;
