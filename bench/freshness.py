@@ -170,19 +170,12 @@ def instructions() -> dict:
 
 
 def instructions_table(ins: dict) -> str:
-    p, t = ins["plain"], ins["timed"]
-    names = sorted(set(p["functions"]) | set(t["functions"]), key=lambda f: (f != "input_glue", f))
-    lines = [
-        "| glue function | LandShark | with the timed GPS topic | difference |",
-        "|---|---|---|---|",
-    ]
-    for f in names:
-        a, b = p["functions"].get(f, 0.0), t["functions"].get(f, 0.0)
-        lines.append(f"| `{f}` | {a:.1f} | {b:.1f} | {b - a:+.1f} |")
-    lines.append(f"| **per cycle** | **{p['per_cycle']:.1f}** | **{t['per_cycle']:.1f}** | "
-                 f"**{t['per_cycle'] - p['per_cycle']:+.1f}** ({t['per_cycle'] / p['per_cycle'] - 1:+.0%}) |")
-    return "\n".join(lines) + (f"\n\n(`ros_now`, the ROS API's, not counted: {t['ros_now_per_cycle']:.1f} "
-                                "instructions per cycle in the fake ROS.)")
+    from runtime import glue_table  # bench/runtime.py
+
+    t = ins["timed"]
+    return glue_table(ins["plain"], t, "with the timed GPS topic", "percent") + (
+        f"\n\n(`ros_now`, the ROS API's, not counted: {t['ros_now_per_cycle']:.1f} "
+        "instructions per cycle in the fake ROS.)")
 
 
 def table(res: dict) -> str:

@@ -163,6 +163,21 @@ def glue_per_cycle(label: str, model: Path, work: Path, defs: list[str], log) ->
     return {"model": str(model.relative_to(REPO)), "functions": funcs, "check": check}
 
 
+def glue_table(base: dict, other: dict, other_label: str, ratio: str) -> str:
+    """The Markdown table of two ``glue_per_cycle`` results (with their
+    ``per_cycle``), function by function; ``ratio`` is ``"percent"``
+    (+48%) or ``"times"`` (x2.20)."""
+    names = sorted(set(base["functions"]) | set(other["functions"]), key=lambda n: (n != "input_glue", n))
+    lines = [f"| glue function | LandShark | {other_label} | difference |", "|---|---|---|---|"]
+    for n in names:
+        a, b = base["functions"].get(n, 0.0), other["functions"].get(n, 0.0)
+        lines.append(f"| `{n}` | {a:.1f} | {b:.1f} | {b - a:+.1f} |")
+    p, o = base["per_cycle"], other["per_cycle"]
+    rel = f"{o / p - 1:+.0%}" if ratio == "percent" else f"x{o / p:.2f}"
+    lines.append(f"| **per cycle** | **{p:.1f}** | **{o:.1f}** | **{o - p:+.1f}** ({rel}) |")
+    return "\n".join(lines)
+
+
 def instruction_counts(nodes: dict, log) -> dict:
     RT.mkdir(parents=True, exist_ok=True)
     gen_dir: Path = nodes["gen_dir"]

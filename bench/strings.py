@@ -65,18 +65,9 @@ def instructions() -> dict:
 
 
 def table(ins: dict) -> str:
-    p, f = ins["plain"], ins["framed"]
-    names = sorted(set(p["functions"]) | set(f["functions"]), key=lambda n: (n != "input_glue", n))
-    lines = [
-        "| glue function | LandShark | with `frame_id: base_link` | difference |",
-        "|---|---|---|---|",
-    ]
-    for n in names:
-        a, b = p["functions"].get(n, 0.0), f["functions"].get(n, 0.0)
-        lines.append(f"| `{n}` | {a:.1f} | {b:.1f} | {b - a:+.1f} |")
-    lines.append(f"| **per cycle** | **{p['per_cycle']:.1f}** | **{f['per_cycle']:.1f}** | "
-                 f"**{f['per_cycle'] - p['per_cycle']:+.1f}** (x{f['per_cycle'] / p['per_cycle']:.2f}) |")
-    return "\n".join(lines)
+    from runtime import glue_table  # bench/runtime.py
+
+    return glue_table(ins["plain"], ins["framed"], "with `frame_id: base_link`", "times")
 
 
 def main(argv: list[str] | None = None) -> int:
