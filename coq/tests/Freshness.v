@@ -29,13 +29,7 @@ Definition right_c : ident := "landshark_right_wheel_velocity".
 
 Definition with_fresh (timeouts : list (ident * Z)) (fallbacks : list (ident * val)) (drels : list drel)
                       (inputs : list (ident * prim)) : node_model :=
-  {| nm_name := nm_name landshark; nm_period_ms := nm_period_ms landshark; nm_ctrl := nm_ctrl landshark;
-     nm_in_var := nm_in_var landshark; nm_in_struct := nm_in_struct landshark;
-     nm_inputs := nm_inputs landshark ++ inputs;
-     nm_out_var := nm_out_var landshark; nm_out_struct := nm_out_struct landshark;
-     nm_outputs := nm_outputs landshark; nm_msgs := nm_msgs landshark; nm_topics := nm_topics landshark;
-     nm_inrels := nm_inrels landshark; nm_outrels := nm_outrels landshark;
-     nm_timeouts := timeouts; nm_fallbacks := fallbacks; nm_drels := drels; nm_stamps := []; nm_stamp_from := []; nm_strings := [] |}.
+  reshape landshark (nm_inputs landshark ++ inputs) (nm_msgs landshark) timeouts fallbacks drels [] [] [].
 
 Definition derived_inputs : list (ident * prim) :=
   [("Gnew", Pbool); ("Grcvd", Pbool); ("Gage", Puint32); ("Rage", Puint32)].

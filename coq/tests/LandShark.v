@@ -7,7 +7,7 @@
     distinguishes this program from a mutant). *)
 
 From Coq Require Import String List ZArith.
-From ROSGen Require Import Errors Syntax NodeModel Wellformed Generator.
+From ROSGen Require Import Errors Syntax Values NodeModel Wellformed Generator.
 Import ListNotations.
 Local Open Scope string_scope.
 Local Open Scope list_scope.
@@ -68,6 +68,20 @@ Definition landshark : node_model := {|
   nm_outrels := [mkoutrel "Out1" "landshark_control_base_velocity" twist_x];
   nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := []; nm_strings := []
 |}.
+
+(** [m] with its controller inputs, message definitions, freshness
+    (rule 4.12), stamps (4.13) and constant strings (4.14) replaced: the
+    test models of [Stamps], [Freshness] and [Strings]. *)
+Definition reshape (m : node_model) (inputs : list (ident * prim)) (msgs : list msgdef)
+                   (timeouts : list (ident * Z)) (fallbacks : list (ident * val)) (drels : list drel)
+                   (stamps : list (ident * path)) (stamp_from : list (ident * (ident * path)))
+                   (strings : list (ident * (path * list Z))) : node_model :=
+  {| nm_name := nm_name m; nm_period_ms := nm_period_ms m; nm_ctrl := nm_ctrl m;
+     nm_in_var := nm_in_var m; nm_in_struct := nm_in_struct m; nm_inputs := inputs;
+     nm_out_var := nm_out_var m; nm_out_struct := nm_out_struct m; nm_outputs := nm_outputs m;
+     nm_msgs := msgs; nm_topics := nm_topics m; nm_inrels := nm_inrels m; nm_outrels := nm_outrels m;
+     nm_timeouts := timeouts; nm_fallbacks := fallbacks; nm_drels := drels;
+     nm_stamps := stamps; nm_stamp_from := stamp_from; nm_strings := strings |}.
 
 (** ** The generated program *)
 

@@ -17,12 +17,7 @@ Local Open Scope string_scope.
 Local Open Scope list_scope.
 
 Definition with_stamps (m : node_model) (l : list (ident * path)) : node_model :=
-  {| nm_name := nm_name m; nm_period_ms := nm_period_ms m; nm_ctrl := nm_ctrl m;
-     nm_in_var := nm_in_var m; nm_in_struct := nm_in_struct m; nm_inputs := nm_inputs m;
-     nm_out_var := nm_out_var m; nm_out_struct := nm_out_struct m; nm_outputs := nm_outputs m;
-     nm_msgs := nm_msgs m; nm_topics := nm_topics m; nm_inrels := nm_inrels m;
-     nm_outrels := nm_outrels m; nm_timeouts := nm_timeouts m; nm_fallbacks := nm_fallbacks m;
-     nm_drels := nm_drels m; nm_stamps := l; nm_stamp_from := nm_stamp_from m; nm_strings := nm_strings m |}.
+  reshape m (nm_inputs m) (nm_msgs m) (nm_timeouts m) (nm_fallbacks m) (nm_drels m) l (nm_stamp_from m) (nm_strings m).
 
 Definition header_stamp : path := [PField "header"; PField "stamp"].
 

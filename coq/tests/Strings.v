@@ -38,13 +38,7 @@ Definition frame_id : path := [PField "header"; PField "frame_id"].
 Definition base_link : list Z := [98; 97; 115; 101; 95; 108; 105; 110; 107]%Z.
 
 Definition with_strings (l : list (ident * (path * list Z))) : node_model :=
-  {| nm_name := nm_name landshark; nm_period_ms := nm_period_ms landshark; nm_ctrl := nm_ctrl landshark;
-     nm_in_var := nm_in_var landshark; nm_in_struct := nm_in_struct landshark;
-     nm_inputs := nm_inputs landshark; nm_out_var := nm_out_var landshark;
-     nm_out_struct := nm_out_struct landshark; nm_outputs := nm_outputs landshark;
-     nm_msgs := framed_msgs; nm_topics := nm_topics landshark; nm_inrels := nm_inrels landshark;
-     nm_outrels := nm_outrels landshark; nm_timeouts := []; nm_fallbacks := []; nm_drels := [];
-     nm_stamps := []; nm_stamp_from := []; nm_strings := l |}.
+  reshape landshark (nm_inputs landshark) framed_msgs [] [] [] [] [] l.
 
 Definition framed : node_model :=
   with_strings [("landshark_control_base_velocity", (frame_id, base_link))].
