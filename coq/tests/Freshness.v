@@ -41,12 +41,6 @@ Definition derived_rels : list drel :=
 Definition fresh : node_model :=
   with_fresh [(gps_c, 100%Z); (left_c, 100%Z)] [("In3", seven)] derived_rels derived_inputs.
 
-Definition refused (m : node_model) (msg : string) : Prop :=
-  match generate m with
-  | Error e => string_of_errmsg e = msg
-  | OK _ => False
-  end.
-
 (** ** The generator *)
 
 Example fresh_wf: wf fresh = true.

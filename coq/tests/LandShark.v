@@ -83,6 +83,13 @@ Definition reshape (m : node_model) (inputs : list (ident * prim)) (msgs : list 
      nm_timeouts := timeouts; nm_fallbacks := fallbacks; nm_drels := drels;
      nm_stamps := stamps; nm_stamp_from := stamp_from; nm_strings := strings |}.
 
+(** [generate] refuses [m] with the message [msg]. *)
+Definition refused (m : node_model) (msg : string) : Prop :=
+  match generate m with
+  | Error e => string_of_errmsg e = msg
+  | OK _ => False
+  end.
+
 (** ** The generated program *)
 
 Definition landshark_result : res program := Eval vm_compute in generate landshark.

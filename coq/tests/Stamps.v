@@ -24,12 +24,6 @@ Definition header_stamp : path := [PField "header"; PField "stamp"].
 Definition stamped : node_model :=
   with_stamps landshark [("landshark_control_base_velocity", header_stamp)].
 
-Definition refused (m : node_model) (msg : string) : Prop :=
-  match generate m with
-  | Error e => string_of_errmsg e = msg
-  | OK _ => False
-  end.
-
 (** ** The generator *)
 
 Example stamped_wf: wf stamped = true.

@@ -43,12 +43,6 @@ Definition with_strings (l : list (ident * (path * list Z))) : node_model :=
 Definition framed : node_model :=
   with_strings [("landshark_control_base_velocity", (frame_id, base_link))].
 
-Definition refused (m : node_model) (msg : string) : Prop :=
-  match generate m with
-  | Error e => string_of_errmsg e = msg
-  | OK _ => False
-  end.
-
 (** ** The generator *)
 
 Example framed_wf: wf framed = true.
