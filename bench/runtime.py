@@ -128,38 +128,67 @@ def _short(fn: str) -> str:
     return fn.split("(")[0]
 
 
-def glue_per_cycle(label: str, model: Path, work: Path, defs: list[str], log) -> dict:
-    """``pyrosgen generate`` of a LandShark-shaped ``model`` (node name
-    landshark_controller) into ``work``/glue_``label``, linked with the fake
-    ROS of fake_ros_landshark.c and the stub controller (both compiled with
-    ``defs``), the glue with ``-O2 -fno-inline``; the instructions per
-    cycle of each glue function (callbacks, ``input_glue``,
-    ``output_glue_*``, and what they call of the fake ROS, e.g.
-    ``ros_now``) = (count at 2000 cycles - count at 1000) / 1000, and the
-    fake ROS's checksum line."""
+def per_cycle(exe: Path, toggles: list[str], exclude=(), env: dict | None = None) -> dict:
+    """The instructions per cycle of each function collected inside
+    ``toggles`` (callgrind ``--toggle-collect``: the functions and what they
+    call), except those named in ``exclude``: (count at 2000 cycles - count
+    at 1000) / 1000; ``fixed`` is what the 1000-cycle run adds beyond
+    1000 cycles (start-up)."""
+    c1 = _callgrind(exe, 1000, toggles, env)
+    c2 = _callgrind(exe, 2000, toggles, env)
+    funcs = {}
+    for fn in set(c1) | set(c2):
+        if _short(fn) in exclude:
+            continue
+        funcs[_short(fn)] = (c2.get(fn, 0) - c1.get(fn, 0)) / 1000
+    fixed = sum(v for k, v in c1.items() if _short(k) not in exclude) - sum(funcs.values()) * 1000
+    return {"per_cycle": sum(funcs.values()), "functions": funcs, "fixed": fixed}
+
+
+#: The generated glue's functions (callgrind ``--toggle-collect`` patterns).
+GLUE_TOGGLES = ["input_glue", "*_callback", "output_glue_*"]
+
+
+def glue_per_cycle(label: str, model: Path, work: Path, defs: list[str], log, *,
+                   node: str = NODE, fake: Path | None = None, controller: Path | str | None = None) -> dict:
+    """``pyrosgen generate`` of ``model`` (node name ``node``) into
+    ``work``/glue_``label``, linked with a fake ROS (``fake``; by default
+    fake_ros_landshark.c, for LandShark-shaped models) and a controller
+    (``controller``: a C file, a bare file name meaning a file of the
+    generated folder such as a diagram's ``<node>_controller.c``; by default
+    the stub stub_controller_landshark.c), both compiled with ``defs``, the
+    glue with ``-O2 -fno-inline``; the instructions per cycle of each glue
+    function (callbacks, ``input_glue``, ``output_glue_*``, and what they
+    call of the fake ROS, e.g. ``ros_now``) = (count at 2000 cycles - count
+    at 1000) / 1000, and the fake ROS's checksum line.  The generated folder
+    is ``work``/glue_``label``."""
     import os
 
     from common import BENCH, PYROSGEN, REPO
 
     RT.mkdir(parents=True, exist_ok=True)
     work.mkdir(parents=True, exist_ok=True)
-    fake, stub = BENCH / "runtime" / "fake_ros_landshark.c", BENCH / "runtime" / "stub_controller_landshark.c"
+    fake = fake or BENCH / "runtime" / "fake_ros_landshark.c"
     d = work / f"glue_{label}"
+    if controller is None:
+        ctrl = BENCH / "runtime" / "stub_controller_landshark.c"
+    elif Path(controller).is_absolute():
+        ctrl = Path(controller)
+    else:
+        ctrl = d / controller
     log(f"pyrosgen generate {model.relative_to(REPO)}")
     p = run([PYROSGEN, "generate", model, "-o", d, "-q"], env=dict(os.environ), timeout=1800, check=False)
     if p.rc != 0:
         raise SystemExit(f"pyrosgen generate failed (exit {p.rc}):\n{p.stderr.strip()[-3000:]}")
     objs = []
-    for src, flags in ((d / "landshark_controller_glue.c", ["-fno-inline"]), (fake, defs), (stub, defs)):
+    for src, flags in ((d / f"{node}_glue.c", ["-fno-inline"]), (fake, defs), (ctrl, defs)):
         o = work / f"{label}_{src.stem}.o"
         run(["gcc", "-std=c11", "-O2", *flags, "-I", d, "-c", src, "-o", o])
         objs.append(o)
-    exe = work / f"landshark_{label}_fake"
+    exe = work / f"{'landshark' if node == NODE else node}_{label}_fake"
     run(["gcc", *objs, "-o", exe])
     check = run([exe]).stdout.strip()
-    toggles = ["input_glue", "*_callback", "output_glue_*"]
-    c1, c2 = _callgrind(exe, 1000, toggles), _callgrind(exe, 2000, toggles)
-    funcs = {_short(f): (c2.get(f, 0) - c1.get(f, 0)) / 1000 for f in set(c1) | set(c2)}
+    funcs = per_cycle(exe, GLUE_TOGGLES)["functions"]
     return {"model": str(model.relative_to(REPO)), "functions": funcs, "check": check}
 
 
@@ -212,7 +241,7 @@ def instruction_counts(nodes: dict, log) -> dict:
     if a != b:
         raise RuntimeError(f"the fake-ROS harnesses disagree: generated {a!r}, hand-written {b!r}")
 
-    gen_t = ["input_glue", "*_callback", "output_glue_*"]
+    gen_t = GLUE_TOGGLES
     hw_t = ["leftWheelCallback*", "rightWheelCallback*", "gpsCallback*", "hw_output*"]
     res: dict = {"checksum_line": a}
     per = {}
@@ -224,15 +253,8 @@ def instruction_counts(nodes: dict, log) -> dict:
                                                          "ros_publish_landshark_control_base_velocity",
                                                          "Controller_step"), None),
     ):
-        c1 = _callgrind(exe, 1000, toggles, env)
-        c2 = _callgrind(exe, 2000, toggles, env)
-        funcs = {}
-        for fn in set(c1) | set(c2):
-            if _short(fn) in exclude:
-                continue
-            funcs[_short(fn)] = (c2.get(fn, 0) - c1.get(fn, 0)) / 1000
-        fixed = sum(v for k, v in c1.items() if _short(k) not in exclude) - sum(funcs.values()) * 1000
-        per[label] = {"per_cycle": sum(funcs.values()), "functions": funcs, "fixed": fixed}
+        per[label] = per_cycle(exe, toggles, exclude, env)
+        funcs = per[label]["functions"]
         log(f"  instructions per cycle, {label}: {sum(funcs.values()):.1f} "
             f"({', '.join(f'{k} {v:.0f}' for k, v in sorted(funcs.items()))})")
     res.update(per)
@@ -379,9 +401,11 @@ REMAPS = ("/landshark/left_wheel_velocity", "/landshark/right_wheel_velocity", "
           "/landshark_control/base_velocity")
 
 
-def latency(nodes: dict, *, rounds: int, edges: int, log) -> dict:
-    """Both nodes side by side (topics remapped under /gen and /hw), the
-    driver alternating edges between them in a random order: both are
+def latency(nodes: dict, *, rounds: int, edges: int, log, remaps: tuple[str, ...] = REMAPS,
+            scenario: str | None = None) -> dict:
+    """Both nodes side by side (topics ``remaps`` remapped under /gen and
+    /hw), the driver (``scenario``: its ``--scenario``, LandShark's by
+    default) alternating edges between them in a random order: both are
     measured under the same load.  ``rounds`` rounds with fresh nodes."""
     from pyrosgen.ros.rosmaster import ros_master, stop_process
 
@@ -398,10 +422,11 @@ def latency(nodes: dict, *, rounds: int, edges: int, log) -> dict:
             procs = []
             try:
                 for w in (which if r % 2 == 0 else which[::-1]):
-                    remap = [f"{t}:={prefix[w]}{t}" for t in REMAPS]
+                    remap = [f"{t}:={prefix[w]}{t}" for t in remaps]
                     procs.append(ros.spawn([*argv[w], *remap, f"__name:=bench_{w}"],
                                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
-                p = run([nodes["driver"], str(edges), "1", prefix["generated"], prefix["handwritten"]],
+                sc = ["--scenario", scenario] if scenario else []
+                p = run([nodes["driver"], *sc, str(edges), "1", prefix["generated"], prefix["handwritten"]],
                         env=ros.env, timeout=1200, check=False)
             finally:
                 for pr in procs:
