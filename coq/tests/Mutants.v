@@ -458,3 +458,29 @@ Definition m_advertise_struct : program :=
                                     | _ => ef end)) p.
 Theorem advertise_struct_refuted: ~ node_ddc landshark m_advertise_struct.
 Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.
+
+(** (o) The left wheel's callback copies nothing: a generator whose
+    [read_paths] forgot the topic's input relations.  [In1] stays 0. *)
+Definition m_callback_no_copy : program :=
+  on_def (callback_name left_c) (on_body (fun _ => Sskip)) p.
+Theorem callback_no_copy_refuted: ~ node_ddc landshark m_callback_no_copy.
+Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.
+
+(** (p) The left wheel's callback copies the leaves the node does not
+    read, and not the one it reads (the filter of [read_leaves]
+    inverted). *)
+Definition unread_copies : statement :=
+  seq_of (map (leaf_copy ce (Evar (msg_var left_c) TS) (deref_param msg_param "geometry_msgs_TwistStamped"))
+              (filter (fun l => negb (is_read landshark left_c (fst l)))
+                      (leaves (nm_msgs landshark) "geometry_msgs_TwistStamped"))).
+Definition m_callback_unread_leaves : program :=
+  on_def (callback_name left_c)
+    (fun d => match d with
+              | Gfun (Internal f) =>
+                  Gfun (Internal (mkfunction (fn_return f) (fn_params f) (fn_vars f)
+                                   [(temp_name Puint32, Tint I32 Unsigned); (temp_name Pfloat64, Tfloat F64)]
+                                   unread_copies))
+              | _ => d
+              end) p.
+Theorem callback_unread_leaves_refuted: ~ node_ddc landshark m_callback_unread_leaves.
+Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.

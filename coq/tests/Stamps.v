@@ -12,6 +12,7 @@ From Flocq Require Import IEEE754.Binary IEEE754.Bits.
 From ROSGen Require Import FloatBits Errors Syntax Values Memory Environment Semantics Interp Interpproof
   NodeModel Wellformed Generator Generatorspec DDC Loopproof.
 From ROSGenTests Require Import LandShark.
+From ROSGenTests Require Mutants.
 Import ListNotations.
 Local Open Scope string_scope.
 Local Open Scope list_scope.
@@ -380,3 +381,21 @@ Definition m_stamp_wrong_topic : program :=
   on_output_glue (fun b => match b with Ssequence (Ssequence base st) strs => Ssequence (Ssequence base (from_left st)) strs | _ => b end) copied_prog.
 Theorem m_stamp_wrong_topic_refuted: ~ node_ddc copied m_stamp_wrong_topic.
 Proof. apply (crefute _ 1). vm_compute. reflexivity. Qed.
+
+(** (s5) The GPS callback does not copy the stamp that the command
+    carries: a generator whose [read_paths] forgot copied stamps.  Its
+    body copies [header.stamp.sec], [header.stamp.nsec] and then
+    [twist.linear.x] ([read_leaves], in the order of [leaves]); the
+    mutant keeps the last copy only, so the command's stamp stays zero. *)
+Definition m_stamp_source_not_copied : program :=
+  Mutants.on_def (callback_name "landshark_gps_velocity") (Mutants.on_body (Mutants.on_seq (skipn 2))) copied_prog.
+Theorem m_stamp_source_not_copied_refuted: ~ node_ddc copied m_stamp_source_not_copied.
+Proof. apply (crefute _ 1). vm_compute. reflexivity. Qed.
+
+Example gps_callback_copies_stamp:
+  match find_def copied_prog (callback_name "landshark_gps_velocity") with
+  | Some (Gfun (Internal f)) => length (Mutants.unseq (fn_body f))
+  | _ => O
+  end = 3%nat.
+Proof. vm_compute. reflexivity. Qed.
+

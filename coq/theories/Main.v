@@ -45,8 +45,12 @@ Import ListNotations.
     well-typed message [mv] of the topic's type, from any memory where the
     globals hold values of their types, every run terminates, emits no
     event, leaves the ROS world unchanged, and ends with the global
-    [c_msg] holding exactly [mv] and every other block unchanged; and such
-    a run exists in every environment. *)
+    [c_msg] holding a value of its type that has, at every leaf that the
+    node reads ([NodeModel.read_paths]: the paths of the topic's input
+    relations and of a stamp copied from it), the leaf of [mv], and at
+    every other leaf what it had before ([DDC.reads_copied]), with the
+    topic's clock updated if it is timed and every other block
+    unchanged; and such a run exists in every environment. *)
 Theorem generate_callback_ddc:
   forall m p, generate m = OK p ->
   forall tp, In tp (subscribed m) -> callback_ddc m p tp.
@@ -486,7 +490,8 @@ Proof. exact Generatorproof.generate_locals_fresh. Qed.
 
 (** For each subscribed topic [tp] (C name [c], message type [M]): [p]
     has the global [c_msg] of type [struct M] and the function
-    [c_callback], whose body copies every leaf of [*msg] into [c_msg], in
+    [c_callback], whose body copies into [c_msg] the leaves of [*msg]
+    that the node reads ([read_leaves]: those named by [read_paths]), in
     the order of [leaves], through temporaries of the leaves' types, and
     then, if the topic is timed (rule 4.12), updates its clock
     ([clock_stmts]: [c_time = ros_now(); c_new = 1; c_rcvd = 1;]). *)
@@ -502,10 +507,10 @@ Theorem generate_callback:
   /\ fn_vars f = []
   /\ fn_body f = (let base := seq_of (map (leaf_copy (prog_types p) (Evar (msg_var c) (Tstruct M))
                                                                 (deref_param msg_param M))
-                                        (leaves (nm_msgs m) M)) in
+                                        (read_leaves m tp)) in
                   if is_timed m c then Ssequence base (clock_stmts c) else base)
   /\ NoDup (map fst (fn_temps f))
-  /\ (forall l, In l (leaves (nm_msgs m) M) ->
+  /\ (forall l, In l (read_leaves m tp) ->
         find_assoc (temp_name (snd l)) (fn_temps f) = Some (ctype_of_prim (snd l)))
   /\ (is_timed m c = true -> find_assoc (temp_name Puint64) (fn_temps f) = Some (Tlong Unsigned)).
 Proof. exact Generatorproof.generate_callback. Qed.

@@ -190,13 +190,27 @@ Definition clock_update (m : node_model) (c : ident) (now : Z) : list (ident * m
 
 (** ** Functions (theorem T1) *)
 
+(** The message held by the global [s_msg] of a subscribed topic. *)
+Definition global_msg (p : program) (mm : mem) (s : ident) : mval :=
+  match global_value p mm (msg_var s) with Some v => v | None => MVscalar Vundef end.
+
+(** [g] is [g0] with the leaves of [mv] that the node reads: at every
+    leaf [lp] of the messages of topic [tp], [g] holds what [mv] holds if
+    the node reads [lp] ([read_paths]: an input relation names it, or a
+    stamp is copied from it), and what [g0] holds otherwise. *)
+Definition reads_copied (m : node_model) (tp : topic) (mv g0 g : mval) : Prop :=
+  forall lp q, resolve (nm_msgs m) (FTmsg (tp_msg tp)) lp = Some (FTprim q) ->
+    mval_get g (path_steps lp)
+    = mval_get (if is_read m (tp_cname tp) lp then mv else g0) (path_steps lp).
+
 (** The callback of a subscribed topic [tp] (the paper's Figure 10): called
     with a pointer to a block holding a message [mv] of the topic's type
     (a block that is not a global, as [ros_spinOnce] provides), it copies
-    the whole message into the topic's global [c_msg]; if the topic is
-    timed, it records the time of the call ([ros_now()]: the message's
-    receipt time) and sets the flags [c_new] and [c_rcvd]; it changes
-    nothing else. *)
+    into the topic's global [c_msg] the leaves of [mv] that the node
+    reads, and leaves the other leaves of [c_msg] as they were
+    ([reads_copied]); if the topic is timed, it records the time of the
+    call ([ros_now()]: the message's receipt time) and sets the flags
+    [c_new] and [c_rcvd]; it changes nothing else. *)
 Definition callback_ddc (m : node_model) (p : program) (tp : topic) : Prop :=
   exists f,
      find_funct (globalenv p) (callback_name (tp_cname tp)) = Some (Internal f)
@@ -206,8 +220,11 @@ Definition callback_ddc (m : node_model) (p : program) (tp : topic) : Prop :=
        get_block mm b = Some (Tstruct (tp_msg tp), mv) ->
        mval_has_type (prog_types p) (Tstruct (tp_msg tp)) mv ->
        quiet_call_at p (Internal f) [Vptr b []] mm
-         (fun now mm' => globals_changed p mm mm'
-                           ((msg_var (tp_cname tp), mv) :: clock_update m (tp_cname tp) now)).
+         (fun now mm' => exists g,
+             globals_changed p mm mm'
+               ((msg_var (tp_cname tp), g) :: clock_update m (tp_cname tp) now)
+          /\ mval_has_type (prog_types p) (Tstruct (tp_msg tp)) g
+          /\ reads_copied m tp mv (global_msg p mm (tp_cname tp)) g).
 
 (** [input_glue] (the paper's Figure 12): from any memory where the globals
     hold values of their types, and the clock of every timed topic [c]
@@ -278,10 +295,6 @@ Definition published_value (m : node_model) (y : mval) (now : Z) (g : ident -> m
            lp <> sp ++ [PField "len"%string]
         /\ forall i, (i < length bs)%nat -> lp <> sp ++ [PField "data"%string; PIndex (Z.of_nat i)]) ->
         mval_get mv (path_steps lp) = Some (zero_mval (composites m) (ctype_of_prim q))).
-
-(** The message held by the global [s_msg] of a subscribed topic. *)
-Definition global_msg (p : program) (mm : mem) (s : ident) : mval :=
-  match global_value p mm (msg_var s) with Some v => v | None => MVscalar Vundef end.
 
 (** [output_glue_c(&cmd)] for a published topic [tp]: called with a
     pointer to a block (not a global) holding an object of the topic's

@@ -23,7 +23,7 @@
     void Controller_initialize(void); void Controller_step(void);
     struct ExtU_Controller_T Controller_U; struct ExtY_Controller_T Controller_Y;
     struct M si_msg;                       per subscribed topic
-    void si_callback(struct M *msg) { ...copy every leaf of *msg into si_msg... }
+    void si_callback(struct M *msg) { ...copy the leaves of *msg that the node reads into si_msg... }
     void input_glue(void) { ...one copy per input relation... }
     void output_glue_pj(struct M *command) { ...zero *command, one copy per output relation... }
     void loop(void) { struct M pj_cmd; ...
@@ -205,11 +205,17 @@ Definition clock_stmts (c : ident) : statement :=
           Sassign (new_expr c) (Econst_int 1 tflag);
           Sassign (rcvd_expr c) (Econst_int 1 tflag)].
 
-(** [void c_callback(struct M *msg)]: copy every leaf of [*msg] into
-    [c_msg]; then, if the topic is timed, update its clock. *)
+(** The leaves of topic [tp]'s messages that the node reads
+    ([read_paths]), in the order of [leaves]. *)
+Definition read_leaves (tp : topic) : list (path * prim) :=
+  filter (fun l => is_read m (tp_cname tp) (fst l)) (leaves (nm_msgs m) (tp_msg tp)).
+
+(** [void c_callback(struct M *msg)]: copy into [c_msg] the leaves of
+    [*msg] that the node reads; then, if the topic is timed, update its
+    clock. *)
 Definition callback_function (tp : topic) : function :=
   let M := tp_msg tp in
-  let lv := leaves (nm_msgs m) M in
+  let lv := read_leaves tp in
   let body := seq_of (map (leaf_copy ce (Evar (msg_var (tp_cname tp)) (Tstruct M))
                                        (deref_param msg_param M)) lv) in
   if is_timed m (tp_cname tp)

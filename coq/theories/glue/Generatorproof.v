@@ -332,8 +332,9 @@ Proof.
   repeat constructor; simpl; intuition discriminate.
 Qed.
 
-(** Callbacks: for each subscribed topic, [c_callback] copies every leaf of
-    [*msg] into the global [c_msg], in the order of [leaves]. *)
+(** Callbacks: for each subscribed topic, [c_callback] copies the leaves
+    of [*msg] that the node reads ([read_leaves]) into the global
+    [c_msg], in the order of [leaves]. *)
 Theorem generate_callback:
   forall m p tp, generate m = OK p -> In tp (subscribed m) ->
   let c := tp_cname tp in
@@ -346,10 +347,10 @@ Theorem generate_callback:
   /\ fn_vars f = []
   /\ fn_body f = (let base := seq_of (map (leaf_copy (prog_types p) (Evar (msg_var c) (Tstruct M))
                                                                 (deref_param msg_param M))
-                                        (leaves (nm_msgs m) M)) in
+                                        (read_leaves m tp)) in
                   if is_timed m c then Ssequence base (clock_stmts c) else base)
   /\ NoDup (map fst (fn_temps f))
-  /\ (forall l, In l (leaves (nm_msgs m) M) ->
+  /\ (forall l, In l (read_leaves m tp) ->
         find_assoc (temp_name (snd l)) (fn_temps f) = Some (ctype_of_prim (snd l)))
   /\ (is_timed m c = true -> find_assoc (temp_name Puint64) (fn_temps f) = Some (Tlong Unsigned)).
 Proof.
@@ -987,14 +988,15 @@ Proof.
   - exfalso; eapply clock_globals_not_internal; eauto.
   - (* callbacks *)
     apply in_map_iff in F; destruct F as (tp & E & Htp); inversion E; subst f; clear E.
-    assert (BASE: forall temps, (forall l, In l (leaves (nm_msgs m) (tp_msg tp)) ->
+    assert (BASE: forall temps, (forall l, In l (read_leaves m tp) ->
                        find_assoc (temp_name (snd l)) temps = Some (ctype_of_prim (snd l))) ->
               valid_assignments (composites m) temps
               (seq_of (map (leaf_copy (composites m) (Evar (msg_var (tp_cname tp)) (Tstruct (tp_msg tp)))
-                                      (deref_param msg_param (tp_msg tp))) (leaves (nm_msgs m) (tp_msg tp))))).
+                                      (deref_param msg_param (tp_msg tp))) (read_leaves m tp)))).
     { intros temps Ht. apply valid_assignments_seq. intros st Hst.
       apply in_map_iff in Hst; destruct Hst as ([pa q] & <- & Hl).
-      apply leaves_spec in Hl as R; auto.
+      assert (Hl' := Hl). apply filter_In in Hl' as [Hl' _].
+      apply leaves_spec in Hl' as R; auto.
       destruct (leaf_path_expr_typed m _ _ _ (Evar (msg_var (tp_cname tp)) (Tstruct (tp_msg tp))) R)
         as [T1 W1]; auto; [constructor|].
       destruct (leaf_path_expr_typed m _ _ _ (deref_param msg_param (tp_msg tp)) R)
@@ -1126,7 +1128,7 @@ Proof.
   - exfalso; eapply clock_globals_not_internal; eauto.
   - apply in_map_iff in F; destruct F as (tp & E & Htp); inversion E; subst; clear E.
     assert (BASE: In pl (assigned_places (seq_of (map (leaf_copy (composites m) (Evar (msg_var (tp_cname tp)) (Tstruct (tp_msg tp)))
-                                      (deref_param msg_param (tp_msg tp))) (leaves (nm_msgs m) (tp_msg tp))))) ->
+                                      (deref_param msg_param (tp_msg tp))) (read_leaves m tp)))) ->
                   exists path, pl = Some (Rvar (msg_var (tp_cname tp)), path)).
     { clear Hpl. intros Hpl. rewrite assigned_places_seq in Hpl.
       apply in_flat_map in Hpl; destruct Hpl as (st & Hst & Hpl).
@@ -1388,7 +1390,7 @@ Proof.
   - exfalso; eapply clock_globals_not_internal; eauto.
   - exfalso. apply in_map_iff in F; destruct F as (tp & E & Htp); inversion E; subst; clear E.
     assert (BASE: stmt_takes_addr x (seq_of (map (leaf_copy (composites m) (Evar (msg_var (tp_cname tp)) (Tstruct (tp_msg tp)))
-                                      (deref_param msg_param (tp_msg tp))) (leaves (nm_msgs m) (tp_msg tp)))) = false).
+                                      (deref_param msg_param (tp_msg tp))) (read_leaves m tp))) = false).
     { rewrite stmt_takes_addr_seq. apply not_true_iff_false. intros T'. apply existsb_exists in T'.
       destruct T' as (st & Hst & T'). apply in_map_iff in Hst; destruct Hst as ([pa q] & <- & _).
       unfold leaf_copy in T'; simpl fst in T'; simpl snd in T'.

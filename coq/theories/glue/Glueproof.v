@@ -413,41 +413,57 @@ Proof.
     + apply ftype_ok_msg. eapply resolve_leaf_msg; eauto.
 Qed.
 
+Lemma NoDup_map_filter_sub:
+  forall (A B : Type) (f : A -> B) (P : A -> bool) l, NoDup (map f l) -> NoDup (map f (filter P l)).
+Proof.
+  intros A B f P l; induction l as [|a l IH]; simpl; intros Hnd; auto.
+  inversion Hnd as [|? ? Hn Hnd']; subst. destruct (P a); simpl; auto.
+  constructor; auto. intros Hin. apply Hn. apply in_map_iff in Hin. destruct Hin as (x & Ex & Hx).
+  apply filter_In in Hx as [Hx _]. rewrite <- Ex. apply in_map; auto.
+Qed.
+
+Lemma In_read_leaves: forall l, In l (read_leaves m tp) -> In l (leaves msgs M).
+Proof. intros l H. apply filter_In in H; tauto. Qed.
+
 Lemma callback_body:
   forall (CS : Type) (ctx : ros_context CS) (w : world CS) le g0,
   le_ok le -> get_block mm bg = Some (Tstruct M, g0) -> mval_has_type ce (Tstruct M) g0 ->
-  exists le' mm',
+  exists le' mm' g,
      exec_stmt ctx ge [] le mm w
-       (seq_of (map (leaf_copy ce dstE srcE) (leaves msgs M))) [] le' mm' w Out_normal
-  /\ get_block mm' bg = Some (Tstruct M, mv)
+       (seq_of (map (leaf_copy ce dstE srcE) (read_leaves m tp))) [] le' mm' w Out_normal
+  /\ get_block mm' bg = Some (Tstruct M, g)
+  /\ mval_has_type ce (Tstruct M) g
+  /\ reads_copied m tp mv g0 g
   /\ unchanged_except mm mm' bg.
 Proof.
   intros CS ctx w le g0 Hle Gg Hg0.
   destruct (exec_copies ctx ge [] w ce _ snd (fun l => path_expr ce dstE (fst l))
               (fun l => path_expr ce srcE (fst l)) (fun l => path_steps (fst l)) sv
-              le_ok callback_le_ok_set mm bg (Tstruct M) (leaves msgs M) le mm g0)
-    as (le' & mm' & v' & X & _ & Fr & G' & Hv' & Set' & _); auto.
+              le_ok callback_le_ok_set mm bg (Tstruct M) (read_leaves m tp) le mm g0)
+    as (le' & mm' & v' & X & _ & Fr & G' & Hv' & Set' & Keep'); auto.
   - split; auto.
-  - apply callback_item_ok.
-  - apply gen_leaves_dp_nodup.
-  - intros; apply (gen_leaves_disjoint M); auto.
-  - exists le', mm'. split; [exact X|]. split; [|apply frame_unchanged; auto].
-    rewrite G'. do 2 f_equal.
-    assert (HM: In M (md_names msgs)).
-    { apply gen_msg_in. apply in_subscribed in Htp; tauto. }
-    apply (leaves_ext m W M mv v' HM Hmv); [eapply mval_shape_typed; eauto|].
-    intros lp q R. apply leaves_spec in R; auto.
-    generalize (Set' (lp, q) R); cbn [fst]; intros ->.
-    apply leaves_spec in R; auto.
-    destruct (leaf_typed m W M lp q mv R Hmv) as (x & Gx & _).
-    rewrite Gx. unfold sv. simpl. rewrite (scalar_at_spec _ _ _ Gx). auto.
+  - intros l Hl. apply callback_item_ok, In_read_leaves; auto.
+  - apply NoDup_map_filter_sub, gen_leaves_dp_nodup.
+  - intros a1 a2 H1 H2. apply (gen_leaves_disjoint M); apply In_read_leaves; auto.
+  - exists le', mm', v'. split; [exact X|]. split; [exact G'|]. split; [exact Hv'|].
+    split; [|apply frame_unchanged; auto].
+    intros lp q R. assert (Hl: In (lp, q) (leaves msgs M)) by (apply leaves_spec; auto).
+    destruct (is_read m c lp) eqn:Rd.
+    + assert (Hr: In (lp, q) (read_leaves m tp)) by (apply filter_In; auto).
+      generalize (Set' (lp, q) Hr); cbn [fst]; intros ->.
+      destruct (leaf_typed m W M lp q mv R Hmv) as (x & Gx & _).
+      rewrite Gx. unfold sv. simpl. rewrite (scalar_at_spec _ _ _ Gx). auto.
+    + apply Keep'. intros a Ha. apply (gen_leaves_disjoint M a (lp, q)); auto.
+      * apply In_read_leaves; auto.
+      * cbn [fst]. intros E. apply path_steps_inj in E.
+        apply filter_In in Ha as [_ Ra]. rewrite E, Rd in Ra. discriminate.
 Qed.
 
 End CALLBACK.
 
-(** Every callback of a subscribed topic copies the whole message it is
-    given into the topic's global, updates the topic's clock if it is
-    timed, and changes nothing else. *)
+(** Every callback of a subscribed topic copies the leaves that the node
+    reads of the message it is given into the topic's global, updates the
+    topic's clock if it is timed, and changes nothing else. *)
 Lemma generate_callback_ddc_aux:
   forall tp, In tp (subscribed m) -> callback_ddc m p tp.
 Proof.
@@ -463,9 +479,10 @@ Proof.
   apply quiet_call_at_intro with (le := le0); auto.
   - unfold function_entry. rewrite Fvars, Fpar. reflexivity.
   - intros CS ctx w.
-    destruct (callback_body tp Htp mm b bg mv Vg Gb Hmv Nb CS ctx w le0 g0) as (le' & mm1 & X & G' & U); auto.
+    destruct (callback_body tp mm b bg mv Vg Gb Hmv Nb CS ctx w le0 g0) as (le' & mm1 & g & X & G' & Tg & RC & U); auto.
     { unfold le0. apply find_assoc_set_same. }
-    assert (OG1: only_global_changed p mm mm1 (msg_var (tp_cname tp)) mv)
+    assert (GM: global_msg p mm (tp_cname tp) = g0) by (unfold global_msg, global_value; rewrite Vg, Gg; auto).
+    assert (OG1: only_global_changed p mm mm1 (msg_var (tp_cname tp)) g)
       by (exists bg, (Tstruct (tp_msg tp)); auto).
     assert (GT1: globals_typed p mm1).
     { eapply globals_typed_changed; eauto. intros b' ty V. rewrite Vg in V; inversion V; subst; auto. }
@@ -475,8 +492,8 @@ Proof.
       destruct (clock_run tp CS ctx w le' mm1 Ht GT1) as (le2 & mm2 & X2 & _ & GC).
       exists le2, mm2. split.
       * change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; eauto.
-      * econstructor; eauto.
-    + exists le', mm1. split; auto. econstructor; eauto. constructor.
+      * exists g. rewrite GM. split; [econstructor; eauto|split; auto].
+    + exists le', mm1. split; auto. exists g. rewrite GM. split; [econstructor; eauto; constructor|split; auto].
 Qed.
 
 (** ** Input glue (Figure 12) *)

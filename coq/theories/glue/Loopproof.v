@@ -540,11 +540,34 @@ Definition arrived_at (k : nat) (tp : topic) : bool := arrived ctx tp k.
 
 (** *** The invariant of the loop *)
 
+(** [g] and [h] agree on the paths of topic [tp] that the node reads. *)
+Definition reads_agree (tp : topic) (g h : mval) : Prop :=
+  forall lp, In lp (read_paths m (tp_cname tp)) -> mval_get g (path_steps lp) = mval_get h (path_steps lp).
+
+(** What the node reads of a subscribed topic are leaves of its messages. *)
+Lemma read_path_leaf:
+  forall tp lp, In tp (subscribed m) -> In lp (read_paths m (tp_cname tp)) ->
+  exists q, resolve (nm_msgs m) (FTmsg (tp_msg tp)) lp = Some (FTprim q).
+Proof.
+  intros tp lp Hs Hr.
+  assert (FT: find_topic (nm_topics m) (tp_cname tp) = Some tp)
+    by (apply In_find_topic; [apply wf_cnames_nodup; auto|apply in_subscribed in Hs; tauto]).
+  unfold read_paths in Hr. apply in_app_iff in Hr as [Hr|Hr].
+  - apply in_map_iff in Hr as (ir & <- & Hir). apply filter_In in Hir as [Hir E]. apply ident_eqb_true in E.
+    destruct (input_exprs m ir W Hir) as (tp' & q & F' & _ & _ & _ & R & _).
+    rewrite E, FT in F'. inversion F'; subst. eauto.
+  - apply in_flat_map in Hr as ([c [s0 sp]] & Hin & Hr). cbn [fst snd] in Hr.
+    destruct (ident_eqb s0 (tp_cname tp)) eqn:E; [|contradiction].
+    apply ident_eqb_true in E; subst s0.
+    destruct (wf_stamp_from m _ _ _ W Hin) as (tp' & F' & _ & Rs & Rn & _). rewrite FT in F'. inversion F'; subst.
+    destruct Hr as [<-|[<-|[]]]; eauto.
+Qed.
+
 Record loop_inv (k : nat) (nw : topic -> bool) (e : env) (mm : mem) : Prop := {
   li_wf: mem_wf mm;
   li_globals: globals_typed p mm;
   li_msgs: forall tp, In tp (subscribed m) ->
-             global_value p mm (msg_var (tp_cname tp)) = Some (held m ctx tp k);
+             exists g, global_value p mm (msg_var (tp_cname tp)) = Some g /\ reads_agree tp g (held m ctx tp k);
   li_cmds: forall tp, In tp (published m) ->
              exists b, find_assoc (cmd_var (tp_cname tp)) e = Some (b, Tstruct (tp_msg tp))
              /\ not_global p b
@@ -671,7 +694,8 @@ Qed.
 Lemma deliver_run:
   forall D (w : world CS) mm (G : topic -> mval) (C : topic -> bool * option Z),
   mem_wf mm -> globals_typed p mm ->
-  (forall tp, In tp (subscribed m) -> global_value p mm (msg_var (tp_cname tp)) = Some (G tp)) ->
+  (forall tp, In tp (subscribed m) ->
+     exists g, global_value p mm (msg_var (tp_cname tp)) = Some g /\ reads_agree tp g (G tp)) ->
   (forall tp, In tp (timed m) -> clock_held p mm (tp_cname tp) (fst (C tp)) (snd (C tp))) ->
   (forall s a, In (s, a) D ->
      exists tp, In tp (subscribed m) /\ s = sub_of tp /\ mval_has_type ce (Tstruct (tp_msg tp)) (ar_msg a)) ->
@@ -680,8 +704,8 @@ Lemma deliver_run:
   /\ next_spin ctx w' = next_spin ctx w
   /\ mem_wf mm' /\ globals_typed p mm'
   /\ (forall tp, In tp (subscribed m) ->
-        global_value p mm' (msg_var (tp_cname tp))
-        = Some (match last_delivered (sub_of tp) D with Some a => converted m tp a | None => G tp end))
+        exists g, global_value p mm' (msg_var (tp_cname tp)) = Some g
+        /\ reads_agree tp g (match last_delivered (sub_of tp) D with Some a => converted m tp a | None => G tp end))
   /\ (forall tp, In tp (timed m) ->
         clock_held p mm' (tp_cname tp)
           (match last_delivered (sub_of tp) D with Some _ => true | None => fst (C tp) end)
@@ -712,9 +736,10 @@ Proof.
     assert (W1: mem_wf m1) by (eapply mem_wf_alloc; eauto).
     destruct (Spec m1 bn mv GT1 Glob G1 ltac:(rewrite types_eq; auto) CS ctx (set_time w (ar_time a)))
       as [[t1 [m2 [w1 [v1 X1]]]] All].
-    destruct (All t1 m2 w1 v1 X1) as (-> & -> & -> & GC).
+    destruct (All t1 m2 w1 v1 X1) as (-> & -> & -> & (g' & GC & Tg' & RC)).
+    rewrite types_eq in Tg'.
     cbn [w_time set_time] in GC.
-    set (l := (msg_var (tp_cname tp'), mv) :: clock_update m (tp_cname tp') (ar_time a)) in GC.
+    set (l := (msg_var (tp_cname tp'), g') :: clock_update m (tp_cname tp') (ar_time a)) in GC.
     assert (NDl: NoDup (map fst l)).
     { unfold l, clock_update. destruct (is_timed m (tp_cname tp')); simpl; [|repeat constructor; auto].
       destruct (clock_names_distinct (tp_cname tp')) as (A1 & A2 & A3 & A4 & A5 & A6).
@@ -740,12 +765,17 @@ Proof.
     { intros x bx tx V. unfold m3. rewrite get_block_free_other by (eapply Glob; eauto). apply (GT2 _ _ _ V). }
     set (G1f := fun tp => if sub_eq (sub_of tp') (sub_of tp) then mv else G tp).
     set (C1f := fun tp => if sub_eq (sub_of tp') (sub_of tp) then (true, Some (ar_time a)) else C tp).
-    assert (HG3: forall tp, In tp (subscribed m) -> global_value p m3 (msg_var (tp_cname tp)) = Some (G1f tp)).
+    assert (HG3: forall tp, In tp (subscribed m) ->
+              exists g, global_value p m3 (msg_var (tp_cname tp)) = Some g /\ reads_agree tp g (G1f tp)).
     { intros tp Htp. rewrite GV3, GV2. unfold G1f.
       destruct (sub_eq (sub_of tp') (sub_of tp)) as [E|E].
       - assert (tp' = tp) by (apply callback_inj; auto; inversion E; auto). subst tp'.
-        unfold l. simpl. destruct (string_dec _ _); [auto|congruence].
-      - unfold l. simpl. destruct (string_dec (msg_var (tp_cname tp)) (msg_var (tp_cname tp'))) as [E'|N'].
+        exists g'. split; [unfold l; simpl; destruct (string_dec _ _); [auto|congruence]|].
+        intros lp Hr. destruct (read_path_leaf tp lp Htp Hr) as (q & R).
+        rewrite (RC lp q R). replace (is_read m (tp_cname tp) lp) with true; auto.
+        symmetry; apply is_read_In; auto.
+      - destruct (HG tp Htp) as (g0 & G0 & A0). exists g0. split; [|exact A0]. revert G0.
+        unfold l. simpl. destruct (string_dec (msg_var (tp_cname tp)) (msg_var (tp_cname tp'))) as [E'|N'].
         + exfalso. apply E. f_equal. apply msg_var_inj; auto.
         + unfold clock_update. destruct (is_timed m (tp_cname tp')) eqn:T; simpl.
           * assert (Ht: In tp' (timed m)) by (apply filter_In; auto).
@@ -785,7 +815,8 @@ Proof.
     { intros s0 mv0 H0. apply HD; simpl; auto. }
     exists mm', w'. refine (conj _ (conj NS (conj W' (conj GT' (conj _ (conj _ _)))))).
     + change (@nil event) with (@nil event ++ @nil event). econstructor; [cbn [sub_msgty sub_of]; rewrite Dv; exact AL|eauto..].
-    + intros tp Htp. rewrite HG' by auto. cbn [last_delivered]. unfold G1f.
+    + intros tp Htp. destruct (HG' tp Htp) as (g & Gg & Ag). exists g; split; [exact Gg|]. revert Ag.
+      cbn [last_delivered]. unfold G1f.
       destruct (last_delivered (sub_of tp) D); auto.
       destruct (sub_eq (sub_of tp') (sub_of tp)) as [E|]; auto.
       assert (tp' = tp) by (apply callback_inj; auto; inversion E; auto). subst tp'. auto.
@@ -826,7 +857,8 @@ Proof.
   - change (wld (S k) r s) with (next_spin ctx (wld k r s)). rewrite <- NS.
     apply eval_funcall_spinOnce. exact X.
   - constructor; auto.
-    + intros tp Htp. rewrite HG' by auto. rewrite LD by auto. simpl. rewrite newest_step. auto.
+    + intros tp Htp. destruct (HG' tp Htp) as (g & Gg & Ag). exists g; split; [exact Gg|].
+      rewrite LD in Ag by auto. simpl. rewrite newest_step. exact Ag.
     + intros tp Htp. destruct (li_cmds I tp Htp) as (b & F & NG & v & G & S).
       exists b; split; auto; split; auto. exists v; split; auto.
       rewrite Fr'; auto. congruence.
@@ -893,7 +925,9 @@ Proof.
     + intros ir Hir. destruct (Rel ir Hir) as (g & v & GV & Gg & Gv).
       destruct (input_exprs m ir W Hir) as (tp & q & _ & Ec & Hs & _).
       exists tp, v. repeat split; auto.
-      * rewrite <- Ec in GV. rewrite (li_msgs I tp Hs) in GV. inversion GV; subst g. exact Gg.
+      * rewrite <- Ec in GV. destruct (li_msgs I tp Hs) as (g' & Gg' & Ag). rewrite Gg' in GV. inversion GV; subst g'.
+        transitivity (mval_get g (path_steps (ir_path ir))); [symmetry; apply Ag|exact Gg].
+        rewrite Ec. apply inrel_read; auto.
       * rewrite Gv. rewrite <- Ec, clock_at_topic by auto. reflexivity.
     + intros dr Hdr. destruct (drel_topic m p GEN dr Hdr) as (tp & Ht & Ec & _).
       exists tp. split; [apply timed_subscribed; auto|split; auto].
@@ -997,10 +1031,11 @@ Proof.
 Qed.
 
 (** The published message depends on the held messages only through
-    the sources of copied stamps, which are subscribed topics. *)
+    the sources of copied stamps, which are paths that the node reads of
+    subscribed topics. *)
 Lemma published_value_ext:
   forall g1 g2 y now tp mv,
-  (forall tp', In tp' (subscribed m) -> g1 (tp_cname tp') = g2 (tp_cname tp')) ->
+  (forall tp', In tp' (subscribed m) -> reads_agree tp' (g1 (tp_cname tp')) (g2 (tp_cname tp'))) ->
   published_value m y now g1 tp mv -> published_value m y now g2 tp mv.
 Proof.
   intros g1 g2 y now tp mv E (T & R & S & Z). split; [auto|split; [auto|split; [|exact Z]]].
@@ -1010,7 +1045,8 @@ Proof.
   destruct (find_topic_In _ _ _ Ft) as [Htop' Ec].
   assert (Hs': In tp' (subscribed m)).
   { apply in_subscribed. split; auto. unfold is_subscribed in Sub. destruct (tp_dir tp'); [auto|discriminate]. }
-  rewrite <- Ec, (E tp' Hs'). auto.
+  destruct (stamp_from_read m _ _ _ Hin) as [Rs Rn]. rewrite <- Ec in Rs, Rn.
+  rewrite <- Ec, <- (E tp' Hs' _ Rs), <- (E tp' Hs' _ Rn). auto.
 Qed.
 
 Lemma publishes_run:
@@ -1055,7 +1091,7 @@ Proof.
     { intros x Hx; apply Inc; simpl; auto. }
     assert (PV': published_value m y (ctx_time ctx (S k)) (newest_by m ctx k) tp mv).
     { apply (published_value_ext (global_msg p mm)); auto.
-      intros tp' Hs'. unfold global_msg. rewrite (li_msgs I tp' Hs'). simpl.
+      intros tp' Hs'. unfold global_msg. destruct (li_msgs I tp' Hs') as (g & Gg & Ag). rewrite Gg.
       unfold newest_by. rewrite In_find_topic; auto.
       - apply wf_cnames_nodup; auto.
       - apply in_subscribed in Hs'; tauto. }
@@ -1231,7 +1267,7 @@ Proof.
     rewrite types_eq. apply zero_mval_has_type; [apply wf_composites_of; auto|].
     eapply global_var_types; eauto.
   - intros tp Htp. destruct (msg_global tp Htp) as [bg Vg]. destruct (GI _ _ _ Vg) as [G _].
-    unfold global_value. rewrite Vg, G. auto.
+    unfold global_value. rewrite Vg, G. eexists; split; [reflexivity|]. intros lp _; auto.
   - intros tp Htp. destruct (New (cmd_var (tp_cname tp)) (Tstruct (tp_msg tp))) as (b & F & Lb & G).
     { rewrite Vl. apply (in_map (fun tp => (cmd_var (tp_cname tp), Tstruct (tp_msg tp)))); auto. }
     exists b. split; auto. split.

@@ -324,3 +324,70 @@ Fixpoint scope_leaves (scope : list msgdef) (id : ident) : list (path * prim) :=
 (** Leaves of message [id] of the model's message list. *)
 Definition leaves (msgs : list msgdef) (id : ident) : list (path * prim) :=
   scope_leaves (rev msgs) id.
+
+(** ** What the node reads of a subscribed topic *)
+
+(** Equality of paths. *)
+Definition pstep_eqb (a b : pstep) : bool :=
+  match a, b with
+  | PField f, PField g => ident_eqb f g
+  | PIndex i, PIndex j => Z.eqb i j
+  | _, _ => false
+  end.
+
+Fixpoint path_eqb (p q : path) : bool :=
+  match p, q with
+  | [], [] => true
+  | s :: p', t :: q' => pstep_eqb s t && path_eqb p' q'
+  | _, _ => false
+  end.
+
+Lemma pstep_eqb_iff: forall a b, pstep_eqb a b = true <-> a = b.
+Proof.
+  intros [f|i] [g|j]; simpl; split; intros H; try discriminate; try congruence.
+  - apply ident_eqb_true in H; subst; auto.
+  - inversion H; apply ident_eqb_refl.
+  - apply Z.eqb_eq in H; subst; auto.
+  - inversion H; apply Z.eqb_refl.
+Qed.
+
+Lemma path_eqb_iff: forall p q, path_eqb p q = true <-> p = q.
+Proof.
+  induction p as [|s p IH]; intros [|t q]; simpl; split; intros H; try discriminate; auto.
+  - apply andb_true_iff in H as [H1 H2]. apply pstep_eqb_iff in H1. apply IH in H2. congruence.
+  - inversion H; subst. apply andb_true_iff; split; [apply pstep_eqb_iff|apply IH]; auto.
+Qed.
+
+(** The paths that the node reads in the messages of the subscribed
+    topic with C name [c]: those that its input relations name, and the
+    [sec] and [nsec] of a stamp copied from [c] (rule 4.13).  The
+    topic's callback copies these leaves of a message, and only these. *)
+Definition read_paths (m : node_model) (c : ident) : list path :=
+  (map ir_path (filter (fun ir => ident_eqb (ir_topic ir) c) (nm_inrels m))
+  ++ flat_map (fun sf => if ident_eqb (fst (snd sf)) c
+                         then [(snd (snd sf) ++ [PField "sec"])%list; (snd (snd sf) ++ [PField "nsec"])%list]
+                         else []) (nm_stamp_from m))%list.
+
+Definition is_read (m : node_model) (c : ident) (lp : path) : bool :=
+  existsb (path_eqb lp) (read_paths m c).
+
+Lemma is_read_In: forall m c lp, is_read m c lp = true <-> In lp (read_paths m c).
+Proof.
+  intros m c lp. unfold is_read. rewrite existsb_exists. split.
+  - intros (q & Hq & E). apply path_eqb_iff in E. subst; auto.
+  - intros H. exists lp; split; auto. apply path_eqb_iff; auto.
+Qed.
+
+Lemma inrel_read: forall m ir, In ir (nm_inrels m) -> In (ir_path ir) (read_paths m (ir_topic ir)).
+Proof.
+  intros m ir H. unfold read_paths. apply in_or_app; left. apply in_map.
+  apply filter_In; split; auto. apply ident_eqb_refl.
+Qed.
+
+Lemma stamp_from_read:
+  forall m t s sp, In (t, (s, sp)) (nm_stamp_from m) ->
+  In (sp ++ [PField "sec"])%list (read_paths m s) /\ In (sp ++ [PField "nsec"])%list (read_paths m s).
+Proof.
+  intros m t s sp H. unfold read_paths. split; apply in_or_app; right; apply in_flat_map;
+    exists (t, (s, sp)); split; auto; simpl; rewrite ident_eqb_refl; simpl; auto.
+Qed.

@@ -436,13 +436,6 @@ Definition fed_inputs (m : node_model) : ptree unit :=
 (** Rule 4.13: a stamp is written in a published topic's message, at a
     field of type [time] (the message [ros_time] of two [uint32] fields
     [sec] and [nsec]) that no output relation writes into. *)
-Definition pstep_eqb (a b : pstep) : bool :=
-  match a, b with
-  | PField f, PField g => ident_eqb f g
-  | PIndex i, PIndex j => Z.eqb i j
-  | _, _ => false
-  end.
-
 Fixpoint path_prefixb (p q : path) : bool :=
   match p, q with
   | [], _ => true
