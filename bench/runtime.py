@@ -150,7 +150,8 @@ GLUE_TOGGLES = ["input_glue", "*_callback", "output_glue_*"]
 
 
 def glue_per_cycle(label: str, model: Path, work: Path, defs: list[str], log, *,
-                   node: str = NODE, fake: Path | None = None, controller: Path | str | None = None) -> dict:
+                   node: str = NODE, fake: Path | None = None, controller: Path | str | None = None,
+                   env: dict | None = None) -> dict:
     """``pyrosgen generate`` of ``model`` (node name ``node``) into
     ``work``/glue_``label``, linked with a fake ROS (``fake``; by default
     fake_ros_landshark.c, for LandShark-shaped models) and a controller
@@ -161,7 +162,8 @@ def glue_per_cycle(label: str, model: Path, work: Path, defs: list[str], log, *,
     function (callbacks, ``input_glue``, ``output_glue_*``, and what they
     call of the fake ROS, e.g. ``ros_now``) = (count at 2000 cycles - count
     at 1000) / 1000, and the fake ROS's checksum line.  The generated folder
-    is ``work``/glue_``label``."""
+    is ``work``/glue_``label``; ``env``: pyrosgen's environment (by default
+    this process's)."""
     import os
 
     from common import BENCH, PYROSGEN, REPO
@@ -177,7 +179,7 @@ def glue_per_cycle(label: str, model: Path, work: Path, defs: list[str], log, *,
     else:
         ctrl = d / controller
     log(f"pyrosgen generate {model.relative_to(REPO)}")
-    p = run([PYROSGEN, "generate", model, "-o", d, "-q"], env=dict(os.environ), timeout=1800, check=False)
+    p = run([PYROSGEN, "generate", model, "-o", d, "-q"], env=dict(env or os.environ), timeout=1800, check=False)
     if p.rc != 0:
         raise SystemExit(f"pyrosgen generate failed (exit {p.rc}):\n{p.stderr.strip()[-3000:]}")
     objs = []
