@@ -219,6 +219,33 @@ def block_proofs(load_json) -> str:
     return "\n".join(rows) + "\n"
 
 
+def _latency_tables(lat: dict) -> list[str]:
+    """The latency tables of a ``runtime.latency`` result (both nodes, then
+    round by round)."""
+    out = []
+    per = lat.get("edges_per_round", lat.get("edges_per_block"))
+    out.append(f"Latency (µs) from the publication of an input change to the receipt of the first "
+               f"command reflecting it, both nodes at a 1 ms period running side by side, the driver "
+               f"alternating edges between them; {len(lat.get('rounds', []))} round(s) of {per} edges "
+               f"per node, fresh nodes each round:")
+    out.append("")
+    out.append("| node | edges | median | mean | p10 | p90 | p99 | lost |")
+    out.append("|---|---|---|---|---|---|---|---|")
+    for k in ("generated", "handwritten"):
+        s_ = lat[k]
+        out.append(f"| {k} | {s_['n']} | {s_['median']:.0f} | {s_['mean']:.0f} | {s_['p10']:.0f} | "
+                   f"{s_['p90']:.0f} | {s_['p99']:.0f} | {lat['lost'][k]} |")
+    out.append("")
+    if lat.get("rounds"):
+        out.append("| round | generated median µs | hand-written median µs | ratio | load (1, 5, 15 min) |")
+        out.append("|---|---|---|---|---|")
+        for r in lat["rounds"]:
+            out.append(f"| {r['round']} | {r['generated']['median']:.0f} | {r['handwritten']['median']:.0f} | "
+                       f"{r['ratio_median']:.3f} | {r['load']} |")
+        out.append("")
+    return out
+
+
 def block_runtime(load_json) -> str:
     res = load_json("runtime.json")
     if not res:
@@ -274,29 +301,77 @@ def block_runtime(load_json) -> str:
         out.append(f"| ratio | {wh['ratio']:.3f} | | | | | |")
         out.append("")
     if lat:
-        per = lat.get("edges_per_round", lat.get("edges_per_block"))
-        out.append(f"Latency (µs) from the publication of an input change to the receipt of the first "
-                   f"command reflecting it, both nodes at a 1 ms period running side by side, the driver "
-                   f"alternating edges between them; {len(lat.get('rounds', []))} round(s) of {per} edges "
-                   f"per node, fresh nodes each round:")
-        out.append("")
-        out.append("| node | edges | median | mean | p10 | p90 | p99 | lost |")
-        out.append("|---|---|---|---|---|---|---|---|")
-        for k in ("generated", "handwritten"):
-            s_ = lat[k]
-            out.append(f"| {k} | {s_['n']} | {s_['median']:.0f} | {s_['mean']:.0f} | {s_['p10']:.0f} | "
-                       f"{s_['p90']:.0f} | {s_['p99']:.0f} | {lat['lost'][k]} |")
-        out.append("")
-        if lat.get("rounds"):
-            out.append("| round | generated median µs | hand-written median µs | ratio | load (1, 5, 15 min) |")
-            out.append("|---|---|---|---|---|")
-            for r in lat["rounds"]:
-                out.append(f"| {r['round']} | {r['generated']['median']:.0f} | {r['handwritten']['median']:.0f} | "
-                           f"{r['ratio_median']:.3f} | {r['load']} |")
-            out.append("")
+        out += _latency_tables(lat)
     b = res.get("build")
     if b:
         out.append(f"`pyrosgen build` of the 1 ms node: {b['wall']:.1f} s wall, {b['cpu']:.1f} s CPU ({b['times']}).")
+    return "\n".join(out) + "\n"
+
+
+def _cxx(name: str) -> str:
+    """A demangled C++ function name, shortened for a table."""
+    for long, short in (("std::__cxx11::basic_string<char, std::char_traits<char>, std::allocator<char> >", "std::string"),
+                        ("_<std::allocator<void> >", ""), ("std::vector<float, std::allocator<float> >", "std::vector<float>"),
+                        ("std::vector<unsigned char, std::allocator<unsigned char> >", "std::vector<uint8_t>"),
+                        ("ros::serialization::", ""), ("@@GLIBC_2.2.5", "")):
+        name = name.replace(long, short)
+    return re.sub(r"^void ", "", name)
+
+
+def block_laserscan(load_json) -> str:
+    """BENCHMARKS.md section 10: the laser guard against a hand-written node
+    (bench/laserscan.py)."""
+    res = load_json("laserscan.json")
+    if not res:
+        return "_Not run yet: `.venv/bin/python bench/laserscan.py`._\n"
+    ins, lat = res.get("instructions"), res.get("latency")
+    out = ["| figure | target | measured | |", "|---|---|---|---|"]
+    if ins:
+        g, h = ins["generated"], ins["handwritten"]
+        r = ins["ratio"]
+        out.append(f"| LaserScan glue instructions per cycle, generated / hand-written | ≤ {T_INSTR:.0f} | "
+                   f"{g['per_cycle']:.0f} / {h['per_cycle']:.0f} = {r:.2f} | {_ok(r <= T_INSTR)} |")
+        if "ratio_without_time" in ins:
+            r2 = ins["ratio_without_time"]
+            out.append(f"| the same without reading the clock (`ros_time_sec`/`nsec`; `ros::Time::now()`) | "
+                       f"≤ {T_INSTR:.0f} | {g['per_cycle'] - g['time_source']:.0f} / "
+                       f"{h['per_cycle'] - h['time_source']:.0f} = {r2:.2f} | {_ok(r2 <= T_INSTR)} |")
+    if lat:
+        r = lat["ratio_median"]
+        lo, hi = lat["ratio_median_ci95"]
+        out.append(f"| LaserScan latency ratio generated / hand-written (medians, 1 ms period) | ≤ {T_LATENCY} | "
+                   f"{r:.3f} (95 % bootstrap interval {lo:.3f}–{hi:.3f}) | {_ok(r <= T_LATENCY)} |")
+    out.append("")
+    if ins:
+        out.append("Instructions per cycle (callgrind, exact; fake ROS, one scan per cycle, scans of 0 to 2000 "
+                   "ranges in turn, `-O2`, no inlining between the counted functions):")
+        out.append("")
+        out.append("| code | per cycle | of which the time stamp | by function |")
+        out.append("|---|---|---|---|")
+        names = {"generated": "generated glue (callback + input_glue + output_glue, and the ROS API's "
+                              "`ros_time_sec`/`ros_time_nsec` they call)",
+                 "handwritten": "hand-written (callback + building and destroying the command, "
+                                "`ros::Time::now()` included, on simulated time)",
+                 "roscpp_roundtrip": "for scale: roscpp serialize + deserialize of the same scans"}
+        for k in ("generated", "handwritten", "roscpp_roundtrip"):
+            d = ins.get(k)
+            if not d:
+                continue
+            fs = ", ".join(f"`{_cxx(f)}` {v:.1f}" for f, v in sorted(d["functions"].items(), key=lambda kv: -kv[1])
+                           if abs(v) >= 0.05)
+            ts = f"{d['time_source']:.0f}" if "time_source" in d else ""
+            out.append(f"| {names[k]} | {d['per_cycle']:.0f} | {ts} | {fs} |")
+        out.append("")
+        out.append(f"Both harnesses publish the same commands: `{ins['check']}`.")
+        out.append("")
+    if lat:
+        out += _latency_tables(lat)
+    b = res.get("build")
+    if b:
+        out.append(f"`pyrosgen build` of the 1 ms node: {b['wall']:.1f} s wall, {b['cpu']:.1f} s CPU.")
+    m = res.get("machine") or {}
+    if m:
+        out.append(f"Run {m.get('date')}, load average at start {m.get('load_at_start')}.")
     return "\n".join(out) + "\n"
 
 
@@ -379,7 +454,22 @@ BLOCKS = {
     "pipeline-ab": block_ab,
     "proofs": block_proofs,
     "runtime": block_runtime,
+    "laserscan": block_laserscan,
 }
+
+
+def write_blocks(load_json, names, log, doc: Path = DOC) -> None:
+    """Rewrite only the blocks ``names`` of ``doc`` (a benchmark run on its
+    own, e.g. bench/laserscan.py); no plots."""
+    text = doc.read_text()
+    for name in names:
+        body = BLOCKS[name](load_json)
+        pat = re.compile(rf"(<!-- BEGIN bench:{re.escape(name)} -->\n)(.*?)(<!-- END bench:{re.escape(name)} -->)", re.S)
+        if not pat.search(text):
+            raise RuntimeError(f"{doc} has no block {name}")
+        text = pat.sub(lambda m: m.group(1) + body + m.group(3), text)
+    doc.write_text(text)
+    log(f"report: blocks {', '.join(names)} of {doc} rewritten")
 
 
 def write_report(load_json, log, doc: Path = DOC) -> None:

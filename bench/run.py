@@ -1,7 +1,7 @@
 """``make bench``: every benchmark of BENCHMARKS.md, then its tables and the
 plots in bench/results/.
 
-usage: run.py [--quick] [--only proofs,pipeline,runtime] [--report-only]
+usage: run.py [--quick] [--only proofs,pipeline,runtime,laserscan] [--report-only]
 
 - ``proofs``: ``make proofs`` from clean in a private copy of coq/
   (bench/proofs.py); the copy is the library the other benchmarks use;
@@ -9,7 +9,10 @@ usage: run.py [--quick] [--only proofs,pipeline,runtime] [--report-only]
   with N relations (bench/pipeline.py);
 - ``runtime``: the generated LandShark node against a hand-written roscpp
   node: latency at a 1 ms period, and instructions per cycle of the glue
-  (bench/runtime.py).
+  (bench/runtime.py);
+- ``laserscan``: the same for the laser guard (LaserScan), against a
+  hand-written node: instructions per cycle of the glue and latency at a
+  1 ms period (bench/laserscan.py).
 
 ``--quick`` is for iteration: N up to 400, one run each, a short latency
 run; the library copy is rebuilt only when the sources changed; its
@@ -33,7 +36,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import common  # noqa: E402
 from common import WORK, load_json, loadavg, machine, save_json  # noqa: E402
 
-ALL = ("proofs", "pipeline", "runtime")
+ALL = ("proofs", "pipeline", "runtime", "laserscan")
 
 
 def log(msg: str) -> None:
@@ -95,6 +98,13 @@ def main(argv: list[str] | None = None) -> int:
             res = runtime.run_runtime(env, quick=a.quick, log=log)
             res["machine"] = mach
             save_json("runtime.json", res)
+        if "laserscan" in only:
+            import laserscan
+
+            res = laserscan.run_laserscan(env, rounds=1 if a.quick else 3, edges=300 if a.quick else 1500,
+                                          log=log)
+            res["machine"] = mach
+            save_json("laserscan.json", res)
         mach["load_at_end"] = loadavg()
         mach["bench_seconds"] = time.monotonic() - t0
         save_json("machine.json", mach)
