@@ -459,14 +459,14 @@ Definition m_advertise_struct : program :=
 Theorem advertise_struct_refuted: ~ node_ddc landshark m_advertise_struct.
 Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.
 
-(** (o) The left wheel's callback copies nothing: a generator whose
+(** (c1) The left wheel's callback copies nothing: a generator whose
     [read_paths] forgot the topic's input relations.  [In1] stays 0. *)
 Definition m_callback_no_copy : program :=
   on_def (callback_name left_c) (on_body (fun _ => Sskip)) p.
 Theorem callback_no_copy_refuted: ~ node_ddc landshark m_callback_no_copy.
 Proof. apply (refute _ 1). vm_compute. reflexivity. Qed.
 
-(** (p) The left wheel's callback copies the leaves the node does not
+(** (c2) The left wheel's callback copies the leaves the node does not
     read, and not the one it reads (the filter of [read_leaves]
     inverted). *)
 Definition unread_copies : statement :=

@@ -700,7 +700,8 @@ Theorem leaves_spec:
   In (p, q) (leaves (nm_msgs m) id) <-> resolve (nm_msgs m) (FTmsg id) p = Some (FTprim q).
 Proof. exact Generatorspec.leaves_spec. Qed.
 
-(** Each leaf appears once: a callback copies every leaf exactly once. *)
+(** Each leaf appears once: a callback copies each leaf that the node
+    reads exactly once. *)
 Theorem leaves_nodup:
   forall m id, wf_facts m -> NoDup (map fst (leaves (nm_msgs m) id)).
 Proof. exact Generatorspec.leaves_nodup. Qed.

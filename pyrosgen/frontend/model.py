@@ -523,6 +523,18 @@ class NodeModel:
         """Every carried scalar leaf of message type ``msg_name``."""
         return leaf_paths(msg_name, {m.name: m for m in self.messages})
 
+    def read_leaves(self, topic: Topic) -> tuple[FieldPath, ...]:
+        """The leaves of subscribed ``topic``'s messages that the node reads,
+        in the order of :meth:`leaf_paths`: those its input relations name
+        and the ``sec``/``nsec`` of a stamp copied from it (rule 4.13).
+        Its callback copies these and only these
+        (``Generator.read_leaves``, ``NodeModel.read_paths``)."""
+        read = {tuple(r.path.steps) for r in self.input_relations if r.topic.name == topic.name}
+        for _, (src, stamp) in self.stamp_from:
+            if src == topic.c_name:
+                read |= {(*stamp, "sec"), (*stamp, "nsec")}
+        return tuple(p for p in self.leaf_paths(topic.msg_type) if tuple(p.steps) in read)
+
     @property
     def timed_topics(self) -> tuple[Topic, ...]:
         """The *timed* topics (rule 4.12), in declaration order: those with

@@ -12,8 +12,12 @@ For each generated function (``pyrosgen/templates/wp_contracts.c.j2``):
   (Figure 10): requires ``\\valid_read(msg)`` and ``msg`` separated from every
   global (and, implied by ``\\valid_read(msg)``, the validity of each leaf
   ``&msg->f``: stated so that WP's simplifier discharges the memory-access
-  goals of ``-wp-rte`` by itself instead of calling a prover); assigns exactly the topic's global ``<c>_msg``; ensures every
-  carried leaf of ``<c>_msg`` equals the same leaf of ``\\old(*msg)``;
+  goals of ``-wp-rte`` by itself instead of calling a prover); assigns
+  exactly the leaves of ``<c>_msg`` that the node reads
+  (:meth:`NodeModel.read_leaves`: those named by input relations, and the
+  ``sec``/``nsec`` of a stamp copied from the topic), so that every other
+  leaf keeps its value, and ensures each of these equals the same leaf of
+  ``\\old(*msg)``;
 - ``void input_glue(void)`` (Figure 12): assigns exactly the related fields
   of ``Controller_U``; ensures each equals the related field of the related
   topic's global;
@@ -250,16 +254,19 @@ def contracts(model: NodeModel) -> list[Contract]:
     out: list[Contract] = []
     for t in model.subscribed:
         sep = tuple(f"&{g}" for g in globs)
+        read = model.read_leaves(t)
         ens = tuple(_same(p.prim, p.c_access(t.msg_var), f"\\old({p.c_access('msg', arrow=True)})")
-                    for p in model.leaf_paths(t.msg_type))
+                    for p in read)
         clock = ((f"{t.time_var} == \\old({CLOCK})", f"{t.new_var} == 1", f"{t.rcvd_var} == 1")
                  if t.name in timed else ())
+        assigns = (*(p.c_access(t.msg_var) for p in read),
+                   *((t.time_var, t.new_var, t.rcvd_var) if t.name in timed else ()))
         out.append(Contract(
             name=t.callback,
             proto=f"void {t.callback}(struct {t.msg_struct} *msg)",
             requires=("\\valid_read(msg)", f"\\separated(msg, {', '.join(sep)})",
-                      *(f"\\valid_read(&{p.c_access('msg', arrow=True)})" for p in model.leaf_paths(t.msg_type))),
-            assigns=(t.msg_var, *((t.time_var, t.new_var, t.rcvd_var) if t.name in timed else ())),
+                      *(f"\\valid_read(&{p.c_access('msg', arrow=True)})" for p in read)),
+            assigns=assigns or ("\\nothing",),
             ensures=ens + clock, pointer="msg", separated=sep))
     u = model.controller.inputs
     ens, assigned = [], []

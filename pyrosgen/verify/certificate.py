@@ -428,7 +428,7 @@ def _relations(pm: ProvedModel, c_text: str) -> tuple[list[dict], list[dict]]:
         dst = f"{pm.inputs_var}.{fld}"
         inputs.append({
             "src": f"{t.name} {path}", "dst": dst, "type": in_prim.get(fld, "?"),
-            "callback": t.callback, "cb_first": cb[0], "cb_last": cb[1],
+            "callback": t.callback, "cb_lines": _copy_lines(lines, cb, f"{t.msg_var}.{path}"),
             "lines": _copy_lines(lines, _span(spans, "input_glue"), dst),
         })
     outputs = []

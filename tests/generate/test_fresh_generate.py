@@ -137,8 +137,14 @@ def test_callbacks_end_with_the_clock_update(folders, node):
                  f"{t.c_name}_rcvd = 1;"]
         if t.name in timed:
             assert lines[-4:] == clock
-            # the copies come first, every carried leaf
-            assert len(lines) == 2 * len(model.leaf_paths(t.msg_type)) + 4
+            # the copies come first: the leaves the node reads, in leaf order
+            read = model.read_leaves(t)
+            assert read, t.name
+            assert len(lines) == 2 * len(read) + 4
+            for k, p in enumerate(read):
+                tmp = re.fullmatch(rf"(_t_\w+) = {re.escape(p.c_access('(*msg)'))};", lines[2 * k])
+                assert tmp, (lines[2 * k], str(p))
+                assert lines[2 * k + 1] == f"{p.c_access(t.msg_var)} = {tmp.group(1)};"
         else:
             assert not set(clock) & set(lines)
     # the globals, after the messages', and ros_now declared

@@ -1015,8 +1015,8 @@ Proof.
   - intros; apply ftype_leaves_nodup; auto.
 Qed.
 
-(** Each leaf of a message appears once: a callback copies every leaf
-    exactly once, and [output_glue] zeroes every leaf exactly once. *)
+(** Each leaf of a message appears once: a callback copies each leaf it
+    reads exactly once, and [output_glue] zeroes every leaf exactly once. *)
 Theorem leaves_nodup:
   forall m id, wf_facts m -> NoDup (map fst (leaves (nm_msgs m) id)).
 Proof. intros m id W; apply scope_leaves_nodup, wf_scope_ok; auto. Qed.

@@ -10,8 +10,9 @@
     [Some s]), registration of the subscriptions and advertisements (one
     [Esubscribe] / [Eadvertise] event each, [start_events]), then the
     loop, with the invariant [loop_inv]: after
-    [k] cycles, the global of every subscribed topic holds the newest
-    message received in those cycles (zero if none), every local
+    [k] cycles, the global of every subscribed topic agrees, on the
+    paths that the node reads ([reads_agree], [read_paths]), with the
+    newest message received in those cycles (zero if none), every local
     [c_cmd] holds an object of its type, and the world has the model's
     subscriptions, [k] spins, and [n - k] answers of [ros_ok] left.
     Each cycle uses T1 ([Glueproof]) for the callbacks run by

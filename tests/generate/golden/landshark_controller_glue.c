@@ -31,74 +31,23 @@ int main(void);
 
 void landshark_left_wheel_velocity_callback(struct geometry_msgs_TwistStamped *msg)
 {
-    unsigned int _t_uint;
     double _t_double;
-    _t_uint = (*msg).header.seq;
-    landshark_left_wheel_velocity_msg.header.seq = _t_uint;
-    _t_uint = (*msg).header.stamp.sec;
-    landshark_left_wheel_velocity_msg.header.stamp.sec = _t_uint;
-    _t_uint = (*msg).header.stamp.nsec;
-    landshark_left_wheel_velocity_msg.header.stamp.nsec = _t_uint;
     _t_double = (*msg).twist.linear.x;
     landshark_left_wheel_velocity_msg.twist.linear.x = _t_double;
-    _t_double = (*msg).twist.linear.y;
-    landshark_left_wheel_velocity_msg.twist.linear.y = _t_double;
-    _t_double = (*msg).twist.linear.z;
-    landshark_left_wheel_velocity_msg.twist.linear.z = _t_double;
-    _t_double = (*msg).twist.angular.x;
-    landshark_left_wheel_velocity_msg.twist.angular.x = _t_double;
-    _t_double = (*msg).twist.angular.y;
-    landshark_left_wheel_velocity_msg.twist.angular.y = _t_double;
-    _t_double = (*msg).twist.angular.z;
-    landshark_left_wheel_velocity_msg.twist.angular.z = _t_double;
 }
 
 void landshark_right_wheel_velocity_callback(struct geometry_msgs_TwistStamped *msg)
 {
-    unsigned int _t_uint;
     double _t_double;
-    _t_uint = (*msg).header.seq;
-    landshark_right_wheel_velocity_msg.header.seq = _t_uint;
-    _t_uint = (*msg).header.stamp.sec;
-    landshark_right_wheel_velocity_msg.header.stamp.sec = _t_uint;
-    _t_uint = (*msg).header.stamp.nsec;
-    landshark_right_wheel_velocity_msg.header.stamp.nsec = _t_uint;
     _t_double = (*msg).twist.linear.x;
     landshark_right_wheel_velocity_msg.twist.linear.x = _t_double;
-    _t_double = (*msg).twist.linear.y;
-    landshark_right_wheel_velocity_msg.twist.linear.y = _t_double;
-    _t_double = (*msg).twist.linear.z;
-    landshark_right_wheel_velocity_msg.twist.linear.z = _t_double;
-    _t_double = (*msg).twist.angular.x;
-    landshark_right_wheel_velocity_msg.twist.angular.x = _t_double;
-    _t_double = (*msg).twist.angular.y;
-    landshark_right_wheel_velocity_msg.twist.angular.y = _t_double;
-    _t_double = (*msg).twist.angular.z;
-    landshark_right_wheel_velocity_msg.twist.angular.z = _t_double;
 }
 
 void landshark_gps_velocity_callback(struct geometry_msgs_TwistStamped *msg)
 {
-    unsigned int _t_uint;
     double _t_double;
-    _t_uint = (*msg).header.seq;
-    landshark_gps_velocity_msg.header.seq = _t_uint;
-    _t_uint = (*msg).header.stamp.sec;
-    landshark_gps_velocity_msg.header.stamp.sec = _t_uint;
-    _t_uint = (*msg).header.stamp.nsec;
-    landshark_gps_velocity_msg.header.stamp.nsec = _t_uint;
     _t_double = (*msg).twist.linear.x;
     landshark_gps_velocity_msg.twist.linear.x = _t_double;
-    _t_double = (*msg).twist.linear.y;
-    landshark_gps_velocity_msg.twist.linear.y = _t_double;
-    _t_double = (*msg).twist.linear.z;
-    landshark_gps_velocity_msg.twist.linear.z = _t_double;
-    _t_double = (*msg).twist.angular.x;
-    landshark_gps_velocity_msg.twist.angular.x = _t_double;
-    _t_double = (*msg).twist.angular.y;
-    landshark_gps_velocity_msg.twist.angular.y = _t_double;
-    _t_double = (*msg).twist.angular.z;
-    landshark_gps_velocity_msg.twist.angular.z = _t_double;
 }
 
 void input_glue(void)
