@@ -169,7 +169,7 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
                 "tail": y["id"],
                 "port": y_port[r.output_field],
                 "head": glue_of[r.topic.name],
-                "path": str(r.path),
+                "path": r.field_text,   # as the model writes it: data[3], data (length)
                 "prim": r.path.prim,
             }
         )

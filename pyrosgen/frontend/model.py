@@ -464,12 +464,24 @@ class DerivedRelation:
 @dataclass(frozen=True)
 class OutputRelation:
     """A PO row: controller output ``output_field`` feeds field ``path`` of
-    each message published on ``topic`` (a published :class:`Topic`)."""
+    each message published on ``topic`` (a published :class:`Topic`); an
+    element or the length of a published variable-length array or string
+    is a leaf of its bounded struct (``data.data[3]``, ``data.len``, rule
+    4.15)."""
 
     output_field: str
     topic: Topic
     path: FieldPath
     pos: Pos = field(default=_NOPOS, compare=False, repr=False)
+    #: the field as the model writes it when that is not ``path`` (rule
+    #: 4.15: ``data[3]`` for the leaf ``data.data[3]``, ``data (length)``
+    #: for ``data.len``), else ``None``
+    written: str | None = field(default=None, compare=False)
+
+    @property
+    def field_text(self) -> str:
+        """The field as the model writes it."""
+        return self.written or str(self.path)
 
 
 @dataclass(frozen=True)

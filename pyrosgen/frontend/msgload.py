@@ -203,7 +203,7 @@ class StringPathError(PathError):
 class BoundedPathError(PathError):
     """A field path that names a variable-length array or a string in a
     way rule 4.15 refuses (a whole sequence, an index past its maximum, a
-    sequence of messages, a sequence written by an output relation)."""
+    sequence of messages or strings, a path inside its C struct)."""
 
 
 @dataclass(frozen=True)
@@ -536,16 +536,18 @@ class MsgRegistry:
 
     # -- field paths ----------------------------------------------------------
 
-    def walk_path(self, type_name: str, text: object, *, bounded: bool = False) -> FieldPath:
+    def walk_path(self, type_name: str, text: object, *, bounded: bool = False,
+                  writes: bool = False) -> FieldPath:
         """Resolve field path ``text`` in message type ``type_name`` to a
         carried scalar leaf; raises :class:`PathError` saying why not.
 
-        With ``bounded`` (an input relation, rule 4.15), an element of a
-        carried variable-length array of primitives (``ranges[540]``) or
-        a byte of a carried string (``header.frame_id[0]``) is a leaf: the
-        element ``data[540]`` of its bounded struct, within its capacity.
-        Without it (an output relation), a path into a variable-length
-        array is refused as rule 4.15 says."""
+        With ``bounded`` (a relation, rule 4.15), an element of a carried
+        variable-length array of primitives (``ranges[540]``) or a byte of
+        a carried string (``header.frame_id[0]``) is a leaf: the element
+        ``data[540]`` of its bounded struct, within its capacity
+        (``writes``: an output relation's, which the messages say).
+        Without it, a path into a variable-length array is refused as rule
+        4.15 says."""
         steps = parse_path(text)
         cur = self.raw(type_name)
         assert cur is not None
@@ -557,7 +559,7 @@ class MsgRegistry:
             out.append(fname)
             if f.card == "sequence" or (bounded and f.base_kind == "string" and f.card == "scalar"):
                 nxt_name = steps[i + 1][0] if not last else None
-                return self._bounded_leaf(text, cur, f, index, nxt_name, tuple(out), shown, bounded)
+                return self._bounded_leaf(text, cur, f, index, nxt_name, tuple(out), shown, bounded, writes)
             shown = _index_step(text, steps, i, f, index, shown, out)
             if f.base_kind == "string":
                 raise StringPathError(
@@ -599,25 +601,32 @@ class MsgRegistry:
         raise PathError(f"field path {show(text)} is empty")  # pragma: no cover
 
     def _bounded_leaf(self, text: object, cur: _RawMsg, f: _RawField, index: int | None, nxt: str | None,
-                      out: tuple[str | int, ...], shown: str, bounded: bool) -> FieldPath:
+                      out: tuple[str | int, ...], shown: str, bounded: bool, writes: bool = False) -> FieldPath:
         """The leaf of :meth:`walk_path` when the path reaches ``f``, a
         variable-length array or (``bounded``) a string field of ``cur``
         (rule 4.15): ``index`` the index written after it, ``nxt`` the
-        name of the next step (``None`` when ``f`` ends the path)."""
+        name of the next step (``None`` when ``f`` ends the path);
+        ``writes``: the path is an output relation's."""
         ftype = f.type_text()
         _refuse_sequence_of_non_prims(text, f, shown)
         if not bounded:
             raise BoundedPathError(
-                f"field path {show(text)}: {show(shown)} is a variable-length array ({ftype}); an output "
-                "relation does not write into a variable-length array (publishing a sequence from the "
-                "controller is not carried yet, issue 15)"
+                f"field path {show(text)}: {show(shown)} is a variable-length array ({ftype}); "
+                "a path does not go through it"
             )
         string = f.base_kind == "string"
         what = "a string" if string else f"a variable-length array ({ftype})"
         elem = "uint8" if string else f.base
         items = "bytes" if string else "elements"
+        derived = "derived: length" if writes else "derived: length or derived: truncated"
         if index is None:
             if nxt is None:
+                if writes:
+                    raise BoundedPathError(
+                        f"field path {show(text)}: {show(shown)} is {what}; an output relation writes one of "
+                        f"its {items} ({show(shown + '[0]')}, {_prim_article(elem)} {elem}) or its length "
+                        "(derived: length, from a uint32 output)"
+                    )
                 raise BoundedPathError(
                     f"field path {show(text)}: {show(shown)} is {what}; a relation reads one of its {items} "
                     f"({show(shown + '[0]')}, {_prim_article(elem)} {elem}), or its length or whether it was "
@@ -626,7 +635,7 @@ class MsgRegistry:
             raise BoundedPathError(
                 f"field path {show(text)}: {show(shown)} is {what}; a path does not go inside it "
                 f"({show(nxt)}: len, truncated and data are fields of its C struct, not of the ROS message); "
-                f"name one of its {items} ({show(shown + '[0]')}) or use derived: length or derived: truncated"
+                f"name one of its {items} ({show(shown + '[0]')}) or use {derived}"
             )
         shown_i = f"{shown}[{index}]"
         if nxt is not None:

@@ -110,6 +110,9 @@ class _TopicDecl:
     stamped: bool = False          # a valid `stamp` (rule 4.13)
     stamp_from: str | None = None  # `stamp: {from: topic}`: the source topic's name
     strings: list[StringConstant] = field(default_factory=list)  # valid constant strings (rule 4.14)
+    #: the steps of every string field a constant names (valid or not), with
+    #: what names it (rule 4.14): no output relation writes into one (4.15)
+    constant_steps: dict[tuple, tuple[str, int]] = field(default_factory=dict)
 
 
 @dataclass
@@ -129,6 +132,7 @@ class _Rel:
     seq_kind: str | None = None      # `derived: length` or `truncated` with a field (rule 4.15)
     bounded: BoundedTarget | None = None  # the sequence or string its field reads (rule 4.15)
     written: str | None = None       # the field as the model writes it, when it is not the leaf's path
+    what: str = ""                   # relations.inputs[i], relations.outputs[i]
 
 
 #: The rule of DESIGN.md section 4 that governs each section of the model,
@@ -520,7 +524,18 @@ class _Checker:
                             if rel.seq_kind else ("topic", "field", "input"))
                 self.keys(m, w, required, tuple(k for k in _INPUT_KEYS if k not in required))
             else:
-                self.keys(m, w, ("output", "topic", "field"))
+                # an output relation into a published variable-length array
+                # or string writes one element (field: "data[3]") or, with
+                # derived: length, its length (rule 4.15)
+                dnode = m.get("derived")
+                if dnode is not None:
+                    if isinstance(dnode, YScalar) and dnode.kind == "str" and dnode.value == "length":
+                        rel.seq_kind = "length"
+                    else:
+                        self.err_rule("4.15", dnode, f"{w}.derived: {_output_derived_problem(dnode)}")
+                        rel.ok = False
+                self.keys(m, w, ("output", "topic", "field"), ("derived",))
+            rel.what = w
             out.append(rel)
             # topic
             tnode = m.get("topic")
@@ -582,7 +597,7 @@ class _Checker:
             pnode = m.get("field")
             rel.path_node = pnode
             ptext = None
-            if rel.seq_kind is not None and pnode is None:
+            if rel.seq_kind is not None and pnode is None and kind == "input":
                 self.err_rule("4.15", m.get("derived"),
                               f"{w}.derived: {rel.seq_kind} reads a variable-length array or a string: name it "
                               "with field (e.g. field: ranges)")
@@ -590,6 +605,9 @@ class _Checker:
                 ptext = self.string(pnode, f"{w}.field")
             if ptext is None:
                 rel.ok = False
+            elif kind == "output" and m.get("derived") is not None and rel.seq_kind is None:
+                if rel.topic is not None:  # the relation is refused; what it names (check_published_sequences)
+                    rel.bounded = registry.bounded_in_path(rel.topic.msg_type, ptext)
             elif rel.topic is not None:
                 try:
                     if rel.seq_kind is not None:
@@ -599,12 +617,14 @@ class _Checker:
                         rel.bounded = target
                         rel.written = f"{ptext} ({rel.seq_kind})"
                     else:
-                        rel.path = registry.walk_path(rel.topic.msg_type, ptext, bounded=kind == "input")
-                        if kind == "input":
-                            rel.bounded = registry.bounded_in_path(rel.topic.msg_type, ptext)
-                            if rel.bounded is not None:
-                                rel.written = ptext
+                        rel.path = registry.walk_path(rel.topic.msg_type, ptext, bounded=True,
+                                                      writes=kind == "output")
+                        rel.bounded = registry.bounded_in_path(rel.topic.msg_type, ptext)
+                        if rel.bounded is not None:
+                            rel.written = ptext
                 except PathError as exc:
+                    if kind == "output":  # refused; what it names (check_published_sequences)
+                        rel.bounded = registry.bounded_in_path(rel.topic.msg_type, ptext)
                     rule = ("4.15" if isinstance(exc, BoundedPathError) or rel.seq_kind is not None
                             else "4.14" if isinstance(exc, StringPathError) else "4.6")
                     self.err_rule(rule, pnode, f"{w}.field: {exc.args[0]} (topic {show(rel.topic.name)}, {rel.topic.msg_type})")
@@ -612,17 +632,30 @@ class _Checker:
             # types
             if rel.path is not None and rel.ctrl_field is not None:
                 cprim = ctrl[rel.ctrl_field].prim
-                if cprim != rel.path.prim and rel.seq_kind is not None:
+                if cprim != rel.path.prim and rel.seq_kind is not None and kind == "output":
+                    what_ = "string" if rel.bounded.is_string else "variable-length array"
+                    self.err_rule("4.15", rel.ctrl_node,
+                                  f"{w}.output: the length of a published {what_} is a uint32: controller output "
+                                  f"{show(rel.ctrl_field)} is {cprim} (relations never convert)")
+                    rel.ok = False
+                elif cprim != rel.path.prim and rel.seq_kind is not None:
                     self.err_rule("4.15", rel.ctrl_node,
                                   f"{w}.input: {rel.seq_kind} related to a non-{rel.path.prim} field: controller "
                                   f"input {show(rel.ctrl_field)} is {cprim} ({rel.seq_kind} is a {rel.path.prim})")
                     rel.ok = False
                 elif cprim != rel.path.prim and rel.bounded is not None and rel.bounded.is_string:
-                    self.err_rule("4.15", m,
-                                  f"{w}: a string related to a non-uint8 field: {show(ptext)} of topic "
-                                  f"{show(rel.topic.name)} is a byte of a string (uint8) but controller input "
-                                  f"{show(rel.ctrl_field)} is {cprim} (a string reaches the controller byte by "
-                                  "byte, as uint8, with its length from derived: length)")
+                    if kind == "input":
+                        msg = (f"{w}: a string related to a non-uint8 field: {show(ptext)} of topic "
+                               f"{show(rel.topic.name)} is a byte of a string (uint8) but controller input "
+                               f"{show(rel.ctrl_field)} is {cprim} (a string reaches the controller byte by "
+                               "byte, as uint8, with its length from derived: length)")
+                    else:
+                        msg = (f"{w}: a string related to a non-uint8 field: controller output "
+                               f"{show(rel.ctrl_field)} is {cprim} but {show(ptext)} of topic "
+                               f"{show(rel.topic.name)} is a byte of a string (uint8) (a published string "
+                               "takes its bytes from uint8 outputs and its length from a uint32 output, "
+                               "derived: length)")
+                    self.err_rule("4.15", m, msg)
                     rel.ok = False
                 elif cprim != rel.path.prim:
                     if kind == "input":
@@ -637,7 +670,8 @@ class _Checker:
                             f"{cprim} but field {show(str(rel.path))} of topic "
                             f"{show(rel.topic.name)} is {rel.path.prim} (relations never convert)"
                         )
-                    self.err_rule("4.7", m, msg)
+                    # an element of a variable-length array: rule 4.15's
+                    self.err_rule("4.15" if rel.bounded is not None else "4.7", m, msg)
                     rel.ok = False
         return out
 
@@ -645,6 +679,52 @@ class _Checker:
 #: The keys of an input relation: `field` for a plain one, `derived` for a
 #: derived input (rule 4.12).
 _INPUT_KEYS = ("topic", "field", "input", "on_timeout", "derived")
+
+
+def _output_derived_problem(dnode: YNode) -> str:
+    """Why the ``derived`` of an output relation, written at ``dnode``, is
+    not ``length`` (the only kind on the publish side, rule 4.15)."""
+    if isinstance(dnode, YScalar) and dnode.kind == "str" and dnode.value == "truncated":
+        return ("an output relation does not write truncated: on publish it is meaningless (the subscriber "
+                "receives the first min(length, N) elements and the environment model recomputes the flag); "
+                "write the length with derived: length")
+    got = show(dnode.value) if isinstance(dnode, YScalar) and dnode.kind == "str" else dnode.describe()
+    return (f"an output relation takes derived: length only (the length of a published variable-length "
+            f"array or string, from a uint32 output), got {got}")
+
+
+def check_published_sequences(ck: "_Checker", out_rels: list[_Rel]) -> None:
+    """Rule 4.15, publish side: a published variable-length array or
+    string whose elements output relations write also has its length
+    written (``derived: length``), and a published string written by the
+    controller has no constant (rule 4.14)."""
+    # a refused relation on the field (its path, its derived) may have
+    # meant the length: it is not reported again as a missing one
+    lengths = {(r.topic.name, r.bounded.steps) for r in out_rels
+               if (r.seq_kind == "length" or r.path is None) and r.topic is not None and r.bounded is not None}
+    reported: set[tuple] = set()
+    for r in out_rels:
+        if r.topic is None or r.bounded is None or r.path is None:
+            continue
+        key = (r.topic.name, r.bounded.steps)
+        field_text = _steps_text(r.bounded.steps)
+        kind = "string" if r.bounded.is_string else "variable-length array"
+        first = r.topic.constant_steps.get(r.bounded.steps)
+        if first is not None:
+            ck.err_rule("4.15", r.path_node,
+                        f"{r.what}.field: the {kind} {show(field_text)} of topic {show(r.topic.name)} has a "
+                        f"constant ({first[0]}, line {first[1]}); a published string comes from a constant or "
+                        "from controller outputs, not both")
+            r.ok = False
+            continue
+        if r.seq_kind is None and key not in lengths and key not in reported:
+            reported.add(key)
+            ck.err_rule("4.15", r.path_node,
+                        f"{r.what}.field: the controller writes elements of the published {kind} "
+                        f"{show(field_text)} of topic {show(r.topic.name)} but not its length: add "
+                        f"{{output: <a uint32 output>, topic: {r.topic.name}, field: {field_text}, derived: length}} "
+                        f"(the subscriber receives the first min(length, N) elements, N its max_length)")
+            r.ok = False
 
 
 #: The field a stamped topic's message carries the time in (rule 4.13).
@@ -886,7 +966,8 @@ def carried_bounded_fields(topics: YNode | None, relations: YNode | None,
     """The strings and variable-length arrays of primitives the glue
     carries, as (message type, field name) -> capacity: the string fields
     that constants name (rule 4.14) and the strings and sequences that
-    the input relations of subscribed topics read (rule 4.15), each with
+    the input relations of subscribed topics read and the output
+    relations of published topics write (rule 4.15), each with
     the ``max_length`` a topic gives it, or :data:`DEFAULT_MAX_LENGTH`.
     Read before the topics are checked (a message type's carried view
     depends on it); nothing is reported here, :func:`check_max_length` and
@@ -900,20 +981,21 @@ def carried_bounded_fields(topics: YNode | None, relations: YNode | None,
             for it in _max_length_items(mnode, msg_type, registry, ""):
                 if it.target is not None and it.n is not None:
                     maxima.setdefault(it.target.key, it.n)
-    rows = relations.get("inputs") if isinstance(relations, YMap) else None
-    for row in rows.items if isinstance(rows, YSeq) else ():
-        if not isinstance(row, YMap):
-            continue
-        tnode, fnode = row.get("topic"), row.get("field")
-        if not (isinstance(tnode, YScalar) and tnode.kind == "str" and isinstance(fnode, YScalar)
-                and fnode.kind == "str"):
-            continue
-        info = declared.get(tnode.value)
-        if info is None or info[1] != SUBSCRIBE:
-            continue
-        target = registry.bounded_in_path(info[2], fnode.value)
-        if target is not None:
-            named.add(target.key)
+    for section, direction in (("inputs", SUBSCRIBE), ("outputs", PUBLISH)):
+        rows = relations.get(section) if isinstance(relations, YMap) else None
+        for row in rows.items if isinstance(rows, YSeq) else ():
+            if not isinstance(row, YMap):
+                continue
+            tnode, fnode = row.get("topic"), row.get("field")
+            if not (isinstance(tnode, YScalar) and tnode.kind == "str" and isinstance(fnode, YScalar)
+                    and fnode.kind == "str"):
+                continue
+            info = declared.get(tnode.value)
+            if info is None or info[1] != direction:
+                continue
+            target = registry.bounded_in_path(info[2], fnode.value)
+            if target is not None:
+                named.add(target.key)
     return {key: maxima.get(key, DEFAULT_MAX_LENGTH) for key in sorted(named)}
 
 
@@ -1044,6 +1126,7 @@ def check_strings(ck: _Checker, decls: list[_TopicDecl], registry: MsgRegistry) 
                 ok = False
                 continue
             steps = it.target.steps
+            d.constant_steps.setdefault(steps, (it.what, it.key.line))
             if steps in seen:
                 first = seen[steps]
                 ck.err_rule(rule, it.key, f"{it.what}: field {show(_steps_text(steps))} of topic {show(d.name)} "
@@ -1268,6 +1351,9 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
     # Constant strings (rule 4.14).
     check_strings(ck, decls, registry)
 
+    # Published sequences and strings from the controller (rule 4.15).
+    check_published_sequences(ck, out_rels)
+
     # Every controller input is fed by exactly one relation, plain or
     # derived.
     fed: dict[str, _Rel] = {}
@@ -1300,7 +1386,7 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
             ck.err_rule(
                 "4.8",
                 r.path_node,
-                f"field {show(str(r.path))} of topic {show(r.topic.name)} is fed twice "
+                f"field {show(r.written or str(r.path))} of topic {show(r.topic.name)} is fed twice "
                 f"(first by the relation at line {first.node.line})",
             )
             r.ok = False
@@ -1351,7 +1437,8 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
         for r in in_rels if r.is_derived
     )
     ors = tuple(
-        OutputRelation(r.ctrl_field, topic_objs[r.topic.name], r.path, Pos(r.node.line, r.node.col))
+        OutputRelation(r.ctrl_field, topic_objs[r.topic.name], r.path, Pos(r.node.line, r.node.col),
+                       written=r.written)
         for r in out_rels
     )
     messages = registry.used_types(t.msg_type for t in topic_objs.values())

@@ -438,7 +438,7 @@ def test_element_types_must_match(tmp_path):
     text = BASE.replace("R: float32", "R: float64")
     assert one(tmp_path, text) == (*at(text, '{topic: /scan, field: "ranges[540]"'),
                                    "relations.inputs[0]: type mismatch: field 'ranges[540]' of topic '/scan' is "
-                                   "float32 but controller input 'R' is float64 (relations never convert)", "4.7")
+                                   "float32 but controller input 'R' is float64 (relations never convert)", "4.15")
 
 
 def test_length_and_truncated_have_their_types(tmp_path):
@@ -519,17 +519,25 @@ def test_sequences_of_messages_are_not_carried_yet(tmp_path):
                                    "(topic '/path', nav_msgs/Path)", "4.15")
 
 
-def test_output_relations_never_write_into_a_sequence(tmp_path):
+def test_output_relations_write_a_sequence_with_its_length(tmp_path):
+    """An output relation writes an element of a published sequence only
+    with its length (tests/frontend/test_published_sequences.py has the
+    rest of the publish side)."""
     text = BASE.replace("  - {name: /cmd,", "  - {name: /scan_out, direction: publish, type: sensor_msgs/LaserScan, "
                                           "queue_size: 1}\n  - {name: /cmd,").replace(
         "fields: {Out1: float64}", "fields: {Out1: float64, O: float32}").replace(
         "    - {output: Out1, topic: /cmd, field: linear.x}",
         "    - {output: Out1, topic: /cmd, field: linear.x}\n    - {output: O, topic: /scan_out, field: \"ranges[0]\"}")
-    assert one(tmp_path, text) == (*at(text, '"ranges[0]"}'), "relations.outputs[1].field: field path 'ranges[0]': "
-                                   "'ranges' is a variable-length array (float32[]); an output relation does not "
-                                   "write into a variable-length array (publishing a sequence from the controller "
-                                   "is not carried yet, issue 15) (topic '/scan_out', sensor_msgs/LaserScan)",
-                                   "4.15")
+    assert one(tmp_path, text) == (*at(text, '"ranges[0]"}'), "relations.outputs[1].field: the controller writes "
+                                   "elements of the published variable-length array 'ranges' of topic '/scan_out' "
+                                   "but not its length: add {output: <a uint32 output>, topic: /scan_out, field: "
+                                   "ranges, derived: length} (the subscriber receives the first min(length, N) "
+                                   "elements, N its max_length)", "4.15")
+    m = load(tmp_path, text.replace("O: float32}", "O: float32, NS: uint32}").replace(
+        "field: \"ranges[0]\"}", "field: \"ranges[0]\"}\n    - {output: NS, topic: /scan_out, field: ranges, "
+        "derived: length}"))
+    assert [(r.output_field, str(r.path), r.field_text) for r in m.output_relations[1:]] == [
+        ("O", "ranges.data[0]", "ranges[0]"), ("NS", "ranges.len", "ranges (length)")]
 
 
 def test_a_package_named_ros_is_refused(tmp_path):

@@ -480,20 +480,27 @@ _REL_PROBLEM = ("is a string; strings are not carried by the glue to or from the
 @pytest.mark.parametrize("field", ["header.frame_id", "header.frame_id.len", "header.frame_id.truncated",
                                    '"header.frame_id.data[3]"'])
 def test_relations_never_name_a_string(tmp_path, field):
-    """No output relation names a string or the fields of its C struct,
-    carried (/cmd_out: the Header of TwistStamped carries frame_id here)
-    or not (Odometry's child_frame_id); an input relation reads a string
-    byte by byte (``header.frame_id[0]``, rule 4.15,
-    tests/frontend/test_sequences.py), never whole nor through its C
-    struct."""
+    """No relation names a whole string or the fields of its C struct
+    (/cmd_out: the Header of TwistStamped carries frame_id here): an
+    input relation reads a string byte by byte (``header.frame_id[0]``,
+    rule 4.15, tests/frontend/test_sequences.py), an output relation
+    writes one byte by byte with its length
+    (tests/frontend/test_published_sequences.py)."""
     text = BASE.replace("fields: {Out1: float64}", "fields: {Out1: float64, Len: uint32}")
     text = text.replace("    - {output: Out1, topic: /cmd_out, field: twist.linear.x}",
                         "    - {output: Out1, topic: /cmd_out, field: twist.linear.x}\n"
                         f"    - {{output: Len, topic: /cmd_out, field: {field}}}")
     line, col = at(text, field)
     shown = field.strip('"')
-    assert one(tmp_path, text) == (line, col, f"relations.outputs[1].field: field path '{shown}': 'header.frame_id' "
-                                              f"{_REL_PROBLEM} {_TS}", "4.14")
+    got = one(tmp_path, text)
+    assert got[:2] == (line, col) and got[3] == "4.15", got
+    assert got[2].startswith(f"relations.outputs[1].field: field path '{shown}': 'header.frame_id' is a string; "), got
+    assert got[2].endswith(_TS), got
+    if shown == "header.frame_id":   # a published string is written byte by byte (rule 4.15)
+        assert ("an output relation writes one of its bytes ('header.frame_id[0]', a uint8) or its length "
+                "(derived: length, from a uint32 output)") in got[2], got
+    else:
+        assert "a path does not go inside it" in got[2] and "or use derived: length (" in got[2], got
     text = BASE.replace("fields: {In1: float64}", "fields: {In1: float64, L: uint32}")
     text = text.replace("inputs: [{topic: /cmd_in, field: twist.linear.x, input: In1}]",
                         f"inputs: [{{topic: /cmd_in, field: twist.linear.x, input: In1}}, "
