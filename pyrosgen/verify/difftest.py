@@ -24,6 +24,14 @@ with a C clamp that does what the wrapper's conversion does
 (:data:`CLAMPS`: ``len = min(len, N)``, ``truncated = len > N``, the
 elements past the new length zero) before calling the callback.
 
+A published message is printed by both sides as the wrapper puts it on
+the wire: each bounded sequence or string as its length ``min(len, N)``
+and its first ``min(len, N)`` elements (the wrapper's ``from_c``; its
+``truncated`` flag and the elements past that length are not sent).
+That is the same view of the glue's message whether the environment
+model's publication event carries the message as stored or converted by
+``Environment.clamp`` (which keeps that length and those elements).
+
 Both must print the same text, byte for byte: every controller input
 handed to the step function, every leaf of every published message
 (floats as IEEE bit patterns, NaN payloads included), the cycle marks.
@@ -126,6 +134,12 @@ class Struct:
     fill: bool
     show: bool
     bounded: tuple[Bounded, ...] = ()
+    #: how the harness prints each leaf of a shown struct: ``(leaf, mode,
+    #: bounded, index)``, mode ``leaf`` (as it is), ``len`` (a bounded
+    #: struct's length, printed as min(len, N)), ``skip`` (its truncated
+    #: flag) or ``elem`` (its element ``index``, printed when below min(len,
+    #: N)): a published message as the wrapper puts it on the wire
+    prints: tuple = ()
 
 
 #: The C clamps the harness can apply to a received bounded sequence or
@@ -264,6 +278,19 @@ class NodeDump:
         return out
 
 
+def _prints(leaves: tuple[Leaf, ...], bounded: tuple[Bounded, ...]) -> tuple:
+    """How the harness prints ``leaves`` of a struct whose bounded
+    sequences and strings ``bounded`` go on the wire as their first
+    min(len, N) elements (a published message; :attr:`Struct.prints`)."""
+    role: dict[int, tuple[str, Bounded, int]] = {}
+    for b in bounded:
+        role[b.first_leaf] = ("len", b, 0)
+        role[b.first_leaf + 1] = ("skip", b, 0)
+        for j in range(b.capacity):
+            role[b.first_leaf + 2 + j] = ("elem", b, j)
+    return tuple((leaf, *role.get(i, ("leaf", None, 0))) for i, leaf in enumerate(leaves))
+
+
 def harness_source(sexp_text: str, header_name: str, source: str = "the AST dump",
                    clamp: str = "truncate") -> str:
     """The C source of the fake ROS C API and the test controller
@@ -274,7 +301,9 @@ def harness_source(sexp_text: str, header_name: str, source: str = "the AST dump
     d = NodeDump.from_text(sexp_text)
     filled = {st for _, _, st, _ in d.subs} | {d.y[1]}
     shown = {st for _, _, st in d.pubs} | {d.u[1], d.y[1]}
-    structs = [Struct(s, d.leaves(s), s in filled, s in shown, d.bounded(s) if s in filled else ())
+    published = {st for _, _, st in d.pubs}
+    structs = [Struct(s, d.leaves(s), s in filled, s in shown, d.bounded(s) if s in filled else (),
+                      _prints(d.leaves(s), d.bounded(s) if s in published else ()))
                for s in d.root_structs()]
     kinds = sorted({leaf.kind for s in structs if s.fill for leaf in s.leaves})
     clamped = sorted({(b.struct, b.capacity) for s in structs for b in s.bounded})
