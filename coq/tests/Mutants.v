@@ -30,6 +30,7 @@ From Coq Require Import String List ZArith Bool Lia.
 From Flocq Require Import IEEE754.Binary IEEE754.Bits.
 From ROSGen Require Import Errors Syntax Values Memory Environment Semantics Interp Interpproof.
 From ROSGen Require Import FloatBits NodeModel Wellformed Generator DDC.
+From ROSGen Require Copyproof.
 From ROSGenTests Require Import LandShark.
 Import ListNotations.
 Local Open Scope string_scope.
@@ -83,10 +84,12 @@ Definition inputs_okb {CS} (m : node_model) (ctx : ros_context CS) (i : nat) (u 
             (subscribed m))
     (nm_drels m).
 
-(** Every field of a published message fed by an output relation holds
-    the related output (the related part of [published_value]). *)
+(** Every field of a published message fed by an output relation, reached
+    through no bounded sequence, holds the related output (the related
+    part of [published_value], through [sent_scalar]). *)
 Definition published_okb (m : node_model) (y : mval) (tp : topic) (mv : mval) : bool :=
   forallb (fun o => if String.eqb (or_topic o) (tp_cname tp)
+                       && unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps (or_path o))
                     then same_scalar (scalar_at y [Sfield (or_output o)])
                                      (scalar_at mv (path_steps (or_path o)))
                     else true)
@@ -155,15 +158,19 @@ Qed.
 
 Lemma take_publishes_ok:
   forall m y now g tps mvs rest, Forall2 (published_value m y now g) tps mvs ->
-  take_publishes m y tps (publish_events tps mvs ++ rest) = Some rest.
+  take_publishes m y tps (publish_events m tps mvs ++ rest) = Some rest.
 Proof.
   intros m y now g tps mvs rest F. induction F as [|tp mv tps mvs PV F IH]; simpl; auto.
   rewrite String.eqb_refl. simpl.
-  replace (published_okb m y tp mv) with true; [exact IH|].
+  replace (published_okb m y tp (sent m tp mv)) with true; [exact IH|].
   symmetry. apply forallb_forall. intros o Ho.
-  destruct (String.eqb (or_topic o) (tp_cname tp)) eqn:E; auto.
-  apply String.eqb_eq in E. destruct PV as (_ & Rel & _).
-  destruct (Rel o Ho E) as (v & Gy & Gm). unfold same_scalar, scalar_at. rewrite Gy, Gm.
+  destruct (String.eqb (or_topic o) (tp_cname tp)) eqn:E; [|reflexivity].
+  destruct (unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps (or_path o))) eqn:U;
+    [|reflexivity]. simpl.
+  apply String.eqb_eq in E. destruct PV as (T & Rel & _).
+  destruct (Rel o Ho E) as (v & Gy & Gm).
+  destruct (Copyproof.mval_get_typed_inv _ _ _ _ _ T Gm) as (t & Ty & _).
+  unfold same_scalar, scalar_at. rewrite Gy, (sent_scalar m tp mv (or_path o) t v T U Ty Gm).
   apply val_eqb_refl.
 Qed.
 

@@ -145,6 +145,40 @@ Definition stamps_expected (n : nat) : list (option Z * option Z) :=
 Lemma stamps_of_app: forall t1 t2 : trace, stamps_of (t1 ++ t2)%list = (stamps_of t1 ++ stamps_of t2)%list.
 Proof. intros; unfold stamps_of; apply flat_map_app. Qed.
 
+(** A stamp, outside any bounded sequence, is sent as the glue wrote it
+    ([sent_scalar]). *)
+Lemma int_at_sent:
+  forall m tp mv p t x,
+  mval_has_type (composites m) (Tstruct (tp_msg tp)) mv ->
+  unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps p) = true ->
+  type_at (composites m) (Tstruct (tp_msg tp)) (path_steps p) = Some t ->
+  mval_get mv (path_steps p) = Some (MVscalar x) ->
+  int_at (sent m tp mv) p = int_at mv p.
+Proof.
+  intros m tp mv p t x T U Ty G. unfold int_at.
+  rewrite (sent_scalar m tp mv p t x T U Ty G), G. reflexivity.
+Qed.
+
+(** The stamps of one cycle of a node with one published topic: those of
+    the command the glue wrote. *)
+Lemma int_at_sent_stamp:
+  forall m (u y : mval) tp mv,
+  published m = [tp] ->
+  mval_has_type (composites m) (Tstruct (tp_msg tp)) mv ->
+  unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps (header_stamp ++ [PField "sec"])) = true ->
+  unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps (header_stamp ++ [PField "nsec"])) = true ->
+  type_at (composites m) (Tstruct (tp_msg tp)) (path_steps (header_stamp ++ [PField "sec"])) = Some (Tint I32 Unsigned) ->
+  type_at (composites m) (Tstruct (tp_msg tp)) (path_steps (header_stamp ++ [PField "nsec"])) = Some (Tint I32 Unsigned) ->
+  stamps_of (Estep u y :: publish_events m (published m) [mv] ++ [Esleep (nm_period_ms m)])
+  = [(int_at mv (header_stamp ++ [PField "sec"]), int_at mv (header_stamp ++ [PField "nsec"]))].
+Proof.
+  intros m u y tp mv Pm T U1 U2 Ty1 Ty2.
+  destruct (mval_get_has_type _ _ _ _ _ T Ty1) as (x1 & Gs & Tx1). inversion Tx1; subst; try discriminate.
+  destruct (mval_get_has_type _ _ _ _ _ T Ty2) as (x2 & Gn & Tx2). inversion Tx2; subst; try discriminate.
+  rewrite Pm. unfold stamps_of, publish_events. cbn [map combine fst snd flat_map app].
+  exact (f_equal (fun a => [a]) (f_equal2 pair (int_at_sent m tp mv _ _ _ T U1 Ty1 Gs) (int_at_sent m tp mv _ _ _ T U2 Ty2 Gn))).
+Qed.
+
 Lemma run_ok_stamps:
   forall n t, run_ok stamped ctx n t -> stamps_of t = stamps_expected n.
 Proof.
@@ -161,8 +195,10 @@ Proof.
     destruct (C (n - S k)%nat ltac:(lia)) as (u & y & mvs & E & _ & _ & PV).
     rewrite E. simpl published in PV.
     inversion PV as [|tp mv tps mvs' P F]; subst. inversion F; subst.
-    destruct P as (_ & _ & ST & _).
+    destruct P as (T & _ & ST & _).
     destruct (ST header_stamp eq_refl) as [Gs Gn].
+    rewrite (int_at_sent_stamp stamped u y base mv eq_refl T ltac:(vm_compute; reflexivity) ltac:(vm_compute; reflexivity)
+               ltac:(vm_compute; reflexivity) ltac:(vm_compute; reflexivity)).
     simpl in Gs, Gn. simpl. unfold int_at. simpl. rewrite Gs, Gn. f_equal.
     replace (S (n - S k)) with (n - k)%nat by lia. apply IH. lia. }
   specialize (G n (le_n n)). rewrite Nat.sub_diag in G. exact G.
@@ -337,8 +373,10 @@ Proof.
     destruct (C (n - S k)%nat ltac:(lia)) as (u & y & mvs & E & _ & _ & PV).
     rewrite E. simpl published in PV.
     inversion PV as [|tp mv tps mvs' P F]; subst. inversion F; subst.
-    destruct P as (_ & _ & ST & _).
+    destruct P as (T & _ & ST & _).
     destruct (ST header_stamp eq_refl) as [Gs Gn].
+    rewrite (int_at_sent_stamp copied u y base mv eq_refl T ltac:(vm_compute; reflexivity) ltac:(vm_compute; reflexivity)
+               ltac:(vm_compute; reflexivity) ltac:(vm_compute; reflexivity)).
     simpl. unfold int_at. simpl in Gs, Gn |- *. rewrite Gs, Gn. f_equal.
     replace (S (n - S k)) with (n - k)%nat by lia. apply IH. lia. }
   specialize (G n (le_n n)). rewrite Nat.sub_diag in G. exact G.

@@ -116,6 +116,44 @@ Theorem converted_sequence:
           else Some (MVscalar (zero_val t))).
 Proof. exact DDC.converted_sequence. Qed.
 
+(** What ROS carries of a published message ([DDC.sent], in T2's
+    [publish_events]): a scalar field reached through no bounded sequence
+    as the glue wrote it, ... *)
+Theorem sent_scalar:
+  forall m tp mv lp t x,
+  mval_has_type (composites m) (Tstruct (tp_msg tp)) mv ->
+  unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps lp) = true ->
+  type_at (composites m) (Tstruct (tp_msg tp)) (path_steps lp) = Some t ->
+  mval_get mv (path_steps lp) = Some (MVscalar x) ->
+  mval_get (sent m tp mv) (path_steps lp) = Some (MVscalar x).
+Proof. exact DDC.sent_scalar. Qed.
+
+(** ... and a bounded sequence at the model path [sp] with the length the
+    glue wrote capped at its maximum [n] and exactly its first
+    [min(len, n)] elements, zeros after (the wrapper sends these
+    elements): with T2's [published_value], a published sequence carries
+    the elements that the related outputs give, up to the length that the
+    related length output gives, at most [n]. *)
+Theorem sent_sequence:
+  forall m tp mv sp id n t l,
+  mval_has_type (composites m) (Tstruct (tp_msg tp)) mv ->
+  unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = true ->
+  type_at (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = Some (Tstruct id) ->
+  bounded_name id = true ->
+  struct_members (composites m) id
+    = Some [("len"%string, Tint I32 Unsigned); ("truncated"%string, Tint I8 Unsigned); ("data"%string, Tarray t n)] ->
+  is_scalar_type t = true ->
+  mval_get mv (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint l)) ->
+  let v := sent m tp mv in
+     mval_get v (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint (Z.min l n)))
+  /\ mval_get v (path_steps (sp ++ [PField "truncated"%string]))
+     = Some (MVscalar (Vint (if (n <? l)%Z then 1 else 0)))
+  /\ (forall j, (0 <= j < n)%Z ->
+        mval_get v (path_steps (sp ++ [PField "data"%string; PIndex j]))
+        = if (j <? Z.min l n)%Z then mval_get mv (path_steps (sp ++ [PField "data"%string; PIndex j]))
+          else Some (MVscalar (zero_val t))).
+Proof. exact DDC.sent_sequence. Qed.
+
 (** ** T2: data delivery correctness of every generated node *)
 
 (** Hypothesis: [generate m = OK p].  Meaning ([DDC.node_ddc]): for every
@@ -136,7 +174,9 @@ Proof. exact DDC.converted_sequence. Qed.
     those of the newest message received on each relation's topic up to
     the [i]-th [ros_spinOnce] (zero if none), then each published topic,
     in model order, publishes the message whose related fields are the
-    outputs of that step, then the cycle ends by sleeping with the
+    outputs of that step, its bounded sequences converted as the wrapper
+    sends them ([DDC.sent]: [sent_scalar], [sent_sequence] above), then
+    the cycle ends by sleeping with the
     model's period [nm_period_ms m] ([Esleep]).  Nothing else happens:
     the trace has no other event. *)
 Theorem generate_node_ddc:
@@ -413,7 +453,7 @@ Theorem diagram_node_ddc:
       /\ t = start_events m ++ concat (map evs (seq 0 n))
       /\ forall i, (i < n)%nat ->
            exists u y mvs,
-              evs i = Estep u y :: publish_events (published m) mvs ++ [Esleep (nm_period_ms m)]
+              evs i = Estep u y :: publish_events m (published m) mvs ++ [Esleep (nm_period_ms m)]
            /\ input_values m (Endtoend.diagram_ctx m d arrivals clock) i u
            /\ Diagram.dg_step d (s i) u = (s (S i), y)
            /\ Forall2 (published_value m y (clock (S i)) (newest_by m (Endtoend.diagram_ctx m d arrivals clock) i)) (published m) mvs).

@@ -58,7 +58,9 @@
       nothing itself (the callbacks may).
     - [ros_publish_T(&msg)] ([EF_ros_publish topic msgty]), with argument a
       pointer: the topic must have been advertised; the value at the
-      pointer is emitted as the event [Epublish topic value].
+      pointer, its bounded sequences converted as on receipt ([clamp]:
+      what the wrapper sends is the first [min(len, N)] elements), is
+      emitted as the event [Epublish topic value].
     - [ros_rate_sleep()] ([EF_ros_rate_sleep period_ms]): emits
       [Esleep period_ms], which marks the end of a cycle of [period_ms]
       milliseconds.
@@ -512,10 +514,10 @@ Definition external_call (ef : external_function) (vargs : list val) (m : mem) (
       Some (Vundef, [Esubscribe topic msgty q], m, add_subscription w (mksub topic msgty q cb))
   | EF_ros_advertise topic msgty q, [] =>
       Some (Vundef, [Eadvertise topic msgty q], m, add_advertised w topic)
-  | EF_ros_publish topic _, [Vptr b p] =>
+  | EF_ros_publish topic msgty, [Vptr b p] =>
       if existsb (topic_eqb topic) (w_advertised w) then
         match load_path m b p with
-        | Some mv => Some (Vundef, [Epublish topic mv], m, w)
+        | Some mv => Some (Vundef, [Epublish topic (clamp (ge_comp ge) (Tstruct msgty) mv)], m, w)
         | None => None
         end
       else None

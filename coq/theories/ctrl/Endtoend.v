@@ -349,7 +349,7 @@ Definition diagram_node_ok (m : node_model) (p : program) (d : diagram) : Prop :
       /\ t = start_events m ++ concat (map evs (seq 0 n))
       /\ forall i, (i < n)%nat ->
            exists u y mvs,
-              evs i = Estep u y :: publish_events (published m) mvs ++ [Esleep (nm_period_ms m)]
+              evs i = Estep u y :: publish_events m (published m) mvs ++ [Esleep (nm_period_ms m)]
            /\ input_values m (diagram_ctx m d arrivals clock) i u
            /\ dg_step d (s i) u = (s (S i), y)
            /\ Forall2 (published_value m y (clock (S i)) (newest_by m (diagram_ctx m d arrivals clock) i)) (published m) mvs).

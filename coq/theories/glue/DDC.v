@@ -450,9 +450,61 @@ Definition input_values {CS : Type} (m : node_model) (ctx : ros_context CS) (i :
        /\ mval_get u [Sfield (dr_input dr)]
           = Some (MVscalar (derived_value (dr_kind dr) (arrived ctx tp i) (newest_time ctx tp i) (ctx_time ctx (S i))))).
 
+(** What ROS carries when the glue publishes the message [mv] on topic
+    [tp]: [mv] with its bounded sequences converted as on receipt
+    ([Environment.clamp]: the length capped at the maximum [N], the first
+    [min(len, N)] elements, zeros after; the wrapper sends these
+    elements).  The identity on messages without bounded sequences. *)
+Definition sent (m : node_model) (tp : topic) (mv : mval) : mval :=
+  clamp (composites m) (Tstruct (tp_msg tp)) mv.
+
+(** A scalar field of a published message reached through no bounded
+    sequence is sent as the glue wrote it. *)
+Lemma sent_scalar:
+  forall m tp mv lp t x,
+  mval_has_type (composites m) (Tstruct (tp_msg tp)) mv ->
+  unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps lp) = true ->
+  type_at (composites m) (Tstruct (tp_msg tp)) (path_steps lp) = Some t ->
+  mval_get mv (path_steps lp) = Some (MVscalar x) ->
+  mval_get (sent m tp mv) (path_steps lp) = Some (MVscalar x).
+Proof.
+  intros m tp mv lp t x T U Ty G.
+  unfold sent. rewrite (clamp_get _ _ _ _ t _ T U Ty G). reflexivity.
+Qed.
+
+(** A bounded sequence of a published message, at the model path [sp]
+    (reached through no other bounded sequence), is sent with the length
+    that the glue wrote capped at the maximum [n], and its first
+    [min(len, n)] elements followed by zeros: with T2's
+    [published_value], a published sequence carries exactly the first
+    [min(len, n)] of the elements that the related outputs give, [len]
+    the related length output. *)
+Lemma sent_sequence:
+  forall m tp mv sp id n t l,
+  mval_has_type (composites m) (Tstruct (tp_msg tp)) mv ->
+  unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = true ->
+  type_at (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = Some (Tstruct id) ->
+  bounded_name id = true ->
+  struct_members (composites m) id
+    = Some [("len"%string, Tint I32 Unsigned); ("truncated"%string, Tint I8 Unsigned); ("data"%string, Tarray t n)] ->
+  is_scalar_type t = true ->
+  mval_get mv (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint l)) ->
+  let v := sent m tp mv in
+     mval_get v (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint (Z.min l n)))
+  /\ mval_get v (path_steps (sp ++ [PField "truncated"%string]))
+     = Some (MVscalar (Vint (if (n <? l)%Z then 1 else 0)))
+  /\ (forall j, (0 <= j < n)%Z ->
+        mval_get v (path_steps (sp ++ [PField "data"%string; PIndex j]))
+        = if (j <? Z.min l n)%Z then mval_get mv (path_steps (sp ++ [PField "data"%string; PIndex j]))
+          else Some (MVscalar (zero_val t))).
+Proof.
+  intros m tp mv sp id n t l T U Ty B SM St Gl.
+  exact (converted_sequence m tp (mkarrival "" mv 0) sp id n t l T U Ty B SM St Gl).
+Qed.
+
 (** The events of publishing [mvs] on the topics [tps]. *)
-Definition publish_events (tps : list topic) (mvs : list mval) : trace :=
-  map (fun tm => Epublish (tp_name (fst tm)) (snd tm)) (combine tps mvs).
+Definition publish_events (m : node_model) (tps : list topic) (mvs : list mval) : trace :=
+  map (fun tm => Epublish (tp_name (fst tm)) (sent m (fst tm) (snd tm))) (combine tps mvs).
 
 (** Cycle [i] (from 0), started with controller state [s], emits the
     events [evs] and leaves the controller in state [s']: the controller
@@ -465,7 +517,7 @@ Definition publish_events (tps : list topic) (mvs : list mval) : trace :=
 Definition cycle_ok {CS : Type} (m : node_model) (ctx : ros_context CS) (i : nat)
                     (s : CS) (evs : trace) (s' : CS) : Prop :=
   exists u y mvs,
-     evs = Estep u y :: publish_events (published m) mvs ++ [Esleep (nm_period_ms m)]
+     evs = Estep u y :: publish_events m (published m) mvs ++ [Esleep (nm_period_ms m)]
   /\ input_values m ctx i u
   /\ ctx_step ctx s u = (s', y)
   /\ Forall2 (published_value m y (ctx_time ctx (S i)) (newest_by m ctx i)) (published m) mvs.

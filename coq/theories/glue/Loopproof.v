@@ -1056,7 +1056,7 @@ Lemma publishes_run:
   exists mm' mvs,
      exec_stmt ctx ge e le mm (wld (S k) r s)
        (seq_of (flat_map publish_stmts tps ++ [call0 ros_rate_sleep_name]))
-       (publish_events tps mvs ++ [Esleep (nm_period_ms m)]) le mm' (wld (S k) r s) Out_normal
+       (publish_events m tps mvs ++ [Esleep (nm_period_ms m)]) le mm' (wld (S k) r s) Out_normal
   /\ Forall2 (published_value m y (ctx_time ctx (S k)) (newest_by m ctx k)) tps mvs
   /\ loop_inv (S k) nonew e mm'.
 Proof.
@@ -1101,8 +1101,8 @@ Proof.
       with (Ssequence (Scall None (Evar (output_glue_name (tp_cname tp)) (callback_type (tp_msg tp))) [cmd_addr tp])
            (Ssequence (Scall None (Evar (publish_name (tp_cname tp)) (callback_type (tp_msg tp))) [cmd_addr tp])
                       (seq_of (flat_map publish_stmts tps ++ [call0 ros_rate_sleep_name])))).
-    change (publish_events (tp :: tps) (mv :: mvs) ++ [Esleep (nm_period_ms m)])
-      with ([] ++ ([Epublish (tp_name tp) mv] ++ (publish_events tps mvs ++ [Esleep (nm_period_ms m)]))).
+    change (publish_events m (tp :: tps) (mv :: mvs) ++ [Esleep (nm_period_ms m)])
+      with ([] ++ ([Epublish (tp_name tp) (sent m tp mv)] ++ (publish_events m tps mvs ++ [Esleep (nm_period_ms m)]))).
     eapply exec_Sseq_1; [|eapply exec_Sseq_1; [|exact X']].
     + unfold callback_type. eapply exec_call_none; eauto.
       * apply (li_funs I). eapply def_name; eauto.
@@ -1117,7 +1117,7 @@ Proof.
       * apply cmd_arg; exact Fb.
       * apply eval_funcall_external. simpl.
         replace (existsb (topic_eqb (tp_name tp)) advs_of) with true.
-        -- unfold load_path. rewrite G1. reflexivity.
+        -- unfold load_path. rewrite G1. simpl. unfold sent. rewrite globalenv_comp, types_eq. reflexivity.
         -- symmetry. apply existsb_exists. exists (tp_name tp). split.
            ++ unfold advs_of. apply in_map; auto.
            ++ unfold topic_eqb. destruct (string_dec (tp_name tp) (tp_name tp)); congruence.
@@ -1167,11 +1167,11 @@ Proof.
   destruct (step_run k r s e le1 mm3 u I3 GU) as (mm4 & y & s' & Xst & CSt & GY & I4).
   destruct (publishes_run k r s' e y (published m) le1 mm4 (incl_refl _) I4 GY)
     as (mm5 & mvs & Xp & PV & I5).
-  exists (Estep u y :: publish_events (published m) mvs ++ [Esleep (nm_period_ms m)]), le1, mm5, s'.
+  exists (Estep u y :: publish_events m (published m) mvs ++ [Esleep (nm_period_ms m)]), le1, mm5, s'.
   split; [|split; [exists u, y, mvs; auto|auto]].
   unfold loop_body.
-  change (Estep u y :: publish_events (published m) mvs ++ [Esleep (nm_period_ms m)])
-    with ([] ++ ([] ++ ([] ++ ([] ++ ([Estep u y] ++ (publish_events (published m) mvs
+  change (Estep u y :: publish_events m (published m) mvs ++ [Esleep (nm_period_ms m)])
+    with ([] ++ ([] ++ ([] ++ ([] ++ ([Estep u y] ++ (publish_events m (published m) mvs
                                                      ++ [Esleep (nm_period_ms m)])))))).
   eapply exec_Sseq_1.
   { apply ros_ok_exec; auto. reflexivity. }
