@@ -72,6 +72,33 @@ def test_mutated_sequence_conversion_is_refused(name):
     assert_wrapper_refused(cpp, *SEQUENCE_MUTATIONS[name], model_text(m))
 
 
+#: Mutations of the conversion of a published variable-length array and
+#: a published string written by the controller (rule 4.15, publish side),
+#: on the wrapper of tests/ros/models/seq_echo.yaml (data: at most 4
+#: float64; header.frame_id: 128 bytes): the environment model's
+#: Environment.clamp on publish keeps the first min(len, N) elements.
+PUBLISHED_MUTATIONS = {
+    "published array without the min": ("std::min<std::size_t>(c->len, 4)", "c->len"),
+    "published array bound N+1": ("std::min<std::size_t>(c->len, 4)", "std::min<std::size_t>(c->len, 5)"),
+    "published array bound N-1": ("std::min<std::size_t>(c->len, 4)", "std::min<std::size_t>(c->len, 3)"),
+    "published array ignores len": ("r.assign(c->data, c->data + std::min<std::size_t>(c->len, 4));",
+                                    "r.assign(c->data, c->data + 4);"),
+    "published array with max": ("std::min<std::size_t>(c->len, 4)", "std::max<std::size_t>(c->len, 4)"),
+    "published array from element 1": ("r.assign(c->data, c->data + std::min<std::size_t>(c->len, 4));",
+                                       "r.assign(c->data + 1, c->data + std::min<std::size_t>(c->len, 4));"),
+    "published string without the min": ("std::min<std::size_t>(c->len, 128)", "c->len"),
+    "published string bound 127": ("std::min<std::size_t>(c->len, 128)", "std::min<std::size_t>(c->len, 127)"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(PUBLISHED_MUTATIONS))
+def test_mutated_published_conversion_is_refused(name):
+    m = load_model(LANDSHARK.parents[2] / "tests" / "ros" / "models" / "seq_echo.yaml")
+    cpp = wrapper.render_wrapper(m)[wrapper.wrapper_files(m).api_source]
+    check_wrapper(cpp, model_text(m), wrapper_name="w.cpp")
+    assert_wrapper_refused(cpp, *PUBLISHED_MUTATIONS[name], model_text(m))
+
+
 def _landshark():
     m = load_model(LANDSHARK)
     return m, wrapper.render_wrapper(m)[wrapper.wrapper_files(m).api_source]

@@ -6,7 +6,7 @@
 PLAN (JSON):
   msg_paths:   {"robot_msgs": "/abs/folder/of/robot_msgs/msg", ...} custom packages
   publishers:  [{"topic", "type", "queue_size"?}]
-  subscribers: [{"topic", "type", "record"?: "leaves" | "time"}]
+  subscribers: [{"topic", "type", "record"?: "leaves" | "elements" | "time"}]
   connect_timeout: seconds to wait until every publisher has a subscriber and
                every subscriber a publisher (the node under test)
   wait_messages: also wait for one message on every subscriber before the steps
@@ -27,7 +27,9 @@ Published messages are sent exactly as given: rospy's habit of overwriting
 RESULT (JSON): {"t_ready", "steps": [{"t0", "t1"}], "received": [{"topic",
 "t", "leaves"?}], "published": n, "error"?}.  Every leaf of a received message
 is listed: floats by their bits ("d:"/"f:"), integers, strings as
-{"str": s}, variable-length arrays as {"var": length}.
+{"str": s}, variable-length arrays as {"var": length}; with "record":
+"elements", a variable-length array of primitives also lists each element
+as a leaf ("data[0]", ...).
 """
 
 import json
@@ -91,15 +93,18 @@ def decode(value):
     return value
 
 
-def flatten(obj, slot_type, path, out, msg_paths):
+def flatten(obj, slot_type, path, out, msg_paths, elements=False):
     m = _ARRAY.match(slot_type)
     base, n = m.group(1), m.group(2)
     if n is not None:
         if n == "":
             out[path] = {"var": len(obj)}
+            if elements and (base in (_FLOAT64, _FLOAT32, "bool") or base in _INTS):
+                for i in range(len(obj)):
+                    flatten(obj[i], base, "%s[%d]" % (path, i), out, msg_paths)
             return
         for i in range(int(n)):
-            flatten(obj[i], base, "%s[%d]" % (path, i), out, msg_paths)
+            flatten(obj[i], base, "%s[%d]" % (path, i), out, msg_paths, elements)
         return
     if base in ("time", "duration"):
         out[path + ".sec"] = obj.secs
@@ -116,13 +121,13 @@ def flatten(obj, slot_type, path, out, msg_paths):
         if base == "Header":
             base = "std_msgs/Header"
         for name, t in zip(obj.__slots__, obj._slot_types):
-            flatten(getattr(obj, name), t, (path + "." if path else "") + name, out, msg_paths)
+            flatten(getattr(obj, name), t, (path + "." if path else "") + name, out, msg_paths, elements)
 
 
-def leaves(msg, msg_paths):
+def leaves(msg, msg_paths, elements=False):
     out = {}
     for name, t in zip(msg.__slots__, msg._slot_types):
-        flatten(getattr(msg, name), t, name, out, msg_paths)
+        flatten(getattr(msg, name), t, name, out, msg_paths, elements)
     return out
 
 
@@ -224,8 +229,8 @@ def main():
             def cb(msg, topic=s["topic"], mode=mode):
                 t = time.monotonic()
                 item = {"topic": topic, "t": t}
-                if mode == "leaves":
-                    item["leaves"] = leaves(msg, msg_paths)
+                if mode in ("leaves", "elements"):
+                    item["leaves"] = leaves(msg, msg_paths, mode == "elements")
                 with lock:
                     result["received"].append(item)
 
