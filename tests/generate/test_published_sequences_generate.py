@@ -174,3 +174,47 @@ def test_difftest_random_lengths(sides):
     assert run_side(sides["c"], sched) == coq
     assert run_side(sides["c_san"], sched) == coq
     assert len(_published(coq)) == 30
+
+
+# --------------------------------------------------------------------------
+# The 6-joint arm example: certificate, diagram, verify
+
+ARM = ROOT / "examples" / "arm" / "arm.yaml"
+
+
+@pytest.fixture(scope="module")
+def arm(tmp_path_factory):
+    require_library()
+    out = tmp_path_factory.mktemp("arm") / "out"
+    return out, gen.generate(ARM, out)
+
+
+def test_arm_theorems_certificate_and_verify(arm, capsys):
+    out, result = arm
+    assert set(result.theorems) >= {"arm_pd_ddc", "Ctrl.arm_pd_controller_wf", "Ctrl.arm_pd_e2e"}
+    assert result.record.assumptions.count(CLOSED) == len(result.theorems)
+    cert = (out / "arm_pd.certificate.md").read_text()
+    assert "### `ArmPD_Y.NE` → `/arm/effort data.len` (uint32)" in cert
+    for i in range(6):
+        assert f"### `ArmPD_Y.E{i}` → `/arm/effort data.data[{i}]` (float64)" in cert
+        assert f"### `/joint_states position.data[{i}]` → `ArmPD_U.P{i}` (float64)" in cert
+    assert "`ros_seq_float64_6`" in cert
+    # name[] (an array of strings), effort[] and the frame_id are not
+    # carried: the JointState struct holds its header's seq and stamp,
+    # position and velocity
+    h = (out / "arm_pd_types.h").read_text()
+    js = re.search(r"struct sensor_msgs_JointState \{\n(.*?)\n\};", h, re.S).group(1)
+    assert [ln.strip() for ln in js.splitlines()] == ["struct std_msgs_Header header;",
+                                                      "struct ros_seq_float64_6 position;",
+                                                      "struct ros_seq_float64_6 velocity;"]
+    hd = re.search(r"struct std_msgs_Header \{\n(.*?)\n\};", h, re.S).group(1)
+    assert "frame_id" not in hd and "ros_string" not in h
+    assert cli.main(["verify", str(out), "--model", str(ARM)]) == 0, capsys.readouterr().err
+
+
+def test_arm_diagram(tmp_path, capsys):
+    dot = tmp_path / "arm.dot"
+    assert cli.main(["diagram", str(ARM), "-o", str(dot), "--format", "dot"]) == 0, capsys.readouterr().err
+    text = dot.read_text()
+    for label in ("data (length) : uint32", "data[5] : float64", "position[0] : float64", "velocity (length) : uint32"):
+        assert label in text, label
