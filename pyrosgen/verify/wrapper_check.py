@@ -38,8 +38,13 @@ model's ``Environment.clamp`` says (policy truncate): ``len`` is the
 size capped at ``N`` (the clamp), ``truncated`` is set when the vector
 was longer (the flag), its first ``len`` elements are copied and every
 other element of ``data`` is set to zero (the zero fill); and converts a
-published one back from the first ``len`` elements, at most ``N``: the
-text of the template, once each, and no other vector conversion.
+published one back from the first ``min(len, N)`` elements, which is
+what the environment model's publication event keeps of the glue's
+message (``Environment.clamp`` on publish, ``DDC.sent``; the length and
+elements of a published array may come from the controller, rule 4.15):
+the text of the template, once each, and no other vector conversion (a
+published conversion without the ``min``, with another bound, from the
+whole array or from another start is refused).
 
 With the glue and the wrapper's header (:func:`check_glue_externals`), the
 ROS functions the glue declares are declared by the header with the same C
