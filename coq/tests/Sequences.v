@@ -201,3 +201,217 @@ Example ranges_unbounded_path:
   /\ struct_members sce "ros_seq_float32_4"
      = Some [("len", Tint I32 Unsigned); ("truncated", Tint I8 Unsigned); ("data", Tarray (Tfloat F32) 4)].
 Proof. vm_compute. repeat split. Qed.
+
+(** ** Publishing a bounded sequence from the controller *)
+
+(** A publisher node: the controller's outputs [L] ([uint32]), [E0] and
+    [E2] ([float32]) feed the length and the elements 0 and 2 of the
+    [data] sequence (at most 4 [float32]) of the message it publishes on
+    [/out]; its one input is the length of the scans on [/scan], on
+    which nothing arrives.  The controller outputs, cycle after cycle, the
+    lengths 0, 1, 3, 4, 5 and 8 (0, 1, N-1, N, N+1, 2N) with [E0 = 5.0]
+    and [E2 = 7.0]. *)
+Definition floats_msg : msgdef := mkmsgdef "std_msgs_Floats" [("data", FTmsg "ros_seq_float32_4")].
+Definition out : topic := mktopic "/out" "out" "std_msgs/Floats" Publish "std_msgs_Floats" 1.
+Definition dlen : path := [PField "data"; PField "len"].
+Definition delem (j : Z) : path := [PField "data"; PField "data"; PIndex j].
+
+Definition publisher : node_model := {|
+  nm_name := "publisher"; nm_period_ms := 20; nm_ctrl := "Controller";
+  nm_in_var := "Controller_U"; nm_in_struct := "ExtU_Controller_T";
+  nm_inputs := [("Len", Puint32)];
+  nm_out_var := "Controller_Y"; nm_out_struct := "ExtY_Controller_T";
+  nm_outputs := [("L", Puint32); ("E0", Pfloat32); ("E2", Pfloat32)];
+  nm_msgs := [seq4; laser_scan; floats_msg];
+  nm_topics := [scan; out];
+  nm_inrels := [mkinrel "scan" (ranges "len") "Len"]; nm_outrels := [mkoutrel "L" "out" dlen; mkoutrel "E0" "out" (delem 0);
+                                  mkoutrel "E2" "out" (delem 2)];
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [];
+  nm_strings := [] |}.
+
+Example publisher_wf: wf publisher = true.
+Proof. vm_compute. reflexivity. Qed.
+
+Definition publisher_result : res program := Eval vm_compute in generate publisher.
+Definition publisher_prog : program :=
+  Eval vm_compute in match publisher_result with OK p => p | Error _ => mkprogram [] [] "" end.
+
+Lemma publisher_generates: generate publisher = OK publisher_prog.
+Proof. vm_compute. reflexivity. Qed.
+
+Definition lengths : list Z := [0; 1; 3; 4; 5; 8]%Z.
+
+Definition y_of (k : nat) : mval :=
+  MVstruct [("L", MVscalar (Vint (nth k lengths 0%Z))); ("E0", MVscalar (Vsingle r5));
+            ("E2", MVscalar (Vsingle r7))].
+
+Definition pctx : ros_context nat :=
+  mkctx (fun _ => []) (fun _ => 0%Z) O (fun k _ => (S k, y_of k)).
+
+Lemma pctx_arrivals_wt: arrivals_wt publisher pctx.
+Proof. intros k a tp H. contradiction. Qed.
+
+
+Lemma pctx_controller_wt: controller_wt publisher pctx.
+Proof.
+  intros s u. change (snd (ctx_step pctx s u)) with (y_of s). apply mval_typecheck_iff. unfold y_of.
+  destruct (nth_in_or_default s lengths 0%Z) as [H|H]; [|rewrite H; vm_compute; reflexivity].
+  destruct H as [<-|[<-|[<-|[<-|[<-|[<-|[]]]]]]]; vm_compute; reflexivity.
+Qed.
+
+(** What is sent of each published message: its length, whether it was
+    truncated, and the bits of its four elements. *)
+Definition bits_at (mv : mval) (p : path) : option Z :=
+  match mval_get mv (path_steps p) with
+  | Some (MVscalar (Vsingle x)) => Some (bits_of_b32 x)
+  | Some (MVscalar (Vint n)) => Some n
+  | _ => None
+  end.
+
+Definition sent_of (t : trace) : list (list (option Z)) :=
+  flat_map (fun e => match e with
+                     | Epublish _ mv => [map (bits_at mv) (dlen :: [PField "data"; PField "truncated"]
+                                                            :: map delem [0; 1; 2; 3]%Z)]
+                     | _ => []
+                     end) t.
+
+(** The lengths are capped at 4, [truncated] set for 5 and 8; the
+    elements past the length are not sent (zero), element 1 and 3 are
+    zero (no output feeds them). *)
+Example publisher_run:
+  match run_trace 4000 publisher_prog pctx 6 with
+  | Some t => sent_of t =
+      map (map Some)
+      [[0; 0; 0; 0; 0; 0]; [1; 0; 0x40A00000; 0; 0; 0]; [3; 0; 0x40A00000; 0; 0x40E00000; 0];
+       [4; 0; 0x40A00000; 0; 0x40E00000; 0]; [4; 1; 0x40A00000; 0; 0x40E00000; 0];
+       [4; 1; 0x40A00000; 0; 0x40E00000; 0]]%Z
+  | None => False
+  end.
+Proof. vm_compute. reflexivity. Qed.
+
+(** A computable consequence of T2 for this node: in every cycle, the
+    published message that the step's outputs [y] call for is sent with
+    the length [min(L, 4)] and, when that length is not 0, element 0
+    equal to [E0] (by [published_value] and [Main.sent_sequence]). *)
+Definition cycle_sent_okb (y mv : mval) : bool :=
+  match mval_get y [Sfield "L"], mval_get y [Sfield "E0"] with
+  | Some (MVscalar (Vint l)), Some (MVscalar (Vsingle e0)) =>
+      match bits_at mv dlen, bits_at mv (delem 0) with
+      | Some n, Some b0 =>
+          Z.eqb n (Z.min l 4) && (if (0 <? Z.min l 4)%Z then Z.eqb b0 (bits_of_b32 e0) else true)
+      | _, _ => false
+      end
+  | _, _ => false
+  end.
+
+Fixpoint pub_okb (t : trace) : bool :=
+  match t with
+  | Estep _ y :: Epublish _ mv :: t' => cycle_sent_okb y mv && pub_okb t'
+  | Estep _ _ :: _ => false
+  | _ :: t' => pub_okb t'
+  | [] => true
+  end.
+
+Lemma pub_okb_app_cycle:
+  forall u y mv t, cycle_sent_okb y mv = true -> pub_okb t = true ->
+  pub_okb (Estep u y :: Epublish "/out" mv :: Esleep 20 :: t) = true.
+Proof. intros u y mv t H1 H2. simpl. rewrite H1. exact H2. Qed.
+
+Lemma cycle_sent:
+  forall y now g mv,
+  mval_has_type (composites publisher) (Tstruct (nm_out_struct publisher)) y ->
+  published_value publisher y now g out mv -> cycle_sent_okb y (sent publisher out mv) = true.
+Proof.
+  intros y now g mv Ty (T & Rel & _).
+  destruct (Rel (mkoutrel "L" "out" dlen) (or_introl eq_refl) eq_refl) as (vl & Gl & Ml).
+  destruct (Rel (mkoutrel "E0" "out" (delem 0)) (or_intror (or_introl eq_refl)) eq_refl) as (v0 & G0 & M0).
+  cbn [or_output or_path] in Gl, Ml, G0, M0.
+  destruct (mval_get_has_type _ [Sfield "L"] _ _ (Tint I32 Unsigned) Ty ltac:(vm_compute; reflexivity))
+    as (xl & Gxl & Txl). rewrite Gl in Gxl. inversion Gxl; subst xl.
+  inversion Txl as [? ? _ Vl| |]; subst.
+  assert (El: exists l, vl = Vint l) by (destruct vl; try contradiction; eauto). destruct El as [l ->].
+  destruct (mval_get_has_type _ [Sfield "E0"] _ _ (Tfloat F32) Ty ltac:(vm_compute; reflexivity))
+    as (x0 & Gx0 & Tx0). rewrite G0 in Gx0. inversion Gx0; subst x0.
+  inversion Tx0 as [? ? _ V0| |]; subst.
+  assert (E0: exists e0, v0 = Vsingle e0) by (destruct v0; try contradiction; eauto). destruct E0 as [e0 ->].
+  destruct (sent_sequence publisher out mv [PField "data"] "ros_seq_float32_4" 4 (Tfloat F32) l T
+              ltac:(vm_compute; reflexivity) ltac:(vm_compute; reflexivity) eq_refl
+              ltac:(vm_compute; reflexivity) eq_refl Ml) as (L & _ & D).
+  cbv zeta in L, D.
+  unfold cycle_sent_okb. rewrite Gl, G0. unfold bits_at.
+  change (path_steps dlen) with (path_steps ([PField "data"] ++ [PField "len"])). rewrite L.
+  change (path_steps (delem 0)) with (path_steps ([PField "data"] ++ [PField "data"; PIndex 0])).
+  rewrite (D 0%Z ltac:(lia)).
+  rewrite Z.eqb_refl. simpl andb.
+  destruct (0 <? Z.min l 4)%Z; [|reflexivity].
+  change (path_steps ([PField "data"] ++ [PField "data"; PIndex 0])) with (path_steps (delem 0)).
+  rewrite M0. apply Z.eqb_refl.
+Qed.
+
+Lemma run_ok_pub: forall n t, run_ok publisher pctx n t -> pub_okb t = true.
+Proof.
+  intros n t (s & evs & _ & -> & C).
+  assert (S0: forall t0, pub_okb (start_events publisher ++ t0) = pub_okb t0) by (intros t0; reflexivity).
+  rewrite S0.
+  assert (G: forall k i, (forall j, (i <= j < i + k)%nat -> cycle_ok publisher pctx j (s j) (evs j) (s (S j))) ->
+             pub_okb (concat (map evs (seq i k))) = true).
+  { induction k as [|k IH]; intros i0 Ck; [reflexivity|].
+    destruct (Ck i0 ltac:(lia)) as (u & y & mvs & E & _ & St & PV).
+    cbn [seq map concat]. rewrite E. simpl published in PV.
+    inversion PV as [|tp mv tps mvs' P F]; subst. inversion F; subst.
+    assert (Ty: mval_has_type (composites publisher) (Tstruct (nm_out_struct publisher)) y).
+    { generalize (pctx_controller_wt (s i0) u). rewrite St. auto. }
+    apply pub_okb_app_cycle; [apply (cycle_sent y _ _ mv Ty P)|].
+    apply IH. intros j Hj. apply Ck. lia. }
+  apply G. intros j Hj. apply C. lia.
+Qed.
+
+(** *** Mutants of the published sequence *)
+
+Definition pcheck (p : program) (n : nat) : bool :=
+  match run_trace 4000 p pctx n with
+  | Some t => pub_okb t
+  | None => true
+  end.
+
+Lemma prefute: forall p n, pcheck p n = false -> ~ node_ddc publisher p.
+Proof.
+  intros p n H D. unfold pcheck in H.
+  destruct (run_trace 4000 p pctx n) as [t|] eqn:R; [|discriminate].
+  destruct (D nat pctx n pctx_arrivals_wt pctx_controller_wt) as [_ All].
+  rewrite (run_ok_pub n t (All t (run_trace_sound _ pctx 4000 p n t R))) in H. discriminate.
+Qed.
+
+(** The generated program passes (as T2 says it must). *)
+Example publisher_passes: pcheck publisher_prog 6 = true.
+Proof. vm_compute. reflexivity. Qed.
+
+(** The copies of the output glue (after the zeroing) changed by [g]. *)
+Definition on_out_copies (g : list statement -> list statement) (p : program) : program :=
+  on_def (output_glue_name "out")
+    (on_body (fun s => match s with
+                       | Ssequence (Ssequence zero copies) strs => Ssequence (Ssequence zero (on_seq g copies)) strs
+                       | _ => s
+                       end)) p.
+
+(** (q3) the length output written into the wrong field of the sequence:
+    [truncated] instead of [len] (the length stays 0) *)
+Definition m_len_wrong_field : program :=
+  on_out_copies (map (on_copy_dst (rename_field "len" "truncated"))) publisher_prog.
+Theorem m_len_wrong_field_refuted: ~ node_ddc publisher m_len_wrong_field.
+Proof. apply (prefute _ 2). vm_compute. reflexivity. Qed.
+
+(** (q4) element 0's output written into element 1 (an off-by-one index) *)
+Definition shift_dst (e : expr) : expr :=
+  match e with
+  | Eindex a (Econst_int 0 ti) t => Eindex a (Econst_int 1 ti) t
+  | _ => e
+  end.
+Definition m_elem_off : program := on_out_copies (map (on_copy_dst shift_dst)) publisher_prog.
+Theorem m_elem_off_refuted: ~ node_ddc publisher m_elem_off.
+Proof. apply (prefute _ 2). vm_compute. reflexivity. Qed.
+
+(** (q5) the length never written: the copy of [L] left out *)
+Definition m_len_missing : program := on_out_copies (remove_nth 0) publisher_prog.
+Theorem m_len_missing_refuted: ~ node_ddc publisher m_len_missing.
+Proof. apply (prefute _ 2). vm_compute. reflexivity. Qed.
