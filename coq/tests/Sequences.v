@@ -193,14 +193,9 @@ Theorem m_max_length_refuted: ~ node_ddc scanner m_max_length.
 Proof. apply (srefute _ 1). vm_compute. reflexivity. Qed.
 
 (** [Main.converted_sequence] applies to the scanner's [ranges]: the path
-    reaches the bounded sequence through no other one. *)
-Example ranges_unbounded_path:
-  unbounded_path sce (Tstruct "sensor_msgs_LaserScan") (path_steps [PField "ranges"]) = true
-  /\ type_at sce (Tstruct "sensor_msgs_LaserScan") (path_steps [PField "ranges"]) = Some (Tstruct "ros_seq_float32_4")
-  /\ bounded_name "ros_seq_float32_4" = true
-  /\ struct_members sce "ros_seq_float32_4"
-     = Some [("len", Tint I32 Unsigned); ("truncated", Tint I8 Unsigned); ("data", Tarray (Tfloat F32) 4)].
-Proof. vm_compute. repeat split. Qed.
+    reaches the bounded sequence through no other one ([bounded_at]). *)
+Example ranges_bounded_at: bounded_at scanner scan [PField "ranges"] "ros_seq_float32_4" 4 (Tfloat F32).
+Proof. repeat split; vm_compute; reflexivity. Qed.
 
 (** ** Publishing a bounded sequence from the controller *)
 
@@ -335,9 +330,7 @@ Proof.
   inversion Tx0 as [? ? _ V0| |]; subst.
   assert (E0: exists e0, v0 = Vsingle e0) by (destruct v0; try contradiction; eauto). destruct E0 as [e0 ->].
   destruct (sent_sequence publisher out mv [PField "data"] "ros_seq_float32_4" 4 (Tfloat F32) l T
-              ltac:(vm_compute; reflexivity) ltac:(vm_compute; reflexivity) eq_refl
-              ltac:(vm_compute; reflexivity) eq_refl Ml) as (L & _ & D).
-  cbv zeta in L, D.
+              ltac:(repeat split; vm_compute; reflexivity) Ml) as (L & _ & D).
   unfold cycle_sent_okb. rewrite Gl, G0. unfold bits_at.
   change (path_steps dlen) with (path_steps ([PField "data"] ++ [PField "len"])). rewrite L.
   change (path_steps (delem 0)) with (path_steps ([PField "data"] ++ [PField "data"; PIndex 0])).

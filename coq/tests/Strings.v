@@ -266,9 +266,7 @@ Proof.
   assert (GL: mval_get mv (path_steps (frame_id ++ [PField "len"])) = Some (MVscalar (Vint 9))).
   { rewrite Gx. unfold int_at in DL. rewrite Gx in DL. destruct v; try discriminate. inversion DL; subst. reflexivity. }
   destruct (sent_sequence framed base mv frame_id "ros_string16" 16 (Tint I8 Unsigned) 9 T
-              ltac:(vm_compute; reflexivity) ltac:(vm_compute; reflexivity) eq_refl
-              ltac:(vm_compute; reflexivity) eq_refl GL) as (L & Tr & D).
-  cbv zeta in L, Tr, D.
+              ltac:(repeat split; vm_compute; reflexivity) GL) as (L & Tr & D).
   assert (Ex: forall j, (0 <= j < 16)%Z ->
               int_at (sent framed base mv) (frame_id ++ [PField "data"; PIndex j])
               = int_at mv (frame_id ++ [PField "data"; PIndex j])).

@@ -90,30 +90,19 @@ Proof. exact Glueproof.generate_output_glue_ddc. Qed.
     [newest] is the converted message.  Meaning: for a bounded sequence
     at the model path [sp] of a well-typed arrival (a struct named
     [ros_seq_...] or [ros_string...] of [len], [truncated] and
-    [data[n]], reached through no other bounded sequence), the message
-    the callback receives has the length capped at [n], [truncated] 1
-    exactly when the sequence was longer than [n], and the first
-    [min(len, n)] elements followed by zeros.  With T2's
+    [data[n]], reached through no other bounded sequence:
+    [DDC.bounded_at]), the message the callback receives has the length
+    capped at [n], [truncated] 1 exactly when the sequence was longer
+    than [n], and the first [min(len, n)] elements followed by zeros
+    ([DDC.clamped_at]).  With T2's
     [input_values], this is what an input related to [sp.len],
     [sp.truncated] or [sp.data[j]] receives. *)
 Theorem converted_sequence:
   forall m tp a sp id n t l,
   mval_has_type (composites m) (Tstruct (tp_msg tp)) (ar_msg a) ->
-  unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = true ->
-  type_at (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = Some (Tstruct id) ->
-  bounded_name id = true ->
-  struct_members (composites m) id
-    = Some [("len"%string, Tint I32 Unsigned); ("truncated"%string, Tint I8 Unsigned); ("data"%string, Tarray t n)] ->
-  is_scalar_type t = true ->
+  bounded_at m tp sp id n t ->
   mval_get (ar_msg a) (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint l)) ->
-  let v := converted m tp a in
-     mval_get v (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint (Z.min l n)))
-  /\ mval_get v (path_steps (sp ++ [PField "truncated"%string]))
-     = Some (MVscalar (Vint (if (n <? l)%Z then 1 else 0)))
-  /\ (forall j, (0 <= j < n)%Z ->
-        mval_get v (path_steps (sp ++ [PField "data"%string; PIndex j]))
-        = if (j <? Z.min l n)%Z then mval_get (ar_msg a) (path_steps (sp ++ [PField "data"%string; PIndex j]))
-          else Some (MVscalar (zero_val t))).
+  clamped_at (converted m tp a) (ar_msg a) sp n t l.
 Proof. exact DDC.converted_sequence. Qed.
 
 (** What ROS carries of a published message ([DDC.sent], in T2's
@@ -137,21 +126,9 @@ Proof. exact DDC.sent_scalar. Qed.
 Theorem sent_sequence:
   forall m tp mv sp id n t l,
   mval_has_type (composites m) (Tstruct (tp_msg tp)) mv ->
-  unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = true ->
-  type_at (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = Some (Tstruct id) ->
-  bounded_name id = true ->
-  struct_members (composites m) id
-    = Some [("len"%string, Tint I32 Unsigned); ("truncated"%string, Tint I8 Unsigned); ("data"%string, Tarray t n)] ->
-  is_scalar_type t = true ->
+  bounded_at m tp sp id n t ->
   mval_get mv (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint l)) ->
-  let v := sent m tp mv in
-     mval_get v (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint (Z.min l n)))
-  /\ mval_get v (path_steps (sp ++ [PField "truncated"%string]))
-     = Some (MVscalar (Vint (if (n <? l)%Z then 1 else 0)))
-  /\ (forall j, (0 <= j < n)%Z ->
-        mval_get v (path_steps (sp ++ [PField "data"%string; PIndex j]))
-        = if (j <? Z.min l n)%Z then mval_get mv (path_steps (sp ++ [PField "data"%string; PIndex j]))
-          else Some (MVscalar (zero_val t))).
+  clamped_at (sent m tp mv) mv sp n t l.
 Proof. exact DDC.sent_sequence. Qed.
 
 (** ** T2: data delivery correctness of every generated node *)

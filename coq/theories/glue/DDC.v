@@ -348,33 +348,43 @@ Definition newest_arrival {CS : Type} (ctx : ros_context CS) (tp : topic) (i : n
 Definition converted (m : node_model) (tp : topic) (a : arrival) : mval :=
   clamp (composites m) (Tstruct (tp_msg tp)) (ar_msg a).
 
-(** What the callback receives of a bounded sequence at the model path
-    [sp] of a message (a struct [id] named [ros_seq_...] or
-    [ros_string...] of [len], [truncated], [data[n]]), reached through no
-    other bounded sequence: the length capped at [n], whether the
-    sequence was longer than [n], and its first [min(len, n)] elements
-    followed by zeros.  With [input_values] (T2), this is what an input
-    related to [sp.len], [sp.truncated] or [sp.data[j]] receives. *)
-Lemma converted_sequence:
-  forall m tp a sp id n t l,
-  mval_has_type (composites m) (Tstruct (tp_msg tp)) (ar_msg a) ->
-  unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = true ->
-  type_at (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = Some (Tstruct id) ->
-  bounded_name id = true ->
-  struct_members (composites m) id
-    = Some [("len"%string, Tint I32 Unsigned); ("truncated"%string, Tint I8 Unsigned); ("data"%string, Tarray t n)] ->
-  is_scalar_type t = true ->
-  mval_get (ar_msg a) (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint l)) ->
-  let v := converted m tp a in
+(** The model path [sp] leads, in messages of topic [tp], through no
+    other bounded sequence, to a bounded sequence: a struct [id] named
+    [ros_seq_...] or [ros_string...] of [len], [truncated] and [data[n]],
+    whose elements have the scalar type [t]. *)
+Definition bounded_at (m : node_model) (tp : topic) (sp : path) (id : ident) (n : Z) (t : type) : Prop :=
+     unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = true
+  /\ type_at (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = Some (Tstruct id)
+  /\ bounded_name id = true
+  /\ struct_members (composites m) id
+     = Some [("len"%string, Tint I32 Unsigned); ("truncated"%string, Tint I8 Unsigned); ("data"%string, Tarray t n)]
+  /\ is_scalar_type t = true.
+
+(** [v] holds, at the bounded sequence [sp] (capacity [n], elements of
+    type [t]) whose length in [mv] is [l], what [Environment.clamp] makes
+    of it: the length capped at [n], whether the sequence was longer than
+    [n], and the first [min(l, n)] elements of [mv] followed by zeros. *)
+Definition clamped_at (v mv : mval) (sp : path) (n : Z) (t : type) (l : Z) : Prop :=
      mval_get v (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint (Z.min l n)))
   /\ mval_get v (path_steps (sp ++ [PField "truncated"%string]))
      = Some (MVscalar (Vint (if (n <? l)%Z then 1 else 0)))
   /\ (forall j, (0 <= j < n)%Z ->
         mval_get v (path_steps (sp ++ [PField "data"%string; PIndex j]))
-        = if (j <? Z.min l n)%Z then mval_get (ar_msg a) (path_steps (sp ++ [PField "data"%string; PIndex j]))
+        = if (j <? Z.min l n)%Z then mval_get mv (path_steps (sp ++ [PField "data"%string; PIndex j]))
           else Some (MVscalar (zero_val t))).
+
+(** What the callback receives of a bounded sequence at the model path
+    [sp] of a message: [clamped_at].  With [input_values] (T2), this is
+    what an input related to [sp.len], [sp.truncated] or [sp.data[j]]
+    receives. *)
+Lemma converted_sequence:
+  forall m tp a sp id n t l,
+  mval_has_type (composites m) (Tstruct (tp_msg tp)) (ar_msg a) ->
+  bounded_at m tp sp id n t ->
+  mval_get (ar_msg a) (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint l)) ->
+  clamped_at (converted m tp a) (ar_msg a) sp n t l.
 Proof.
-  intros m tp a sp id n t l T U Ty B SM St Gl v.
+  intros m tp a sp id n t l T (U & Ty & B & SM & St) Gl. unfold clamped_at. set (v := converted m tp a).
   destruct (mval_get_has_type _ _ _ _ _ T Ty) as (sv & Gs & Ts).
   assert (C: mval_get v (path_steps sp) = Some (clamp (composites m) (Tstruct id) sv))
     by (unfold v, converted; apply clamp_get; auto).
@@ -482,24 +492,12 @@ Qed.
 Lemma sent_sequence:
   forall m tp mv sp id n t l,
   mval_has_type (composites m) (Tstruct (tp_msg tp)) mv ->
-  unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = true ->
-  type_at (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = Some (Tstruct id) ->
-  bounded_name id = true ->
-  struct_members (composites m) id
-    = Some [("len"%string, Tint I32 Unsigned); ("truncated"%string, Tint I8 Unsigned); ("data"%string, Tarray t n)] ->
-  is_scalar_type t = true ->
+  bounded_at m tp sp id n t ->
   mval_get mv (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint l)) ->
-  let v := sent m tp mv in
-     mval_get v (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint (Z.min l n)))
-  /\ mval_get v (path_steps (sp ++ [PField "truncated"%string]))
-     = Some (MVscalar (Vint (if (n <? l)%Z then 1 else 0)))
-  /\ (forall j, (0 <= j < n)%Z ->
-        mval_get v (path_steps (sp ++ [PField "data"%string; PIndex j]))
-        = if (j <? Z.min l n)%Z then mval_get mv (path_steps (sp ++ [PField "data"%string; PIndex j]))
-          else Some (MVscalar (zero_val t))).
+  clamped_at (sent m tp mv) mv sp n t l.
 Proof.
-  intros m tp mv sp id n t l T U Ty B SM St Gl.
-  exact (converted_sequence m tp (mkarrival "" mv 0) sp id n t l T U Ty B SM St Gl).
+  intros m tp mv sp id n t l T B Gl.
+  exact (converted_sequence m tp (mkarrival "" mv 0) sp id n t l T B Gl).
 Qed.
 
 (** The events of publishing [mvs] on the topics [tps]. *)
