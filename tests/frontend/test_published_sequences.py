@@ -17,14 +17,15 @@ hostile field texts and names."""
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import pytest
 
-from pyrosgen import InvalidNodeModel, cli, load_model
+from pyrosgen import cli
 from pyrosgen.proof.modeltext import model_text
 from pyrosgen.ros.wrapper import render_wrapper, wrapper_files
 from pyrosgen.verify.wrapper_check import WrapperMismatch, check_wrapper
+
+from support.frontend import at, diags, load, one, write
 
 BASE = """\
 node: {name: pubseq, period_ms: 20}
@@ -48,33 +49,6 @@ relations:
 """
 
 _OUT = "(topic '/out', std_msgs/Float64MultiArray)"
-
-
-def write(tmp_path: Path, text: str) -> Path:
-    p = tmp_path / "m.yaml"
-    p.write_text(text, encoding="utf-8")
-    return p
-
-
-def load(tmp_path: Path, text: str):
-    return load_model(write(tmp_path, text))
-
-
-def diags(tmp_path: Path, text: str) -> list[tuple[int, int, str, str]]:
-    with pytest.raises(InvalidNodeModel) as exc:
-        load(tmp_path, text)
-    return [(d.line, d.col, d.message, d.rule) for d in exc.value.diagnostics]
-
-
-def one(tmp_path: Path, text: str) -> tuple[int, int, str, str]:
-    found = diags(tmp_path, text)
-    assert len(found) == 1, found
-    return found[0]
-
-
-def at(text: str, needle: str) -> tuple[int, int]:
-    i = text.index(needle)
-    return text.count("\n", 0, i) + 1, i - (text.rfind("\n", 0, i) + 1) + 1
 
 
 def swap(text: str, old: str, new: str) -> str:

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import pytest
 
-from pyrosgen import InvalidNodeModel, cli, load_model
+from pyrosgen import cli, load_model
 from pyrosgen.frontend.msgmodel import (
     DEFAULT_MAX_LENGTH, MAX_SEQUENCE_LENGTH, bounded_type, is_seq_type, seq_type, seq_type_name,
 )
@@ -32,7 +32,7 @@ from pyrosgen.proof.modeltext import model_text, parse_model_text
 from pyrosgen.ros.wrapper import render_wrapper
 from pyrosgen.verify.wrapper_check import WrapperMismatch, check_wrapper
 
-from support.frontend import LANDSHARK, REPO
+from support.frontend import LANDSHARK, REPO, at, diags, load, one, write
 
 LASER_GUARD = REPO / "examples" / "laser_guard" / "laser_guard.yaml"
 
@@ -55,35 +55,6 @@ relations:
 """
 
 _SCAN = "(topic '/scan', sensor_msgs/LaserScan)"
-
-
-def write(tmp_path: Path, text: str) -> Path:
-    p = tmp_path / "m.yaml"
-    p.write_text(text, encoding="utf-8")
-    return p
-
-
-def load(tmp_path: Path, text: str):
-    return load_model(write(tmp_path, text))
-
-
-def diags(tmp_path: Path, text: str) -> list[tuple[int, int, str, str]]:
-    with pytest.raises(InvalidNodeModel) as info:
-        load(tmp_path, text)
-    return [(d.line, d.col, d.message, d.rule) for d in info.value.diagnostics]
-
-
-def one(tmp_path: Path, text: str) -> tuple[int, int, str, str]:
-    found = diags(tmp_path, text)
-    assert len(found) == 1, found
-    return found[0]
-
-
-def at(text: str, needle: str, nth: int = 0) -> tuple[int, int]:
-    i = -1
-    for _ in range(nth + 1):
-        i = text.index(needle, i + 1)
-    return text.count("\n", 0, i) + 1, i - (text.rfind("\n", 0, i) + 1) + 1
 
 
 def fields_of(model, name: str) -> list[tuple[str, str, str | None, int | None]]:

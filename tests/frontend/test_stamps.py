@@ -9,13 +9,13 @@ per-node Coq file, and the reserved names of the time functions."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
 
-from pyrosgen import InvalidNodeModel, load_model
+from pyrosgen import load_model
 from pyrosgen.proof.coqmodel import emit_model
 from pyrosgen.proof.modeltext import model_text, parse_model_text
+
+from support.frontend import at, diags, load
 
 STAMPED = """\
 node: {name: stamper, period_ms: 20}
@@ -33,26 +33,6 @@ relations:
     - {output: Out1, topic: /cmd_out, field: twist.linear.x}
     - {output: Out1, topic: /plain_out, field: twist.linear.x}
 """
-
-
-def diags(tmp_path: Path, text: str) -> list[tuple[int, int, str, str]]:
-    p = tmp_path / "m.yaml"
-    p.write_text(text)
-    with pytest.raises(InvalidNodeModel) as info:
-        load_model(p)
-    return [(d.line, d.col, d.message, d.rule) for d in info.value.diagnostics]
-
-
-def at(text: str, needle: str) -> tuple[int, int]:
-    i = text.index(needle)
-    line = text.count("\n", 0, i) + 1
-    return line, i - (text.rfind("\n", 0, i) + 1) + 1
-
-
-def load(tmp_path: Path, text: str):
-    p = tmp_path / "m.yaml"
-    p.write_text(text)
-    return load_model(p)
 
 
 def test_stamped_topic_is_read(tmp_path):

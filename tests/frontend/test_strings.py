@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from pyrosgen import InvalidNodeModel, cli, load_model
+from pyrosgen import cli, load_model
 from pyrosgen.frontend.msgmodel import STRING_CAPACITY, string_type
 from pyrosgen.proof.coqmodel import emit_model, render_node_file
 from pyrosgen.proof.modeltext import (
@@ -28,7 +28,7 @@ from pyrosgen.proof.modeltext import (
 from pyrosgen.ros.wrapper import render_wrapper
 from pyrosgen.verify.wrapper_check import WrapperMismatch, check_wrapper
 
-from support.frontend import LANDSHARK, REPO
+from support.frontend import LANDSHARK, REPO, at, diags, load, one, write
 
 STAMPED = REPO / "examples" / "landshark" / "landshark_stamped.yaml"
 
@@ -53,27 +53,6 @@ CONST = "frame_id: base_link"
 
 #: ``base_link`` in UTF-8, as the model text writes it.
 BASE_LINK = "98,97,115,101,95,108,105,110,107"
-
-
-def write(tmp_path: Path, text: str) -> Path:
-    p = tmp_path / "m.yaml"
-    p.write_text(text, encoding="utf-8")
-    return p
-
-
-def load(tmp_path: Path, text: str):
-    return load_model(write(tmp_path, text))
-
-
-def diags(tmp_path: Path, text: str) -> list[tuple[int, int, str, str]]:
-    with pytest.raises(InvalidNodeModel) as info:
-        load(tmp_path, text)
-    return [(d.line, d.col, d.message, d.rule) for d in info.value.diagnostics]
-
-
-def at(text: str, needle: str) -> tuple[int, int]:
-    i = text.index(needle)
-    return text.count("\n", 0, i) + 1, i - (text.rfind("\n", 0, i) + 1) + 1
 
 
 def with_const(const: str, text: str = BASE) -> str:
@@ -298,12 +277,6 @@ def test_a_hostile_constant_cannot_leave_its_coq_comment(tmp_path):
 
 # --------------------------------------------------------------------------
 # Refusals: each at its place, rule 4.14
-
-
-def one(tmp_path, text) -> tuple[int, int, str, str]:
-    found = diags(tmp_path, text)
-    assert len(found) == 1, found
-    return found[0]
 
 
 def test_subscribed_topic_has_no_constant(tmp_path):
