@@ -70,7 +70,7 @@ Definition inputs_okb {CS} (m : node_model) (ctx : ros_context CS) (i : nat) (u 
   forallb (fun ir =>
     existsb (fun tp => String.eqb (tp_cname tp) (ir_topic ir)
                        && match scalar_at (newest m ctx tp i) (path_steps (ir_path ir)) with
-                          | Some v => same_scalar (Some (fed_value m ir v (newest_time ctx tp i) (ctx_time ctx (S i))))
+                          | Some v => same_scalar (Some (fed_value m ir v (newest_time m ctx tp i) (ctx_time ctx (S i))))
                                                   (scalar_at u [Sfield (ir_input ir)])
                           | None => false
                           end)
@@ -78,7 +78,7 @@ Definition inputs_okb {CS} (m : node_model) (ctx : ros_context CS) (i : nat) (u 
     (nm_inrels m)
   && forallb (fun dr =>
     existsb (fun tp => String.eqb (tp_cname tp) (dr_topic dr)
-                       && same_scalar (Some (derived_value (dr_kind dr) (arrived ctx tp i) (newest_time ctx tp i)
+                       && same_scalar (Some (derived_value (dr_kind dr) (arrived m ctx tp i) (newest_time m ctx tp i)
                                                            (ctx_time ctx (S i))))
                                       (scalar_at u [Sfield (dr_input dr)]))
             (subscribed m))

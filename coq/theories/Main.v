@@ -156,6 +156,21 @@ Proof. exact DDC.sent_sequence. Qed.
     the cycle ends by sleeping with the
     model's period [nm_period_ms m] ([Esleep]).  Nothing else happens:
     the trace has no other event. *)
+(** What T2's newest message is ([DDC.newest_arrival]): the newest
+    message that the topic's callback received, that is, among the
+    messages of each spin that the topic's queue keeps, the last one not
+    dropped for a sequence of policy "reject" longer than its maximum
+    ([DDC.received_on], [Environment.accepted]; the wrapper drops such a
+    message before the glue's callback).  Without such messages, with a
+    queue of at least 1, it is simply the newest arrival on the topic:
+    that the queues keep the newest message is part of what T2 proves. *)
+Theorem newest_arrival_raw:
+  forall CS m (ctx : ros_context CS) tp i, (1 <= tp_queue tp)%nat ->
+  (forall k a, In a (ctx_arrivals ctx k) -> ar_topic a = tp_name tp ->
+     too_long (composites m) (Tstruct (tp_msg tp)) (ar_msg a) = false) ->
+  newest_arrival m ctx tp i = last_on (tp_name tp) (arrivals_upto ctx i).
+Proof. exact DDC.newest_arrival_raw. Qed.
+
 Theorem generate_node_ddc:
   forall m p, generate m = OK p -> node_ddc m p.
 Proof. exact Loopproof.generate_node_ddc. Qed.

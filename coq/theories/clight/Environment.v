@@ -50,7 +50,9 @@
       subscription, the messages of its topic, of which a queue of size
       [q] keeps the newest [q] ([q = 0]: unbounded, as in roscpp);
       messages of topics nobody subscribed to are dropped; arrival order
-      is kept.  Then, for each kept message in order, a fresh block
+      is kept.  Then, for each kept message in order, unless it holds a
+      sequence of policy "reject" longer than its maximum ([accepted];
+      such a message is dropped), a fresh block
       holding the message value (of type [struct msgty]), its bounded
       sequences converted ([delivered], [clamp]), is allocated,
       the callback is called with a pointer to it, and the block is freed
@@ -170,8 +172,11 @@ Record arrival : Type := mkarrival {
     [min(len, N)] elements, every other element being zero.  Sequences
     are found by the struct names along the message's type, through
     nested structs and fixed-size arrays. *)
+Definition reject_name (id : ident) : bool :=
+  String.prefix "ros_rstring" id || String.prefix "ros_rseq_" id.
+
 Definition bounded_name (id : ident) : bool :=
-  String.prefix "ros_string" id || String.prefix "ros_seq_" id.
+  String.prefix "ros_string" id || String.prefix "ros_seq_" id || reject_name id.
 
 Definition clamp_seq (members : list (ident * type)) (fs : list (ident * mval)) : option mval :=
   match members, fs with
@@ -386,6 +391,49 @@ Proof.
       clear IH G T B Ts. revert Gs. generalize (Z.to_nat i). induction E as [|t1 e es' Te Es IHE]; intros [|k] Gk;
         simpl in Gk; try discriminate; [inversion Gk; subst; auto|eapply IHE; eauto].
 Qed.
+
+(** Policy "reject" (issue 15): whether the message [mv] of type [ty]
+    holds a bounded sequence whose struct is named [ros_rseq_...] or
+    [ros_rstring...] ([reject_name]) and whose length exceeds its
+    capacity [n]: such a message is not delivered ([accepted]). *)
+Definition seq_too_long (members : list (ident * type)) (fs : list (ident * mval)) : bool :=
+  match members, fs with
+  | [_; _; (_, Tarray _ n)], (_, MVscalar (Vint l)) :: _ => (n <? l)%Z
+  | _, _ => false
+  end.
+
+Fixpoint too_long (ce : composite_env) (ty : type) (mv : mval) {struct mv} : bool :=
+  match mv with
+  | MVscalar _ => false
+  | MVstruct fs =>
+      match ty with
+      | Tstruct id =>
+          match struct_members ce id with
+          | Some members =>
+              (reject_name id && seq_too_long members fs)
+              || (fix go (ms : list (ident * type)) (l : list (ident * mval)) {struct l} : bool :=
+                    match ms, l with
+                    | (_, t) :: ms', (_, v) :: l' => too_long ce t v || go ms' l'
+                    | _, _ => false
+                    end) members fs
+          | None => false
+          end
+      | _ => false
+      end
+  | MVarray es =>
+      match ty with
+      | Tarray t _ => existsb (too_long ce t) es
+      | _ => false
+      end
+  end.
+
+(** Whether subscription [s] delivers the arrival [a] to its callback:
+    unless a sequence with policy "reject" is longer than its maximum,
+    in which case the message is dropped after the queue (the callback
+    is not called; the topic's global and clock keep the previous
+    message's). *)
+Definition accepted (ge : genv) (s : subscription) (a : arrival) : bool :=
+  negb (too_long (ge_comp ge) (Tstruct (sub_msgty s)) (ar_msg a)).
 
 (** The value that the callback of subscription [s] receives for the
     arrival [a]: the message with its bounded sequences converted. *)

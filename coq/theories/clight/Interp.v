@@ -143,6 +143,7 @@ with deliver_fuel (fuel : nat) (m : mem) (w : world CS) (msgs : list (subscripti
       match msgs with
       | [] => Some ([], m, w)
       | (s, a) :: rest =>
+          if negb (accepted ge s a) then deliver_fuel fuel' m w rest else
           let (m1, b) := alloc m (Tstruct (sub_msgty s)) (delivered ge s a) in
           match find_funct ge (sub_callback s) with
           | Some fd =>

@@ -101,7 +101,8 @@ Proof.
       intros m w msgs t m' w' H. simpl in H.
       destruct msgs as [|[s mv] rest].
       * inversion H; subst; constructor.
-      * destruct (alloc m (Tstruct (sub_msgty s)) (delivered ge s mv)) as [m1 b] eqn:AL.
+      * destruct (accepted ge s mv) eqn:Acc; simpl in H; [|apply deliver_rejected; auto].
+        destruct (alloc m (Tstruct (sub_msgty s)) (delivered ge s mv)) as [m1 b] eqn:AL.
         assert (AL': alloc m (Tstruct (sub_msgty s)) (delivered ge s mv) = (m1, b)) by exact AL.
         unfold alloc in AL'. inversion AL'; subst m1 b; clear AL'.
         destruct (find_funct ge (sub_callback s)) as [fd|] eqn:FD; try discriminate H.

@@ -312,7 +312,8 @@ Variable ge : genv.
     [eval_funcall m w fd args t m' w' v]: calling [fd] with [args]
     terminates with events [t] and returns [v].
 
-    [deliver m w msgs t m' w']: running the callbacks of [msgs] in order,
+    [deliver m w msgs t m' w']: running the callbacks of [msgs] in order
+    (skipping the messages not [accepted]: policy "reject"),
     each on a fresh copy of its message, terminates with events [t]. *)
 Inductive exec_stmt : env -> temp_env -> mem -> world CS -> statement ->
                       trace -> temp_env -> mem -> world CS -> outcome -> Prop :=
@@ -380,11 +381,16 @@ with deliver : mem -> world CS -> list (subscription * arrival) ->
   | deliver_nil: forall m w,
       deliver m w [] [] m w
   | deliver_cons: forall m w s a rest m1 b fd t1 m2 w1 v t2 m3 w2,
+      accepted ge s a = true ->
       alloc m (Tstruct (sub_msgty s)) (delivered ge s a) = (m1, b) ->
       find_funct ge (sub_callback s) = Some fd ->
       eval_funcall m1 (set_time w (ar_time a)) fd [Vptr b []] t1 m2 w1 v ->
       deliver (free m2 b) w1 rest t2 m3 w2 ->
-      deliver m w ((s, a) :: rest) (t1 ++ t2) m3 w2.
+      deliver m w ((s, a) :: rest) (t1 ++ t2) m3 w2
+  | deliver_rejected: forall m w s a rest t m' w',
+      accepted ge s a = false ->
+      deliver m w rest t m' w' ->
+      deliver m w ((s, a) :: rest) t m' w'.
 
 Scheme exec_stmt_ind3 := Minimality for exec_stmt Sort Prop
   with eval_funcall_ind3 := Minimality for eval_funcall Sort Prop

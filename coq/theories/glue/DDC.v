@@ -25,7 +25,7 @@
     [Controller_Y]) are the interface of the generated C code
     (DESIGN.md, section 5), so the specifications refer to them. *)
 
-From Coq Require Import String List ZArith Bool.
+From Coq Require Import String List ZArith Bool Lia.
 From ROSGen Require Import Errors Syntax Values Memory Environment Semantics NodeModel Wellformed Generator.
 Import ListNotations.
 
@@ -336,12 +336,76 @@ Fixpoint last_on (name : string) (msgs : list arrival) : option arrival :=
 Definition arrivals_upto {CS : Type} (ctx : ros_context CS) (i : nat) : list arrival :=
   flat_map (ctx_arrivals ctx) (seq 0 (S i)).
 
-(** The newest arrival on topic [tp] up to the [i]-th spin, if any.
-    This is defined from the raw arrivals, not from what the queues
-    deliver: that the queues of size at least 1 always keep the newest
-    message is part of what T2 proves. *)
-Definition newest_arrival {CS : Type} (ctx : ros_context CS) (tp : topic) (i : nat) : option arrival :=
-  last_on (tp_name tp) (arrivals_upto ctx i).
+(** The arrivals [msgs] of one spin that the callback of topic [tp]
+    receives: those on its topic that its queue keeps (the newest
+    [tp_queue tp], all if 0), except the messages that a sequence with
+    policy "reject" longer than its maximum makes the node drop
+    ([Environment.too_long]: dropped after the queue, so that a rejected
+    message may have pushed an accepted one out of it). *)
+Fixpoint received_on (m : node_model) (tp : topic) (msgs : list arrival) : list arrival :=
+  match msgs with
+  | [] => []
+  | a :: rest =>
+      (if topic_eqb (ar_topic a) (tp_name tp)
+          && (Nat.eqb (tp_queue tp) 0 || Nat.ltb (count_topic (tp_name tp) rest) (tp_queue tp))
+          && negb (too_long (composites m) (Tstruct (tp_msg tp)) (ar_msg a))
+       then [a] else []) ++ received_on m tp rest
+  end.
+
+Lemma last_on_app:
+  forall name l1 l2,
+  last_on name (l1 ++ l2) = match last_on name l2 with Some v => Some v | None => last_on name l1 end.
+Proof.
+  induction l1 as [|a l1 IH]; intros l2; simpl.
+  - destruct (last_on name l2); auto.
+  - rewrite IH. destruct (last_on name l2); auto.
+Qed.
+
+Lemma last_on_none_count:
+  forall name l, last_on name l = None -> count_topic name l = O.
+Proof.
+  induction l as [|a l IH]; simpl; intros H; auto.
+  destruct (last_on name l); try discriminate.
+  unfold topic_eqb. destruct (string_dec (ar_topic a) name); try discriminate. rewrite IH; auto.
+Qed.
+
+(** Without a message too long for policy "reject", a queue of at least 1
+    hands the callback the newest arrival on its topic. *)
+Lemma received_on_all:
+  forall m tp msgs, (1 <= tp_queue tp)%nat ->
+  (forall a, In a msgs -> ar_topic a = tp_name tp -> too_long (composites m) (Tstruct (tp_msg tp)) (ar_msg a) = false) ->
+  last_on (tp_name tp) (received_on m tp msgs) = last_on (tp_name tp) msgs.
+Proof.
+  intros m tp msgs Hq; induction msgs as [|a rest IH]; intros NT; simpl; auto.
+  rewrite last_on_app, IH by (intros a' H' E'; apply NT; simpl; auto).
+  destruct (last_on (tp_name tp) rest) as [v|] eqn:Lr; auto.
+  apply last_on_none_count in Lr. rewrite Lr.
+  unfold topic_eqb. destruct (string_dec (ar_topic a) (tp_name tp)) as [E|E]; simpl; auto.
+  replace (Nat.eqb (tp_queue tp) 0 || Nat.ltb 0 (tp_queue tp)) with true
+    by (symmetry; apply orb_true_iff; right; apply Nat.ltb_lt; lia).
+  rewrite (NT a (or_introl eq_refl) E). simpl. destruct (string_dec (ar_topic a) (tp_name tp)); congruence.
+Qed.
+
+(** The newest message that the callback of topic [tp] received up to the
+    [i]-th spin, if any.  Without sequences of policy "reject", with a
+    queue of at least 1, this is the newest raw arrival on the topic
+    ([newest_arrival_raw]: that the queues keep the newest message is
+    part of what T2 proves). *)
+Definition newest_arrival {CS : Type} (m : node_model) (ctx : ros_context CS) (tp : topic) (i : nat)
+  : option arrival :=
+  last_on (tp_name tp) (flat_map (fun j => received_on m tp (ctx_arrivals ctx j)) (seq 0 (S i))).
+
+Lemma newest_arrival_raw:
+  forall CS m (ctx : ros_context CS) tp i, (1 <= tp_queue tp)%nat ->
+  (forall k a, In a (ctx_arrivals ctx k) -> ar_topic a = tp_name tp ->
+     too_long (composites m) (Tstruct (tp_msg tp)) (ar_msg a) = false) ->
+  newest_arrival m ctx tp i = last_on (tp_name tp) (arrivals_upto ctx i).
+Proof.
+  intros CS m ctx tp i Hq NT. unfold newest_arrival, arrivals_upto.
+  induction (seq 0 (S i)) as [|j js IH]; simpl; auto.
+  rewrite !last_on_app, IH. destruct (last_on (tp_name tp) (flat_map (ctx_arrivals ctx) js)); auto.
+  apply received_on_all; auto. intros a H E. apply (NT j a H E).
+Qed.
 
 (** The message that the callback of topic [tp] receives for the
     arrival [a]: its bounded sequences converted ([Environment.clamp]). *)
@@ -399,7 +463,7 @@ Qed.
 (** The newest message that arrived on topic [tp] up to the [i]-th spin,
     as its callback receives it, or the zero message if none did. *)
 Definition newest {CS : Type} (m : node_model) (ctx : ros_context CS) (tp : topic) (i : nat) : mval :=
-  match newest_arrival ctx tp i with
+  match newest_arrival m ctx tp i with
   | Some a => converted m tp a
   | None => zero_mval (composites m) (Tstruct (tp_msg tp))
   end.
@@ -428,13 +492,14 @@ Definition controller_wt {CS : Type} (m : node_model) (ctx : ros_context CS) : P
 
 (** The receipt time of the newest message on topic [tp] up to the
     [i]-th spin, if any. *)
-Definition newest_time {CS : Type} (ctx : ros_context CS) (tp : topic) (i : nat) : option Z :=
-  option_map ar_time (newest_arrival ctx tp i).
+Definition newest_time {CS : Type} (m : node_model) (ctx : ros_context CS) (tp : topic) (i : nat)
+  : option Z :=
+  option_map ar_time (newest_arrival m ctx tp i).
 
-(** Whether a message arrived on topic [tp] for the [i]-th spin, that is
-    since the previous cycle. *)
-Definition arrived {CS : Type} (ctx : ros_context CS) (tp : topic) (i : nat) : bool :=
-  match last_on (tp_name tp) (ctx_arrivals ctx i) with Some _ => true | None => false end.
+(** Whether the callback of topic [tp] received a message in the [i]-th
+    spin, that is since the previous cycle. *)
+Definition arrived {CS : Type} (m : node_model) (ctx : ros_context CS) (tp : topic) (i : nat) : bool :=
+  match last_on (tp_name tp) (received_on m tp (ctx_arrivals ctx i)) with Some _ => true | None => false end.
 
 (** The inputs [u] handed to the controller in cycle [i]: a value of the
     inputs' type in which every input field [In] holds the field, named
@@ -452,13 +517,13 @@ Definition input_values {CS : Type} (m : node_model) (ctx : ros_context CS) (i :
        /\ tp_cname tp = ir_topic ir
        /\ mval_get (newest m ctx tp i) (path_steps (ir_path ir)) = Some (MVscalar v)
        /\ mval_get u [Sfield (ir_input ir)]
-          = Some (MVscalar (fed_value m ir v (newest_time ctx tp i) (ctx_time ctx (S i)))))
+          = Some (MVscalar (fed_value m ir v (newest_time m ctx tp i) (ctx_time ctx (S i)))))
   /\ (forall dr, In dr (nm_drels m) ->
        exists tp,
           In tp (subscribed m)
        /\ tp_cname tp = dr_topic dr
        /\ mval_get u [Sfield (dr_input dr)]
-          = Some (MVscalar (derived_value (dr_kind dr) (arrived ctx tp i) (newest_time ctx tp i) (ctx_time ctx (S i))))).
+          = Some (MVscalar (derived_value (dr_kind dr) (arrived m ctx tp i) (newest_time m ctx tp i) (ctx_time ctx (S i))))).
 
 (** What ROS carries when the glue publishes the message [mv] on topic
     [tp]: [mv] with its bounded sequences converted as on receipt

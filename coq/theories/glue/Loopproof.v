@@ -27,22 +27,6 @@ Local Open Scope list_scope.
 
 (** ** Arrivals and queues *)
 
-Lemma last_on_app:
-  forall name l1 l2,
-  last_on name (l1 ++ l2) = match last_on name l2 with Some v => Some v | None => last_on name l1 end.
-Proof.
-  induction l1 as [|a l1 IH]; intros l2; simpl.
-  - destruct (last_on name l2); auto.
-  - rewrite IH. destruct (last_on name l2); auto.
-Qed.
-
-Lemma last_on_none_count:
-  forall name l, last_on name l = None -> count_topic name l = O.
-Proof.
-  induction l as [|a l IH]; simpl; intros H; auto.
-  destruct (last_on name l); try discriminate.
-  unfold topic_eqb. destruct (string_dec (ar_topic a) name); try discriminate. rewrite IH; auto.
-Qed.
 
 (** The message held after cycle [k]: the newest one of the first [k]
     spins (zero before the first). *)
@@ -55,11 +39,14 @@ Definition held {CS : Type} (m : node_model) (ctx : ros_context CS) (tp : topic)
 Lemma newest_step:
   forall CS m (ctx : ros_context CS) tp k,
   newest m ctx tp k
-  = match last_on (tp_name tp) (ctx_arrivals ctx k) with Some a => converted m tp a | None => held m ctx tp k end.
+  = match last_on (tp_name tp) (received_on m tp (ctx_arrivals ctx k)) with
+    | Some a => converted m tp a
+    | None => held m ctx tp k
+    end.
 Proof.
-  intros CS m ctx tp k. unfold newest, newest_arrival, arrivals_upto.
+  intros CS m ctx tp k. unfold newest, newest_arrival.
   rewrite seq_S, flat_map_app. simpl. rewrite app_nil_r, last_on_app.
-  destruct (last_on (tp_name tp) (ctx_arrivals ctx k)); auto.
+  destruct (last_on (tp_name tp) (received_on m tp (ctx_arrivals ctx k))); auto.
   destruct k as [|i]; simpl; auto.
 Qed.
 
@@ -94,6 +81,18 @@ Proof.
   induction L as [|s' L IH]; simpl; auto.
   rewrite IH. destruct (in_dec sub_eq s L) as [H|H]; destruct (sub_eq s' s) as [E|E];
     destruct (in_dec sub_eq s (s' :: L)) as [H'|H']; simpl in H'; intuition congruence.
+Qed.
+
+Lemma last_delivered_filter_map:
+  forall s a L (P : subscription * arrival -> bool),
+  last_delivered s (filter P (map (fun s' => (s', a)) L))
+  = if in_dec sub_eq s L then (if P (s, a) then Some a else None) else None.
+Proof.
+  induction L as [|s' L IH]; intros P; simpl; auto.
+  destruct (P (s', a)) eqn:Ps'; simpl; rewrite IH;
+    destruct (in_dec sub_eq s L) as [H|H]; destruct (sub_eq s' s) as [E|E];
+    destruct (in_dec sub_eq s (s' :: L)) as [H'|H']; simpl in H'; subst; try rewrite Ps';
+    destruct (P (s, a)); intuition congruence.
 Qed.
 
 (** A queue of size at least 1 keeps the newest message: the last
@@ -521,23 +520,26 @@ Qed.
 (** The receipt time of the newest message received in the first [k]
     spins ([None] before the first). *)
 Definition held_time (tp : topic) (k : nat) : option Z :=
-  match k with O => None | S i => newest_time ctx tp i end.
+  match k with O => None | S i => newest_time m ctx tp i end.
 
 Lemma newest_time_step:
   forall tp k,
-  newest_time ctx tp k
-  = match last_on (tp_name tp) (ctx_arrivals ctx k) with Some a => Some (ar_time a) | None => held_time tp k end.
+  newest_time m ctx tp k
+  = match last_on (tp_name tp) (received_on m tp (ctx_arrivals ctx k)) with
+    | Some a => Some (ar_time a)
+    | None => held_time tp k
+    end.
 Proof.
-  intros tp k. unfold newest_time, newest_arrival, arrivals_upto.
+  intros tp k. unfold newest_time, newest_arrival.
   rewrite seq_S, flat_map_app. simpl. rewrite app_nil_r, last_on_app.
-  destruct (last_on (tp_name tp) (ctx_arrivals ctx k)); auto.
+  destruct (last_on (tp_name tp) (received_on m tp (ctx_arrivals ctx k))); auto.
   destruct k as [|i]; simpl; auto.
 Qed.
 
 (** The [c_new] flags: all clear, or set for the topics on which a
     message arrived for spin [k]. *)
 Definition nonew (tp : topic) : bool := false.
-Definition arrived_at (k : nat) (tp : topic) : bool := arrived ctx tp k.
+Definition arrived_at (k : nat) (tp : topic) : bool := arrived m ctx tp k.
 
 (** *** The invariant of the loop *)
 
@@ -692,6 +694,10 @@ Qed.
 
 (** *** [ros_spinOnce] *)
 
+(** The deliveries of [D] whose callback is called ([Environment.accepted]). *)
+Definition accepted_in (D : list (subscription * arrival)) : list (subscription * arrival) :=
+  filter (fun sa => accepted ge (fst sa) (snd sa)) D.
+
 Lemma deliver_run:
   forall D (w : world CS) mm (G : topic -> mval) (C : topic -> bool * option Z),
   mem_wf mm -> globals_typed p mm ->
@@ -706,17 +712,24 @@ Lemma deliver_run:
   /\ mem_wf mm' /\ globals_typed p mm'
   /\ (forall tp, In tp (subscribed m) ->
         exists g, global_value p mm' (msg_var (tp_cname tp)) = Some g
-        /\ reads_agree tp g (match last_delivered (sub_of tp) D with Some a => converted m tp a | None => G tp end))
+        /\ reads_agree tp g (match last_delivered (sub_of tp) (accepted_in D) with Some a => converted m tp a | None => G tp end))
   /\ (forall tp, In tp (timed m) ->
         clock_held p mm' (tp_cname tp)
-          (match last_delivered (sub_of tp) D with Some _ => true | None => fst (C tp) end)
-          (match last_delivered (sub_of tp) D with Some a => Some (ar_time a) | None => snd (C tp) end))
+          (match last_delivered (sub_of tp) (accepted_in D) with Some _ => true | None => fst (C tp) end)
+          (match last_delivered (sub_of tp) (accepted_in D) with Some a => Some (ar_time a) | None => snd (C tp) end))
   /\ (forall b, get_block mm b <> None -> not_global p b -> get_block mm' b = get_block mm b).
 Proof.
   intros D; induction D as [|[s a] D IH]; intros w mm G C Wm GT HG HC HD.
   - exists mm, w. split; [apply deliver_nil|]. split; [auto|]. split; [auto|]. split; [auto|].
     split; [auto|]. split; [intros tp Ht; exact (HC tp Ht)|auto].
   - destruct (HD s a (or_introl eq_refl)) as (tp' & Htp' & -> & Tmv0).
+    destruct (accepted ge (sub_of tp') a) eqn:Acc.
+    2:{ destruct (IH w mm G C Wm GT HG HC) as (mm' & w' & X & R); [intros s0 a0 H0; apply HD; simpl; auto|].
+        exists mm', w'. split; [apply deliver_rejected; auto|].
+        unfold accepted_in; cbn [filter fst snd]; rewrite Acc. exact R. }
+    assert (AD: accepted_in ((sub_of tp', a) :: D) = (sub_of tp', a) :: accepted_in D)
+      by (unfold accepted_in; cbn [filter fst snd]; rewrite Acc; reflexivity).
+    rewrite AD.
     set (mv := converted m tp' a).
     assert (Tmv: mval_has_type ce (Tstruct (tp_msg tp')) mv) by (apply clamp_typed; exact Tmv0).
     assert (Dv: delivered ge (sub_of tp') a = mv)
@@ -815,14 +828,14 @@ Proof.
       as (mm' & w' & X & NS & W' & GT' & HG' & HC' & Fr').
     { intros s0 mv0 H0. apply HD; simpl; auto. }
     exists mm', w'. refine (conj _ (conj NS (conj W' (conj GT' (conj _ (conj _ _)))))).
-    + change (@nil event) with (@nil event ++ @nil event). econstructor; [cbn [sub_msgty sub_of]; rewrite Dv; exact AL|eauto..].
+    + change (@nil event) with (@nil event ++ @nil event). econstructor; [exact Acc|cbn [sub_msgty sub_of]; rewrite Dv; exact AL|eauto..].
     + intros tp Htp. destruct (HG' tp Htp) as (g & Gg & Ag). exists g; split; [exact Gg|]. revert Ag.
       cbn [last_delivered]. unfold G1f.
-      destruct (last_delivered (sub_of tp) D); auto.
+      destruct (last_delivered (sub_of tp) (accepted_in D)); auto.
       destruct (sub_eq (sub_of tp') (sub_of tp)) as [E|]; auto.
       assert (tp' = tp) by (apply callback_inj; auto; inversion E; auto). subst tp'. auto.
     + intros tp Ht. generalize (HC' tp Ht). cbn [last_delivered]. unfold C1f.
-      destruct (last_delivered (sub_of tp) D); auto.
+      destruct (last_delivered (sub_of tp) (accepted_in D)); auto.
       destruct (sub_eq (sub_of tp') (sub_of tp)); auto.
     + intros b Lb NG. rewrite Fr'.
       * unfold m3. rewrite get_block_free_other by (intros ->; apply Lb; apply Wm; lia).
@@ -832,6 +845,37 @@ Proof.
         rewrite (globals_changed_other m1 m2 l GC b NG).
         rewrite (get_block_alloc_other _ _ _ _ _ _ AL); auto. intros ->. apply Lb. apply Wm. lia.
       * auto.
+Qed.
+
+(** The last message that the callback of a subscribed topic is called
+    with in one spin is the last one that the topic's queue keeps and the
+    node accepts ([received_on]). *)
+Lemma last_accepted_deliverable:
+  forall tp msgs, In tp (subscribed m) ->
+  last_delivered (sub_of tp) (accepted_in (deliverable subs_of msgs)) = last_on (tp_name tp) (received_on m tp msgs).
+Proof.
+  intros tp msgs Htp. assert (Hs: In (sub_of tp) subs_of) by (unfold subs_of; apply in_map; auto).
+  assert (Acc: forall a, accepted ge (sub_of tp) a = negb (too_long (composites m) (Tstruct (tp_msg tp)) (ar_msg a)))
+    by (intros a; unfold accepted; rewrite globalenv_comp, types_eq; reflexivity).
+  induction msgs as [|a rest IH]; [reflexivity|].
+  cbn [deliverable received_on]. unfold accepted_in in *. rewrite filter_app, last_delivered_app, IH, last_on_app.
+  destruct (last_on (tp_name tp) (received_on m tp rest)) as [v|]; [reflexivity|].
+  rewrite last_delivered_filter_map. cbn [fst snd]. rewrite Acc.
+  destruct (in_dec sub_eq (sub_of tp) _) as [H|H].
+  - apply filter_In in H as [_ H]. apply andb_true_iff in H as [T K].
+    unfold topic_eqb in T |- *. cbn [sub_topic sub_of] in T.
+    destruct (string_dec (tp_name tp) (ar_topic a)) as [E|]; [|discriminate].
+    unfold keeps in K. cbn [sub_queue sub_of] in K. rewrite <- E in K.
+    destruct (string_dec (ar_topic a) (tp_name tp)) as [_|N]; [|congruence].
+    rewrite K. cbn [andb].
+    destruct (negb (too_long (composites m) (Tstruct (tp_msg tp)) (ar_msg a))); [|reflexivity].
+    simpl. destruct (string_dec (ar_topic a) (tp_name tp)); congruence.
+  - unfold topic_eqb.
+    destruct (string_dec (ar_topic a) (tp_name tp)) as [E|]; [|reflexivity].
+    replace (Nat.eqb (tp_queue tp) 0 || Nat.ltb (count_topic (tp_name tp) rest) (tp_queue tp)) with false; [reflexivity|].
+    symmetry. apply not_true_iff_false. intros K. apply H. apply filter_In. split; auto.
+    unfold topic_eqb, keeps. cbn [sub_topic sub_queue sub_of].
+    destruct (string_dec (tp_name tp) (ar_topic a)); [|congruence]. rewrite E. exact K.
 Qed.
 
 Lemma spin_run:
@@ -849,11 +893,8 @@ Proof.
     unfold subs_of in Hs. apply in_map_iff in Hs. destruct Hs as (tp & <- & Htp).
     exists tp; repeat split; auto. eapply AWT; eauto. }
   assert (LD: forall tp, In tp (subscribed m) ->
-            last_delivered (sub_of tp) D = last_on (tp_name tp) (ctx_arrivals ctx k)).
-  { intros tp Htp. unfold D. rewrite last_delivered_deliverable; auto.
-    - unfold subs_of. apply in_map; auto.
-    - simpl. generalize (wf_topics m W tp (proj1 (proj1 (in_subscribed m tp) Htp))).
-      unfold topic_ok. rewrite !andb_true_iff. intros [[_ Q] _]. apply Nat.leb_le; auto. }
+            last_delivered (sub_of tp) (accepted_in D) = last_on (tp_name tp) (received_on m tp (ctx_arrivals ctx k)))
+    by (intros tp Htp; unfold D; apply last_accepted_deliverable; auto).
   exists mm'. split.
   - change (wld (S k) r s) with (next_spin ctx (wld k r s)). rewrite <- NS.
     apply eval_funcall_spinOnce. exact X.
@@ -865,7 +906,7 @@ Proof.
       rewrite Fr'; auto. congruence.
     + intros tp Ht. generalize (HC' tp Ht). rewrite LD by (apply timed_subscribed; auto).
       unfold arrived_at, arrived. cbn [held_time]. rewrite newest_time_step.
-      destruct (last_on (tp_name tp) (ctx_arrivals ctx k)); auto.
+      destruct (last_on (tp_name tp) (received_on m tp (ctx_arrivals ctx k))); auto.
     + apply (li_funs I).
 Qed.
 
@@ -885,12 +926,12 @@ Qed.
 (** The clock state of the timed topic with C name [c] after spin [k]. *)
 Definition clock_at (k : nat) (c : ident) : bool * option Z :=
   match find_topic (nm_topics m) c with
-  | Some tp => (arrived ctx tp k, newest_time ctx tp k)
+  | Some tp => (arrived m ctx tp k, newest_time m ctx tp k)
   | None => (false, None)
   end.
 
 Lemma clock_at_topic:
-  forall k tp, In tp (subscribed m) -> clock_at k (tp_cname tp) = (arrived ctx tp k, newest_time ctx tp k).
+  forall k tp, In tp (subscribed m) -> clock_at k (tp_cname tp) = (arrived m ctx tp k, newest_time m ctx tp k).
 Proof.
   intros k tp H. unfold clock_at. rewrite In_find_topic; auto.
   - apply wf_cnames_nodup; auto.
