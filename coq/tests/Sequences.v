@@ -408,3 +408,102 @@ Proof. apply (prefute _ 2). vm_compute. reflexivity. Qed.
 Definition m_len_missing : program := on_out_copies (remove_nth 0) publisher_prog.
 Theorem m_len_missing_refuted: ~ node_ddc publisher m_len_missing.
 Proof. apply (prefute _ 2). vm_compute. reflexivity. Qed.
+
+(** ** Policy reject *)
+
+(** The scanner whose [ranges] has policy reject: its struct is
+    [ros_rseq_float32_4] ([Environment.reject_name]).  The same six scans
+    arrive, then two spins of two scans each on a queue of 1: in spin 6 an
+    accepted scan of length 2 followed by a rejected one of length 6,
+    which pushes it out of the queue (nothing is delivered); in spin 7 a
+    rejected one followed by an accepted one of length 2. *)
+Definition rseq4 : msgdef :=
+  mkmsgdef "ros_rseq_float32_4" [("len", FTprim Puint32); ("truncated", FTprim Pbool);
+                                 ("data", FTarray (FTprim Pfloat32) 4)].
+Definition laser_scan_r : msgdef :=
+  mkmsgdef "sensor_msgs_LaserScan" [("angle_min", FTprim Pfloat32); ("ranges", FTmsg "ros_rseq_float32_4")].
+
+Definition rejector : node_model := {|
+  nm_name := "rejector"; nm_period_ms := 20; nm_ctrl := "Controller";
+  nm_in_var := "Controller_U"; nm_in_struct := "ExtU_Controller_T";
+  nm_inputs := [("R1", Pfloat32); ("Len", Puint32); ("Trunc", Pbool)];
+  nm_out_var := "Controller_Y"; nm_out_struct := "ExtY_Controller_T";
+  nm_outputs := [("Out1", Pfloat64)];
+  nm_msgs := [rseq4; laser_scan_r; geometry_msgs_Vector3; geometry_msgs_Twist];
+  nm_topics := [scan; cmd];
+  nm_inrels := nm_inrels scanner;
+  nm_outrels := nm_outrels scanner;
+  nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := [];
+  nm_strings := [] |}.
+
+Definition rejector_result : res program := Eval vm_compute in generate rejector.
+Definition rejector_prog : program :=
+  Eval vm_compute in match rejector_result with OK p => p | Error _ => mkprogram [] [] "" end.
+
+Lemma rejector_generates: generate rejector = OK rejector_prog.
+Proof. vm_compute. reflexivity. Qed.
+
+Definition rctx : ros_context unit :=
+  mkctx (fun k => match k with
+                  | 6%nat => [mkarrival "/scan" (scan_msg 2 [r5; r6; junk; junk]) 0;
+                              mkarrival "/scan" (scan_msg 6 [r5; r7; r7; r7]) 0]
+                  | 7%nat => [mkarrival "/scan" (scan_msg 6 [r5; r7; r7; r7]) 0;
+                              mkarrival "/scan" (scan_msg 2 [r5; r8; junk; junk]) 0]
+                  | _ => match nth_error scans k with
+                         | Some (l, xs) => [mkarrival "/scan" (scan_msg l xs) 0]
+                         | None => []
+                         end
+                  end)
+        (fun _ => 0%Z) tt (fun _ _ => (tt, y_out)).
+
+Lemma rctx_arrivals_wt: arrivals_wt rejector rctx.
+Proof.
+  intros k a tp H Htp _. apply mval_typecheck_iff.
+  simpl in Htp. destruct Htp as [<-|[]].
+  do 8 (destruct k as [|k]; [simpl in H; repeat (destruct H as [<-|H]; [vm_compute; reflexivity|]); contradiction|]).
+  simpl in H. destruct k; contradiction.
+Qed.
+
+Lemma rctx_controller_wt: controller_wt rejector rctx.
+Proof. intros s u. apply mval_typecheck_iff. vm_compute. reflexivity. Qed.
+
+(** The controller never sees a scan longer than 4: after the scan of
+    length 4 (cycle 3), the scans of lengths 5 and 8 are dropped and it
+    keeps [ranges[1] = 6.0] and the length 4; in cycle 6 the rejected scan
+    pushed the accepted one out of the queue, so it still keeps them; in
+    cycle 7 it gets the accepted scan of length 2 ([ranges[1] = 8.0]).
+    [truncated] is never set. *)
+Example rejector_run:
+  match run_trace 4000 rejector_prog rctx 8 with
+  | Some t => inputs_of t =
+      [(Some 0, Some 0, Some 0); (Some 0, Some 1, Some 0); (Some 0x40C00000, Some 3, Some 0);
+       (Some 0x40C00000, Some 4, Some 0); (Some 0x40C00000, Some 4, Some 0); (Some 0x40C00000, Some 4, Some 0);
+       (Some 0x40C00000, Some 4, Some 0); (Some 0x41000000, Some 2, Some 0)]%Z
+  | None => False
+  end.
+Proof. vm_compute. reflexivity. Qed.
+
+Definition rcheck (p : program) (n : nat) : bool :=
+  match run_trace 4000 p rctx n with
+  | Some t => run_okb rejector rctx n t
+  | None => true
+  end.
+
+Lemma rrefute: forall p n, rcheck p n = false -> ~ node_ddc rejector p.
+Proof.
+  intros p n H D. unfold rcheck in H.
+  destruct (run_trace 4000 p rctx n) as [t|] eqn:R; [|discriminate].
+  destruct (D unit rctx n rctx_arrivals_wt rctx_controller_wt) as [_ All].
+  rewrite (run_ok_okb _ _ _ _ _ (All t (run_trace_sound _ rctx 4000 p n t R))) in H. discriminate.
+Qed.
+
+(** The generated program passes (as T2 says it must). *)
+Example rejector_passes: rcheck rejector_prog 8 = true.
+Proof. vm_compute. reflexivity. Qed.
+
+(** (q6) the scanner's program, whose [ranges] has policy truncate,
+    against the rejector's model: it hands the controller the truncated
+    scans of lengths 5 and 8 (length 4, [truncated] 1), which T2 for
+    policy reject forbids: an over-long message is never delivered. *)
+Theorem truncating_program_refuted: ~ node_ddc rejector scanner_prog.
+Proof. apply (rrefute _ 5). vm_compute. reflexivity. Qed.
