@@ -67,7 +67,7 @@ def cmd_check(args: argparse.Namespace) -> int:
     seqs = [(owner, fname, b) for owner, fname, b in model.bounded_fields if b.is_seq]
     if seqs:
         ctrl += f"; {_plural(len(seqs), 'variable-length array')}: " + ", ".join(
-            f"{owner} {fname} ({b.seq_of[0]}[], at most {b.capacity})" for owner, fname, b in seqs)
+            f"{owner} {fname} ({b.seq_of[0]}[], at most {b.capacity}{', policy reject' if b.reject else ''})" for owner, fname, b in seqs)
     print(
         f"{args.model}: ok: node {model.name}, {_plural(len(model.topics), 'topic')}, "
         f"{_plural(len(model.input_relations), 'input relation')}, "

@@ -259,6 +259,9 @@ class MsgRegistry:
     #: are carried (rules 4.14, 4.15), as (message type, field name) ->
     #: capacity: those the model's constants and input relations name
     carry_bounded: dict[tuple[str, str], int] = field(default_factory=dict)
+    #: those of ``carry_bounded`` with policy reject (rule 4.15,
+    #: ``policy``): carried as ``ros_rseq_<T>_<N>`` / ``ros_rstring<N>``
+    carry_reject: frozenset[tuple[str, str]] = frozenset()
 
     @property
     def carry_strings(self) -> frozenset[tuple[str, str]]:
@@ -272,11 +275,12 @@ class MsgRegistry:
         views computed so far."""
         self.set_carried({f: DEFAULT_MAX_LENGTH for f in fields})
 
-    def set_carried(self, fields: dict[tuple[str, str], int]) -> None:
+    def set_carried(self, fields: dict[tuple[str, str], int], reject=frozenset()) -> None:
         """Carry the strings and variable-length arrays ``fields``
-        ((message type, field name) -> capacity) and forget the carried
-        views computed so far."""
+        ((message type, field name) -> capacity), those of ``reject`` with
+        policy reject, and forget the carried views computed so far."""
         self.carry_bounded = dict(fields)
+        self.carry_reject = frozenset(k for k in reject if k in self.carry_bounded)
         self._carried.clear()
         self._broken.clear()
 
@@ -474,13 +478,15 @@ class MsgRegistry:
                 mf = MsgField(f.name, "msg", msg=f.base, array_len=f.size if f.card == "array" else None)
             elif f.base_kind == "prim":
                 if f.card == "sequence" and (name, f.name) in self.carry_bounded:
-                    mf = MsgField(f.name, "msg", msg=seq_type_name(f.base, self.carry_bounded[(name, f.name)]))
+                    mf = MsgField(f.name, "msg", msg=seq_type_name(f.base, self.carry_bounded[(name, f.name)],
+                                                                    (name, f.name) in self.carry_reject))
                 elif f.card == "sequence" or (f.card == "array" and f.size == 0):
                     continue
                 else:
                     mf = MsgField(f.name, "prim", prim=f.base, array_len=f.size if f.card == "array" else None)
             elif f.base_kind == "string" and f.card == "scalar" and (name, f.name) in self.carry_bounded:
-                mf = MsgField(f.name, "msg", msg=string_type_name(self.carry_bounded[(name, f.name)]))
+                mf = MsgField(f.name, "msg", msg=string_type_name(self.carry_bounded[(name, f.name)],
+                                                                (name, f.name) in self.carry_reject))
             else:
                 continue
             if raw.file is not None:

@@ -180,6 +180,10 @@ class MsgType:
     #: 4.15): the bounded struct ``ros_seq_<T>_<N>`` of :func:`seq_type`,
     #: ``(T, N)``; ``None`` for every other type
     seq_of: tuple[str, int] | None = None
+    #: a bounded struct of policy reject (rule 4.15, ``policy``): named
+    #: ``ros_rseq_<T>_<N>`` or ``ros_rstring<N>`` (``Environment.reject_name``);
+    #: a received message holding it longer than ``N`` is not delivered
+    reject: bool = False
 
     @property
     def is_pseudo(self) -> bool:
@@ -271,22 +275,22 @@ _PSEUDO = {"time": TIME, "duration": DURATION}
 #: version; :func:`string_type_name` builds the struct's name from it.
 STRING_CAPACITY = 128
 
-_STRING_NAME = re.compile(r"ros_string([1-9][0-9]{0,5})")
+_STRING_NAME = re.compile(r"ros_(r?)string([1-9][0-9]{0,5})")
 
 
-def string_type_name(capacity: int = STRING_CAPACITY) -> str:
+def string_type_name(capacity: int = STRING_CAPACITY, reject: bool = False) -> str:
     """The name (and C struct name) of a carried string of ``capacity``
-    bytes: ``ros_string128``."""
-    return f"ros_string{capacity}"
+    bytes: ``ros_string128`` (``ros_rstring128`` of policy reject)."""
+    return f"ros_{'r' if reject else ''}string{capacity}"
 
 
-def string_type(capacity: int = STRING_CAPACITY) -> MsgType:
+def string_type(capacity: int = STRING_CAPACITY, reject: bool = False) -> MsgType:
     """The C struct of a carried ROS ``string`` of at most ``capacity``
     bytes (rule 4.14; ``Wellformed.string_msg``): ``len`` (``uint32``, the
     number of bytes), ``truncated`` (``bool``, set when a received string
     was longer than the capacity) and ``data`` (``uint8[capacity]``, the
     bytes, zero past ``len``)."""
-    name = string_type_name(capacity)
+    name = string_type_name(capacity, reject)
     return MsgType(
         name,
         name,
@@ -296,6 +300,7 @@ def string_type(capacity: int = STRING_CAPACITY) -> MsgType:
             MsgField("data", "prim", prim="uint8", array_len=capacity),
         ),
         string_capacity=capacity,
+        reject=reject,
     )
 
 
@@ -330,25 +335,26 @@ CPP_ELEMENT_TYPES: dict[str, str] = {
     "float64": "double",
 }
 
-_SEQ_NAME = re.compile(r"ros_seq_(" + "|".join(PRIMITIVES) + r")_([1-9][0-9]{0,5})")
+_SEQ_NAME = re.compile(r"ros_(r?)seq_(" + "|".join(PRIMITIVES) + r")_([1-9][0-9]{0,5})")
 
 
-def seq_type_name(prim: str, capacity: int = DEFAULT_MAX_LENGTH) -> str:
+def seq_type_name(prim: str, capacity: int = DEFAULT_MAX_LENGTH, reject: bool = False) -> str:
     """The name (and C struct name) of a carried ``prim[]`` of at most
-    ``capacity`` elements: ``ros_seq_float32_1081``."""
+    ``capacity`` elements: ``ros_seq_float32_1081`` (``ros_rseq_float32_1081``
+    of policy reject)."""
     if prim not in PRIMITIVES:
         raise ValueError(f"not a primitive type: {prim!r}")
-    return f"ros_seq_{prim}_{capacity}"
+    return f"ros_{'r' if reject else ''}seq_{prim}_{capacity}"
 
 
-def seq_type(prim: str, capacity: int = DEFAULT_MAX_LENGTH) -> MsgType:
+def seq_type(prim: str, capacity: int = DEFAULT_MAX_LENGTH, reject: bool = False) -> MsgType:
     """The C struct of a carried variable-length array of ``prim`` of at
     most ``capacity`` elements (rule 4.15; the environment model's bounded
     sequence, ``Environment.bounded_name``, ``clamp``): ``len``
     (``uint32``, the number of elements received, at most ``capacity``),
     ``truncated`` (``bool``, set when more were received) and ``data``
     (``prim[capacity]``, the elements, zero past ``len``)."""
-    name = seq_type_name(prim, capacity)
+    name = seq_type_name(prim, capacity, reject)
     return MsgType(
         name,
         name,
@@ -358,6 +364,7 @@ def seq_type(prim: str, capacity: int = DEFAULT_MAX_LENGTH) -> MsgType:
             MsgField("data", "prim", prim=prim, array_len=capacity),
         ),
         seq_of=(prim, capacity),
+        reject=reject,
     )
 
 
@@ -376,10 +383,10 @@ def bounded_type(name: str) -> MsgType:
     """The bounded struct called ``name`` (:func:`is_bounded_type`)."""
     m = _SEQ_NAME.fullmatch(name)
     if m is not None:
-        return seq_type(m.group(1), int(m.group(2)))
+        return seq_type(m.group(2), int(m.group(3)), m.group(1) == "r")
     m = _STRING_NAME.fullmatch(name)
     if m is not None:
-        return string_type(int(m.group(1)))
+        return string_type(int(m.group(2)), m.group(1) == "r")
     raise KeyError(name)
 
 

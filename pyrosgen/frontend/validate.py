@@ -155,9 +155,10 @@ def reserved_package(pkg: str) -> bool:
     """Whether a custom package may not be called ``pkg``: its C structs
     (``<pkg>_<Type>``) could be the glue's own ``ros_time``,
     ``ros_duration``, or names that the environment model takes for
-    bounded sequences and strings (``ros_seq_...``, ``ros_string...``:
-    ``Environment.bounded_name``; rule 4.15)."""
-    return pkg == "ros" or pkg == "ros_seq" or pkg.startswith(("ros_seq_", "ros_string"))
+    bounded sequences and strings (``ros_seq_...``, ``ros_string...``,
+    of policy reject ``ros_rseq_...``, ``ros_rstring...``:
+    ``Environment.bounded_name``, ``reject_name``; rule 4.15)."""
+    return pkg == "ros" or pkg.startswith(("ros_seq", "ros_string", "ros_rseq", "ros_rstring"))
 
 
 def _rule_of(message: str) -> str | None:
@@ -359,9 +360,9 @@ class _Checker:
             if reserved:
                 self.err_rule("4.15", item,
                               f"{what}: folder {show(text)} holds the package {show(reserved[0])}: a package named "
-                              "ros (or starting with ros_seq or ros_string) is refused, its C structs could "
-                              "collide with the glue's own (ros_time, ros_duration, ros_seq_<T>_<N>, "
-                              "ros_string<N>)")
+                              "ros (or starting with ros_seq, ros_string, ros_rseq or ros_rstring) is refused, "
+                              "its C structs could collide with the glue's own (ros_time, ros_duration, "
+                              "ros_seq_<T>_<N>, ros_string<N>, ros_rseq_<T>_<N>, ros_rstring<N>)")
                 continue
             try:
                 n = registry.add_msg_dir(resolved)
@@ -393,7 +394,7 @@ class _Checker:
             if m is None:
                 continue
             self.keys(m, what, ("name", "direction", "type", "queue_size"),
-                      ("timeout_ms", "on_timeout", "stamp", "frame_id", "strings", "max_length"))
+                      ("timeout_ms", "on_timeout", "stamp", "frame_id", "strings", "max_length", "policy"))
             name_node = m.get("name")
             name = self.string(name_node, f"{what}.name")
             usable = name is not None
@@ -616,6 +617,12 @@ class _Checker:
                         rel.path = FieldPath((*target.steps, leaf), prim)
                         rel.bounded = target
                         rel.written = f"{ptext} ({rel.seq_kind})"
+                        if rel.seq_kind == "truncated" and target.key in registry.carry_reject:
+                            self.err_rule("4.15", m.get("derived"),
+                                          f"{w}.derived: truncated of {ptext}, whose policy is reject, is always 0 "
+                                          f"(a longer message is not delivered): use derived: length, or policy "
+                                          f"truncate ({target.field} of {target.owner})")
+                            rel.ok = False
                     else:
                         rel.path = registry.walk_path(rel.topic.msg_type, ptext, bounded=True,
                                                       writes=kind == "output")
@@ -999,6 +1006,109 @@ def carried_bounded_fields(topics: YNode | None, relations: YNode | None,
     return {key: maxima.get(key, DEFAULT_MAX_LENGTH) for key in sorted(named)}
 
 
+#: The policies of a carried variable-length array or string for received
+#: data longer than its maximum (rule 4.15, ``policy``).
+POLICIES = ("truncate", "reject")
+
+
+@dataclass
+class _PolicyItem:
+    """An entry of a topic's ``policy`` (rule 4.15): as :class:`_MaxItem`,
+    with ``value`` the policy or ``value_problem`` why it is not one."""
+
+    what: str
+    key: YNode
+    node: YNode
+    target: BoundedTarget | None = None
+    problem: str | None = None
+    value: str | None = None
+    value_problem: str | None = None
+
+
+def _policy_items(pnode: YMap, msg_type: str | None, registry: MsgRegistry, what: str) -> list[_PolicyItem]:
+    """The entries of the ``policy`` mapping ``pnode`` of a topic of
+    ``msg_type`` (``None``: unknown, the paths are not resolved)."""
+    out = []
+    for k, v in pnode.items:
+        it = _PolicyItem(f"{what}.policy[{show(k.text)}]", k, v)
+        if isinstance(v, YScalar) and v.kind == "str" and v.value in POLICIES:
+            it.value = v.value
+        elif not isinstance(v, YBad):
+            hint = did_you_mean(v.value, POLICIES) if isinstance(v, YScalar) and v.kind == "str" else ""
+            it.value_problem = f"must be truncate or reject, got {v.describe()}{hint}"
+        if k.kind != "str":
+            it.problem = f"a key of policy is a field path, got {k.describe()}"
+        elif msg_type is not None:
+            try:
+                it.target = registry.walk_bounded(msg_type, k.value, "policy")
+            except PathError as exc:
+                it.problem = exc.args[0]
+        out.append(it)
+    return out
+
+
+def carried_reject_fields(topics: YNode | None, registry: MsgRegistry) -> set[tuple[str, str]]:
+    """The (message type, field name) pairs that a subscribed topic's
+    ``policy`` gives policy reject (rule 4.15); read before the topics are
+    checked, nothing is reported here (:func:`check_policy` does)."""
+    out: set[tuple[str, str]] = set()
+    for item, direction, msg_type in _topic_types(topics, registry).values():
+        pnode = item.get("policy")
+        if direction != SUBSCRIBE or not isinstance(pnode, YMap):
+            continue
+        for it in _policy_items(pnode, msg_type, registry, ""):
+            if it.target is not None and it.value == "reject":
+                out.add(it.target.key)
+    return out
+
+
+def check_policy(ck: _Checker, decls: list[_TopicDecl], registry: MsgRegistry) -> None:
+    """Rule 4.15: a subscribed topic's ``policy: {<field path>: truncate |
+    reject}`` names carried variable-length arrays or strings of its
+    message; one field of a message type (one C struct in every topic of
+    the type) gets one policy."""
+    rule = "4.15"
+    seen: dict[tuple[str, str], _PolicyItem] = {}
+    for d in decls:
+        pnode = d.node.get("policy")
+        if pnode is None or isinstance(pnode, YBad):
+            continue
+        if not isinstance(pnode, YMap):
+            ck.err_rule(rule, pnode, f"{d.what}.policy must be a mapping of field paths to truncate or reject "
+                                     f"(e.g. {{ranges: reject}}), got {pnode.describe()}")
+            continue
+        if d.direction == PUBLISH:
+            ck.err_rule(rule, pnode, f"{d.what}.policy: topic {show(d.name)} is published by the node; a policy "
+                                     "says what a subscribed topic does with received data longer than its maximum")
+            continue
+        msg_type = d.msg_type if d.msg_type is not None and registry.raw(d.msg_type) is not None else None
+        for it in _policy_items(pnode, msg_type, registry, d.what):
+            if it.value_problem is not None:
+                ck.err_rule(rule, it.node, f"{it.what} {it.value_problem}")
+            if msg_type is None:
+                continue
+            if it.problem is not None:
+                ck.err_rule(rule, it.key, f"{it.what}: {it.problem} (topic {show(d.name)}, {msg_type})")
+                continue
+            if it.target.key not in registry.carry_bounded:
+                owner, fname = it.target.key
+                ck.err_rule(rule, it.key, f"{it.what}: {fname} of {owner} is not carried (no relation reads it), "
+                                          f"so it has no policy (topic {show(d.name)})")
+                continue
+            if it.value is None:
+                continue
+            first = seen.get(it.target.key)
+            if first is not None and first.value != it.value:
+                owner, fname = it.target.key
+                ck.err_rule(rule, it.key,
+                            f"{it.what}: {it.value} differs from the policy {first.value} given to the same field "
+                            f"({fname} of {owner}) at line {first.key.line}, column {first.key.col} "
+                            f"({first.what}); one C struct holds the field in every topic of type {owner}, "
+                            "so it has one policy")
+            elif first is None:
+                seen[it.target.key] = it
+
+
 def check_max_length(ck: _Checker, decls: list[_TopicDecl], registry: MsgRegistry) -> None:
     """Rule 4.15: a topic's ``max_length: {<field path>: N}`` names
     variable-length arrays of primitives or ``string`` fields of its
@@ -1331,9 +1441,11 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
     # variable-length arrays the input relations read (rule 4.15) are
     # carried, with their maxima: known before any message type's carried
     # view is computed.
-    registry.set_carried(carried_bounded_fields(root.get("topics"), root.get("relations"), registry))
+    registry.set_carried(carried_bounded_fields(root.get("topics"), root.get("relations"), registry),
+                         carried_reject_fields(root.get("topics"), registry))
     decls = ck.topics_section(root.get("topics"), registry)
     check_max_length(ck, decls, registry)
+    check_policy(ck, decls, registry)
     ck.diags.extend(registry.diagnostics)
     registry.diagnostics.clear()
     topics = {d.name: d for d in decls}

@@ -21,7 +21,7 @@ from pyrosgen.render import render, source_label
 
 from pyrosgen.errors import ToolFailure
 from pyrosgen.frontend.model import NodeModel, Topic
-from pyrosgen.frontend.msgmodel import MsgType
+from pyrosgen.frontend.msgmodel import MsgType, bounded_type, is_bounded_type
 from pyrosgen import procs
 
 _C_IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
@@ -60,6 +60,35 @@ def _messages_by_name(model: NodeModel) -> dict[str, MsgType]:
     return {m.name: m for m in model.messages}
 
 
+def _reject_paths(msgs: dict[str, MsgType], name: str) -> list[tuple[str, int]]:
+    """The sequences and strings of policy reject (rule 4.15) in a message
+    of type ``name``, as (C++ access path, maximum), in field order,
+    through nested messages and every element of fixed-size arrays of
+    messages: the subscription callback drops a message in which one is
+    longer than its maximum (``Environment.accepted``)."""
+    out: list[tuple[str, int]] = []
+
+    def go(t: MsgType, prefix: str) -> None:
+        for f in t.fields:
+            if f.kind != "msg":
+                continue
+            sub = bounded_type(f.msg) if is_bounded_type(f.msg) else msgs.get(f.msg)
+            if sub is None:
+                continue
+            for ix in ([""] if f.array_len is None else [f"[{i}]" for i in range(f.array_len)]):
+                path = f"{prefix}{_check_ident(f.name)}{ix}"
+                if sub.is_bounded:
+                    if sub.reject:
+                        out.append((path, sub.capacity))
+                else:
+                    go(sub, path + ".")
+
+    t = msgs.get(name)
+    if t is not None:
+        go(t, "")
+    return out
+
+
 def _context(model: NodeModel, proved: ProvedModel | None = None) -> dict:
     files = wrapper_files(model)
     msgs = _messages_by_name(model)
@@ -83,6 +112,7 @@ def _context(model: NodeModel, proved: ProvedModel | None = None) -> dict:
         _check_ident(m.c_name)
         for f in m.fields:
             _check_ident(f.name)
+    by_c = {m.c_name: m.name for m in model.messages}
     cpp_headers = sorted({f"{m.name}.h" for m in model.messages if not m.is_pseudo})
     return {
         "source": source_label(model.source.name),
@@ -96,6 +126,7 @@ def _context(model: NodeModel, proved: ProvedModel | None = None) -> dict:
         "pubs": pubs,
         "msg_c": msg_c,
         "msg_cpp": msg_cpp,
+        "rejects": {t.name: _reject_paths(msgs, by_c.get(msg_c[t.name], "")) for t in subs},
         "period_s": repr(period_ms / 1000.0),
     }
 

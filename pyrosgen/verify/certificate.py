@@ -461,14 +461,16 @@ def render_certificate(rec: ProofRecord, proved: str, glue_text: str, hashes: li
     strings = _strings(pm, glue_text)
     built = any(name.startswith("bin/") for name, _ in hashes)
     string_structs = sorted(name for name, fields in pm.messages.items()
-                            if name.startswith("ros_string") and [f for f, _ in fields] == ["len", "truncated", "data"])
+                            if name.startswith(("ros_string", "ros_rstring")) and [f for f, _ in fields] == ["len", "truncated", "data"])
     seq_structs = sorted(name for name, fields in pm.messages.items()
-                         if name.startswith("ros_seq_") and [f for f, _ in fields] == ["len", "truncated", "data"])
+                         if name.startswith(("ros_seq_", "ros_rseq_")) and [f for f, _ in fields] == ["len", "truncated", "data"])
     return render(
         "CERTIFICATE.md.j2",
         rec=rec, pm=pm, md=md_code, source=md_code(source_label(rec.source_name)), diagram=diagram,
         inputs=inputs, outputs=outputs, stamps=stamps, freshness=freshness, strings=strings,
-        string_structs=string_structs, seq_structs=seq_structs, hashes=hashes, built=built,
+        string_structs=string_structs, seq_structs=seq_structs,
+        reject_structs=[n for n in string_structs + seq_structs if n.startswith(("ros_rseq_", "ros_rstring"))],
+        hashes=hashes, built=built,
         manifest=manifest_name, sums=sums_name, certificate=cert_name,
     )
 

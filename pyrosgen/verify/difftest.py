@@ -22,7 +22,12 @@ the length.  The Coq side delivers it converted, as the environment
 model says (``Environment.delivered``, ``clamp``); the C side converts it
 with a C clamp that does what the wrapper's conversion does
 (:data:`CLAMPS`: ``len = min(len, N)``, ``truncated = len > N``, the
-elements past the new length zero) before calling the callback.
+elements past the new length zero) before calling the callback.  A
+message holding a bounded sequence or string of policy reject
+(``ros_rseq_<T>_<N>``, ``ros_rstring<N>``) longer than ``N`` is dropped
+after the queue: the Coq side by ``Environment.accepted``, the C side by
+the test the wrapper makes first thing in its callback (``len > N``:
+the callback is not called).
 
 A published message is printed by both sides as the wrapper puts it on
 the wire: each bounded sequence or string as its length ``min(len, N)``
@@ -122,6 +127,13 @@ class Bounded:
     capacity: int
     first_leaf: int
 
+    @property
+    def reject(self) -> bool:
+        """Whether it has policy reject (``ros_rseq_...``, ``ros_rstring...``:
+        ``Environment.reject_name``): a message holding it longer than its
+        capacity is not delivered (``Environment.accepted``)."""
+        return self.struct.startswith(("ros_rseq_", "ros_rstring"))
+
 
 @dataclass(frozen=True)
 class Struct:
@@ -146,10 +158,11 @@ class Struct:
 #: string: ``truncate`` is the wrapper's conversion (and the environment
 #: model's ``Environment.clamp``); ``no_zero_fill`` is a mutant that leaves
 #: the elements past the new length as they came (the differential tests
-#: must catch it).
-CLAMPS = ("truncate", "no_zero_fill")
+#: must catch it); ``no_reject`` is a mutant that delivers a message of
+#: policy reject longer than its maximum (truncated) instead of dropping it.
+CLAMPS = ("truncate", "no_zero_fill", "no_reject")
 
-_BOUNDED_PREFIXES = ("ros_seq_", "ros_string")
+_BOUNDED_PREFIXES = ("ros_seq_", "ros_string", "ros_rseq_", "ros_rstring")
 
 
 _CTYPES = {("I8", "signed"): "signed char", ("I8", "unsigned"): "unsigned char",

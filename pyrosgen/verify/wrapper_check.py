@@ -102,6 +102,7 @@ _NOW_SUB = re.compile(
     r"^void ros_subscribe_(\w+)\(void \(\*cb\)\(struct (\w+) \*\)\)\n\{\n"
     r"    boost::function<void\(const ros::MessageEvent<([\w:]+) const> &\)> f =\n"
     r"        \[cb\]\(const ros::MessageEvent<([\w:]+) const> &e\) \{\n"
+    r"((?:            [^\n]*\breturn;\n)*)"
     r"            g_now_ns = e\.getReceiptTime\(\)\.toNSec\(\);\n"
     r"            struct (\w+) c;\n"
     r"            std::memset\(&c, 0, sizeof c\);\n"
@@ -119,8 +120,50 @@ def _strip_comments(cpp: str) -> str:
     return _COMMENT_OR_STRING.sub(lambda m: m.group(1) or "", cpp)
 
 
-def _time_problems(cpp: str, n_subs: int) -> list[str]:
-    """What in ``cpp`` departs from the ROS time the proof assumes."""
+_REJECT_NAME = re.compile(r"ros_r(?:seq_\w+_|string)([1-9][0-9]*)")
+
+
+def reject_checks(messages: dict[str, list[tuple[str, str]]], struct: str) -> list[tuple[str, int]]:
+    """The sequences and strings of policy reject (rule 4.15: a struct
+    ``ros_rseq_<T>_<N>`` or ``ros_rstring<N>``, ``Environment.reject_name``)
+    in a message of the proved struct ``struct``, as (C++ access path, N),
+    in the order of the fields (through nested messages and every element of
+    fixed-size arrays of messages): those ``Environment.too_long`` reads."""
+    out: list[tuple[str, int]] = []
+
+    def go(name: str, prefix: str, depth: int) -> None:
+        if depth > 64:
+            return
+        for fname, ftype in messages.get(name, []):
+            m = re.fullmatch(r"(?:array ([1-9][0-9]*) )?msg (\w+)", ftype)
+            if m is None:
+                continue
+            sub = m.group(2)
+            idxs = [""] if m.group(1) is None else [f"[{i}]" for i in range(int(m.group(1)))]
+            for ix in idxs:
+                path = f"{prefix}{fname}{ix}"
+                rj = _REJECT_NAME.fullmatch(sub)
+                if rj is not None:
+                    out.append((path, int(rj.group(1))))
+                elif not sub.startswith(("ros_seq_", "ros_string")):
+                    go(sub, path + ".", depth + 1)
+
+    go(struct, "", 0)
+    return out
+
+
+def reject_lines(checks: list[tuple[str, int]]) -> str:
+    """The one accepted text of a subscription callback's reject test (rule
+    4.15, ``Environment.accepted``): first thing in the callback, before the
+    receipt time or the conversion, one line per sequence or string of policy
+    reject, returning without calling the glue's callback when it is longer
+    than its maximum."""
+    return "".join(f"            if (e.getConstMessage()->{path}.size() > {n}) return;\n" for path, n in checks)
+
+
+def _time_problems(cpp: str, n_subs: int, messages: dict[str, list[tuple[str, str]]] | None = None) -> list[str]:
+    """What in ``cpp`` departs from the ROS time the proof assumes, and
+    from the reject tests of the proved model's ``messages``."""
     problems: list[str] = []
     cpp = _strip_comments(cpp)
     if len(_NOW_VAR.findall(cpp)) != 1:
@@ -136,10 +179,16 @@ def _time_problems(cpp: str, n_subs: int) -> list[str]:
     if not _NOW_SPIN.search(cpp):
         problems.append("  ros_spinOnce does not set the time to ros::Time::now() right after ros::spinOnce()")
     subs = _NOW_SUB.findall(cpp)
-    for c_name, struct, t1, t2, struct2, t3 in subs:
+    for c_name, struct, t1, t2, rejects, struct2, t3 in subs:
         if not (t1 == t2 == t3 and struct == struct2):
             problems.append(f"  ros_subscribe_{c_name}: the message event, the converted struct and the "
                             "subscription disagree on the message type")
+        want = reject_lines(reject_checks(messages or {}, struct))
+        if rejects != want:
+            what = ", ".join(f"{p} longer than {n}" for p, n in reject_checks(messages or {}, struct)) or "nothing"
+            problems.append(f"  ros_subscribe_{c_name}: the callback does not drop exactly the messages that rule "
+                            f"4.15's policy reject drops (Environment.accepted: {what}), first thing, before the "
+                            "receipt time and the conversion")
     if len(subs) != n_subs:
         problems.append(f"  {n_subs - len(subs)} subscription(s) do not set the time to the message event's "
                         "receipt time before calling the glue's callback")
@@ -187,7 +236,7 @@ def _string_problems(cpp: str, messages: dict[str, list[tuple[str, str]]]) -> li
     carried strings (rule 4.14)."""
     cpp = _strip_comments(cpp)
     want = {name: n for name, fields in messages.items()
-            if name.startswith("ros_string") and (n := _string_capacity(fields)) is not None}
+            if name.startswith(("ros_string", "ros_rstring")) and (n := _string_capacity(fields)) is not None}
     problems = []
     for name, n in sorted(want.items()):
         if cpp.count(_string_to_c(name, n)) != 1:
@@ -213,7 +262,7 @@ _CPP_ELEMENT = {"bool": "uint8_t", "int8": "int8_t", "uint8": "uint8_t", "int16"
                 "uint16": "uint16_t", "int32": "int32_t", "uint32": "uint32_t", "int64": "int64_t",
                 "uint64": "uint64_t", "float32": "float", "float64": "double"}
 
-_SEQ_NAME = re.compile(r"ros_seq_(" + "|".join(_CPP_ELEMENT) + r")_([1-9][0-9]*)")
+_SEQ_NAME = re.compile(r"ros_r?seq_(" + "|".join(_CPP_ELEMENT) + r")_([1-9][0-9]*)")
 
 
 def _seq_shape(name: str, fields: list[tuple[str, str]]) -> tuple[str, int] | None:
@@ -292,7 +341,8 @@ def check_wrapper(cpp: str, proved_text: str, *, wrapper_name: str) -> None:
             problems.append(f"  the wrapper's {what} {item} is not in the proved model")
     if len(_ANY_REG.findall(cpp)) != len(got_sub) + len(got_adv):
         problems.append("  the wrapper registers topics outside the ros_subscribe_/ros_advertise_ functions")
-    problems += _time_problems(cpp, len(re.findall(r"^void ros_subscribe_\w+\(", cpp, re.M)))
+    problems += _time_problems(cpp, len(re.findall(r"^void ros_subscribe_\w+\(", cpp, re.M)),
+                               parse_model_text(proved_text).messages)
     problems += _string_problems(cpp, parse_model_text(proved_text).messages)
     problems += _seq_problems(cpp, parse_model_text(proved_text).messages)
     rates = _RATE.findall(cpp)

@@ -99,6 +99,39 @@ def test_mutated_published_conversion_is_refused(name):
     assert_wrapper_refused(cpp, *PUBLISHED_MUTATIONS[name], model_text(m))
 
 
+#: Mutations of the reject test of a subscription callback (rule 4.15,
+#: policy reject), on the wrapper of tests/ros/models/scan_reject.yaml
+#: (ranges: at most 4 float32, header.frame_id: 8 bytes, both of policy
+#: reject): Environment.accepted drops a message holding either longer
+#: than its maximum, before the receipt time and the conversion.
+_RANGES = "            if (e.getConstMessage()->ranges.size() > 4) return;\n"
+_FRAME = "            if (e.getConstMessage()->header.frame_id.size() > 8) return;\n"
+_NOW = "            g_now_ns = e.getReceiptTime().toNSec();\n"
+_CONV = "            to_c(*e.getConstMessage(), &c);\n"
+REJECT_MUTATIONS = {
+    "no reject test": (_RANGES, ""),
+    "no reject test of the string": (_FRAME, ""),
+    "reject at the maximum (>=)": (_RANGES, _RANGES.replace(" > 4", " >= 4")),
+    "reject above N+1": (_RANGES, _RANGES.replace(" > 4", " > 5")),
+    "reject tests the wrong field": (_RANGES, _RANGES.replace("ranges", "intensities")),
+    "reject test after the receipt time": (_RANGES + _NOW, _NOW + _RANGES),
+    "reject test after the conversion": (_RANGES + _NOW + "            struct sensor_msgs_LaserScan c;\n"
+                                         "            std::memset(&c, 0, sizeof c);\n" + _CONV,
+                                         _NOW + "            struct sensor_msgs_LaserScan c;\n"
+                                         "            std::memset(&c, 0, sizeof c);\n" + _CONV + _RANGES),
+    "reject test that does not return": (_RANGES, _RANGES.replace(" return;", " {}")),
+    "reject test doubled": (_RANGES, _RANGES + _RANGES),
+}
+
+
+@pytest.mark.parametrize("name", sorted(REJECT_MUTATIONS))
+def test_mutated_reject_test_is_refused(name):
+    m = load_model(LANDSHARK.parents[2] / "tests" / "ros" / "models" / "scan_reject.yaml")
+    cpp = wrapper.render_wrapper(m)[wrapper.wrapper_files(m).api_source]
+    check_wrapper(cpp, model_text(m), wrapper_name="w.cpp")
+    assert_wrapper_refused(cpp, *REJECT_MUTATIONS[name], model_text(m))
+
+
 def _landshark():
     m = load_model(LANDSHARK)
     return m, wrapper.render_wrapper(m)[wrapper.wrapper_files(m).api_source]

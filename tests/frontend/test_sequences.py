@@ -519,8 +519,9 @@ def test_a_package_named_ros_is_refused(tmp_path):
         text = BASE.replace("relations:", f"msg_paths: [{pkg}/msgs]\nrelations:")
         assert one(tmp_path, text) == (
             *at(text, f"{pkg}/msgs]"), f"msg_paths[0]: folder '{pkg}/msgs' holds the package '{pkg}': a package named "
-            "ros (or starting with ros_seq or ros_string) is refused, its C structs could collide with the glue's "
-            "own (ros_time, ros_duration, ros_seq_<T>_<N>, ros_string<N>)", "4.15")
+            "ros (or starting with ros_seq, ros_string, ros_rseq or ros_rstring) is refused, its C structs could "
+            "collide with the glue's own (ros_time, ros_duration, ros_seq_<T>_<N>, ros_string<N>, ros_rseq_<T>_<N>, "
+            "ros_rstring<N>)", "4.15")
 
 
 def test_every_problem_is_reported_at_once(tmp_path):
