@@ -171,6 +171,10 @@ def generate(
     )
 
 
+#: How the certificate writes the conjunction of the node's theorems.
+CONJ = " /\\ "
+
+
 def generate_model(
     model: NodeModel,
     out_dir: str | Path,
@@ -251,7 +255,7 @@ def generate_model(
         # 3. assumptions and coqchk
         say(f"[3/{STEPS}] checking: Print Assumptions, coqchk")
         t0 = time.monotonic()
-        drv.check_assumptions(res.stdout, theorems)
+        drv.check_assumptions(res.stdout, theorems, names.theorem_all)
         drv.coqchk(module, lib)
         times["checking"] = time.monotonic() - t0
 
@@ -316,7 +320,7 @@ def generate_model(
         record = ProofRecord(
             node=model.name, model_file=model_file, node_v=names.v_file, types_h=names.types_header,
             glue_c=names.glue_c, sexp=names.sexp, theorem=main_thm, theorems=theorems, ddc=ddc,
-            assumptions="\n".join(f"Print Assumptions {t}.\n{CLOSED}" for t in theorems),
+            assumptions=f"Print Assumptions {names.theorem_all}.  (* {CONJ.join(theorems)} *)\n{CLOSED}",
             library_sha256=drv.library_digest(), pyrosgen_version=__version__,
             source_name=Path(model.source).name, source_sha256=sha256_file(Path(model.source)) if Path(model.source).is_file() else "",
             wp=wp_record, tools=tool_versions(wp=wp_result is not None),

@@ -46,6 +46,7 @@ from pathlib import Path
 
 from pyrosgen.errors import PyrosgenError, UserError
 from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
+from pyrosgen.proof.coqmodel import node_file_names
 from pyrosgen.proof.modeltext import ModelMismatch, compare_model_texts, model_text
 from pyrosgen.verify.certificate import ProofRecord, certificate_files, read_manifest, sha256_file
 
@@ -207,7 +208,7 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
         try:
             shutil.copyfile(folder / rec.node_v, coq_dir / rec.node_v)
             res = drv.coqc(coq_dir / rec.node_v, lib)
-            drv.check_assumptions(res.stdout, rec.theorems)
+            drv.check_assumptions(res.stdout, rec.theorems, node_file_names(rec.node).theorem_all)
             drv.coqchk(module, lib)
             compiled = True
             checks.append(Check("coqc", True, f"{', '.join(rec.theorems)}: {CLOSED}; coqchk OK"))

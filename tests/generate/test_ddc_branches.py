@@ -62,7 +62,7 @@ def test_fallback_without_the_ddc_theorem(capsys, tmp_path, monkeypatch):
     assert CLOSED in out
     v = (out_dir / f"{NODE}.v").read_text()
     assert "DDC" not in v.split("(** ** Message definitions")[1]
-    assert f"Print Assumptions {NODE}_wf." in v and f"{NODE}_ddc" not in v
+    assert f"Definition {NODE}_theorems := {NODE}_wf." in v and f"{NODE}_ddc" not in v
     # the same C as with the full library
     assert (out_dir / f"{NODE}_glue.c").read_bytes() == (GOLDEN / f"{NODE}_glue.c").read_bytes()
 
@@ -81,7 +81,8 @@ def test_ddc_theorem_instantiated(capsys, tmp_path, monkeypatch):
     v = (out_dir / f"{NODE}.v").read_text()
     assert "From ROSGen Require DDC Loopproof." in v
     assert f"Theorem {NODE}_ddc : DDC.node_ddc model the_program." in v
-    assert f"Print Assumptions {NODE}_ddc." in v and f"Print Assumptions {NODE}_wf." in v
+    assert f"Definition {NODE}_theorems := (conj {NODE}_ddc {NODE}_wf)." in v
+    assert f"Print Assumptions {NODE}_theorems." in v
     assert (out_dir / f"{NODE}_glue.c").read_bytes() == (GOLDEN / f"{NODE}_glue.c").read_bytes()
 
 
@@ -95,7 +96,7 @@ def test_theorem_resting_on_an_axiom_is_refused(capsys, tmp_path, monkeypatch):
     code, out, err = run(capsys, "generate", LANDSHARK, "-o", out_dir, "-q")
     assert code == 2
     assert out == ""
-    assert f"1 of the theorems {NODE}_ddc, {NODE}_wf depend on axioms" in err
+    assert f"the theorems {NODE}_ddc, {NODE}_wf (their conjunction {NODE}_theorems) depend on axioms" in err
     assert "generate_node_ddc" in err  # the axiom is named
     assert list(out_dir.iterdir()) == []
     assert not list(tmp_path.glob(".pyrosgen-*"))
