@@ -73,7 +73,7 @@ class ProofRecord:
     theorem: str
     theorems: list[str]
     ddc: bool
-    assumptions: str         #: what ``Print Assumptions`` printed, per theorem
+    assumptions: str         #: what ``Print Assumptions`` printed for the conjunction of the theorems
     library_sha256: str      #: :meth:`pyrosgen.proof.coqdriver.CoqDriver.library_digest`
     pyrosgen_version: str
     source_name: str         #: the YAML file's name (user input: shown escaped)
