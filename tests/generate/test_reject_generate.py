@@ -32,7 +32,7 @@ from pyrosgen.verify.difftest import (
     GCC_STRICT, Message, NodeDump, Schedule, build_c_harness, build_coq_runner, leaf_token, run_side,
 )
 
-from support.generate import REPO as ROOT, require_library
+from support.generate import REPO as ROOT, generate_with_tampered_node_file, require_library
 
 MODEL = ROOT / "tests" / "ros" / "models" / "scan_reject.yaml"
 NODE = "scan_reject"
@@ -96,17 +96,9 @@ def test_a_per_node_file_with_policy_truncate_is_refused(monkeypatch, capsys, tm
     """The per-node file proves its theorem about a node whose ranges have
     policy truncate (``ros_seq_float32_4``): the seam refuses it."""
     require_library()
-    original = gen.render_node_file
-
-    def tampered(model, **kw):
-        text = original(model, **kw)
-        assert '"ros_rseq_float32_4"' in text
-        return text.replace('"ros_rseq_float32_4"', '"ros_seq_float32_4"')
-
-    monkeypatch.setattr(gen, "render_node_file", tampered)
     out = tmp_path / "out"
-    code = cli.main(["generate", str(MODEL), "-o", str(out), "-q"])
-    err = capsys.readouterr().err
+    code, err = generate_with_tampered_node_file(MODEL, '"ros_rseq_float32_4"', '"ros_seq_float32_4"',
+                                                 monkeypatch, capsys, out, count=-1)
     assert code == 2 and not out.exists(), err
     assert "is not the model of the YAML file" in err and "ros_seq_float32_4" in err, err
 

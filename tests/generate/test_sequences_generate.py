@@ -31,7 +31,7 @@ from pyrosgen.verify.difftest import (
     GCC_STRICT, Message, NodeDump, Schedule, build_c_harness, build_coq_runner, leaf_token, run_side,
 )
 
-from support.generate import REPO as ROOT, require_library
+from support.generate import REPO as ROOT, generate_with_tampered_node_file, require_library
 
 LASER = ROOT / "examples" / "laser_guard" / "laser_guard.yaml"
 NODE = "laser_guard"
@@ -123,18 +123,10 @@ def test_a_per_node_file_reading_another_element_is_refused(monkeypatch, capsys,
     ranges[541] for R540: the seam (the model Coq printed against the
     YAML's) refuses it."""
     require_library()
-    original = gen.render_node_file
     want = 'mkinrel "scan" [PField "ranges"; PField "data"; PIndex 540] "R540"'
-
-    def tampered(model, **kw):
-        text = original(model, **kw)
-        assert want in text
-        return text.replace(want, want.replace("PIndex 540", "PIndex 541"), 1)
-
-    monkeypatch.setattr(gen, "render_node_file", tampered)
     out = tmp_path / "out"
-    code = cli.main(["generate", str(LASER), "-o", str(out), "-q"])
-    err = capsys.readouterr().err
+    code, err = generate_with_tampered_node_file(LASER, want, want.replace("PIndex 540", "PIndex 541"),
+                                                 monkeypatch, capsys, out)
     assert code == 2 and not out.exists(), err
     assert "is not the model of the YAML file" in err and "ranges.data[541]" in err, err
 

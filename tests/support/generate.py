@@ -79,10 +79,12 @@ def require_library() -> None:
     CoqDriver().check_library()
 
 
-def generate_with_tampered_node_file(model: Path, old: str, new: str, monkeypatch, capsys, out: Path):
-    """``pyrosgen generate model -o out`` with ``old`` replaced once by
-    ``new`` in the per-node Coq file it writes (``old`` must be there):
-    the exit code and the standard error."""
+def generate_with_tampered_node_file(model: Path, old: str, new: str, monkeypatch, capsys, out: Path,
+                                     count: int = 1):
+    """``pyrosgen generate model -o out`` with ``old`` replaced by ``new``
+    (``count`` times, every time if -1) in the per-node Coq file it
+    writes (``old`` must be there): the exit code and the standard
+    error."""
     import pyrosgen.generate as gen
     from pyrosgen import cli
 
@@ -91,7 +93,7 @@ def generate_with_tampered_node_file(model: Path, old: str, new: str, monkeypatc
     def tampered(model, **kw):
         text = original(model, **kw)
         assert old in text
-        return text.replace(old, new, 1)
+        return text.replace(old, new, count)
 
     monkeypatch.setattr(gen, "render_node_file", tampered)
     code = cli.main(["generate", str(model), "-o", str(out), "-q"])
