@@ -27,10 +27,10 @@ import pyrosgen.generate as gen
 from pyrosgen import cli
 from pyrosgen.proof.coqdriver import CLOSED
 from pyrosgen.verify.difftest import (
-    GCC_STRICT, Message, NodeDump, Schedule, build_c_harness, build_coq_runner, leaf_token, run_side,
+    GCC_STRICT, Message, NodeDump, Schedule, build_c_harness, build_coq_runner, leaf_token,
 )
 
-from support.generate import REPO as ROOT, require_library
+from support.generate import REPO as ROOT, require_library, sides_agree
 
 MODEL = ROOT / "tests" / "ros" / "models" / "seq_echo.yaml"
 NODE = "seq_echo"
@@ -153,9 +153,7 @@ def test_difftest_at_the_lengths(sides):
         cycles.append(((), y))
         wants.append(want)
     sched = Schedule(tuple(cycles)).text()
-    coq = run_side(sides["coq"], sched)
-    assert run_side(sides["c"], sched) == coq
-    assert run_side(sides["c_san"], sched) == coq
+    coq = sides_agree(sides, sched)
     got = _published(coq)
     assert len(got) == len(wants)
     for k, (g, w) in enumerate(zip(got, wants)):
@@ -171,9 +169,7 @@ def test_difftest_random_lengths(sides):
         frame_len = rnd.choice([rnd.randint(0, 3), rnd.randint(126, 130), rnd.getrandbits(32)])
         cycles.append(((), _outputs(dump, rnd, length, frame_len)[0]))
     sched = Schedule(tuple(cycles)).text()
-    coq = run_side(sides["coq"], sched)
-    assert run_side(sides["c"], sched) == coq
-    assert run_side(sides["c_san"], sched) == coq
+    coq = sides_agree(sides, sched)
     assert len(_published(coq)) == 30
 
 

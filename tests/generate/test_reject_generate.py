@@ -32,7 +32,7 @@ from pyrosgen.verify.difftest import (
     GCC_STRICT, Message, NodeDump, Schedule, build_c_harness, build_coq_runner, leaf_token, run_side,
 )
 
-from support.generate import REPO as ROOT, generate_with_tampered_node_file, require_library
+from support.generate import REPO as ROOT, generate_with_tampered_node_file, require_library, sides_agree
 
 MODEL = ROOT / "tests" / "ros" / "models" / "scan_reject.yaml"
 NODE = "scan_reject"
@@ -201,9 +201,7 @@ def test_difftest_at_the_lengths_and_bursts(sides):
     cycles.append(((), y0))
     wants.append(current)
     sched = Schedule(tuple(cycles)).text()
-    coq = run_side(sides["coq"], sched)
-    assert run_side(sides["c"], sched) == coq
-    assert run_side(sides["c_san"], sched) == coq
+    coq = sides_agree(sides, sched)
     steps = _steps(coq)
     assert len(steps) == len(wants)
     for k, (got, want) in enumerate(zip(steps, wants)):
@@ -227,6 +225,4 @@ def test_difftest_random_lengths(sides):
             msgs.append(_scan(dump, rnd, length, frame_len)[0])
         cycles.append((tuple(msgs), y0))
     sched = Schedule(tuple(cycles)).text()
-    coq = run_side(sides["coq"], sched)
-    assert run_side(sides["c"], sched) == coq
-    assert run_side(sides["c_san"], sched) == coq
+    coq = sides_agree(sides, sched)

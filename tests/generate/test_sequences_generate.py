@@ -31,7 +31,7 @@ from pyrosgen.verify.difftest import (
     GCC_STRICT, Message, NodeDump, Schedule, build_c_harness, build_coq_runner, leaf_token, run_side,
 )
 
-from support.generate import REPO as ROOT, generate_with_tampered_node_file, require_library
+from support.generate import REPO as ROOT, generate_with_tampered_node_file, require_library, sides_agree
 
 LASER = ROOT / "examples" / "laser_guard" / "laser_guard.yaml"
 NODE = "laser_guard"
@@ -204,9 +204,7 @@ def test_difftest_at_the_lengths(sides):
     cycles.append(((), y0))
     wants.append(wants[-1])
     sched = Schedule(tuple(cycles)).text()
-    coq = run_side(sides["coq"], sched)
-    assert run_side(sides["c"], sched) == coq
-    assert run_side(sides["c_san"], sched) == coq
+    coq = sides_agree(sides, sched)
     steps = _steps(coq)
     assert len(steps) == len(wants)
     for k, (got, want) in enumerate(zip(steps, wants)):
@@ -229,6 +227,4 @@ def test_difftest_random_lengths(sides):
             msgs.append(_scan(dump, rnd, length, rnd.choice([0, 5, 128, 129, rnd.getrandbits(32)]))[0])
         cycles.append((tuple(msgs), y0))
     sched = Schedule(tuple(cycles)).text()
-    coq = run_side(sides["coq"], sched)
-    assert run_side(sides["c"], sched) == coq
-    assert run_side(sides["c_san"], sched) == coq
+    coq = sides_agree(sides, sched)

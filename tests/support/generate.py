@@ -128,3 +128,17 @@ def make_standin_library(dest: Path, *, drop: tuple[str, ...] = (), extra: dict[
         listed.append(f"theories/{name}.v")
     (dest / "_CoqProject").write_text("-R theories ROSGen\n" + "\n".join(listed) + "\n")
     return theories
+
+
+def sides_agree(sides: dict, sched: str) -> str:
+    """The trace that the Coq interpreter prints for the schedule
+    ``sched`` (``sides["coq"]``), after checking that the glue under
+    gcc -O2 (``sides["c"]``) and under the sanitizers (``sides["c_san"]``)
+    print the same, byte for byte."""
+    from pyrosgen.verify.difftest import run_side
+
+    coq = run_side(sides["coq"], sched)
+    assert run_side(sides["c"], sched) == coq
+    assert run_side(sides["c_san"], sched) == coq
+    return coq
+
