@@ -1062,13 +1062,36 @@ def carried_reject_fields(topics: YNode | None, registry: MsgRegistry) -> set[tu
     return out
 
 
+def _one_value_per_field(ck: _Checker, rule: str, seen: dict, it: _PolicyItem | _MaxItem,
+                         value: str | int, noun: str) -> None:
+    """One field of a message type (one C struct in every topic of the
+    type) gets one value (rule 4.15): the entry ``it`` of a ``policy`` or
+    ``max_length`` gives ``value`` (a ``noun``: policy, maximum) to the
+    field ``it.target.key``; it is refused, with the position of the first
+    entry, if an earlier one gave the field another value.  ``seen`` maps
+    each field to its first entry and value (``it`` is added when it is
+    the first)."""
+    first = seen.get(it.target.key)
+    if first is None:
+        seen[it.target.key] = (it, value)
+        return
+    first_it, first_value = first
+    if first_value != value:
+        owner, fname = it.target.key
+        ck.err_rule(rule, it.key,
+                    f"{it.what}: {value} differs from the {noun} {first_value} given to the same field "
+                    f"({fname} of {owner}) at line {first_it.key.line}, column {first_it.key.col} "
+                    f"({first_it.what}); one C struct holds the field in every topic of type {owner}, "
+                    f"so it has one {noun}")
+
+
 def check_policy(ck: _Checker, decls: list[_TopicDecl], registry: MsgRegistry) -> None:
     """Rule 4.15: a subscribed topic's ``policy: {<field path>: truncate |
     reject}`` names carried variable-length arrays or strings of its
     message; one field of a message type (one C struct in every topic of
     the type) gets one policy."""
     rule = "4.15"
-    seen: dict[tuple[str, str], _PolicyItem] = {}
+    seen: dict[tuple[str, str], tuple[_PolicyItem, str]] = {}
     for d in decls:
         pnode = d.node.get("policy")
         if pnode is None or isinstance(pnode, YBad):
@@ -1097,16 +1120,7 @@ def check_policy(ck: _Checker, decls: list[_TopicDecl], registry: MsgRegistry) -
                 continue
             if it.value is None:
                 continue
-            first = seen.get(it.target.key)
-            if first is not None and first.value != it.value:
-                owner, fname = it.target.key
-                ck.err_rule(rule, it.key,
-                            f"{it.what}: {it.value} differs from the policy {first.value} given to the same field "
-                            f"({fname} of {owner}) at line {first.key.line}, column {first.key.col} "
-                            f"({first.what}); one C struct holds the field in every topic of type {owner}, "
-                            "so it has one policy")
-            elif first is None:
-                seen[it.target.key] = it
+            _one_value_per_field(ck, rule, seen, it, it.value, "policy")
 
 
 def check_max_length(ck: _Checker, decls: list[_TopicDecl], registry: MsgRegistry) -> None:
@@ -1117,7 +1131,7 @@ def check_max_length(ck: _Checker, decls: list[_TopicDecl], registry: MsgRegistr
     field of a message type (held by one C struct in every topic of the
     type) gets one maximum."""
     rule = "4.15"
-    seen: dict[tuple[str, str], _MaxItem] = {}
+    seen: dict[tuple[str, str], tuple[_MaxItem, int]] = {}
     for d in decls:
         mnode = d.node.get("max_length")
         if mnode is None or isinstance(mnode, YBad):
@@ -1137,16 +1151,7 @@ def check_max_length(ck: _Checker, decls: list[_TopicDecl], registry: MsgRegistr
                 continue
             if it.n is None:
                 continue
-            first = seen.get(it.target.key)
-            if first is not None and first.n != it.n:
-                owner, fname = it.target.key
-                ck.err_rule(rule, it.key,
-                            f"{it.what}: {it.n} differs from the maximum {first.n} given to the same field "
-                            f"({fname} of {owner}) at line {first.key.line}, column {first.key.col} "
-                            f"({first.what}); one C struct holds the field in every topic of type {owner}, "
-                            "so it has one maximum")
-            elif first is None:
-                seen[it.target.key] = it
+            _one_value_per_field(ck, rule, seen, it, it.n, "maximum")
 
 
 def _string_value(node: YNode, capacity: int = STRING_CAPACITY) -> tuple[str | None, str | None]:

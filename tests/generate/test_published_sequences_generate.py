@@ -27,10 +27,10 @@ import pyrosgen.generate as gen
 from pyrosgen import cli
 from pyrosgen.proof.coqdriver import CLOSED
 from pyrosgen.verify.difftest import (
-    GCC_STRICT, Message, NodeDump, Schedule, build_c_harness, build_coq_runner, leaf_token,
+    GCC_STRICT, Message, NodeDump, Schedule, leaf_token,
 )
 
-from support.generate import REPO as ROOT, require_library, sides_agree
+from support.generate import REPO as ROOT, difftest_sides, require_library, sides_agree
 
 MODEL = ROOT / "tests" / "ros" / "models" / "seq_echo.yaml"
 NODE = "seq_echo"
@@ -102,12 +102,7 @@ def test_printed_c_compiles_with_warnings_as_errors(echo, tmp_path):
 def sides(echo, tmp_path_factory):
     out, _ = echo
     work = tmp_path_factory.mktemp("seq_echo_difftest")
-    return {
-        "dump": NodeDump.from_text((out / f"{NODE}.sexp").read_text()),
-        "c": build_c_harness(out, NODE, work, opt="-O2"),
-        "c_san": build_c_harness(out, NODE, work, sanitize=True),
-        "coq": build_coq_runner(out, NODE, work),
-    }
+    return difftest_sides(out, NODE, work)
 
 
 def _outputs(dump: NodeDump, rnd: random.Random, length: int, frame_len: int) -> tuple[tuple[str, ...], dict]:

@@ -29,10 +29,12 @@ import pyrosgen.generate as gen
 from pyrosgen import cli
 from pyrosgen.proof.coqdriver import CLOSED
 from pyrosgen.verify.difftest import (
-    GCC_STRICT, Message, NodeDump, Schedule, build_c_harness, build_coq_runner, leaf_token, run_side,
+    GCC_STRICT, Message, NodeDump, Schedule, leaf_token, run_side,
 )
 
-from support.generate import REPO as ROOT, generate_with_tampered_node_file, require_library, sides_agree
+from support.generate import (
+    REPO as ROOT, difftest_sides, generate_with_tampered_node_file, require_library, sides_agree,
+)
 
 MODEL = ROOT / "tests" / "ros" / "models" / "scan_reject.yaml"
 NODE = "scan_reject"
@@ -111,13 +113,7 @@ def test_a_per_node_file_with_policy_truncate_is_refused(monkeypatch, capsys, tm
 def sides(gen_out, tmp_path_factory):
     out, _ = gen_out
     work = tmp_path_factory.mktemp("reject_difftest")
-    return {
-        "dump": NodeDump.from_text((out / f"{NODE}.sexp").read_text()),
-        "c": build_c_harness(out, NODE, work, opt="-O2"),
-        "c_san": build_c_harness(out, NODE, work, sanitize=True),
-        "c_mutant": build_c_harness(out, NODE, work, opt="-O2", name=f"{NODE}_no_reject", clamp="no_reject"),
-        "coq": build_coq_runner(out, NODE, work),
-    }
+    return difftest_sides(out, NODE, work, mutant="no_reject")
 
 
 F32_JUNK = 0x41100000          # 9.0, past the length

@@ -28,10 +28,12 @@ import pyrosgen.generate as gen
 from pyrosgen import cli
 from pyrosgen.proof.coqdriver import CLOSED
 from pyrosgen.verify.difftest import (
-    GCC_STRICT, Message, NodeDump, Schedule, build_c_harness, build_coq_runner, leaf_token, run_side,
+    GCC_STRICT, Message, NodeDump, Schedule, leaf_token, run_side,
 )
 
-from support.generate import REPO as ROOT, generate_with_tampered_node_file, require_library, sides_agree
+from support.generate import (
+    REPO as ROOT, difftest_sides, generate_with_tampered_node_file, require_library, sides_agree,
+)
 
 LASER = ROOT / "examples" / "laser_guard" / "laser_guard.yaml"
 NODE = "laser_guard"
@@ -139,13 +141,7 @@ def test_a_per_node_file_reading_another_element_is_refused(monkeypatch, capsys,
 def sides(laser, tmp_path_factory):
     out, _ = laser
     work = tmp_path_factory.mktemp("laser_difftest")
-    return {
-        "dump": NodeDump.from_text((out / f"{NODE}.sexp").read_text()),
-        "c": build_c_harness(out, NODE, work, opt="-O2"),
-        "c_san": build_c_harness(out, NODE, work, sanitize=True),
-        "c_mutant": build_c_harness(out, NODE, work, opt="-O2", name=f"{NODE}_no_zero_fill", clamp="no_zero_fill"),
-        "coq": build_coq_runner(out, NODE, work),
-    }
+    return difftest_sides(out, NODE, work, mutant="no_zero_fill")
 
 
 F32_JUNK = 0x41100000          # 9.0, past the length

@@ -130,6 +130,28 @@ def make_standin_library(dest: Path, *, drop: tuple[str, ...] = (), extra: dict[
     return theories
 
 
+def difftest_sides(out: Path, node: str, work: Path, mutant: str | None = None) -> dict:
+    """The sides of the differential test of the folder ``out`` that
+    ``pyrosgen generate`` wrote for ``node``, built in ``work``: ``dump``
+    (the node's dump, ``<node>.sexp``), ``c`` (the glue and the harness
+    under gcc -O2), ``c_san`` (under the sanitizers), ``coq`` (the Coq
+    interpreter of the per-node file) and, when ``mutant`` names one of
+    the harness's conversions (:data:`pyrosgen.verify.difftest.CLAMPS`),
+    ``c_mutant``: the glue under gcc -O2 with that harness, which a test
+    must catch."""
+    from pyrosgen.verify.difftest import NodeDump, build_c_harness, build_coq_runner
+
+    sides = {
+        "dump": NodeDump.from_text((out / f"{node}.sexp").read_text()),
+        "c": build_c_harness(out, node, work, opt="-O2"),
+        "c_san": build_c_harness(out, node, work, sanitize=True),
+    }
+    if mutant is not None:
+        sides["c_mutant"] = build_c_harness(out, node, work, opt="-O2", name=f"{node}_{mutant}", clamp=mutant)
+    sides["coq"] = build_coq_runner(out, node, work)
+    return sides
+
+
 def sides_agree(sides: dict, sched: str) -> str:
     """The trace that the Coq interpreter prints for the schedule
     ``sched`` (``sides["coq"]``), after checking that the glue under
