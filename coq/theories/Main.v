@@ -32,7 +32,7 @@ From ROSGen Require Import Errors Maps FloatBits.
 From ROSGen Require Import Syntax Values Operators Memory Environment Semantics Typing Interp.
 From ROSGen Require Import NodeModel ModelText Wellformed Generator Generatorspec Generatorproof DDC.
 From ROSGen Require FloatOps Loopproof Glueproof Interpproof.
-From ROSGen Require Diagram Diagramgen Diagramproof Endtoend.
+From ROSGen Require Diagram Diagramgen Diagramproof Endtoend Link.
 Import ListNotations.
 
 (** ** T1: every generated function meets its specification *)
@@ -450,6 +450,43 @@ Theorem diagram_node_ddc:
            /\ Diagram.dg_step d (s i) u = (s (S i), y)
            /\ Forall2 (published_value m y (clock (S i)) (newest_by m (Endtoend.diagram_ctx m d arrivals clock) i)) (published m) mvs).
 Proof. exact Endtoend.diagram_node_ddc. Qed.
+
+(** The whole node as one program, its controller linked in (T8): [Link.link p d] is the
+    glue [p] with the generated [Controller_initialize] and
+    [Controller_step] ([Diagramgen.init_function], [step_function]) in place of
+    their declarations, and the state global [Controller_DW] (if the
+    diagram has states) in memory.  For every node model [m] and diagram
+    [d] accepted by [generate] and [dg_wf], [d] having [m]'s controller
+    interface and state names that clash with none of the glue's
+    ([Link.link_fresh]), in every environment (with any controller: the
+    linked program calls none), for every schedule of well-typed messages
+    and every number [n] of cycles, the linked program terminates; its
+    trace is the registrations of the topics followed by [n] cycles in
+    each of which the node publishes the related fields of the diagram's
+    outputs, the diagram stepped once on the related fields of the newest
+    messages from the state its previous step left ([dg_init] first).
+    The proof is a simulation ([Link.sim]) of the glue's run in the
+    environment whose controller is the diagram ([diagram_node_ddc])
+    by the linked program's run, the state moving from the environment
+    into [Controller_DW], with [controller_step_correct] for each call. *)
+Theorem linked_node_ddc:
+  forall m p (d : Diagram.diagram), generate m = OK p -> Diagram.dg_wf d = true ->
+  Endtoend.dg_matches m d = true -> Link.link_fresh m d = true ->
+  forall arrivals clock n (CSL : Type) (ctxL : ros_context CSL),
+  ctx_arrivals ctxL = arrivals -> ctx_time ctxL = clock ->
+  arrivals_wt m (Endtoend.diagram_ctx m d arrivals clock) ->
+     (exists t, program_behaves (Link.link p d) ctxL n t)
+  /\ (forall t, program_behaves (Link.link p d) ctxL n t ->
+      exists (s : nat -> mval) (evs : nat -> trace),
+         s O = Diagram.dg_init d
+      /\ t = Link.linked_start_events m ++ concat (map evs (seq 0 n))
+      /\ forall i, (i < n)%nat ->
+           exists u y mvs,
+              evs i = publish_events m (published m) mvs ++ [Esleep (nm_period_ms m)]
+           /\ input_values m (Endtoend.diagram_ctx m d arrivals clock) i u
+           /\ Diagram.dg_step d (s i) u = (s (S i), y)
+           /\ Forall2 (published_value m y (clock (S i)) (newest_by m (Endtoend.diagram_ctx m d arrivals clock) i)) (published m) mvs).
+Proof. exact Link.linked_node_ddc. Qed.
 
 (** ** The semantics *)
 

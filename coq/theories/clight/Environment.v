@@ -75,6 +75,12 @@
       the state to [Some s'] and emits [Estep uv yv].  If [yv] does not
       have the type of [y], the step is undefined (the semantics is
       stuck): the controller may only write its outputs, at their type.
+      The step is also undefined unless [u] and [y] hold values of their
+      declared types when it is called: like the C that Embedded Coder
+      generates, the step reads its inputs as their types and writes its
+      outputs member by member, so the glue must keep both globals well
+      typed (T2 proves that it does; [ctrl/Link.v] needs it to run the
+      generated step in their place).
 
     The trace of a run is the list of its events in the order they
     happen.
@@ -572,17 +578,19 @@ Definition external_call (ef : external_function) (vargs : list val) (m : mem) (
   | EF_controller_initialize _ _, [] => Some (Vundef, [Einit], m, set_ctrl w (Some (ctx_init ctx)))
   | EF_controller_step u y, [] =>
       match w_ctrl w, find_var ge u, find_var ge y with
-      | Some s, Some (bu, _), Some (by_, ty) =>
-          match load_path m bu [] with
-          | Some uv =>
-              let (s', yv) := ctx_step ctx s uv in
-              if mval_typecheck (ge_comp ge) ty yv then
-                match store_path m by_ [] yv with
-                | Some m' => Some (Vundef, [Estep uv yv], m', set_ctrl w (Some s'))
-                | None => None
-                end
+      | Some s, Some (bu, tu), Some (by_, ty) =>
+          match load_path m bu [], load_path m by_ [] with
+          | Some uv, Some yv0 =>
+              if mval_typecheck (ge_comp ge) tu uv && mval_typecheck (ge_comp ge) ty yv0 then
+                let (s', yv) := ctx_step ctx s uv in
+                if mval_typecheck (ge_comp ge) ty yv then
+                  match store_path m by_ [] yv with
+                  | Some m' => Some (Vundef, [Estep uv yv], m', set_ctrl w (Some s'))
+                  | None => None
+                  end
+                else None
               else None
-          | None => None
+          | _, _ => None
           end
       | _, _, _ => None
       end

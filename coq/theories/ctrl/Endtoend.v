@@ -22,9 +22,9 @@
     [Controller_step] behaves exactly so: its only effects are the new
     outputs in [Controller_Y] and the new state in [Controller_DW], both
     computed by [dg_step] from [Controller_U] and [Controller_DW]; it emits
-    no event.  The two C units are linked by the C compiler; a single
-    semantics of the linked program, with the state in memory rather than
-    in the environment, is not modelled (DESIGN.md section 7). *)
+    no event.  [Link.linked_node_ddc] (T8) then states the same for the
+    linked program, glue and generated controller in one semantics, the
+    state in memory rather than in the environment. *)
 
 From Coq Require Import String List ZArith Bool Lia.
 From ROSGen Require Import Errors Syntax Values Memory Environment Semantics

@@ -1018,7 +1018,16 @@ Proof.
     + apply (gen_funct m p GEN _ _ Fs).
     + reflexivity.
     + assert (LP: load_path mm bu [] = Some u) by (unfold load_path; rewrite Gu; reflexivity).
-      apply eval_funcall_external. simpl. rewrite Vu, Vy, LP, CS1.
+      assert (LY: load_path mm by_ [] = Some y0) by (unfold load_path; rewrite Gy0; reflexivity).
+      apply eval_funcall_external. simpl. rewrite Vu, Vy, LP, LY.
+      replace (mval_typecheck (ge_comp ge) (Tstruct (nm_in_struct m)) u
+               && mval_typecheck (ge_comp ge) (Tstruct (nm_out_struct m)) y0) with true.
+      2:{ symmetry. rewrite (gen_comp m p GEN). apply andb_true_iff. split; apply mval_typecheck_iff.
+          - destruct (li_globals I _ _ _ Vu) as (u0 & Gu0 & Tu0). rewrite Gu in Gu0. inversion Gu0; subst.
+            rewrite types_eq in Tu0. exact Tu0.
+          - destruct (li_globals I _ _ _ Vy) as (y1 & Gy1 & Ty1). rewrite Gy0 in Gy1. inversion Gy1; subst.
+            rewrite types_eq in Ty1. exact Ty1. }
+      rewrite CS1.
       replace (mval_typecheck (ge_comp ge) (Tstruct (nm_out_struct m)) y) with true.
       * rewrite St. reflexivity.
       * symmetry. rewrite (gen_comp m p GEN). apply mval_typecheck_iff. auto.
