@@ -164,6 +164,8 @@ def _print_controller_theorems(g) -> None:
     if ctrl:
         print(f"  theorem   {ctrl['wf']}: the diagram is well formed; its C ({ctrl['c']}) computes its step")
         print(f"  theorem   {ctrl['e2e']}: the node with the diagram as controller (T2 end to end)")
+        if ctrl.get("linked"):
+            print(f"  theorem   {ctrl['linked']}: the glue and the generated controller linked, one program (T8)")
 
 
 def cmd_build(args: argparse.Namespace) -> int:

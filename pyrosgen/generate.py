@@ -221,7 +221,7 @@ def generate_model(
     if has_diagram:
         # printed in this order by coq/templates/node.v.j2 (the Ctrl module
         # comes after the node's theorems)
-        theorems += [f"Ctrl.{names.theorem_ctrl_wf}", f"Ctrl.{names.theorem_e2e}"]
+        theorems += [f"Ctrl.{names.theorem_ctrl_wf}", f"Ctrl.{names.theorem_e2e}", f"Ctrl.{names.theorem_linked}"]
     main_thm = theorems[0]
     kind = (
         "node data delivery correctness, T2 (DDC.node_ddc)"
@@ -325,7 +325,8 @@ def generate_model(
             source_name=Path(model.source).name, source_sha256=sha256_file(Path(model.source)) if Path(model.source).is_file() else "",
             wp=wp_record, tools=tool_versions(wp=wp_result is not None),
             controller=({"c": names.controller_c, "sexp": names.controller_sexp, "text": names.controller_text,
-                         "wf": f"Ctrl.{names.theorem_ctrl_wf}", "e2e": f"Ctrl.{names.theorem_e2e}"}
+                         "wf": f"Ctrl.{names.theorem_ctrl_wf}", "e2e": f"Ctrl.{names.theorem_e2e}",
+                         "linked": f"Ctrl.{names.theorem_linked}"}
                         if has_diagram else None),
         )
         cert_files = write_certificate(record, stage, covered)

@@ -455,6 +455,7 @@ class NodeFile:
     theorem_ddc: str      #: ``<node>_ddc`` (T2 instance)
     theorem_ctrl_wf: str  #: ``<node>_controller_wf`` (the diagram is well formed)
     theorem_e2e: str      #: ``<node>_e2e`` (T2 with the diagram as the controller)
+    theorem_linked: str   #: ``<node>_linked`` (T8: the glue and the generated controller linked)
     theorem_all: str      #: ``<node>_theorems`` (their conjunction, for one ``Print Assumptions``)
     controller_c: str     #: ``<node>_controller.c`` (printed from the diagram)
     controller_sexp: str  #: ``<node>_controller.sexp``
@@ -476,6 +477,7 @@ def node_file_names(node: str) -> NodeFile:
         theorem_ddc=f"{node}_ddc",
         theorem_ctrl_wf=f"{node}_controller_wf",
         theorem_e2e=f"{node}_e2e",
+        theorem_linked=f"{node}_linked",
         theorem_all=f"{node}_theorems",
         controller_c=f"{node}_controller.c",
         controller_sexp=f"{node}_controller.sexp",

@@ -81,7 +81,7 @@ class ProofRecord:
     wp: dict | None = None   #: proved, total, prover, contracts (file name)
     tools: list[tuple[str, str]] = field(default_factory=list)
     #: when the controller is a block diagram: ``c`` and ``sexp`` (file
-    #: names of its printed C and dump), ``wf`` and ``e2e`` (theorem names)
+    #: names of its printed C and dump), ``wf``, ``e2e`` and ``linked`` (theorem names)
     controller: dict | None = None
 
 

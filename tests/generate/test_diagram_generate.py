@@ -1,8 +1,9 @@
 """``pyrosgen generate`` on a model whose controller is a block diagram
 (examples/landshark/landshark_diagram.yaml): the controller's C is printed
 by Coq from the diagram and validated against its dump; the node file
-proves two more theorems (the diagram is well formed; the node with the
-diagram as its controller, T2 end to end), each closed; the certificate
+proves three more theorems (the diagram is well formed; the node with the
+diagram as its controller, T2 end to end; the same of the glue and the
+generated controller linked into one program, T8), each closed; the certificate
 says what they mean; ``pyrosgen verify`` re-prints the controller and
 refuses a tampered one; Coq, not the front end, is the authority on the
 diagram; ``build`` takes no controller folder for such a model."""
@@ -50,17 +51,20 @@ def test_files_theorems_and_certificate(folder):
     v = (folder / f"{NODE}.v").read_text()
     assert "Module Ctrl." in v and "Definition the_diagram : diagram := mkdiagram" in v
     for thm in (f"Theorem {NODE}_controller_wf : dg_wf the_diagram = true.",
-                f"Theorem {NODE}_e2e : Endtoend.diagram_node_ok model the_program the_diagram."):
+                f"Theorem {NODE}_e2e : Endtoend.diagram_node_ok model the_program the_diagram.",
+                f"Theorem {NODE}_linked : Link.linked_node_ok model the_program the_diagram."):
         assert thm in v
     manifest = json.loads((folder / f"{NODE}.manifest.json").read_text())
-    assert manifest["theorems"] == [f"{NODE}_ddc", f"{NODE}_wf",
-                                    f"Ctrl.{NODE}_controller_wf", f"Ctrl.{NODE}_e2e"]
+    assert manifest["theorems"] == [f"{NODE}_ddc", f"{NODE}_wf", f"Ctrl.{NODE}_controller_wf",
+                                    f"Ctrl.{NODE}_e2e", f"Ctrl.{NODE}_linked"]
+    assert manifest["controller"]["linked"] == f"Ctrl.{NODE}_linked"
     assert manifest["controller"]["c"] in manifest["files"]
     assert manifest["assumptions"].count("Closed under the global context") == 1
-    assert manifest["assumptions"].count(" /\\ ") == 3  # the conjunction of the 4 theorems
+    assert manifest["assumptions"].count(" /\\ ") == 4  # the conjunction of the 5 theorems
     cert = (folder / f"{NODE}.certificate.md").read_text()
     assert f"`Ctrl.{NODE}_e2e : Endtoend.diagram_node_ok model the_program" in cert
-    assert "Not modelled: one semantics of the linked program" in cert
+    assert f"`Ctrl.{NODE}_linked : Link.linked_node_ok model the_program" in cert
+    assert "Not modelled" not in cert
     # the proved diagram, as Coq printed it, is in the certificate
     text = (folder / f"{NODE}_controller.diagram").read_text()
     assert text.startswith("pyrosgen-diagram 1\n") and "eq median float64 max lo12 lo\n" in text
@@ -85,7 +89,7 @@ def test_verify_reprints_the_controller(folder, capsys):
     assert code == 0, out
     assert "7 files equal to the proof's" in out
     assert "the proved model is the model of landshark_diagram.yaml" in out
-    assert f"Ctrl.{NODE}_e2e: Closed under the global context" in out
+    assert f"Ctrl.{NODE}_e2e, Ctrl.{NODE}_linked: Closed under the global context" in out
 
 
 def test_verify_refuses_a_tampered_controller(folder, tmp_path, capsys):
@@ -118,6 +122,29 @@ def test_coq_refuses_an_ill_formed_diagram(tmp_path, monkeypatch):
     out = tmp_path / "out"
     with pytest.raises(CoqError):
         generate_model(model, out)
+    assert not out.exists()
+
+
+def test_a_state_global_named_like_the_glue_is_refused_by_coq(tmp_path, monkeypatch):
+    """The linked program's theorem needs the diagram's state global to
+    name no global of the glue (Link.link_fresh; the front end refuses
+    such a model first, rule 4.11).  An emitter that names it after the
+    glue's main function is stopped by coqc, with the reason, and nothing
+    is written."""
+    require_library()
+    model = load_model(DIAGRAM)
+    real = coqdiagram.emit_diagram
+
+    def clashing(m):
+        text = real(m)
+        assert '"Controller_DW"' in text
+        return text.replace('"Controller_DW"', '"main"')
+
+    monkeypatch.setattr(coqdiagram, "emit_diagram", clashing)
+    out = tmp_path / "out"
+    with pytest.raises(CoqError) as exc:
+        generate_model(model, out)
+    assert "ROSGen.Link.link_fresh" in str(exc.value)
     assert not out.exists()
 
 

@@ -183,7 +183,7 @@ def arm(tmp_path_factory):
 
 def test_arm_theorems_certificate_and_verify(arm, capsys):
     out, result = arm
-    assert set(result.theorems) >= {"arm_pd_ddc", "Ctrl.arm_pd_controller_wf", "Ctrl.arm_pd_e2e"}
+    assert set(result.theorems) >= {"arm_pd_ddc", "Ctrl.arm_pd_controller_wf", "Ctrl.arm_pd_e2e", "Ctrl.arm_pd_linked"}
     assert result.record.assumptions.count(CLOSED) == 1  # one Print Assumptions of their conjunction
     assert all(t in result.record.assumptions for t in result.theorems)
     cert = (out / "arm_pd.certificate.md").read_text()

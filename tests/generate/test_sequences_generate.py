@@ -53,7 +53,7 @@ def laser(tmp_path_factory):
 def test_theorems_are_closed(laser):
     out, result = laser
     assert result.ddc and result.theorem == f"{NODE}_ddc"
-    assert set(result.theorems) >= {f"{NODE}_ddc", f"Ctrl.{NODE}_controller_wf", f"Ctrl.{NODE}_e2e"}
+    assert set(result.theorems) >= {f"{NODE}_ddc", f"Ctrl.{NODE}_controller_wf", f"Ctrl.{NODE}_e2e", f"Ctrl.{NODE}_linked"}
     assert result.record.assumptions.count(CLOSED) == 1  # one Print Assumptions of their conjunction
     assert all(t in result.record.assumptions for t in result.theorems)
     print(f"generate {NODE}: " + ", ".join(f"{k} {v:.2f} s" for k, v in result.times.items()))

@@ -55,12 +55,14 @@ def test_theorems_are_closed(folders):
     d = folders["sub"]
     v = (d / f"{NODE}.v").read_text()
     for thm in (f"Theorem {NODE}_controller_wf : dg_wf the_diagram = true.",
-                f"Theorem {NODE}_e2e : Endtoend.diagram_node_ok model the_program the_diagram."):
+                f"Theorem {NODE}_e2e : Endtoend.diagram_node_ok model the_program the_diagram.",
+                f"Theorem {NODE}_linked : Link.linked_node_ok model the_program the_diagram."):
         assert thm in v
     manifest = json.loads((d / f"{NODE}.manifest.json").read_text())
-    assert manifest["theorems"] == [f"{NODE}_ddc", f"{NODE}_wf", f"Ctrl.{NODE}_controller_wf", f"Ctrl.{NODE}_e2e"]
+    assert manifest["theorems"] == [f"{NODE}_ddc", f"{NODE}_wf", f"Ctrl.{NODE}_controller_wf",
+                                    f"Ctrl.{NODE}_e2e", f"Ctrl.{NODE}_linked"]
     assert manifest["assumptions"].count("Closed under the global context") == 1
-    assert manifest["assumptions"].count(" /\\ ") == 3  # the conjunction of the 4 theorems
+    assert manifest["assumptions"].count(" /\\ ") == 4  # the conjunction of the 5 theorems
     assert "Subsystem" not in v          # Coq sees ordinary blocks only
 
 
@@ -87,4 +89,4 @@ def test_verify(folders, capsys):
     out = capsys.readouterr().out
     assert code == 0, out
     assert "the proved model is the model of landshark_subsystem.yaml" in out
-    assert f"Ctrl.{NODE}_e2e: Closed under the global context" in out
+    assert f"Ctrl.{NODE}_e2e, Ctrl.{NODE}_linked: Closed under the global context" in out

@@ -35,6 +35,7 @@ def diagram_node(nodes_dir):
     res = build(DIAGRAM, None, out)
     assert (out / "bin" / "landshark_controller").is_file()
     assert res.generated.record.controller["e2e"] == "Ctrl.landshark_controller_e2e"
+    assert res.generated.record.controller["linked"] == "Ctrl.landshark_controller_linked"
     return out
 
 
