@@ -507,3 +507,46 @@ Proof. vm_compute. reflexivity. Qed.
     policy reject forbids: an over-long message is never delivered. *)
 Theorem truncating_program_refuted: ~ node_ddc rejector scanner_prog.
 Proof. apply (rrefute _ 5). vm_compute. reflexivity. Qed.
+
+(** ** Sequences of messages *)
+
+Local Open Scope Z_scope.
+
+(** [Environment.clamp] on a sequence of at most 2 poses, each with a
+    string of at most 4 bytes: the sequence and each kept pose's string
+    are capped, and a missing pose is the zero pose. *)
+Definition nested_ce : composite_env :=
+  [Composite "ros_string4" [("len", tuint); ("truncated", tuchar); ("data", Tarray tuchar 4)];
+   Composite "Pose" [("frame", Tstruct "ros_string4"); ("x", tdouble)];
+   Composite "ros_seq_Pose_2" [("len", tuint); ("truncated", tuchar); ("data", Tarray (Tstruct "Pose") 2)]].
+
+Example nested_ce_wf : wf_composites nested_ce.
+Proof. vm_compute. reflexivity. Qed.
+
+Definition bytes (l : list Z) : mval := MVarray (map (fun b => MVscalar (Vint b)) l).
+Definition str (len : Z) (l : list Z) : mval :=
+  MVstruct [("len", MVscalar (Vint len)); ("truncated", MVscalar (Vint 0)); ("data", bytes l)].
+Definition pose (s : mval) (x : Z) : mval := MVstruct [("frame", s); ("x", MVscalar (f64 x))].
+Definition poses (len : Z) (ps : list mval) : mval :=
+  MVstruct [("len", MVscalar (Vint len)); ("truncated", MVscalar (Vint 0)); ("data", MVarray ps)].
+
+(** Three poses announced, two carried: a frame of 6 bytes (4 kept, truncated)
+    and one of 2 (its junk past the length zeroed). *)
+Example nested_truncated :
+  clamp nested_ce (Tstruct "ros_seq_Pose_2")
+    (poses 3 [pose (str 6 [97; 98; 99; 100]) 0x3FF0000000000000; pose (str 2 [101; 102; 7; 7]) 0])
+  = MVstruct [("len", MVscalar (Vint 2)); ("truncated", MVscalar (Vint 1));
+              ("data", MVarray [pose (MVstruct [("len", MVscalar (Vint 4)); ("truncated", MVscalar (Vint 1));
+                                                ("data", bytes [97; 98; 99; 100])]) 0x3FF0000000000000;
+                                pose (MVstruct [("len", MVscalar (Vint 2)); ("truncated", MVscalar (Vint 0));
+                                                ("data", bytes [101; 102; 0; 0])]) 0])].
+Proof. vm_compute. reflexivity. Qed.
+
+(** One pose announced: the second element is the zero pose. *)
+Example nested_short :
+  clamp nested_ce (Tstruct "ros_seq_Pose_2")
+    (poses 1 [pose (str 1 [97; 7; 7; 7]) 0x3FF0000000000000; pose (str 2 [101; 102; 7; 7]) 0])
+  = MVstruct [("len", MVscalar (Vint 1)); ("truncated", MVscalar (Vint 0));
+              ("data", MVarray [pose (str 1 [97; 0; 0; 0]) 0x3FF0000000000000;
+                                zero_mval nested_ce (Tstruct "Pose")])].
+Proof. vm_compute. reflexivity. Qed.

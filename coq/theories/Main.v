@@ -105,6 +105,27 @@ Theorem converted_sequence:
   clamped_at (converted m tp a) (ar_msg a) sp n t l.
 Proof. exact DDC.converted_sequence. Qed.
 
+(** ... and a bounded sequence of any element type (a sequence of
+    messages, whose elements may hold sequences themselves): the length
+    and [truncated] as above, each of the first [min(L, N)] elements
+    converted in turn ([Environment.clamp]), then elements of zeros of the
+    element type. *)
+Theorem converted_sequence_elems:
+  forall m tp a sp id n t l,
+  mval_has_type (composites m) (Tstruct (tp_msg tp)) (ar_msg a) ->
+  DDC.bounded_elems_at m tp sp id n t ->
+  mval_get (ar_msg a) (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint l)) ->
+  let v := converted m tp a in
+     mval_get v (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint (Z.min l n)))
+  /\ mval_get v (path_steps (sp ++ [PField "truncated"%string]))
+     = Some (MVscalar (Vint (if (n <? l)%Z then 1 else 0)))
+  /\ (forall j, (0 <= j < n)%Z ->
+        mval_get v (path_steps (sp ++ [PField "data"%string; PIndex j]))
+        = if (j <? Z.min l n)%Z
+          then option_map (clamp (composites m) t) (mval_get (ar_msg a) (path_steps (sp ++ [PField "data"%string; PIndex j])))
+          else Some (zero_mval (composites m) t)).
+Proof. exact DDC.converted_sequence_elems. Qed.
+
 (** What ROS carries of a published message ([DDC.sent], in T2's
     [publish_events]): a scalar field reached through no bounded sequence
     as the glue wrote it, ... *)

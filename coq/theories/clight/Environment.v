@@ -166,8 +166,8 @@ Record arrival : Type := mkarrival {
 
 (** A ROS sequence ([T[]]) or [string] that the node carries is held in C
     by a struct named [ros_seq_...] or [ros_string...] of three members:
-    [unsigned int len], [unsigned char truncated] and [T data[N]] ([T] a
-    scalar type, [N] the sequence's maximum).  An arrival holds the ROS
+    [unsigned int len], [unsigned char truncated] and [T data[N]] ([T] the
+    element type, [N] the sequence's maximum).  An arrival holds the ROS
     message as it was sent: in each bounded sequence, [len] is the
     sequence's real length (any [uint32]) and [data] its first [N]
     elements (the elements past [N] cannot matter to the node, so they
@@ -177,24 +177,28 @@ Record arrival : Type := mkarrival {
     when the sequence was longer than [N], and [data] keeps its first
     [min(len, N)] elements, every other element being zero.  Sequences
     are found by the struct names along the message's type, through
-    nested structs and fixed-size arrays. *)
+    nested structs and fixed-size arrays; the elements of a sequence of
+    structs are converted in turn (their own sequences capped), and the
+    missing ones are zero structs. *)
 Definition reject_name (id : ident) : bool :=
   String.prefix "ros_rstring" id || String.prefix "ros_rseq_" id.
 
 Definition bounded_name (id : ident) : bool :=
   String.prefix "ros_string" id || String.prefix "ros_seq_" id || reject_name id.
 
-Definition clamp_seq (members : list (ident * type)) (fs : list (ident * mval)) : option mval :=
+(** [clamp_seq ce members fs]: the conversion of a bounded struct of
+    members [members] whose fields [fs] have already been converted
+    (elements of a sequence of structs hold sequences too: each is
+    converted first); [None] if it does not have the shape of one. *)
+Definition clamp_seq (ce : composite_env) (members : list (ident * type)) (fs : list (ident * mval)) : option mval :=
   match members, fs with
   | [(_, Tint I32 Unsigned); (_, Tint I8 Unsigned); (_, Tarray t n)],
     [(fl, MVscalar (Vint l)); (ft, _); (fd, MVarray es)] =>
-      if is_scalar_type t then
-        let k := Z.min l n in
-        Some (MVstruct [(fl, MVscalar (Vint k));
-                        (ft, MVscalar (Vint (if (n <? l)%Z then 1 else 0)));
-                        (fd, MVarray (firstn (Z.to_nat k) es
-                                      ++ repeat (MVscalar (zero_val t)) (length es - Z.to_nat k)))])
-      else None
+      let k := Z.min l n in
+      Some (MVstruct [(fl, MVscalar (Vint k));
+                      (ft, MVscalar (Vint (if (n <? l)%Z then 1 else 0)));
+                      (fd, MVarray (firstn (Z.to_nat k) es
+                                    ++ repeat (zero_mval ce t) (length es - Z.to_nat k)))])
   | _, _ => None
   end.
 
@@ -206,15 +210,15 @@ Fixpoint clamp (ce : composite_env) (ty : type) (mv : mval) {struct mv} : mval :
       | Tstruct id =>
           match struct_members ce id with
           | Some members =>
-              match (if bounded_name id then clamp_seq members fs else None) with
+              let fs' := (fix go (ms : list (ident * type)) (l : list (ident * mval)) {struct l}
+                            : list (ident * mval) :=
+                            match ms, l with
+                            | (_, t) :: ms', (g, v) :: l' => (g, clamp ce t v) :: go ms' l'
+                            | _, _ => l
+                            end) members fs in
+              match (if bounded_name id then clamp_seq ce members fs' else None) with
               | Some mv' => mv'
-              | None =>
-                  MVstruct ((fix go (ms : list (ident * type)) (l : list (ident * mval)) {struct l}
-                               : list (ident * mval) :=
-                               match ms, l with
-                               | (_, t) :: ms', (g, v) :: l' => (g, clamp ce t v) :: go ms' l'
-                               | _, _ => l
-                               end) members fs)
+              | None => MVstruct fs'
               end
           | None => mv
           end
@@ -227,6 +231,26 @@ Fixpoint clamp (ce : composite_env) (ty : type) (mv : mval) {struct mv} : mval :
       end
   end.
 
+(** The fields of a struct, each converted by its member's type. *)
+Definition clamp_fields (ce : composite_env) : list (ident * type) -> list (ident * mval) -> list (ident * mval) :=
+  fix go (ms : list (ident * type)) (l : list (ident * mval)) {struct l} : list (ident * mval) :=
+    match ms, l with
+    | (_, t) :: ms', (g, v) :: l' => (g, clamp ce t v) :: go ms' l'
+    | _, _ => l
+    end.
+
+Lemma clamp_struct_eq:
+  forall ce id fs, clamp ce (Tstruct id) (MVstruct fs)
+  = match struct_members ce id with
+    | Some members =>
+        match (if bounded_name id then clamp_seq ce members (clamp_fields ce members fs) else None) with
+        | Some mv' => mv'
+        | None => MVstruct (clamp_fields ce members fs)
+        end
+    | None => MVstruct fs
+    end.
+Proof. reflexivity. Qed.
+
 Lemma elems_firstn:
   forall ce t es k, elems_have_type ce t es -> elems_have_type ce t (firstn k es).
 Proof.
@@ -237,12 +261,26 @@ Lemma elems_app:
   forall ce t l1 l2, elems_have_type ce t l1 -> elems_have_type ce t l2 -> elems_have_type ce t (l1 ++ l2).
 Proof. intros ce t l1 l2 E1 E2. induction E1; simpl; auto. constructor; auto. Qed.
 
-Lemma clamp_seq_typed:
-  forall ce id members fs mv',
-  struct_members ce id = Some members -> fields_have_type ce members fs ->
-  clamp_seq members fs = Some mv' -> mval_has_type ce (Tstruct id) mv'.
+(** The members of a struct of a well-formed environment have complete
+    types. *)
+Lemma struct_members_complete:
+  forall ce id ms f t, wf_composites ce -> struct_members ce id = Some ms -> In (f, t) ms ->
+  complete_type (composite_names ce) t = true.
 Proof.
-  intros ce id members fs mv' SM F C. unfold clamp_seq in C.
+  intros ce id ms f t WF SM I. unfold struct_members in SM.
+  destruct (find_composite id ce) as [c|] eqn:F; [|discriminate]. inversion SM; subst ms.
+  destruct (find_composite_split _ _ _ F) as [_ [pre [post [E _]]]].
+  destruct (composites_ok_inv ce [] WF) as [_ [_ C]].
+  destruct (C pre c post E) as [_ T]. eapply complete_type_incl; [|apply (T f t I)].
+  intros x Hx. rewrite app_nil_r in Hx. rewrite E. unfold composite_names. rewrite map_app. apply in_or_app. auto.
+Qed.
+
+Lemma clamp_seq_typed:
+  forall ce id members fs mv', wf_composites ce ->
+  struct_members ce id = Some members -> fields_have_type ce members fs ->
+  clamp_seq ce members fs = Some mv' -> mval_has_type ce (Tstruct id) mv'.
+Proof.
+  intros ce id members fs mv' WF SM F C. unfold clamp_seq in C.
   destruct members as [|[x1 t1] [|[x2 t2] [|[x3 t3] [|]]]]; try discriminate;
   destruct fs as [|[f1 v1] [|[f2 v2] [|[f3 v3] [|]]]]; try discriminate;
   destruct t1 as [| [] [] | | | | | |]; try discriminate;
@@ -250,8 +288,10 @@ Proof.
   destruct t3 as [| | | | | t n | |]; try discriminate;
   destruct v1 as [[| len0 | | | | |]| |]; try discriminate;
   destruct v3 as [| |es]; try discriminate.
-  destruct (is_scalar_type t) eqn:St; [|discriminate].
   inversion C; subst mv'; clear C.
+  assert (Ct: complete_type (composite_names ce) t = true).
+  { assert (Ca := struct_members_complete ce id _ x3 (Tarray t n) WF SM ltac:(simpl; auto)).
+    simpl in Ca. apply andb_true_iff in Ca; tauto. }
   inversion F as [|? ? ? ? ? T1 F2]; subst. inversion F2 as [|? ? ? ? ? T2 F3]; subst.
   inversion F3 as [|? ? ? ? ? T3 F4]; subst.
   inversion T1 as [? ? _ V1| |]; subst. inversion T3 as [| |? ? ? L3 E3]; subst.
@@ -266,21 +306,36 @@ Proof.
     + rewrite app_length, firstn_length, repeat_length. lia.
     + apply elems_app; [apply elems_firstn; auto|].
       generalize (length es - Z.to_nat (Z.min len0 (Z.of_nat (length es))))%nat.
-      induction n; simpl; constructor; auto. constructor; auto. apply zero_val_has_type; auto.
+      intros k; induction k; simpl; constructor; auto. apply zero_mval_has_type; auto.
+Qed.
+
+Lemma clamp_fields_typed:
+  forall ce members fs,
+  Forall (fun fv => forall ty, mval_has_type ce ty (snd fv) -> mval_has_type ce ty (clamp ce ty (snd fv))) fs ->
+  fields_have_type ce members fs ->
+  fields_have_type ce members
+    ((fix go (ms : list (ident * type)) (l : list (ident * mval)) {struct l} : list (ident * mval) :=
+        match ms, l with
+        | (_, t) :: ms', (g, v) :: l' => (g, clamp ce t v) :: go ms' l'
+        | _, _ => l
+        end) members fs).
+Proof.
+  intros ce members fs IH. revert members. induction IH as [|[g v] fs Hv Hfs IHfs]; intros members F.
+  - inversion F; subst. constructor.
+  - inversion F as [|f t mv' members' fs' Tv F']; subst. simpl. constructor; auto.
 Qed.
 
 Lemma clamp_typed:
-  forall ce mv ty, mval_has_type ce ty mv -> mval_has_type ce ty (clamp ce ty mv).
+  forall ce mv ty, wf_composites ce -> mval_has_type ce ty mv -> mval_has_type ce ty (clamp ce ty mv).
 Proof.
-  intros ce mv. induction mv as [v|fs IH|es IH] using mval_ind2; intros ty T.
+  intros ce mv ty WF. revert ty. induction mv as [v|fs IH|es IH] using mval_ind2; intros ty T.
   - simpl. exact T.
   - inversion T as [|id members fs' SM F|]; subst. simpl. rewrite SM.
-    destruct (if bounded_name id then clamp_seq members fs else None) as [mv'|] eqn:C.
+    assert (F' := clamp_fields_typed ce members fs IH F).
+    match goal with |- context [if bounded_name id then clamp_seq ce members ?x else None] =>
+      destruct (if bounded_name id then clamp_seq ce members x else None) as [mv'|] eqn:C end.
     + destruct (bounded_name id); [|discriminate]. eapply clamp_seq_typed; eauto.
-    + econstructor; [exact SM|]. clear SM C T.
-      revert members F. induction IH as [|[g v] fs Hv Hfs IHfs]; intros members F.
-      * inversion F; subst. constructor.
-      * inversion F as [|f t mv' members' fs' Tv F']; subst. simpl. constructor; auto.
+    + econstructor; eauto.
   - inversion T as [| |t n es' L E]; subst. simpl. constructor.
     + rewrite map_length. reflexivity.
     + clear T. induction IH as [|e es He Hes IHes]; simpl; inversion E; subst; constructor; auto.
@@ -291,6 +346,14 @@ Lemma nth_error_firstn_lt:
 Proof.
   intros A l; induction l as [|x l IH]; intros [|k] [|i] H; simpl; auto; try lia.
   apply IH. lia.
+Qed.
+
+(** Converting scalars changes nothing. *)
+Lemma map_clamp_scalar:
+  forall ce t es, is_scalar_type t = true -> elems_have_type ce t es -> map (clamp ce t) es = es.
+Proof.
+  intros ce t es St E. induction E as [|t0 e es' Te Es IH]; simpl; auto. f_equal; auto.
+  inversion Te; subst; simpl in St; try discriminate; reflexivity.
 Qed.
 
 (** What the callback receives of a bounded sequence: its length capped
@@ -320,7 +383,8 @@ Proof.
   inversion F3; subst.
   inversion T3 as [? ? Hs3| |t' n' es L E]; subst; [discriminate Hs3|].
   simpl in Gl. inversion Gl; subst v1.
-  unfold cv; simpl. rewrite SM, B. simpl. rewrite St. simpl.
+  unfold cv; simpl. rewrite SM, B. simpl.
+  rewrite (map_clamp_scalar ce t es St E). unfold zero_mval. rewrite (default_mval_scalar _ ce t St). simpl.
   split; [reflexivity|split; [reflexivity|]].
   intros i Hi. destruct (Z.leb_spec 0 i) as [_|N]; [|lia].
   inversion T1 as [? ? _ V1| |]; subst.
@@ -333,6 +397,49 @@ Proof.
     rewrite nth_error_firstn_lt by lia. reflexivity.
   - rewrite nth_error_app2 by (rewrite firstn_length; lia).
     rewrite nth_error_repeat; [reflexivity|]. rewrite firstn_length. lia.
+Qed.
+
+(** The same for a sequence of any element type (structs, which may hold
+    sequences themselves, included): each of its first [min(len, n)]
+    elements converted, then zeros of the element's type. *)
+Lemma clamp_bounded_elems:
+  forall ce id mv l n t,
+  bounded_name id = true ->
+  struct_members ce id = Some [("len"%string, Tint I32 Unsigned); ("truncated"%string, Tint I8 Unsigned); ("data"%string, Tarray t n)] ->
+  mval_has_type ce (Tstruct id) mv ->
+  mval_get mv [Sfield "len"%string] = Some (MVscalar (Vint l)) ->
+  let cv := clamp ce (Tstruct id) mv in
+     mval_get cv [Sfield "len"%string] = Some (MVscalar (Vint (Z.min l n)))
+  /\ mval_get cv [Sfield "truncated"%string] = Some (MVscalar (Vint (if (n <? l)%Z then 1 else 0)))
+  /\ (forall i, (0 <= i < n)%Z ->
+        mval_get cv [Sfield "data"%string; Sindex i]
+        = if (i <? Z.min l n)%Z then option_map (clamp ce t) (mval_get mv [Sfield "data"%string; Sindex i])
+          else Some (zero_mval ce t)).
+Proof.
+  intros ce id mv l n t B SM T Gl cv.
+  inversion T as [? ? Hs|? members fs SM0 F|]; subst; [discriminate Hs|].
+  rewrite SM in SM0. inversion SM0; subst members. clear SM0.
+  inversion F as [|f1 t1 v1 ms1 fs1 T1 F1]; subst.
+  inversion F1 as [|f2 t2 v2 ms2 fs2 T2 F2]; subst.
+  inversion F2 as [|f3 t3 v3 ms3 fs3 T3 F3]; subst.
+  inversion F3; subst.
+  inversion T3 as [? ? Hs3| |t' n' es L E]; subst; [discriminate Hs3|].
+  simpl in Gl. inversion Gl; subst v1.
+  unfold cv; simpl. rewrite SM, B. simpl.
+  split; [reflexivity|split; [reflexivity|]].
+  intros i Hi. destruct (Z.leb_spec 0 i) as [_|N]; [|lia].
+  inversion T1 as [? ? _ V1| |]; subst.
+  simpl in V1. unfold norm_int, wrap, wrap_unsigned, bitsize in V1. simpl in V1.
+  assert (Hl: (0 <= l)%Z) by (rewrite <- V1; apply Z.mod_pos_bound; lia).
+  set (k := Z.min l (Z.of_nat (length es))).
+  assert (Hk: (0 <= k <= Z.of_nat (length es))%Z) by (unfold k; lia).
+  rewrite map_length. fold k.
+  destruct (Z.ltb_spec i k) as [Lt|Ge].
+  - rewrite nth_error_app1 by (rewrite firstn_length, map_length; lia).
+    rewrite nth_error_firstn_lt by lia. rewrite nth_error_map.
+    destruct (nth_error es (Z.to_nat i)); reflexivity.
+  - rewrite nth_error_app2 by (rewrite firstn_length, map_length; lia).
+    rewrite nth_error_repeat; [reflexivity|]. rewrite firstn_length, map_length. lia.
 Qed.
 
 (** [p] leads from a value of type [ty] through no bounded sequence

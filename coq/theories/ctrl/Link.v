@@ -321,34 +321,39 @@ Lemma map_repeat_rmv: forall x n, map rmv (repeat x n) = repeat (rmv x) n.
 Proof. induction n; simpl; auto. rewrite IHn; auto. Qed.
 
 Lemma clamp_seq_rmv:
-  forall members fs, clamp_seq members (rfs fs) = option_map rmv (clamp_seq members fs).
+  forall ce members fs, clamp_seq ce members (rfs fs) = option_map rmv (clamp_seq ce members fs).
 Proof.
-  intros members fs.
+  intros ce members fs.
   destruct fs as [|[fl x1] [|[ft x2] [|[fd x3] fs']]]; unfold rfs; simpl map;
     try (destruct x1 as [v1|?|?]; [rewrite rmv_scalar; destruct v1|rewrite rmv_struct|rewrite rmv_array]);
     try (destruct x3 as [v3|?|?]; [rewrite rmv_scalar|rewrite rmv_struct|rewrite rmv_array]);
     unfold clamp_seq; simpl rv;
     repeat match goal with |- context [match ?x with _ => _ end] => is_var x; destruct x end;
     try reflexivity.
-  all: destruct (is_scalar_type t); [|reflexivity]; simpl option_map; f_equal;
+  all: simpl option_map; f_equal;
     rewrite rmv_struct; unfold rfs; simpl map; rewrite !rmv_scalar, rmv_array; simpl rv;
-    rewrite map_app, firstn_map, map_repeat_rmv, map_length, rmv_scalar, rv_zero_val; reflexivity.
+    rewrite map_app, firstn_map, map_repeat_rmv, map_length, rmv_zero; reflexivity.
+Qed.
+
+Lemma clamp_fields_rmv:
+  forall ce fs, Forall (fun fv => forall ty, clamp ce ty (rmv (snd fv)) = rmv (clamp ce ty (snd fv))) fs ->
+  forall members, clamp_fields ce members (rfs fs) = rfs (clamp_fields ce members fs).
+Proof.
+  intros ce fs IH. induction IH as [|[g v] fs Hv IHfs IHrec]; intros members; [destruct members as [|[? ?] ?]; reflexivity|].
+  destruct members as [|[f t] ms]; [reflexivity|]. simpl in Hv |- *. rewrite Hv, IHrec. reflexivity.
 Qed.
 
 Lemma clamp_rmv: forall ce mv ty, clamp ce ty (rmv mv) = rmv (clamp ce ty mv).
 Proof.
   intros ce mv. induction mv as [v | fs IH | es IH] using mval_ind2; intros ty.
   - reflexivity.
-  - rewrite rmv_struct. destruct ty; simpl; try (rewrite rmv_struct; reflexivity).
-    destruct (struct_members ce id) as [members|]; [|rewrite rmv_struct; reflexivity].
+  - rewrite rmv_struct. destruct ty; try (simpl; rewrite rmv_struct; reflexivity).
+    rewrite !clamp_struct_eq. destruct (struct_members ce id) as [members|]; [|rewrite rmv_struct; reflexivity].
+    rewrite (clamp_fields_rmv ce fs IH members).
     destruct (bounded_name id).
-    + rewrite clamp_seq_rmv. destruct (clamp_seq members fs); [reflexivity|].
-      simpl. rewrite rmv_struct. f_equal. revert members. induction IH as [|[g v] fs Hv IHfs IHrec]; intros members.
-      * destruct members as [|[? ?] ?]; reflexivity.
-      * destruct members as [|[f t] ms]; [reflexivity|]. simpl in Hv |- *. rewrite Hv, IHrec. reflexivity.
-    + rewrite rmv_struct. f_equal. revert members. induction IH as [|[g v] fs Hv IHfs IHrec]; intros members.
-      * destruct members as [|[? ?] ?]; reflexivity.
-      * destruct members as [|[f t] ms]; [reflexivity|]. simpl in Hv |- *. rewrite Hv, IHrec. reflexivity.
+    + rewrite clamp_seq_rmv. destruct (clamp_seq ce members (clamp_fields ce members fs)); [reflexivity|].
+      simpl. rewrite rmv_struct. reflexivity.
+    + rewrite rmv_struct. reflexivity.
   - rewrite rmv_array. destruct ty; simpl; try (rewrite rmv_array; reflexivity).
     rewrite rmv_array. f_equal. rewrite !map_map. apply map_ext_in. intros x Hx.
     rewrite Forall_forall in IH. apply IH; auto.
@@ -902,19 +907,37 @@ Proof.
   intros x Hx. rewrite app_nil_r in Hx. rewrite E. unfold composite_names. rewrite map_app. apply in_or_app. auto.
 Qed.
 
+Lemma default_mval_extend:
+  forall dflt ty, complete_type known ty = true -> default_mval dflt ceL ty = default_mval dflt ce ty.
+Proof.
+  intros dflt ty C. unfold default_mval. rewrite rev_app_distr. simpl.
+  apply (default_of_ext dflt _ _ known); auto.
+  intros id I. simpl. destruct (ident_eq (co_name co) id); auto. subst. contradiction.
+Qed.
+
 Lemma clamp_extend:
   forall mv ty, complete_type known ty = true -> clamp ceL ty mv = clamp ce ty mv.
 Proof.
   intros mv. induction mv as [v | fs IH | es IH] using mval_ind2; intros ty C.
   - reflexivity.
-  - destruct ty; simpl; auto. simpl in C. apply in_ident_spec in C.
-    rewrite struct_members_extend by auto.
+  - destruct ty; try reflexivity. simpl in C. apply in_ident_spec in C.
+    rewrite !clamp_struct_eq. rewrite struct_members_extend by auto.
     destruct (struct_members ce id) as [ms|] eqn:SM; auto.
     assert (MC: forall f t, In (f, t) ms -> complete_type known t = true) by (intros; eapply members_complete; eauto).
-    destruct (if bounded_name id then clamp_seq ms fs else None); auto. f_equal.
-    clear SM. revert ms MC. induction IH as [|[g v] fs Hv IHfs IHrec]; intros ms MC; [destruct ms as [|[? ?] ?]; reflexivity|].
-    destruct ms as [|[f t] ms]; [reflexivity|]. simpl in Hv |- *.
-    rewrite (Hv t (MC f t (or_introl eq_refl))), IHrec; auto. intros; eapply MC; right; eauto.
+    assert (F: clamp_fields ceL ms fs = clamp_fields ce ms fs).
+    { clear SM. revert ms MC. induction IH as [|[g v] fs Hv IHfs IHrec]; intros ms MC; [destruct ms as [|[? ?] ?]; reflexivity|].
+      destruct ms as [|[f t] ms]; [reflexivity|]. simpl in Hv |- *.
+      rewrite (Hv t (MC f t (or_introl eq_refl))), IHrec; auto. intros; eapply MC; right; eauto. }
+    rewrite F. destruct (bounded_name id); [|reflexivity].
+    assert (S: clamp_seq ceL ms (clamp_fields ce ms fs) = clamp_seq ce ms (clamp_fields ce ms fs)).
+    { unfold clamp_seq.
+      destruct ms as [|[a1 t1] [|[a2 t2] [|[a3 t3] [|]]]]; auto.
+      destruct t1 as [| [] [] | | | | | |]; auto; destruct t2 as [| [] [] | | | | | |]; auto.
+      destruct t3 as [| | | | | t n | |]; auto.
+      assert (Ct: complete_type known t = true).
+      { assert (Ca := MC a3 (Tarray t n) ltac:(simpl; auto)). simpl in Ca. apply andb_true_iff in Ca; tauto. }
+      unfold zero_mval. rewrite (default_mval_extend zero_val t Ct). reflexivity. }
+    rewrite S. reflexivity.
   - destruct ty; simpl; auto. simpl in C. apply andb_true_iff in C as [_ C]. f_equal.
     apply map_ext_in. intros x I. rewrite Forall_forall in IH. apply IH; auto.
 Qed.
@@ -933,14 +956,6 @@ Proof.
     rewrite (Hv t (MC f t (or_introl eq_refl))), IHrec; auto. intros; eapply MC; right; eauto.
   - destruct ty; simpl; auto. simpl in C. apply andb_true_iff in C as [_ C].
     induction IH as [|x es Hx IHes IHrec]; simpl; auto. rewrite Hx, IHrec; auto.
-Qed.
-
-Lemma default_mval_extend:
-  forall dflt ty, complete_type known ty = true -> default_mval dflt ceL ty = default_mval dflt ce ty.
-Proof.
-  intros dflt ty C. unfold default_mval. rewrite rev_app_distr. simpl.
-  apply (default_of_ext dflt _ _ known); auto.
-  intros id I. simpl. destruct (ident_eq (co_name co) id); auto. subst. contradiction.
 Qed.
 
 End EXTEND.

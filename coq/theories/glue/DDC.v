@@ -460,6 +460,45 @@ Proof.
   rewrite !mval_get_app, C, (D j Hj), Gs. reflexivity.
 Qed.
 
+(** The same for a bounded sequence of any element type ([bounded_at]
+    without its last condition): a sequence of messages, whose elements
+    may hold sequences too.  The callback receives each of the first
+    [min(l, n)] elements converted ([Environment.clamp]: its own
+    sequences capped in turn), then elements of zeros. *)
+Definition bounded_elems_at (m : node_model) (tp : topic) (sp : path) (id : ident) (n : Z) (t : type) : Prop :=
+     unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = true
+  /\ type_at (composites m) (Tstruct (tp_msg tp)) (path_steps sp) = Some (Tstruct id)
+  /\ bounded_name id = true
+  /\ struct_members (composites m) id
+     = Some [("len"%string, Tint I32 Unsigned); ("truncated"%string, Tint I8 Unsigned); ("data"%string, Tarray t n)].
+
+Lemma converted_sequence_elems:
+  forall m tp a sp id n t l,
+  mval_has_type (composites m) (Tstruct (tp_msg tp)) (ar_msg a) ->
+  bounded_elems_at m tp sp id n t ->
+  mval_get (ar_msg a) (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint l)) ->
+  let v := converted m tp a in
+     mval_get v (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint (Z.min l n)))
+  /\ mval_get v (path_steps (sp ++ [PField "truncated"%string]))
+     = Some (MVscalar (Vint (if (n <? l)%Z then 1 else 0)))
+  /\ (forall j, (0 <= j < n)%Z ->
+        mval_get v (path_steps (sp ++ [PField "data"%string; PIndex j]))
+        = if (j <? Z.min l n)%Z
+          then option_map (clamp (composites m) t) (mval_get (ar_msg a) (path_steps (sp ++ [PField "data"%string; PIndex j])))
+          else Some (zero_mval (composites m) t)).
+Proof.
+  intros m tp a sp id n t l T (U & Ty & B & SM) Gl v.
+  destruct (mval_get_has_type _ _ _ _ _ T Ty) as (sv & Gs & Ts).
+  assert (C: mval_get v (path_steps sp) = Some (clamp (composites m) (Tstruct id) sv))
+    by (unfold v, converted; apply clamp_get; auto).
+  unfold path_steps in *. rewrite !map_app in *. cbn [map step_of_pstep] in *.
+  rewrite mval_get_app, Gs in Gl.
+  destruct (clamp_bounded_elems (composites m) id sv l n t B SM Ts Gl) as (L & Tr & D).
+  rewrite !mval_get_app, C. split; [exact L|split; [exact Tr|]].
+  intros j Hj. rewrite !map_app. cbn [map step_of_pstep].
+  rewrite !mval_get_app, C, (D j Hj), Gs. reflexivity.
+Qed.
+
 (** The newest message that arrived on topic [tp] up to the [i]-th spin,
     as its callback receives it, or the zero message if none did. *)
 Definition newest {CS : Type} (m : node_model) (ctx : ros_context CS) (tp : topic) (i : nat) : mval :=

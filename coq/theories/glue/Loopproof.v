@@ -731,7 +731,7 @@ Proof.
       by (unfold accepted_in; cbn [filter fst snd]; rewrite Acc; reflexivity).
     rewrite AD.
     set (mv := converted m tp' a).
-    assert (Tmv: mval_has_type ce (Tstruct (tp_msg tp')) mv) by (apply clamp_typed; exact Tmv0).
+    assert (Tmv: mval_has_type ce (Tstruct (tp_msg tp')) mv) by (apply clamp_typed; [apply (gen_wf_composites m p GEN) | exact Tmv0]).
     assert (Dv: delivered ge (sub_of tp') a = mv)
       by (unfold delivered, mv, converted; rewrite globalenv_comp, types_eq; reflexivity).
     destruct (generate_callback_ddc m p GEN tp' Htp') as (f' & Ff' & Spec).
