@@ -11,10 +11,11 @@
 
     Mutants of the controller's C, each run linked with the same glue and
     refuted against T8's statement for that program ([t8_for]): an
-    initialisation that leaves the state at zero (k1), a step that does
-    not store the next state (k2), and a link that leaves the environment's
-    [Controller_initialize] in place of the generated one (k3: the
-    environment starts the state at zero, not at the diagram's [0.5]). *)
+    initialisation that leaves the state at zero (k1), a step that stores
+    the next state before writing the outputs (k2), and a link that leaves
+    the environment's [Controller_initialize] in place of the generated
+    one (k3: it emits [Einit], and the state in memory stays at zero, not
+    at the diagram's [0.5]). *)
 
 From Coq Require Import String List ZArith Lia.
 From Flocq Require Import IEEE754.Binary IEEE754.Bits.
