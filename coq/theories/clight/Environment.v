@@ -356,49 +356,6 @@ Proof.
   inversion Te; subst; simpl in St; try discriminate; reflexivity.
 Qed.
 
-(** What the callback receives of a bounded sequence: its length capped
-    at [n], whether it was longer than [n], and its first [min(len, n)]
-    elements followed by zeros. *)
-Lemma clamp_bounded:
-  forall ce id mv l n t,
-  bounded_name id = true ->
-  struct_members ce id = Some [("len"%string, Tint I32 Unsigned); ("truncated"%string, Tint I8 Unsigned); ("data"%string, Tarray t n)] ->
-  is_scalar_type t = true ->
-  mval_has_type ce (Tstruct id) mv ->
-  mval_get mv [Sfield "len"%string] = Some (MVscalar (Vint l)) ->
-  let cv := clamp ce (Tstruct id) mv in
-     mval_get cv [Sfield "len"%string] = Some (MVscalar (Vint (Z.min l n)))
-  /\ mval_get cv [Sfield "truncated"%string] = Some (MVscalar (Vint (if (n <? l)%Z then 1 else 0)))
-  /\ (forall i, (0 <= i < n)%Z ->
-        mval_get cv [Sfield "data"%string; Sindex i]
-        = if (i <? Z.min l n)%Z then mval_get mv [Sfield "data"%string; Sindex i]
-          else Some (MVscalar (zero_val t))).
-Proof.
-  intros ce id mv l n t B SM St T Gl cv.
-  inversion T as [? ? Hs|? members fs SM0 F|]; subst; [discriminate Hs|].
-  rewrite SM in SM0. inversion SM0; subst members. clear SM0.
-  inversion F as [|f1 t1 v1 ms1 fs1 T1 F1]; subst.
-  inversion F1 as [|f2 t2 v2 ms2 fs2 T2 F2]; subst.
-  inversion F2 as [|f3 t3 v3 ms3 fs3 T3 F3]; subst.
-  inversion F3; subst.
-  inversion T3 as [? ? Hs3| |t' n' es L E]; subst; [discriminate Hs3|].
-  simpl in Gl. inversion Gl; subst v1.
-  unfold cv; simpl. rewrite SM, B. simpl.
-  rewrite (map_clamp_scalar ce t es St E). unfold zero_mval. rewrite (default_mval_scalar _ ce t St). simpl.
-  split; [reflexivity|split; [reflexivity|]].
-  intros i Hi. destruct (Z.leb_spec 0 i) as [_|N]; [|lia].
-  inversion T1 as [? ? _ V1| |]; subst.
-  simpl in V1. unfold norm_int, wrap, wrap_unsigned, bitsize in V1. simpl in V1.
-  assert (Hl: (0 <= l)%Z) by (rewrite <- V1; apply Z.mod_pos_bound; lia).
-  set (k := Z.min l (Z.of_nat (length es))).
-  assert (Hk: (0 <= k <= Z.of_nat (length es))%Z) by (unfold k; lia).
-  destruct (Z.ltb_spec i k) as [Lt|Ge].
-  - rewrite nth_error_app1 by (rewrite firstn_length; lia).
-    rewrite nth_error_firstn_lt by lia. reflexivity.
-  - rewrite nth_error_app2 by (rewrite firstn_length; lia).
-    rewrite nth_error_repeat; [reflexivity|]. rewrite firstn_length. lia.
-Qed.
-
 (** The same for a sequence of any element type (structs, which may hold
     sequences themselves, included): each of its first [min(len, n)]
     elements converted, then zeros of the element's type. *)
@@ -440,6 +397,36 @@ Proof.
     destruct (nth_error es (Z.to_nat i)); reflexivity.
   - rewrite nth_error_app2 by (rewrite firstn_length, map_length; lia).
     rewrite nth_error_repeat; [reflexivity|]. rewrite firstn_length, map_length. lia.
+Qed.
+
+(** What the callback receives of a bounded sequence of scalars: its
+    length capped at [n], whether it was longer than [n], and its first
+    [min(len, n)] elements followed by zeros. *)
+Lemma clamp_bounded:
+  forall ce id mv l n t,
+  bounded_name id = true ->
+  struct_members ce id = Some [("len"%string, Tint I32 Unsigned); ("truncated"%string, Tint I8 Unsigned); ("data"%string, Tarray t n)] ->
+  is_scalar_type t = true ->
+  mval_has_type ce (Tstruct id) mv ->
+  mval_get mv [Sfield "len"%string] = Some (MVscalar (Vint l)) ->
+  let cv := clamp ce (Tstruct id) mv in
+     mval_get cv [Sfield "len"%string] = Some (MVscalar (Vint (Z.min l n)))
+  /\ mval_get cv [Sfield "truncated"%string] = Some (MVscalar (Vint (if (n <? l)%Z then 1 else 0)))
+  /\ (forall i, (0 <= i < n)%Z ->
+        mval_get cv [Sfield "data"%string; Sindex i]
+        = if (i <? Z.min l n)%Z then mval_get mv [Sfield "data"%string; Sindex i]
+          else Some (MVscalar (zero_val t))).
+Proof.
+  intros ce id mv l n t B SM St T Gl cv. subst cv.
+  destruct (clamp_bounded_elems ce id mv l n t B SM T Gl) as (L & Tr & D).
+  split; [exact L|split; [exact Tr|]]. intros i Hi. rewrite (D i Hi).
+  destruct (i <? Z.min l n)%Z.
+  - (* a scalar element is its own conversion *)
+    destruct (mval_get_has_type ce [Sfield "data"%string; Sindex i] (Tstruct id) mv t T) as (v & G & Tv).
+    + simpl. rewrite SM. simpl. destruct (Z.leb 0 i && Z.ltb i n) eqn:R; [reflexivity|].
+      apply andb_false_iff in R. destruct R as [R|R]; [apply Z.leb_gt in R|apply Z.ltb_ge in R]; lia.
+    + rewrite G. inversion Tv; subst; simpl in St; try discriminate; reflexivity.
+  - unfold zero_mval. rewrite (default_mval_scalar _ ce t St). reflexivity.
 Qed.
 
 (** [p] leads from a value of type [ty] through no bounded sequence

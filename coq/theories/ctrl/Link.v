@@ -898,14 +898,7 @@ Proof. intros id H. unfold struct_members. rewrite find_composite_extend; auto. 
 
 Lemma members_complete:
   forall id ms f t, struct_members ce id = Some ms -> In (f, t) ms -> complete_type known t = true.
-Proof.
-  intros id ms f t SM I. unfold struct_members in SM.
-  destruct (find_composite id ce) as [c|] eqn:F; [|discriminate]. inversion SM; subst ms.
-  destruct (find_composite_split _ _ _ F) as [_ [pre [post [E _]]]].
-  destruct (composites_ok_inv ce [] WF) as [_ [_ C]].
-  destruct (C pre c post E) as [_ T]. eapply complete_type_incl; [|apply (T f t I)].
-  intros x Hx. rewrite app_nil_r in Hx. rewrite E. unfold composite_names. rewrite map_app. apply in_or_app. auto.
-Qed.
+Proof. intros id ms f t SM I. apply (struct_members_complete ce id ms f t WF SM I). Qed.
 
 Lemma default_mval_extend:
   forall dflt ty, complete_type known ty = true -> default_mval dflt ceL ty = default_mval dflt ce ty.
