@@ -44,6 +44,13 @@ def _plural(n: int, word: str) -> str:
     return f"{n} {word}" if n == 1 else f"{n} {word}s"
 
 
+def _rows(relations) -> str:
+    """`` (from N rows)`` when whole-array rows (rule 4.15) expanded into
+    more relations than the model writes, else ``""``."""
+    rows = len({r.pos for r in relations})
+    return f" (from {_plural(rows, 'row')})" if rows != len(relations) else ""
+
+
 def cmd_check(args: argparse.Namespace) -> int:
     """``pyrosgen check MODEL.yaml``: validate only."""
     from pyrosgen.frontend.validate import load_model
@@ -68,10 +75,15 @@ def cmd_check(args: argparse.Namespace) -> int:
     if seqs:
         ctrl += f"; {_plural(len(seqs), 'variable-length array')}: " + ", ".join(
             f"{owner} {fname} ({b.seq_of[0]}[], at most {b.capacity}{', policy reject' if b.reject else ''})" for owner, fname, b in seqs)
+    arrays = [(side, f) for side, io in (("input", model.controller.inputs), ("output", model.controller.outputs))
+              for f in io.arrays]
+    if arrays:
+        ctrl += f"; {_plural(len(arrays), 'controller array')}: " + ", ".join(
+            f"{side} {f.name} ({f.type_text})" for side, f in arrays)
     print(
         f"{args.model}: ok: node {model.name}, {_plural(len(model.topics), 'topic')}, "
-        f"{_plural(len(model.input_relations), 'input relation')}, "
-        f"{_plural(len(model.output_relations), 'output relation')}{ctrl}"
+        f"{_plural(len(model.input_relations), 'input relation')}{_rows(model.input_relations)}, "
+        f"{_plural(len(model.output_relations), 'output relation')}{_rows(model.output_relations)}{ctrl}"
     )
     return EXIT_OK
 
@@ -268,8 +280,8 @@ def cmd_init(args: argparse.Namespace) -> int:
             os.unlink(tmp)
         raise
     print(f"pyrosgen: wrote {out}: controller {iface.model} from {iface.header}")
-    print(f"  inputs    {len(iface.inputs)}: {', '.join(f'{f.name} ({f.prim})' for f in iface.inputs)}")
-    print(f"  outputs   {len(iface.outputs)}: {', '.join(f'{f.name} ({f.prim})' for f in iface.outputs)}")
+    print(f"  inputs    {len(iface.inputs)}: {', '.join(f'{f.name} ({f.type_text})' for f in iface.inputs)}")
+    print(f"  outputs   {len(iface.outputs)}: {', '.join(f'{f.name} ({f.type_text})' for f in iface.outputs)}")
     if iface.period_ms is not None:
         print(f"  period    {iface.period_ms} ms, from {iface.period_source}")
     else:

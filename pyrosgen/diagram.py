@@ -90,6 +90,27 @@ def _rate(period_ms: int) -> str:
     return f"{hz:g}"
 
 
+def _rows(relations) -> list[tuple[Any, int]]:
+    """The relations as the model writes them: the element relations a
+    whole-array row expands into (rule 4.15, consecutive, with the same
+    ``row`` and position) drawn as one edge; each with how many relations
+    it stands for."""
+    out: list[list] = []
+    for r in relations:
+        if r.row is not None and out and out[-1][0].row == r.row and out[-1][0].pos == r.pos \
+                and out[-1][0].topic.name == r.topic.name:
+            out[-1][1] += 1
+        else:
+            out.append([r, 1])
+    return [(r, n) for r, n in out]
+
+
+def _label(text: str, index: int | None, row) -> str:
+    """An edge's field: ``ranges``, ``ranges[540]``, and the element of a
+    controller array a relation names (rule 4.15): ``ranges[540] (element 0)``."""
+    return text if index is None or row is not None else f"{text} (element {index})"
+
+
 def diagram_context(model: NodeModel) -> dict[str, Any]:
     """The template context for ``model`` (see the template's header)."""
     ctrl = model.controller
@@ -99,7 +120,7 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
             "id": node_id,
             "var": s.var_name,
             "struct": s.struct_name,
-            "fields": [{"port": f"f{i}", "name": f.name, "prim": f.prim} for i, f in enumerate(s.fields)],
+            "fields": [{"port": f"f{i}", "name": f.name, "prim": f.type_text} for i, f in enumerate(s.fields)],
         }
 
     u = io("ctrl_u", ctrl.inputs)
@@ -146,7 +167,7 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
         glue_of.setdefault(t.name, f"og{i}")
 
     in_rels = []
-    for i, r in enumerate(model.input_relations):
+    for i, (r, n) in enumerate(_rows(model.input_relations)):
         if r.topic.name not in var_of or r.input_field not in u_port:
             raise ValueError(f"input relation {i} names an unknown topic or input field")
         in_rels.append(
@@ -155,12 +176,14 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
                 "tail": var_of[r.topic.name],
                 "head": u["id"],
                 "port": u_port[r.input_field],
-                "path": r.field_text,   # as the model writes it: ranges[540], ranges (length)
-                "prim": r.path.prim,
+                # as the model writes it: ranges[540], ranges (length), a
+                # whole array (ranges), an element of a controller array
+                "path": _label(r.row[0] if r.row else r.field_text, r.input_index, r.row),
+                "prim": f"{r.path.prim}[{n}]" if r.row else r.path.prim,
             }
         )
     out_rels = []
-    for i, r in enumerate(model.output_relations):
+    for i, (r, n) in enumerate(_rows(model.output_relations)):
         if r.topic.name not in glue_of or r.output_field not in y_port:
             raise ValueError(f"output relation {i} names an unknown topic or output field")
         out_rels.append(
@@ -169,8 +192,9 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
                 "tail": y["id"],
                 "port": y_port[r.output_field],
                 "head": glue_of[r.topic.name],
-                "path": r.field_text,   # as the model writes it: data[3], data (length)
-                "prim": r.path.prim,
+                # as the model writes it: data[3], data (length), a whole array
+                "path": _label(r.row[1] if r.row else r.field_text, r.output_index, r.row),
+                "prim": f"{r.path.prim}[{n}]" if r.row else r.path.prim,
             }
         )
 

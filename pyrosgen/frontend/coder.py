@@ -10,7 +10,9 @@ real C parser: each header of ``DIR`` is run through the C preprocessor
 of ``fake_libc/``, so that the system's headers and their extensions never
 reach the parser), then parsed by pycparser; typedefs are resolved
 (``real_T`` -> ``double``) and each field's type is mapped to a ROS
-primitive (rule 4.3).  Fields that cannot be carried (arrays, buses, i.e.
+primitive (rule 4.3), or to a one-dimensional array of one
+(``real32_T Scan[1081];`` is ``float32[1081]``, of 1 to 65,536 elements,
+rule 4.15).  Fields that cannot be carried (arrays of arrays, buses, i.e.
 structs, ``creal_T``, pointers, ``char``) are reported with their field and
 the reason, and the model is not written.
 
@@ -38,6 +40,9 @@ from pyrosgen import procs
 from pyrosgen.errors import UserError, escape
 
 __all__ = ["CoderError", "CoderInterface", "read_controller", "skeleton", "FAKE_LIBC"]
+
+#: The largest controller array (rule 4.15).
+MAX_ARRAY = 65536
 
 #: Minimal standard headers used instead of the system's.
 FAKE_LIBC = Path(__file__).resolve().parent / "fake_libc"
@@ -86,10 +91,16 @@ class CoderError(UserError):
 class CoderField:
     name: str
     where: str                #: ``file:line`` of its declaration
-    prim: str | None          #: ROS primitive, or None when it cannot be carried
+    prim: str | None          #: ROS primitive (of an array's elements), or None when it cannot be carried
     c_type: str               #: as written in the header
     comment: str = ""
     why: str = ""             #: the reason when ``prim`` is None
+    size: int | None = None   #: the size of a one-dimensional array (rule 4.15), else None
+
+    @property
+    def type_text(self) -> str:
+        """The type as a node model writes it: ``float64``, ``float32[1081]``."""
+        return f"{self.prim}[{self.size}]" if self.size is not None else str(self.prim)
 
 
 @dataclass
@@ -126,35 +137,71 @@ def _comment(text: str, name: str) -> str:
 
 
 def _map_field(decl, typedefs: dict, raw_text: str) -> CoderField:
-    from pycparser import c_ast
-
     name = decl.name
     where = f"{Path(decl.coord.file).name}:{decl.coord.line}" if decl.coord is not None else "?"
-    t = decl.type
-    written = _type_text(t)
+    written = _type_text(decl.type)
     comment = _comment(raw_text, name)
+    prim, size, why = _map_type(decl.type, typedefs, written)
+    return CoderField(name, where, prim, written, comment, why, size)
+
+
+def _array_size(dim) -> tuple[int | None, str]:
+    """The size of a one-dimensional array from its dimension (an integer
+    constant, as Embedded Coder writes it), or why it is not one."""
+    from pycparser import c_ast
+
+    if dim is None:
+        return None, "an array without a size: a controller array has a fixed size (rule 4.15)"
+    if not (isinstance(dim, c_ast.Constant) and dim.type in ("int", "unsigned int", "long int",
+                                                             "unsigned long int")):
+        return None, f"an array whose size ({_type_text(dim)}) is not an integer constant (rule 4.15)"
+    m = re.fullmatch(r"(0[xX][0-9a-fA-F]+|[0-9]+)[uUlL]*", dim.value)
+    if m is None:
+        return None, f"an array whose size ({dim.value}) is not an integer constant (rule 4.15)"
+    text = m.group(1)
+    n = int(text, 16) if text[:2] in ("0x", "0X") else int(text, 8) if len(text) > 1 and text[0] == "0" \
+        else int(text)
+    if not 1 <= n <= MAX_ARRAY:
+        return None, (f"an array of {n} elements: a controller array has 1 to {MAX_ARRAY} elements "
+                      "(rule 4.15)")
+    return n, ""
+
+
+def _map_type(t, typedefs: dict, written: str, array_ok: bool = True) -> tuple[str | None, int | None, str]:
+    """``(prim, size, why)`` of a field's type ``t``: a ROS primitive, or a
+    one-dimensional array of one (``size`` its elements, rule 4.15); else
+    ``prim`` is ``None`` and ``why`` says why."""
+    from pycparser import c_ast
+
     if isinstance(t, c_ast.ArrayDecl):
-        return CoderField(name, where, None, written, comment,
-                          "an array: the glue carries scalar controller fields (rule 4.3); "
-                          "split it into scalar inports")
+        if not array_ok:
+            return None, None, ("an array of arrays: a controller array has one dimension (rule 4.15); "
+                                "flatten it")
+        size, why = _array_size(t.dim)
+        if size is None:
+            return None, None, why
+        prim, _, why = _map_type(t.type, typedefs, _type_text(t.type), array_ok=False)
+        if prim is None:
+            return None, None, why if why.startswith("an array of arrays") else f"an array whose elements are not carried: {why}"
+        return prim, size, ""
     if isinstance(t, c_ast.PtrDecl):
-        return CoderField(name, where, None, written, comment, "a pointer")
+        return None, None, "a pointer"
     if not isinstance(t, c_ast.TypeDecl):
-        return CoderField(name, where, None, written, comment, f"an unsupported declaration ({type(t).__name__})")
+        return None, None, f"an unsupported declaration ({type(t).__name__})"
     inner = t.type
     if isinstance(inner, (c_ast.Struct, c_ast.Union)):
-        return CoderField(name, where, None, written, comment, "a bus (a struct): the glue carries scalar fields")
+        return None, None, "a bus (a struct): the glue carries scalar fields and arrays of them"
     if isinstance(inner, c_ast.Enum):
-        return CoderField(name, where, None, written, comment, "an enumeration: its size is the compiler's")
+        return None, None, "an enumeration: its size is the compiler's"
     names = tuple(inner.names)
     seen = set()
     while True:
         if len(names) == 1 and names[0] in CODER_TYPES:
-            return CoderField(name, where, CODER_TYPES[names[0]], written, comment)
+            return CODER_TYPES[names[0]], None, ""
         if len(names) == 1 and names[0] in _WHY:
-            return CoderField(name, where, None, written, comment, _WHY[names[0]])
+            return None, None, _WHY[names[0]]
         if names in C_TYPES:
-            return CoderField(name, where, C_TYPES[names], written, comment)
+            return C_TYPES[names], None, ""
         if len(names) == 1 and names[0] in typedefs and names[0] not in seen:
             seen.add(names[0])
             target = typedefs[names[0]]
@@ -162,16 +209,18 @@ def _map_field(decl, typedefs: dict, raw_text: str) -> CoderField:
                 names = tuple(target.type.names)
                 continue
             if isinstance(target, c_ast.TypeDecl) and isinstance(target.type, (c_ast.Struct, c_ast.Union)):
-                why = _WHY.get(written, f"a bus (struct type {written}): the glue carries scalar fields")
-                return CoderField(name, where, None, written, comment, why)
+                why = _WHY.get(written, f"a bus (struct type {written}): the glue carries scalar fields "
+                                        "and arrays of them")
+                return None, None, why
             if isinstance(target, c_ast.ArrayDecl):
-                return CoderField(name, where, None, written, comment, f"an array type ({written})")
-            return CoderField(name, where, None, written, comment, f"type {written} is not a scalar")
+                # an array type (typedef real_T vec6_T[6];)
+                return _map_type(target, typedefs, written, array_ok)
+            return None, None, f"type {written} is not a scalar"
         if "char" in names and "signed" not in names and "unsigned" not in names:
-            return CoderField(name, where, None, written, comment, "plain char: its signedness is the compiler's")
+            return None, None, "plain char: its signedness is the compiler's"
         if "long" in names and names.count("long") == 1:
-            return CoderField(name, where, None, written, comment, "long: its size differs between platforms")
-        return CoderField(name, where, None, written, comment, f"type {' '.join(names)} has no ROS primitive")
+            return None, None, "long: its size differs between platforms"
+        return None, None, f"type {' '.join(names)} has no ROS primitive"
 
 
 def _type_text(t) -> str:
@@ -330,24 +379,49 @@ def skeleton(iface: CoderInterface, folder: Path, node_name: str | None = None) 
                    "set the period in milliseconds")
     out += ["controller:", f"  name: {m}", "  inputs:", f"    name: {m}_U", "    fields:"]
     width = max(len(f.name) for f in iface.inputs + iface.outputs) + 1
+    twidth = max(8, *(len(f.type_text) for f in iface.inputs + iface.outputs))
     for f in iface.inputs:
-        out.append(f"      {f.name + ':':<{width}} {f.prim:<8}  # {_yaml_comment(f.c_type)}"
+        out.append(f"      {f.name + ':':<{width}} {f.type_text:<{twidth}}  # {_yaml_comment(f.c_type)}"
                    + (f": {_yaml_comment(f.comment)}" if f.comment else ""))
     out += ["  outputs:", f"    name: {m}_Y", "    fields:"]
     for f in iface.outputs:
-        out.append(f"      {f.name + ':':<{width}} {f.prim:<8}  # {_yaml_comment(f.c_type)}"
+        out.append(f"      {f.name + ':':<{width}} {f.type_text:<{twidth}}  # {_yaml_comment(f.c_type)}"
                    + (f": {_yaml_comment(f.comment)}" if f.comment else ""))
-    first_in, first_out = iface.inputs[0].name, iface.outputs[0].name
+    first_out = iface.outputs[0]
+    arrays = [f for f in iface.inputs + iface.outputs if f.size is not None]
     out += [
         "topics:",
         "  # one line per topic, for example:",
         "  # - {name: /sensor, direction: subscribe, type: geometry_msgs/TwistStamped, queue_size: 1}",
         "  # - {name: /command, direction: publish, type: geometry_msgs/TwistStamped, queue_size: 1}",
+        *(["  # an array is related to a variable-length array of as many elements at most, e.g.",
+           "  # - {name: /scan, direction: subscribe, type: sensor_msgs/LaserScan, queue_size: 1, "
+           f"max_length: {{ranges: {arrays[0].size}}}}}"] if arrays else []),
         "relations:",
-        "  inputs:      # every controller input is fed by exactly one message field:",
-        *(f"    # - {{topic: /sensor, field: twist.linear.x, input: {f.name}}}" for f in iface.inputs),
+        "  inputs:      # every controller input (each element of an array) is fed by exactly one message field:",
+        *(_input_placeholder(f) for f in iface.inputs),
         "  outputs:     # controller outputs into fields of published messages, for example:",
-        f"    # - {{output: {first_out}, topic: /command, field: twist.linear.x}}",
+        _output_placeholder(first_out),
     ]
-    del first_in
     return "\n".join(out) + "\n"
+
+
+def _input_placeholder(f: CoderField) -> str:
+    """A commented relation feeding controller input ``f``: a scalar from a
+    scalar field, an array (rule 4.15) from a whole array of as many
+    elements, or element by element."""
+    if f.size is None:
+        return f"    # - {{topic: /sensor, field: twist.linear.x, input: {f.name}}}"
+    field = "header.frame_id" if f.prim == "uint8" else "ranges"
+    what = "a string of at most" if f.prim == "uint8" else "a whole array of"
+    return (f"    # - {{topic: /scan, field: {field}, input: {f.name}}}    # {f.type_text}: {what} "
+            f"{f.size} {f.prim} (max_length {f.size}), or element by element: input: \"{f.name}[0]\"")
+
+
+def _output_placeholder(f: CoderField) -> str:
+    """A commented relation writing controller output ``f`` into a field."""
+    if f.size is None:
+        return f"    # - {{output: {f.name}, topic: /command, field: twist.linear.x}}"
+    return (f"    # - {{output: {f.name}, topic: /command, field: data}}    # {f.type_text}: into a whole array "
+            f"of {f.size} {f.prim} (max_length {f.size}; its length from a uint32 output, derived: length), "
+            f"or element by element: output: \"{f.name}[0]\"")

@@ -3,10 +3,10 @@
 A :class:`NodeModel` is only ever built by :func:`pyrosgen.frontend.validate.load_model` (see
 :mod:`pyrosgen.frontend.validate`), after every rule of DESIGN.md section 4 has been
 checked, so emitters may rely on it: names are safe C/Coq identifiers, every
-controller input is fed by exactly one relation (an input relation or a
-derived input, rule 4.12), relation types match, fallbacks have the type of
-their input, field paths name carried scalar leaves, and all derived C names
-are distinct.
+controller input (each element of an array input, rule 4.15) is fed by
+exactly one relation (an input relation or a derived input, rule 4.12),
+relation types match, fallbacks have the type of their input, field paths
+name carried scalar leaves, and all derived C names are distinct.
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ from pyrosgen.frontend.msgmodel import C_TYPES, SIMULINK_TYPES, FieldPath, MsgTy
 __all__ = [
     "Pos",
     "ControllerField",
+    "MAX_CONTROLLER_ARRAY",
     "IOStruct",
     "Controller",
     "Scalar",
@@ -56,21 +57,53 @@ class Pos(NamedTuple):
 _NOPOS = Pos(0, 0)
 
 
+#: The largest size of a controller array (rule 4.15; ``Wellformed``'s
+#: bound on a controller field's ``FTarray``).
+MAX_CONTROLLER_ARRAY = 65536
+
+
 class ControllerField(NamedTuple):
-    """A field of ``Controller_U`` or ``Controller_Y``: ``(name, prim)``."""
+    """A field of ``Controller_U`` or ``Controller_Y``: ``(name, prim)``, or
+    ``(name, prim, size)`` for a one-dimensional array of ``size``
+    elements of ``prim`` (rule 4.15: ``real32_T Scan[1081];``)."""
 
     name: str
     prim: str
+    size: int | None = None
+
+    @property
+    def is_array(self) -> bool:
+        """Whether the field is an array of :attr:`size` elements."""
+        return self.size is not None
 
     @property
     def c_type(self) -> str:
-        """The C type of the field."""
+        """The C type of the field (of one element of an array)."""
         return C_TYPES[self.prim]
 
     @property
     def simulink_type(self) -> str:
-        """The Simulink (``rtwtypes.h``) type name of the field."""
+        """The Simulink (``rtwtypes.h``) type name of the field (of one
+        element of an array)."""
         return SIMULINK_TYPES[self.prim]
+
+    @property
+    def type_text(self) -> str:
+        """The type as a model writes it: ``float64``, ``float32[1081]``."""
+        return self.prim if self.size is None else f"{self.prim}[{self.size}]"
+
+    @property
+    def c_decl(self) -> str:
+        """The C declaration of the field: ``double In1``, ``float Scan[1081]``."""
+        return f"{self.c_type} {self.name}" + ("" if self.size is None else f"[{self.size}]")
+
+    @property
+    def leaves(self) -> tuple[str, ...]:
+        """The scalar leaves of the field as C accesses relative to the
+        struct: ``('In1',)``, ``('Scan[0]', ..., 'Scan[1080]')``."""
+        if self.size is None:
+            return (self.name,)
+        return tuple(f"{self.name}[{i}]" for i in range(self.size))
 
 
 @dataclass(frozen=True)
@@ -96,6 +129,11 @@ class IOStruct:
     def names(self) -> tuple[str, ...]:
         """The field names in declaration order."""
         return tuple(f.name for f in self.fields)
+
+    @property
+    def arrays(self) -> tuple[ControllerField, ...]:
+        """The array fields (rule 4.15), in declaration order."""
+        return tuple(f for f in self.fields if f.is_array)
 
 
 #: The block kinds of a diagram (rule 4.11), as the model spells them.
@@ -438,11 +476,30 @@ class InputRelation:
     #: 4.15: ``ranges[540]`` for the leaf ``ranges.data[540]``, ``ranges
     #: (length)`` for ``ranges.len``), else ``None``
     written: str | None = field(default=None, compare=False)
+    #: the element of controller input array ``input_field`` that the
+    #: relation feeds (rule 4.15: ``Scan[540]``), ``None`` for a scalar input
+    input_index: int | None = None
+    #: for one of the element relations a whole-array row expands into
+    #: (rule 4.15: ``{field: ranges, input: Scan}``), the row as the model
+    #: writes it, ``(field, input)``: ``('ranges', 'Scan')``; else ``None``
+    row: tuple[str, str] | None = field(default=None, compare=False)
 
     @property
     def field_text(self) -> str:
         """The field as the model writes it."""
         return self.written or str(self.path)
+
+    @property
+    def input_target(self) -> str:
+        """The controller input fed, as the model text prints it: ``In1``,
+        ``Scan[540]``."""
+        return self.input_field if self.input_index is None else f"{self.input_field}[{self.input_index}]"
+
+    @property
+    def input_elem(self) -> tuple[int, ...]:
+        """The path inside the controller input (``NodeModel.ir_elem``):
+        ``()`` for a scalar, ``(540,)`` for an element."""
+        return () if self.input_index is None else (self.input_index,)
 
 
 @dataclass(frozen=True)
@@ -477,11 +534,30 @@ class OutputRelation:
     #: 4.15: ``data[3]`` for the leaf ``data.data[3]``, ``data (length)``
     #: for ``data.len``), else ``None``
     written: str | None = field(default=None, compare=False)
+    #: the element of controller output array ``output_field`` that the
+    #: relation reads (rule 4.15: ``Cmd[3]``), ``None`` for a scalar output
+    output_index: int | None = None
+    #: for one of the element relations a whole-array row expands into
+    #: (rule 4.15: ``{output: Cmd, field: data}``), the row as the model
+    #: writes it, ``(output, field)``: ``('Cmd', 'data')``; else ``None``
+    row: tuple[str, str] | None = field(default=None, compare=False)
 
     @property
     def field_text(self) -> str:
         """The field as the model writes it."""
         return self.written or str(self.path)
+
+    @property
+    def output_source(self) -> str:
+        """The controller output read, as the model text prints it:
+        ``Out1``, ``Cmd[3]``."""
+        return self.output_field if self.output_index is None else f"{self.output_field}[{self.output_index}]"
+
+    @property
+    def output_elem(self) -> tuple[int, ...]:
+        """The path inside the controller output (``NodeModel.or_elem``):
+        ``()`` for a scalar, ``(3,)`` for an element."""
+        return () if self.output_index is None else (self.output_index,)
 
 
 @dataclass(frozen=True)
@@ -607,9 +683,10 @@ class NodeModel:
         raise KeyError(input_field)
 
     def input_relation(self, input_field: str) -> InputRelation:
-        """The relation feeding controller input ``input_field``."""
+        """The relation feeding controller input ``input_field`` (a scalar,
+        or an element of an array written ``Scan[540]``)."""
         for r in self.input_relations:
-            if r.input_field == input_field:
+            if r.input_target == input_field:
                 return r
         raise KeyError(input_field)
 

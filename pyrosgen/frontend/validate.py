@@ -9,6 +9,7 @@ any, :class:`pyrosgen.errors.InvalidNodeModel` is raised with all of them.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -16,6 +17,7 @@ from pyrosgen.errors import Diagnostic, InvalidNodeModel, show
 from pyrosgen.frontend.model import (
     DERIVED_KINDS,
     DERIVED_PRIMS,
+    MAX_CONTROLLER_ARRAY,
     MAX_TIMEOUT_MS,
     ON_TIMEOUT_POLICIES,
     PUBLISH,
@@ -133,6 +135,20 @@ class _Rel:
     bounded: BoundedTarget | None = None  # the sequence or string its field reads (rule 4.15)
     written: str | None = None       # the field as the model writes it, when it is not the leaf's path
     what: str = ""                   # relations.inputs[i], relations.outputs[i]
+    ctrl_index: int | None = None    # the element of a controller array it names (Scan[540], rule 4.15)
+    #: a whole array related to a whole controller array (rule 4.15): each
+    #: element's leaf, the element of the controller array, and how the
+    #: model would write the element's field (None: the leaf's path)
+    elements: list[tuple[FieldPath, int, str | None]] | None = None
+    row: tuple[str, str] | None = None  # such a row as written: (field, controller field)
+
+    def leaves(self) -> list[tuple[FieldPath | None, int | None]]:
+        """The (leaf, element of the controller field) pairs the row
+        relates: one for a scalar or an element, one per element for a
+        whole array (rule 4.15)."""
+        if self.elements is not None:
+            return [(p, i) for p, i, _ in self.elements]
+        return [(self.path, self.ctrl_index)]
 
 
 #: The rule of DESIGN.md section 4 that governs each section of the model,
@@ -290,12 +306,109 @@ class _Checker:
                 self.err_rule("4.9", knode, f"{what}.fields: field name {show(fname)} cannot be used: {problem}")
                 ok = False
                 continue
-            prim = self.prim_type(vnode, f"{what}.fields.{fname}")
-            if prim is None:
+            ftype = self.controller_type(vnode, f"{what}.fields.{fname}")
+            if ftype is None:
                 ok = False
                 continue
-            fields.append((knode, ControllerField(fname, prim)))
+            fields.append((knode, ControllerField(fname, *ftype)))
         return var, fields if ok else None
+
+    def controller_type(self, node: YNode, what: str) -> tuple[str, int | None] | None:
+        """The type of a controller field written at ``node``: a primitive
+        (``float64``: ``(prim, None)``) or a one-dimensional array of one
+        (``float32[1081]``: ``(prim, 1081)``, rule 4.15); ``None``
+        (reported) when it is neither."""
+        t = self.string(node, f"type of {what}")
+        if t is None:
+            return None
+        m = _ARRAY_TYPE.fullmatch(t)
+        if m is None:
+            prim = self.prim_type(node, what)
+            return (prim, None) if prim is not None else None
+        base, dims = m.group(1), _DIMS.findall(m.group(2))
+        rule = "4.15"
+        example = f"{base}[8]" if base in PRIMITIVES else "float32[8]"
+        if base not in PRIMITIVES:
+            # the element type's problem, as for a scalar field (rule 4.3)
+            if base in ROS1_ALIASES:
+                self.err_rule("4.3", node, f"{what}: type {show(t)}: {show(base)} is a deprecated ROS alias; "
+                                           f"write {ROS1_ALIASES[base]}{m.group(2)}")
+            elif base in ("string", "time", "duration") or "/" in base:
+                self.err_rule("4.3", node, f"{what}: type {show(t)} is not allowed: a controller array has "
+                                           f"elements of a primitive type (expected one of {', '.join(PRIMITIVES)})")
+            else:
+                self.err_rule("4.3", node, f"{what}: unknown element type {show(base)} in {show(t)}"
+                                           f"{did_you_mean(base, PRIMITIVES)}; expected one of "
+                                           f"{', '.join(PRIMITIVES)}")
+            return None
+        if len(dims) > 1:
+            self.err_rule(rule, node, f"{what}: type {show(t)} is an array of {len(dims)} dimensions; a "
+                                      f"controller array has one (e.g. {show(example)}: flatten it)")
+            return None
+        dim = dims[0]
+        if dim == "":
+            self.err_rule(rule, node, f"{what}: type {show(t)} is a variable-length array; a controller "
+                                      f"array has a fixed size, an integer from 1 to {MAX_CONTROLLER_ARRAY} "
+                                      f"(e.g. {show(example)}; a variable-length array of a message is read "
+                                      "into one, rule 4.15)")
+            return None
+        if not re.fullmatch(r"0|[1-9][0-9]{0,8}", dim):
+            self.err_rule(rule, node, f"{what}: type {show(t)}: the size {show(dim)} is not an integer; a "
+                                      f"controller array has a size from 1 to {MAX_CONTROLLER_ARRAY} "
+                                      f"(e.g. {show(example)})")
+            return None
+        n = int(dim)
+        if not 1 <= n <= MAX_CONTROLLER_ARRAY:
+            self.err_rule(rule, node, f"{what}: type {show(t)}: a controller array has a size from 1 to "
+                                      f"{MAX_CONTROLLER_ARRAY}, got {n}")
+            return None
+        return base, n
+
+    def whole_array_row(self, rel: _Rel, ptext: str, registry: MsgRegistry, kind: str,
+                        cf: ControllerField) -> None:
+        """Rule 4.15: a relation between field ``ptext`` of its topic's
+        message and the whole controller array ``cf`` (``kind``: ``input``
+        or ``output``).  The field must be a whole array of as many
+        elements of the same type: a carried variable-length array of
+        primitives or string whose maximum is the controller array's size,
+        or a fixed-size array of primitives of that size.  Sets the row's
+        elements (each a relation on one leaf) or reports why not."""
+        w, topic, msg_type = rel.what, rel.topic.name, rel.topic.msg_type
+        arr = _whole_array(registry, msg_type, ptext)
+        if arr is None:
+            try:
+                leaf = registry.walk_path(msg_type, ptext, bounded=True, writes=kind == "output")
+            except PathError:
+                raise  # reported by the caller, as for any path
+            self.err_rule("4.15", rel.node,
+                          f"{w}: controller {kind} {show(cf.name)} is an array ({cf.type_text}) but field "
+                          f"{show(ptext)} of topic {show(topic)} is one {leaf.prim}: relate a whole array of "
+                          f"{cf.size} {cf.prim} to it, or the field to one element ({show(cf.name + '[0]')})")
+            rel.ok = False
+            if kind == "output":
+                rel.bounded = registry.bounded_in_path(msg_type, ptext)
+            return
+        rel.bounded = arr.target
+        if arr.prim != cf.prim or arr.size != cf.size:
+            field_ = f"field {show(ptext)} of topic {show(topic)} is {arr.type_text}"
+            ctrl_ = f"controller {kind} {show(cf.name)} is {cf.type_text}"
+            first, second = (field_, ctrl_) if kind == "input" else (ctrl_, field_)
+            if arr.prim != cf.prim and arr.kind == "string":
+                why = "a string meets a controller array as its bytes, uint8"
+            elif arr.prim != cf.prim:
+                why = "the element types differ (relations never convert)"
+            elif arr.kind == "fixed":
+                why = "the sizes differ"
+            else:
+                why = (f"the sizes differ: give the field max_length {cf.size} on the topic "
+                       f"(max_length: {{{ptext}: {cf.size}}}), or declare {cf.name} {cf.prim}[{arr.size}]")
+            self.err_rule("4.15", rel.node, f"{w}: {first} but {second}: {why}")
+            rel.ok = False
+            return
+        rel.elements = [(arr.element(i), i, None if arr.kind == "fixed" else f"{ptext}[{i}]")
+                        for i in range(arr.size)]
+        rel.path = rel.elements[0][0]
+        rel.row = (ptext, cf.name)
 
     def prim_type(self, node: YNode, what: str) -> str | None:
         t = self.string(node, f"type of {what}")
@@ -574,8 +687,21 @@ class _Checker:
             if cname is None:
                 rel.ok = False
             elif ctrl is not None:
-                if cname in ctrl:
-                    rel.ctrl_field = cname
+                base, index = _split_target(cname)
+                if base in ctrl and index is not None and not ctrl[base].is_array:
+                    self.err_rule("4.15", cnode,
+                                  f"{w}.{kind}: {show(cname)} names an element of controller {kind} {show(base)}, "
+                                  f"which is not an array (it is {_prim_article(ctrl[base].prim)} "
+                                  f"{ctrl[base].prim}): write {show(base)}")
+                    rel.ok = False
+                elif base in ctrl and index is not None and index >= ctrl[base].size:
+                    f = ctrl[base]
+                    self.err_rule("4.15", cnode,
+                                  f"{w}.{kind}: index {index} is beyond controller {kind} {show(base)} "
+                                  f"({f.type_text}): valid indices are 0..{f.size - 1}")
+                    rel.ok = False
+                elif base in ctrl:
+                    rel.ctrl_field, rel.ctrl_index = base, index
                 else:
                     hint = ""
                     if other is not None and cname in other:
@@ -623,6 +749,8 @@ class _Checker:
                                           f"(a longer message is not delivered): use derived: length, or policy "
                                           f"truncate ({target.field} of {target.owner})")
                             rel.ok = False
+                    elif rel.ctrl_field is not None and ctrl[rel.ctrl_field].is_array and rel.ctrl_index is None:
+                        self.whole_array_row(rel, ptext, registry, kind, ctrl[rel.ctrl_field])
                     else:
                         rel.path = registry.walk_path(rel.topic.msg_type, ptext, bounded=True,
                                                       writes=kind == "output")
@@ -632,11 +760,34 @@ class _Checker:
                 except PathError as exc:
                     if kind == "output":  # refused; what it names (check_published_sequences)
                         rel.bounded = registry.bounded_in_path(rel.topic.msg_type, ptext)
-                    rule = ("4.15" if isinstance(exc, BoundedPathError) or rel.seq_kind is not None
-                            else "4.14" if isinstance(exc, StringPathError) else "4.6")
-                    self.err_rule(rule, pnode, f"{w}.field: {exc.args[0]} (topic {show(rel.topic.name)}, {rel.topic.msg_type})")
+                    arr = (_whole_array(registry, rel.topic.msg_type, ptext)
+                           if rel.ctrl_field is not None and rel.seq_kind is None else None)
+                    if arr is not None and arr.kind == "fixed":
+                        # a whole fixed-size array and a scalar (rule 4.15)
+                        cf = ctrl[rel.ctrl_field]
+                        target = f"{rel.ctrl_field}[{rel.ctrl_index}]" if rel.ctrl_index is not None else rel.ctrl_field
+                        self.err_rule("4.15", pnode,
+                                      f"{w}.field: {show(ptext)} of topic {show(rel.topic.name)} is a whole array "
+                                      f"({arr.type_text}) but controller {kind} {show(target)} is one {cf.prim}: "
+                                      f"relate one element ({show(ptext + '[0]')}), or the whole array to a "
+                                      f"controller array of {arr.size} {arr.prim}")
+                    else:
+                        rule = ("4.15" if isinstance(exc, BoundedPathError) or rel.seq_kind is not None
+                                else "4.14" if isinstance(exc, StringPathError) else "4.6")
+                        self.err_rule(rule, pnode, f"{w}.field: {exc.args[0]} (topic {show(rel.topic.name)}, {rel.topic.msg_type})")
                     rel.ok = False
             # types
+            if rel.elements is not None:
+                continue  # a whole array: checked by whole_array_row
+            if (rel.seq_kind is not None and rel.ctrl_field is not None and ctrl[rel.ctrl_field].is_array
+                    and rel.ctrl_index is None):
+                cf = ctrl[rel.ctrl_field]
+                self.err_rule("4.15", rel.ctrl_node,
+                              f"{w}.{kind}: {rel.seq_kind} is one {SEQUENCE_DERIVED[rel.seq_kind][1]} but controller "
+                              f"{kind} {show(cf.name)} is an array ({cf.type_text}): relate it to a scalar {kind}, "
+                              f"or to one element ({show(cf.name + '[0]')})")
+                rel.ok = False
+                continue
             if rel.path is not None and rel.ctrl_field is not None:
                 cprim = ctrl[rel.ctrl_field].prim
                 if cprim != rel.path.prim and rel.seq_kind is not None and kind == "output":
@@ -681,6 +832,109 @@ class _Checker:
                     self.err_rule("4.15" if rel.bounded is not None else "4.7", m, msg)
                     rel.ok = False
         return out
+
+
+@dataclass(frozen=True)
+class _WholeArray:
+    """A whole array of a message that a relation relates to a controller
+    array (rule 4.15): ``kind`` ``seq`` (a carried variable-length array
+    of primitives), ``string`` (a carried string, its bytes) or ``fixed``
+    (a fixed-size array of primitives); ``steps`` from the message to the
+    field, ``prim`` its element type, ``size`` its maximum (``seq``,
+    ``string``) or size (``fixed``), ``target`` the bounded field
+    (``None`` for ``fixed``)."""
+
+    kind: str
+    steps: tuple[str | int, ...]
+    prim: str
+    size: int
+    target: BoundedTarget | None = None
+
+    def element(self, i: int) -> FieldPath:
+        """The leaf of element ``i``: ``ranges.data[i]``, ``covariance[i]``."""
+        if self.kind == "fixed":
+            return FieldPath((*self.steps, i), self.prim)
+        return FieldPath((*self.steps, "data", i), self.prim)
+
+    @property
+    def type_text(self) -> str:
+        """The field's type, read aloud: ``float32[] of at most 8``,
+        ``a string of at most 16 bytes``, ``float64[36]``."""
+        if self.kind == "fixed":
+            return f"{self.prim}[{self.size}]"
+        if self.kind == "string":
+            return f"a string of at most {self.size} bytes (uint8)"
+        return f"{self.prim}[] of at most {self.size}"
+
+
+def _whole_array(registry: MsgRegistry, msg_type: str, text: object) -> _WholeArray | None:
+    """The whole array that field path ``text`` of ``msg_type`` names, if
+    it names one a controller array can be related to (rule 4.15): a
+    carried variable-length array of primitives or string (through nested
+    messages and fixed-size arrays of messages), or a fixed-size array of
+    primitives; ``None`` otherwise (nothing is reported)."""
+    try:
+        t = registry.walk_bounded(msg_type, text, "a relation to a controller array")
+    except PathError:
+        t = None
+    if t is not None:
+        n = registry.capacity(*t.key)
+        if n is None:  # pragma: no cover - the front end carries what relations name
+            return None
+        return _WholeArray("string" if t.is_string else "seq", t.steps, "uint8" if t.is_string else t.elem, n, t)
+    if not isinstance(text, str) or text.endswith("]"):
+        return None
+    try:
+        p = registry.walk_path(msg_type, f"{text}[0]")
+    except PathError:
+        return None
+    steps = p.steps[:-1]
+    cur, f = registry.raw(msg_type), None
+    for s in steps:
+        if isinstance(s, int):
+            continue
+        f = cur.field(s) if cur is not None else None
+        if f is None:  # pragma: no cover - walk_path resolved it
+            return None
+        if f.base_kind == "msg":
+            cur = registry.raw(f.base)
+    if f is None or f.card != "array" or f.base_kind != "prim":
+        return None
+    return _WholeArray("fixed", tuple(steps), p.prim, f.size)
+
+
+def _split_target(text: str) -> tuple[str, int | None]:
+    """A relation's controller field as written: ``Scan[540]`` is element
+    540 of ``Scan`` (rule 4.15), ``In1`` the field itself; anything else is
+    returned as it is (and is no controller field)."""
+    m = re.fullmatch(r"([A-Za-z_][A-Za-z0-9_]*)\[(0|[1-9][0-9]{0,8})\]", text)
+    return (m.group(1), int(m.group(2))) if m else (text, None)
+
+
+def _prim_article(prim: str) -> str:
+    """The article of a primitive type's name as read aloud: an int8, a uint8."""
+    return "an" if prim[:1] in "aeio" else "a"
+
+
+def _index_ranges(indices) -> str:
+    """Sorted indices as ranges: ``0..2, 5, 7..9``."""
+    out, run = [], []
+    for i in sorted(indices):
+        if run and i == run[-1] + 1:
+            run.append(i)
+            continue
+        if run:
+            out.append(str(run[0]) if len(run) == 1 else f"{run[0]}..{run[-1]}")
+        run = [i]
+    if run:
+        out.append(str(run[0]) if len(run) == 1 else f"{run[0]}..{run[-1]}")
+    return ", ".join(out)
+
+
+#: A controller field's type written as an array: ``float32[1081]``
+#: (rule 4.15), and each of its dimensions.
+_ARRAY_TYPE = re.compile(r"([^\[\]]*)((?:\[[^\[\]]*\])+)")
+_DIMS = re.compile(r"\[([^\[\]]*)\]")
 
 
 #: The keys of an input relation: `field` for a plain one, `derived` for a
@@ -1318,7 +1572,15 @@ def check_freshness(ck: _Checker, decls: list[_TopicDecl], in_rels: list[_Rel],
                 ck.err_rule(rule, dnode, f"{w}.derived must be 'is_new', 'received' or 'age_ms' (or, with a "
                                          f"field, 'length' or 'truncated'), got {dnode.describe()}{hint}")
                 r.ok = False
-            if r.derived is not None and r.ctrl_field is not None and inputs is not None:
+            if r.ctrl_field is not None and inputs is not None and inputs[r.ctrl_field].is_array:
+                f = inputs[r.ctrl_field]
+                target = f.name if r.ctrl_index is None else f"{f.name}[{r.ctrl_index}]"
+                ck.err_rule("4.15", r.ctrl_node,
+                            f"{w}.input: a derived input feeds a scalar controller input; {show(target)} is "
+                            f"{'an element of ' if r.ctrl_index is not None else ''}the array {f.name} "
+                            f"({f.type_text})")
+                r.ok = False
+            elif r.derived is not None and r.ctrl_field is not None and inputs is not None:
                 need, prim = DERIVED_PRIMS[r.derived], inputs[r.ctrl_field].prim
                 if prim != need:
                     ck.err_rule(rule, r.ctrl_node,
@@ -1327,6 +1589,9 @@ def check_freshness(ck: _Checker, decls: list[_TopicDecl], in_rels: list[_Rel],
                     r.ok = False
             if r.topic is not None:
                 timed.add(r.topic.name)
+            continue
+        if r.ctrl_field is not None and inputs is not None and inputs[r.ctrl_field].is_array:
+            _array_fallback(ck, r, w, inputs[r.ctrl_field])
             continue
         if onode is None or isinstance(onode, YBad):
             continue
@@ -1354,6 +1619,37 @@ def check_freshness(ck: _Checker, decls: list[_TopicDecl], in_rels: list[_Rel],
         else:
             r.fallback = value
     return timed
+
+
+def _array_fallback(ck: _Checker, r: _Rel, w: str, f: ControllerField) -> None:
+    """Rule 4.15 (and 4.12): a relation feeding a controller array, whole or
+    one element, has no fallback: its ``on_timeout`` (or else its topic's,
+    when the topic has a timeout) is ``hold``."""
+    onode = r.node.get("on_timeout")
+    target = f.name if r.ctrl_index is None else f"{f.name}[{r.ctrl_index}]"
+    if isinstance(onode, YBad):
+        r.ok = False
+        return
+    if onode is not None:
+        if isinstance(onode, YScalar) and onode.kind == "str" and onode.value == "hold":
+            if r.topic is not None and r.topic.node.get("timeout_ms") is None:
+                ck.err_rule("4.12", onode, f"{w}.on_timeout: topic {show(r.topic.name)} has no timeout_ms; "
+                                           "a fallback needs one")
+                r.ok = False
+            return
+        ck.err_rule("4.15", onode, f"{w}.on_timeout: controller input {show(target)} is "
+                                   f"{'an element of ' if r.ctrl_index is not None else ''}the array {f.name} "
+                                   f"({f.type_text}), which has no fallback (fallbacks feed scalar inputs): "
+                                   "write on_timeout: hold")
+        r.ok = False
+        return
+    if r.topic is not None and r.topic.timeout_ms is not None and r.topic.policy != "hold":
+        ck.err_rule("4.15", r.ctrl_node, f"{w}.input: topic {show(r.topic.name)} has a timeout with on_timeout "
+                                         f"{r.topic.policy}, which gives each input it feeds a fallback, but "
+                                         f"{show(target)} is {'an element of ' if r.ctrl_index is not None else ''}"
+                                         f"the array {f.name} ({f.type_text}), which has none (fallbacks feed "
+                                         "scalar inputs): write on_timeout: hold on this relation or on the topic")
+        r.ok = False
 
 
 def _timeout(ck: _Checker, d: _TopicDecl, node: YNode, what: str, period: int | None) -> int | None:
@@ -1471,47 +1767,47 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
     # Published sequences and strings from the controller (rule 4.15).
     check_published_sequences(ck, out_rels)
 
-    # Every controller input is fed by exactly one relation, plain or
-    # derived.
-    fed: dict[str, _Rel] = {}
-    for r in in_rels:
-        if r.ctrl_field is None:
-            continue
-        if r.ctrl_field in fed:
-            first = fed[r.ctrl_field]
-            ck.err_rule(
-                "4.8",
-                r.ctrl_node,
-                f"controller input {show(r.ctrl_field)} is fed twice (first by the relation at line {first.node.line})",
-            )
-            r.ok = False
-        else:
-            fed[r.ctrl_field] = r
-    if ufields is not None and ck.inputs_listed:
-        for knode, f in ufields:
-            if f.name not in fed:
-                ck.err_rule("4.8", knode, f"controller input {show(f.name)} is not fed by any input relation")
+    # Every controller input (each element of an array input, rule 4.15)
+    # is fed by exactly one relation, plain or derived.
+    check_fed(ck, in_rels, ufields, inputs)
 
     # A published field is fed at most once.
     written: dict[tuple[str, str], _Rel] = {}
     for r in out_rels:
         if r.topic is None or r.path is None:
             continue
-        key = (r.topic.name, str(r.path))
-        if key in written:
-            first = written[key]
-            ck.err_rule(
-                "4.8",
-                r.path_node,
-                f"field {show(r.written or str(r.path))} of topic {show(r.topic.name)} is fed twice "
-                f"(first by the relation at line {first.node.line})",
-            )
+        twice: dict[int, list[str]] = {}
+        for leaf, _ in r.leaves():
+            key = (r.topic.name, str(leaf))
+            if key in written:
+                twice.setdefault(written[key].node.line, []).append(str(leaf))
+            else:
+                written[key] = r
+        for line, leaves in twice.items():
+            if r.elements is not None:
+                ck.err_rule("4.8", r.path_node,
+                            f"field {show(r.row[0])} of topic {show(r.topic.name)} is fed twice: elements "
+                            f"{_index_ranges(i for p, i, _ in r.elements if str(p) in leaves)} are also written "
+                            f"by the relation at line {line}")
+            else:
+                ck.err_rule("4.8", r.path_node,
+                            f"field {show(r.written or str(r.path))} of topic {show(r.topic.name)} is fed twice "
+                            f"(first by the relation at line {line})")
             r.ok = False
-        else:
-            written[key] = r
 
-    # A controller written as a block diagram (rule 4.11).
-    diagram = check_diagram(ck, cm, ctrl_name, ufields, yfields, uvar, yvar, period)
+    # A controller written as a block diagram (rule 4.11): scalar inputs and
+    # outputs only (rule 4.15).
+    arrays = [(knode, f, side) for side, fields in (("inputs", ufields), ("outputs", yfields))
+              for knode, f in (fields or ()) if f.is_array]
+    if cm is not None and (cm.get("blocks") is not None or cm.get("outports") is not None) and arrays:
+        for knode, f, side in arrays:
+            ck.err_rule("4.15", knode,
+                        f"controller.{side}.fields.{f.name}: a block diagram's inputs and outputs are scalars; "
+                        f"the array {f.name} ({f.type_text}) is for a controller brought in C (declare "
+                        f"{f.size} scalar fields for the diagram)")
+        diagram = None
+    else:
+        diagram = check_diagram(ck, cm, ctrl_name, ufields, yfields, uvar, yvar, period)
 
     # Derived C names: valid, short enough, pairwise distinct.
     check_c_names(ck, decls, ctrl_name, cm, uvar, yvar, registry, timed)
@@ -1545,18 +1841,21 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
         diagram=diagram,
     )
     irs = tuple(
-        InputRelation(topic_objs[r.topic.name], r.path, r.ctrl_field, Pos(r.node.line, r.node.col),
-                      fallback=_fallback(r, inputs[r.ctrl_field].prim), written=r.written)
+        InputRelation(topic_objs[r.topic.name], path, r.ctrl_field, Pos(r.node.line, r.node.col),
+                      fallback=_fallback(r, inputs[r.ctrl_field].prim), written=written,
+                      input_index=index, row=r.row)
         for r in in_rels if not r.is_derived
+        for path, index, written in (r.elements or [(r.path, r.ctrl_index, r.written)])
     )
     drs = tuple(
         DerivedRelation(topic_objs[r.topic.name], r.derived, r.ctrl_field, Pos(r.node.line, r.node.col))
         for r in in_rels if r.is_derived
     )
     ors = tuple(
-        OutputRelation(r.ctrl_field, topic_objs[r.topic.name], r.path, Pos(r.node.line, r.node.col),
-                       written=r.written)
+        OutputRelation(r.ctrl_field, topic_objs[r.topic.name], path, Pos(r.node.line, r.node.col),
+                       written=written, output_index=index, row=(r.row[1], r.row[0]) if r.row else None)
         for r in out_rels
+        for path, index, written in (r.elements or [(r.path, r.ctrl_index, r.written)])
     )
     messages = registry.used_types(t.msg_type for t in topic_objs.values())
     return NodeModel(
@@ -1571,6 +1870,58 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
         msg_paths=tuple(msg_paths),
         derived_relations=drs,
     )
+
+
+def check_fed(ck: _Checker, in_rels: list[_Rel], ufields, inputs) -> None:
+    """Rules 4.8 and 4.15: every controller input, and every element of an
+    array input, is fed by exactly one relation (an input relation,
+    element by element for a whole array, or a derived input)."""
+    fed: dict[tuple[str, int | None], _Rel] = {}
+    for r in in_rels:
+        if r.ctrl_field is None:
+            continue
+        f = inputs[r.ctrl_field] if inputs is not None else None
+        if f is not None and f.is_array and r.ctrl_index is None and r.elements is None:
+            # a refused relation to a whole array: it stands for all of it
+            for i in range(f.size):
+                fed.setdefault((r.ctrl_field, i), r)
+            continue
+        twice: dict[int, list[int | None]] = {}
+        for _, index in r.leaves():
+            key = (r.ctrl_field, index)
+            if key in fed:
+                twice.setdefault(fed[key].node.line, []).append(index)
+            else:
+                fed[key] = r
+        for line, indices in twice.items():
+            if indices == [None]:
+                ck.err_rule("4.8", r.ctrl_node,
+                            f"controller input {show(r.ctrl_field)} is fed twice (first by the relation at line {line})")
+            elif r.elements is None:
+                ck.err_rule("4.15", r.ctrl_node,
+                            f"element {indices[0]} of controller input {show(r.ctrl_field)} is fed twice (first by "
+                            f"the relation at line {line}); each element of a controller array is fed exactly once")
+            else:
+                ck.err_rule("4.15", r.ctrl_node,
+                            f"elements {_index_ranges(indices)} of controller input {show(r.ctrl_field)} are fed "
+                            f"twice (also by the relation at line {line}); each element of a controller array is "
+                            "fed exactly once")
+            r.ok = False
+    if ufields is None or not ck.inputs_listed:
+        return
+    for knode, f in ufields:
+        if not f.is_array:
+            if (f.name, None) not in fed:
+                ck.err_rule("4.8", knode, f"controller input {show(f.name)} is not fed by any input relation")
+            continue
+        missing = [i for i in range(f.size) if (f.name, i) not in fed]
+        if len(missing) == f.size:
+            ck.err_rule("4.15", knode, f"controller input {show(f.name)} ({f.type_text}) is not fed by any input "
+                                       f"relation (relate a whole array to it, or each element {f.name}[i])")
+        elif missing:
+            ck.err_rule("4.15", knode, f"elements {_index_ranges(missing)} of controller input {show(f.name)} "
+                                       f"({f.type_text}) are not fed by any input relation; each element of a "
+                                       "controller array is fed exactly once")
 
 
 def _fallback(r: _Rel, prim: str) -> Scalar | None:

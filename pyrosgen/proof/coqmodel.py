@@ -47,6 +47,7 @@ __all__ = [
     "coq_path",
     "coq_bytes",
     "coq_ftype",
+    "coq_ctrl_ftype",
     "coq_val",
     "coq_fallback",
     "DERIVED_CONSTRUCTORS",
@@ -193,6 +194,23 @@ def coq_ftype(f: MsgField) -> str:
     return f"FTarray ({base}) {coq_z(f.array_len)}"
 
 
+#: The largest size of a controller array (``Wellformed``'s bound).
+_MAX_CTRL_ARRAY = 65536
+
+
+def coq_ctrl_ftype(f) -> str:
+    """The ``ftype`` of a controller field (``nm_inputs``, ``nm_outputs``):
+    ``FTprim Pfloat64``, or ``FTarray (FTprim Pfloat32) 1081`` for a
+    one-dimensional array (rule 4.15), of 1 to 65,536 elements."""
+    base = f"FTprim {coq_prim(f.prim)}"
+    size = getattr(f, "size", None)
+    if size is None:
+        return base
+    if isinstance(size, bool) or not isinstance(size, int) or not 1 <= size <= _MAX_CTRL_ARRAY:
+        raise EmitError(f"refusing to print {size!r} as the size of controller array {f.name!r}")
+    return f"FTarray ({base}) {coq_z(size)}"
+
+
 #: The types of a diagram's constants (``Diagram.sig_prim``) and the
 #: range of each one's ``Scalar.n`` (a float's bit pattern).
 _VAL_RANGES = {
@@ -308,8 +326,10 @@ class CoqNodeModel:
     outputs: tuple[tuple[str, str], ...]
     msgs: tuple[CoqMsgdef, ...]
     topics: tuple[CoqTopic, ...]
-    inrels: tuple[tuple[str, str, str, str], ...]   #: (topic, path, input, comment)
-    outrels: tuple[tuple[str, str, str, str], ...]  #: (output, topic, path, comment)
+    #: (topic, path, input, comment, element path or ``None``: rule 4.15)
+    inrels: tuple[tuple[str, str, str, str, str | None], ...]
+    #: (output, topic, path, comment, element path or ``None``: rule 4.15)
+    outrels: tuple[tuple[str, str, str, str, str | None], ...]
     timeouts: tuple[tuple[str, str], ...] = ()       #: (topic C name, ms as ``Z``)
     fallbacks: tuple[tuple[str, str, str], ...] = ()  #: (input, val, comment)
     drels: tuple[tuple[str, str, str, str], ...] = ()  #: (topic C name, kind, input, comment)
@@ -344,10 +364,10 @@ def emit_model(model: NodeModel) -> CoqNodeModel:
         ctrl=coq_ident(c.name, "controller name"),
         in_var=coq_ident(c.inputs.var_name, "controller input variable"),
         in_struct=coq_ident(c.inputs.struct_name, "controller input struct"),
-        inputs=tuple((coq_ident(f.name, "controller input"), coq_prim(f.prim)) for f in c.inputs.fields),
+        inputs=tuple((coq_ident(f.name, "controller input"), coq_ctrl_ftype(f)) for f in c.inputs.fields),
         out_var=coq_ident(c.outputs.var_name, "controller output variable"),
         out_struct=coq_ident(c.outputs.struct_name, "controller output struct"),
-        outputs=tuple((coq_ident(f.name, "controller output"), coq_prim(f.prim)) for f in c.outputs.fields),
+        outputs=tuple((coq_ident(f.name, "controller output"), coq_ctrl_ftype(f)) for f in c.outputs.fields),
         msgs=tuple(_msgdef(m) for m in model.messages),
         topics=tuple(
             CoqTopic(
@@ -366,7 +386,8 @@ def emit_model(model: NodeModel) -> CoqNodeModel:
                 coq_ident(r.topic.c_name, "topic C name"),
                 coq_path(r.path),
                 coq_ident(r.input_field, "controller input"),
-                coq_comment(f"{r.topic.name} {r.path} -> {r.input_field}"),
+                coq_comment(f"{r.topic.name} {r.path} -> {_target(r.input_field, r.input_index)}"),
+                _elem(r.input_index),
             )
             for r in model.input_relations
         ),
@@ -375,7 +396,8 @@ def emit_model(model: NodeModel) -> CoqNodeModel:
                 coq_ident(r.output_field, "controller output"),
                 coq_ident(r.topic.c_name, "topic C name"),
                 coq_path(r.path),
-                coq_comment(f"{r.output_field} -> {r.topic.name} {r.path}"),
+                coq_comment(f"{_target(r.output_field, r.output_index)} -> {r.topic.name} {r.path}"),
+                _elem(r.output_index),
             )
             for r in model.output_relations
         ),
@@ -412,6 +434,22 @@ def emit_model(model: NodeModel) -> CoqNodeModel:
             for c_name, p, data in model.strings
         ),
     )
+
+
+def _elem(index) -> str | None:
+    """The path inside a controller field of a relation (rule 4.15), as a
+    ``NodeModel.path``: ``[PIndex 540]`` for an element, ``None`` for a
+    scalar (``mkinrel``, ``mkoutrel``: the empty path)."""
+    if index is None:
+        return None
+    if isinstance(index, bool) or not isinstance(index, int) or index < 0:
+        raise EmitError(f"refusing to print {index!r} as the index of a controller array element")
+    return coq_path((index,))
+
+
+def _target(name: str, index) -> str:
+    """A controller field or one element of it, for comments: ``Scan[540]``."""
+    return name if index is None else f"{name}[{index}]"
 
 
 def _topic_name(model: NodeModel, c_name: str) -> str:

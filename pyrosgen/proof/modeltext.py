@@ -51,6 +51,19 @@ def _path(steps) -> str:
     return out
 
 
+def ctrl_ftype_text(f) -> str:
+    """A controller field's type as ``ModelText`` prints it: ``float64``,
+    ``array 1081 float32`` (rule 4.15)."""
+    return f.prim if getattr(f, "size", None) is None else f"array {f.size} {f.prim}"
+
+
+def _path_tail(steps) -> str:
+    """A path inside a controller field, printed after its name: ``[540]``
+    (``ModelText``: the field's name then the path's text), ``""`` for none."""
+    out = _path(steps)
+    return out if not out or out.startswith("[") else "." + out
+
+
 def model_text(model: NodeModel) -> str:
     """The canonical text of ``model`` (the same grammar as Coq's
     ``print_model``)."""
@@ -61,9 +74,9 @@ def model_text(model: NodeModel) -> str:
         f"period_ms {model.period_ms}",
         f"controller {c.name}",
         f"inputs {c.inputs.var_name} {c.inputs.struct_name}",
-        *(f"input {f.name} {f.prim}" for f in c.inputs.fields),
+        *(f"input {f.name} {ctrl_ftype_text(f)}" for f in c.inputs.fields),
         f"outputs {c.outputs.var_name} {c.outputs.struct_name}",
-        *(f"output {f.name} {f.prim}" for f in c.outputs.fields),
+        *(f"output {f.name} {ctrl_ftype_text(f)}" for f in c.outputs.fields),
     ]
     for m in model.messages:
         lines.append(f"message {m.c_name}")
@@ -71,9 +84,9 @@ def model_text(model: NodeModel) -> str:
     lines += [
         f"topic {t.name} {t.c_name} {t.direction} {t.msg_type} {t.queue_size}" for t in model.topics
     ]
-    lines += [f"input_relation {r.topic.c_name} {_path(r.path.steps)} {r.input_field}"
+    lines += [f"input_relation {r.topic.c_name} {_path(r.path.steps)} {r.input_field}{_path_tail(r.input_elem)}"
               for r in model.input_relations]
-    lines += [f"output_relation {r.output_field} {r.topic.c_name} {_path(r.path.steps)}"
+    lines += [f"output_relation {r.output_field}{_path_tail(r.output_elem)} {r.topic.c_name} {_path(r.path.steps)}"
               for r in model.output_relations]
     # rule 4.12: timeouts (topic order), fallbacks (input-relation order),
     # derived inputs (the model's order)
@@ -175,7 +188,8 @@ class ProvedModel:
     controller: str = ""
     inputs_var: str = ""
     inputs_struct: str = ""
-    inputs: list[tuple[str, str]] = field(default_factory=list)    #: (field, prim)
+    #: (field, type as printed: ``float64``, ``array 1081 float32``, rule 4.15)
+    inputs: list[tuple[str, str]] = field(default_factory=list)
     outputs_var: str = ""
     outputs_struct: str = ""
     outputs: list[tuple[str, str]] = field(default_factory=list)
@@ -205,6 +219,27 @@ class ProvedModel:
                 return t
         raise MalformedModelText(f"the proved model has no topic {c_name!r}")
 
+    def input_type(self, target: str) -> str:
+        """The type of controller input ``target`` as a relation names it
+        (``In1``, ``Scan[540]``, rule 4.15): ``float64``, ``float32`` (an
+        element's), ``float32[1081]`` (a whole array's); ``?`` if none."""
+        return _target_type(self.inputs, target)
+
+    def output_type(self, target: str) -> str:
+        """As :meth:`input_type`, for a controller output."""
+        return _target_type(self.outputs, target)
+
+
+def _target_type(fields: list[tuple[str, str]], target: str) -> str:
+    m = re.fullmatch(r"(\w+)(\[[0-9]+\])?", target)
+    t = dict(fields).get(m.group(1)) if m else None
+    if t is None:
+        return "?"
+    parts = t.split(" ")
+    if len(parts) == 3 and parts[0] == "array":
+        return parts[2] if m.group(2) else f"{parts[2]}[{parts[1]}]"
+    return "?" if m.group(2) else t
+
 
 #: A value as ``DiagramText.val_text`` prints it (a fallback's, rule 4.12).
 _VAL_TEXT = re.compile(r"-?[0-9]+|0x[0-9a-fA-F]{8}|0x[0-9a-fA-F]{16}")
@@ -228,6 +263,11 @@ def parse_model_text(text: str, *, origin: str = "the proved model text") -> Pro
         if kw == "field" and len(parts) >= 3 and message is not None:
             message.append((parts[1], " ".join(parts[2:])))
             continue
+        if kw in ("input", "output") and len(parts) == 5 and parts[2] == "array":
+            # an array field (rule 4.15): input Scan array 1081 float32
+            if not re.fullmatch(r"[1-9][0-9]{0,4}", parts[3]) or not 1 <= int(parts[3]) <= 65536 or not parts[4]:
+                raise MalformedModelText(f"{origin}, line {n}: not an item of the grammar: {line!r}")
+            parts = [kw, parts[1], " ".join(parts[2:])]
         if arity.get(kw) != len(parts) or any(not p for p in parts):
             raise MalformedModelText(f"{origin}, line {n}: not an item of the grammar: {line!r}")
         seen.add(kw)

@@ -13,7 +13,9 @@ can clash with the header's, whatever it declares), with static assertions:
 
 - ``sizeof(Controller_U) == sizeof(struct <renamed glue struct>)``;
 - for every field: a compatible type (``_Generic`` on the header's field
-  against ``__typeof__`` of the glue's field) and the same ``offsetof``;
+  against ``__typeof__`` of the glue's field; for an array, rule 4.15, on
+  its address, so that the element type and the size are both compared)
+  and the same ``offsetof``;
 - ``<Controller>_initialize`` and ``<Controller>_step`` have type
   ``void (void)``.
 
@@ -121,7 +123,9 @@ def _ios(model: NodeModel, prefix: str, types_h: str) -> list[_IO]:
             var=_ident(io.var_name),
             tag=_ident(prefix + io.struct_name),
             typedef=_ident(io.struct_name),
-            fields=[{"name": _ident(f.name), "c_type": f.c_type, "prim": f.prim} for f in io.fields],
+            fields=[{"name": _ident(f.name), "prim": f.type_text,
+                     "c_type": f.c_type if f.size is None else f"{f.c_type}[{f.size}]",
+                     "array": f.size is not None} for f in io.fields],
         ))
     return out
 

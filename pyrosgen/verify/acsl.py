@@ -271,7 +271,7 @@ def contracts(model: NodeModel) -> list[Contract]:
     u = model.controller.inputs
     ens, assigned = [], []
     for r in model.input_relations:
-        dst = f"{u.var_name}.{r.input_field}"
+        dst = f"{u.var_name}.{r.input_target}"  # Controller_U.In1, Controller_U.Scan[540] (rule 4.15)
         assigned.append(dst)
         same = _same(r.path.prim, dst, f"\\old({r.path.c_access(r.topic.msg_var)})")
         fb = r.fallback
@@ -304,7 +304,7 @@ def contracts(model: NodeModel) -> list[Contract]:
         for p in model.leaf_paths(t.msg_type):
             leaf = p.c_access("command", arrow=True)
             r = rels.get(str(p))
-            ens.append(_same(p.prim, leaf, f"\\old({y.var_name}.{r.output_field})") if r is not None
+            ens.append(_same(p.prim, leaf, f"\\old({y.var_name}.{r.output_source})") if r is not None
                        else _same(p.prim, leaf, consts.get(str(p), _zero(p.prim))))
         sep = tuple(f"&{g}" for g in globs)
         out.append(Contract(

@@ -322,7 +322,6 @@ def _freshness(pm: ProvedModel, c_text: str) -> dict:
     spans = _function_spans(c_text)
     timeouts = dict(pm.timeouts)
     fallbacks = dict(pm.fallbacks)
-    in_prim = dict(pm.inputs)
     derived_topics = {c for c, _, _ in pm.derived_inputs}
     timed = [t for t in pm.topics if t.c_name in timeouts or t.c_name in derived_topics]
     if not timed:
@@ -376,15 +375,15 @@ def _freshness(pm: ProvedModel, c_text: str) -> dict:
                 age = age_before(c, n - 2, t.name)
                 age_starts.append(age[0][0])
                 aged = True
-                fb_rows.append({"dst": dst, "src": f"{t.name} {path}", "type": in_prim.get(fld, "?"),
-                                "value": _value_text(in_prim.get(fld, "?"), fallbacks[fld])})
+                fb_rows.append({"dst": dst, "src": f"{t.name} {path}", "type": pm.input_type(fld),
+                                "value": _value_text(pm.input_type(fld), fallbacks[fld])})
                 fb_lines += age + _block(lines, n - 1)
             else:
-                hold.append({"dst": dst, "src": f"{t.name} {path}", "type": in_prim.get(fld, "?")})
+                hold.append({"dst": dst, "src": f"{t.name} {path}", "type": pm.input_type(fld)})
         d_rows, d_lines = [], []
         for kind, fld in drels:
             dst = f"{u}.{fld}"
-            d_rows.append({"dst": dst, "kind": kind, "type": in_prim.get(fld, "?")})
+            d_rows.append({"dst": dst, "kind": kind, "type": pm.input_type(fld)})
             if kind == "age_ms":
                 n = find(f"{dst} = (unsigned int)(_age / 1000000ULL);", first, last, f"{t.name} age_ms")
                 age = age_before(c, n - 2, t.name)
@@ -420,14 +419,13 @@ def _relations(pm: ProvedModel, c_text: str) -> tuple[list[dict], list[dict]]:
     printed C."""
     lines = c_text.splitlines()
     spans = _function_spans(c_text)
-    in_prim, out_prim = dict(pm.inputs), dict(pm.outputs)
     inputs = []
     for topic_c, path, fld in pm.input_relations:
         t = pm.topic(topic_c)
         cb = _span(spans, t.callback)
         dst = f"{pm.inputs_var}.{fld}"
         inputs.append({
-            "src": f"{t.name} {path}", "dst": dst, "type": in_prim.get(fld, "?"),
+            "src": f"{t.name} {path}", "dst": dst, "type": pm.input_type(fld),
             "callback": t.callback, "cb_lines": _copy_lines(lines, cb, f"{t.msg_var}.{path}"),
             "lines": _copy_lines(lines, _span(spans, "input_glue"), dst),
         })
@@ -435,7 +433,7 @@ def _relations(pm: ProvedModel, c_text: str) -> tuple[list[dict], list[dict]]:
     for fld, topic_c, path in pm.output_relations:
         t = pm.topic(topic_c)
         outputs.append({
-            "src": f"{pm.outputs_var}.{fld}", "dst": f"{t.name} {path}", "type": out_prim.get(fld, "?"),
+            "src": f"{pm.outputs_var}.{fld}", "dst": f"{t.name} {path}", "type": pm.output_type(fld),
             "function": t.output_glue,
             "lines": _copy_lines(lines, _span(spans, t.output_glue), f"(*command).{path}"),
         })

@@ -141,7 +141,7 @@ def test_emitted_coq(tmp_path):
     assert names.index('"ros_seq_float32_1081"') < names.index('"sensor_msgs_LaserScan"')
     scan = e.msgs[names.index('"sensor_msgs_LaserScan"')]
     assert ('"ranges"', 'FTmsg "ros_seq_float32_1081"') in scan.fields
-    assert [(t, p, i) for t, p, i, _ in e.inrels] == [
+    assert [(t, p, i) for t, p, i, _, _ in e.inrels] == [
         ('"scan"', '[PField "ranges"; PField "data"; PIndex 540]', '"R"'),
         ('"scan"', '[PField "ranges"; PField "len"]', '"NR"'),
         ('"scan"', '[PField "ranges"; PField "truncated"]', '"TR"')]
