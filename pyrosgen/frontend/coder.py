@@ -227,7 +227,7 @@ def _type_text(t) -> str:
     from pycparser import c_generator
 
     try:
-        return " ".join(c_generator.CGenerator().visit(t).split()) or "?"
+        return re.sub(r" \[", "[", " ".join(c_generator.CGenerator().visit(t).split())) or "?"
     except Exception:  # noqa: BLE001 - only for messages
         return "?"
 

@@ -191,6 +191,13 @@ class _Checker:
     diags: list[Diagnostic] = field(default_factory=list)
     inputs_listed: bool = False  # relations.inputs is a list (so coverage is checked)
     topics_listed: bool = False  # topics is a list (so unknown topics are errors)
+    #: controller fields whose type is refused: a relation naming one is
+    #: not checked further (its field's type is unknown)
+    refused_fields: set[str] = field(default_factory=set)
+    #: the controller's array fields (rule 4.15): when a struct is refused,
+    #: a relation naming one is not checked further either (whether it
+    #: relates a whole array or an element is unknown without the struct)
+    array_fields: set[str] = field(default_factory=set)
 
     # -- reporting ----------------------------------------------------------
 
@@ -309,8 +316,11 @@ class _Checker:
             ftype = self.controller_type(vnode, f"{what}.fields.{fname}")
             if ftype is None:
                 ok = False
+                self.refused_fields.add(fname)
                 continue
             fields.append((knode, ControllerField(fname, *ftype)))
+            if ftype[1] is not None:
+                self.array_fields.add(fname)
         return var, fields if ok else None
 
     def controller_type(self, node: YNode, what: str) -> tuple[str, int | None] | None:
@@ -694,6 +704,7 @@ class _Checker:
                                   f"which is not an array (it is {_prim_article(ctrl[base].prim)} "
                                   f"{ctrl[base].prim}): write {show(base)}")
                     rel.ok = False
+                    rel.ctrl_field = base  # it is fed (by a refused relation)
                 elif base in ctrl and index is not None and index >= ctrl[base].size:
                     f = ctrl[base]
                     self.err_rule("4.15", cnode,
@@ -718,6 +729,8 @@ class _Checker:
                     rel.ok = False
             else:
                 rel.ok = False
+                if cname is not None and _split_target(cname)[0] in self.refused_fields | self.array_fields:
+                    continue  # its type is refused or its struct is: what it relates to is unknown
             if rel.is_derived:
                 continue  # its kind and type: check_freshness
             # field path
@@ -1893,20 +1906,24 @@ def check_fed(ck: _Checker, in_rels: list[_Rel], ufields, inputs) -> None:
                 twice.setdefault(fed[key].node.line, []).append(index)
             else:
                 fed[key] = r
-        for line, indices in twice.items():
-            if indices == [None]:
-                ck.err_rule("4.8", r.ctrl_node,
-                            f"controller input {show(r.ctrl_field)} is fed twice (first by the relation at line {line})")
-            elif r.elements is None:
-                ck.err_rule("4.15", r.ctrl_node,
-                            f"element {indices[0]} of controller input {show(r.ctrl_field)} is fed twice (first by "
-                            f"the relation at line {line}); each element of a controller array is fed exactly once")
-            else:
-                ck.err_rule("4.15", r.ctrl_node,
-                            f"elements {_index_ranges(indices)} of controller input {show(r.ctrl_field)} are fed "
-                            f"twice (also by the relation at line {line}); each element of a controller array is "
-                            "fed exactly once")
-            r.ok = False
+        if not twice:
+            continue
+        r.ok = False
+        line, indices = next(iter(twice.items()))
+        if indices == [None]:
+            ck.err_rule("4.8", r.ctrl_node,
+                        f"controller input {show(r.ctrl_field)} is fed twice (first by the relation at line {line})")
+        elif r.elements is None:
+            ck.err_rule("4.15", r.ctrl_node,
+                        f"element {indices[0]} of controller input {show(r.ctrl_field)} is fed twice (first by "
+                        f"the relation at line {line}); each element of a controller array is fed exactly once")
+        else:
+            lines = sorted(twice)
+            where = f"line {lines[0]}" if len(lines) == 1 else f"lines {', '.join(map(str, lines))}"
+            ck.err_rule("4.15", r.ctrl_node,
+                        f"elements {_index_ranges(i for ix in twice.values() for i in ix)} of controller input "
+                        f"{show(r.ctrl_field)} are fed twice (also by the relations at {where}); each element "
+                        "of a controller array is fed exactly once")
     if ufields is None or not ck.inputs_listed:
         return
     for knode, f in ufields:
@@ -1918,6 +1935,10 @@ def check_fed(ck: _Checker, in_rels: list[_Rel], ufields, inputs) -> None:
         if len(missing) == f.size:
             ck.err_rule("4.15", knode, f"controller input {show(f.name)} ({f.type_text}) is not fed by any input "
                                        f"relation (relate a whole array to it, or each element {f.name}[i])")
+        elif len(missing) == 1:
+            ck.err_rule("4.15", knode, f"element {missing[0]} of controller input {show(f.name)} ({f.type_text}) "
+                                       "is not fed by any input relation; each element of a controller array is "
+                                       "fed exactly once")
         elif missing:
             ck.err_rule("4.15", knode, f"elements {_index_ranges(missing)} of controller input {show(f.name)} "
                                        f"({f.type_text}) are not fed by any input relation; each element of a "

@@ -115,7 +115,7 @@ def test_unsupported_fields_are_reported(capsys, tmp_path):
     code, _, err = run(capsys, "init", "--controller", d, "-o", out)
     assert code == 1
     assert "(5 problems)" in err
-    assert "  Robot.h:4: ExtU_Robot_T.Vec (real_T [3][2]): an array of arrays" in err
+    assert "  Robot.h:4: ExtU_Robot_T.Vec (real_T[3][2]): an array of arrays" in err
     assert "  Robot.h:5: ExtU_Robot_T.Z (creal_T): a complex number" in err
     assert "  Robot.h:6: ExtU_Robot_T.Bus" in err and "a bus" in err
     assert "  Robot.h:7: ExtU_Robot_T.C (char): plain char: its signedness is the compiler's" in err
