@@ -724,3 +724,19 @@ def test_the_largest_header_array(tmp_path, capsys):
     out = tmp_path / "m.yaml"
     assert cli.main(["init", "--controller", str(d), "-o", str(out)]) == 0
     assert yaml.safe_load(out.read_text())["controller"]["inputs"]["fields"]["Z"] == "uint8[65536]"
+
+
+def test_the_readme_example(tmp_path, capsys):
+    """README section 9's controller-array model (with a node line) is
+    accepted, and check says what the README says it says."""
+    readme = (REPO / "README.md").read_text()
+    start = readme.index("#### Controller arrays")
+    block = readme[readme.index("```yaml\n", start) + 8:readme.index("```\n", readme.index("```yaml\n", start))]
+    p = write(tmp_path, "node: {name: ex, period_ms: 20}\n" + block)
+    assert cli.main(["check", str(p)]) == 0
+    out = capsys.readouterr().out
+    said = " ".join(readme[start:readme.index("**Not yet**", start)].split())
+    for part in ("1134 input relations (from 4 rows), 7 output relations (from 2 rows)",
+                 "4 controller arrays: input Scan (float32[1081]), input Cov (float64[36]), input Frame (uint8[16]), "
+                 "output Cmd (float64[6])"):
+        assert part in out and part in said, part
