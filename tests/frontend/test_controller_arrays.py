@@ -740,3 +740,21 @@ def test_the_readme_example(tmp_path, capsys):
                  "4 controller arrays: input Scan (float32[1081]), input Cov (float64[36]), input Frame (uint8[16]), "
                  "output Cmd (float64[6])"):
         assert part in out and part in said, part
+
+
+def test_lengths_into_elements(tmp_path):
+    """derived: length and truncated are ordinary input relations: they
+    may feed elements of a controller array of their type."""
+    text = swap(BASE, "      Pc: float32[2]\n", "      Pc: float32[2]\n      Lens: uint32[2]\n      Tr: bool[1]\n")
+    text = swap(text, ROW_PC0, ROW_PC0 + '    - {topic: /scan, field: ranges, derived: length, input: "Lens[1]"}\n'
+                '    - {topic: /scan, field: header.frame_id, derived: length, input: "Lens[0]"}\n'
+                '    - {topic: /scan, field: ranges, derived: truncated, input: "Tr[0]"}\n')
+    m = load(tmp_path, text)
+    assert [(str(r.path), r.input_target) for r in m.input_relations[-3:]] == [
+        ("ranges.len", "Lens[1]"), ("header.frame_id.len", "Lens[0]"), ("ranges.truncated", "Tr[0]")]
+    assert "input_relation scan ranges.truncated Tr[0]" in model_text(m).splitlines()
+    # of another type: the message of rule 4.15's lengths
+    bad = swap(text, "Lens: uint32[2]", "Lens: int32[2]")
+    found = diags(tmp_path, bad)
+    assert [r for _, _, _, r in found] == ["4.15", "4.15"]
+    assert "length related to a non-uint32 field: controller input 'Lens' is int32" in found[0][2]
