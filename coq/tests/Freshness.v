@@ -28,11 +28,11 @@ Definition left_c : ident := "landshark_left_wheel_velocity".
 Definition right_c : ident := "landshark_right_wheel_velocity".
 
 Definition with_fresh (timeouts : list (ident * Z)) (fallbacks : list (ident * val)) (drels : list drel)
-                      (inputs : list (ident * prim)) : node_model :=
+                      (inputs : list (ident * ftype)) : node_model :=
   reshape landshark (nm_inputs landshark ++ inputs) (nm_msgs landshark) timeouts fallbacks drels [] [] [].
 
-Definition derived_inputs : list (ident * prim) :=
-  [("Gnew", Pbool); ("Grcvd", Pbool); ("Gage", Puint32); ("Rage", Puint32)].
+Definition derived_inputs : list (ident * ftype) :=
+  [("Gnew", FTprim Pbool); ("Grcvd", FTprim Pbool); ("Gage", FTprim Puint32); ("Rage", FTprim Puint32)].
 
 Definition derived_rels : list drel :=
   [mkdrel gps_c Dis_new "Gnew"; mkdrel gps_c Dreceived "Grcvd"; mkdrel gps_c Dage_ms "Gage";
@@ -86,13 +86,13 @@ Proof. vm_compute. reflexivity. Qed.
 
 (** [is_new] into a [uint32] input. *)
 Example refuse_derived_type:
-  refused (with_fresh [] [] [mkdrel gps_c Dis_new "Gage"] [("Gage", Puint32)])
+  refused (with_fresh [] [] [mkdrel gps_c Dis_new "Gage"] [("Gage", FTprim Puint32)])
     "Generator: bad derived input (rule 4.12) 'Gage': it must be of topic 'landshark_gps_velocity', subscribed, and feed a controller input of its type (bool, or uint32 for age_ms)".
 Proof. vm_compute. reflexivity. Qed.
 
 (** An input fed by two derived inputs. *)
 Example refuse_fed_twice:
-  refused (with_fresh [] [] [mkdrel gps_c Dis_new "Gnew"; mkdrel left_c Dreceived "Gnew"] [("Gnew", Pbool)])
+  refused (with_fresh [] [] [mkdrel gps_c Dis_new "Gnew"; mkdrel left_c Dreceived "Gnew"] [("Gnew", FTprim Pbool)])
     "Generator: controller input fed by several input relations: 'Gnew'".
 Proof. vm_compute. reflexivity. Qed.
 

@@ -174,7 +174,7 @@ Definition with_outrels (m : node_model) (l : list outrel) : node_model :=
      nm_msgs := nm_msgs m; nm_topics := nm_topics m; nm_inrels := nm_inrels m; nm_outrels := l;
   nm_timeouts := []; nm_fallbacks := []; nm_drels := []; nm_stamps := []; nm_stamp_from := []; nm_strings := [] |}.
 
-Definition with_inputs (m : node_model) (l : list (ident * prim)) : node_model :=
+Definition with_inputs (m : node_model) (l : list (ident * ftype)) : node_model :=
   {| nm_name := nm_name m; nm_period_ms := nm_period_ms m; nm_ctrl := nm_ctrl m;
      nm_in_var := nm_in_var m; nm_in_struct := nm_in_struct m; nm_inputs := l;
      nm_out_var := nm_out_var m; nm_out_struct := nm_out_struct m; nm_outputs := nm_outputs m;
@@ -204,7 +204,7 @@ Proof. vm_compute. split; reflexivity. Qed.
 
 (** [float64] into a [float32] input. *)
 Example refuse_float64_to_float32:
-  refused (with_inputs landshark [("In1", Pfloat64); ("In2", Pfloat64); ("In3", Pfloat32)])
+  refused (with_inputs landshark [("In1", FTprim Pfloat64); ("In2", FTprim Pfloat64); ("In3", FTprim Pfloat32)])
     "Generator: type mismatch in input relation: 'landshark_gps_velocity.twist.linear.x' is float64 but controller input 'In3' is float32".
 Proof. vm_compute. split; reflexivity. Qed.
 
@@ -217,7 +217,7 @@ Definition with_estop (q : prim) : node_model :=
   with_inrels
     (with_inputs (with_topics_msgs landshark (nm_topics landshark ++ [estop])
                                    (landshark_msgs ++ [std_msgs_Bool]))
-                 (nm_inputs landshark ++ [("In4", q)]))
+                 (nm_inputs landshark ++ [("In4", FTprim q)]))
     (nm_inrels landshark ++ [mkinrel "landshark_estop" [PField "data"] "In4"]).
 
 Example accept_bool_to_bool: wf (with_estop Pbool) = true.
@@ -255,7 +255,7 @@ Definition with_covariance (i : Z) : node_model :=
   with_inrels
     (with_inputs (with_topics_msgs landshark (nm_topics landshark ++ [odom])
                                    (landshark_msgs ++ [geometry_msgs_TwistWithCovariance]))
-                 (nm_inputs landshark ++ [("In4", Pfloat64)]))
+                 (nm_inputs landshark ++ [("In4", FTprim Pfloat64)]))
     (nm_inrels landshark ++ [mkinrel "landshark_odom_twist" [PField "covariance"; PIndex i] "In4"]).
 
 Example accept_index_35: wf (with_covariance 35) = true.
@@ -300,7 +300,7 @@ Proof. vm_compute. split; reflexivity. Qed.
 
 (** A C keyword as a controller input name. *)
 Example refuse_keyword:
-  refused (with_inrels (with_inputs landshark [("In1", Pfloat64); ("In2", Pfloat64); ("int", Pfloat64)])
+  refused (with_inrels (with_inputs landshark [("In1", FTprim Pfloat64); ("In2", FTprim Pfloat64); ("int", FTprim Pfloat64)])
              [mkinrel "landshark_left_wheel_velocity" twist_x "In1";
               mkinrel "landshark_right_wheel_velocity" twist_x "In2";
               mkinrel "landshark_gps_velocity" twist_x "int"])
@@ -309,7 +309,7 @@ Proof. vm_compute. split; reflexivity. Qed.
 
 (** A name reserved by the C standard, and one that is not an identifier. *)
 Example refuse_reserved:
-  refused (with_inputs landshark [("In1", Pfloat64); ("In2", Pfloat64); ("_In3", Pfloat64)])
+  refused (with_inputs landshark [("In1", FTprim Pfloat64); ("In2", FTprim Pfloat64); ("_In3", FTprim Pfloat64)])
     "Generator: name is not a valid C identifier: '_In3'".
 Proof. vm_compute. split; reflexivity. Qed.
 

@@ -55,10 +55,10 @@ Definition landshark : node_model := {|
   nm_ctrl := "Controller";
   nm_in_var := "Controller_U";
   nm_in_struct := "ExtU_Controller_T";
-  nm_inputs := [("In1", Pfloat64); ("In2", Pfloat64); ("In3", Pfloat64)];
+  nm_inputs := [("In1", FTprim Pfloat64); ("In2", FTprim Pfloat64); ("In3", FTprim Pfloat64)];
   nm_out_var := "Controller_Y";
   nm_out_struct := "ExtY_Controller_T";
-  nm_outputs := [("Out1", Pfloat64)];
+  nm_outputs := [("Out1", FTprim Pfloat64)];
   nm_msgs := landshark_msgs;
   nm_topics := [left_wheel; right_wheel; gps; base];
   nm_inrels :=
@@ -72,7 +72,7 @@ Definition landshark : node_model := {|
 (** [m] with its controller inputs, message definitions, freshness
     (rule 4.12), stamps (4.13) and constant strings (4.14) replaced: the
     test models of [Stamps], [Freshness] and [Strings]. *)
-Definition reshape (m : node_model) (inputs : list (ident * prim)) (msgs : list msgdef)
+Definition reshape (m : node_model) (inputs : list (ident * ftype)) (msgs : list msgdef)
                    (timeouts : list (ident * Z)) (fallbacks : list (ident * val)) (drels : list drel)
                    (stamps : list (ident * path)) (stamp_from : list (ident * (ident * path)))
                    (strings : list (ident * (path * list Z))) : node_model :=

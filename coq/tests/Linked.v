@@ -39,9 +39,9 @@ Definition tout : topic := mktopic "/out" "out" "geometry_msgs/Twist" Publish "g
 Definition relay : node_model := {|
   nm_name := "relay"; nm_period_ms := 10; nm_ctrl := "Controller";
   nm_in_var := "Controller_U"; nm_in_struct := "ExtU_Controller_T";
-  nm_inputs := [("x", Pfloat64)];
+  nm_inputs := [("x", FTprim Pfloat64)];
   nm_out_var := "Controller_Y"; nm_out_struct := "ExtY_Controller_T";
-  nm_outputs := [("y", Pfloat64)];
+  nm_outputs := [("y", FTprim Pfloat64)];
   nm_msgs := [geometry_msgs_Vector3; geometry_msgs_Twist];
   nm_topics := [tin; tout];
   nm_inrels := [mkinrel "in" lin_x "x"];

@@ -71,7 +71,7 @@ Definition inputs_okb {CS} (m : node_model) (ctx : ros_context CS) (i : nat) (u 
     existsb (fun tp => String.eqb (tp_cname tp) (ir_topic ir)
                        && match scalar_at (newest m ctx tp i) (path_steps (ir_path ir)) with
                           | Some v => same_scalar (Some (fed_value m ir v (newest_time m ctx tp i) (ctx_time ctx (S i))))
-                                                  (scalar_at u [Sfield (ir_input ir)])
+                                                  (scalar_at u (Sfield (ir_input ir) :: path_steps (ir_elem ir)))
                           | None => false
                           end)
             (subscribed m))
@@ -90,7 +90,7 @@ Definition inputs_okb {CS} (m : node_model) (ctx : ros_context CS) (i : nat) (u 
 Definition published_okb (m : node_model) (y : mval) (tp : topic) (mv : mval) : bool :=
   forallb (fun o => if String.eqb (or_topic o) (tp_cname tp)
                        && unbounded_path (composites m) (Tstruct (tp_msg tp)) (path_steps (or_path o))
-                    then same_scalar (scalar_at y [Sfield (or_output o)])
+                    then same_scalar (scalar_at y (Sfield (or_output o) :: path_steps (or_elem o)))
                                      (scalar_at mv (path_steps (or_path o)))
                     else true)
           (nm_outrels m).

@@ -40,9 +40,9 @@ Definition range1 : path := [PField "ranges"; PField "data"; PIndex 1].
 Definition scanner : node_model := {|
   nm_name := "scanner"; nm_period_ms := 20; nm_ctrl := "Controller";
   nm_in_var := "Controller_U"; nm_in_struct := "ExtU_Controller_T";
-  nm_inputs := [("R1", Pfloat32); ("Len", Puint32); ("Trunc", Pbool)];
+  nm_inputs := [("R1", FTprim Pfloat32); ("Len", FTprim Puint32); ("Trunc", FTprim Pbool)];
   nm_out_var := "Controller_Y"; nm_out_struct := "ExtY_Controller_T";
-  nm_outputs := [("Out1", Pfloat64)];
+  nm_outputs := [("Out1", FTprim Pfloat64)];
   nm_msgs := [seq4; laser_scan; geometry_msgs_Vector3; geometry_msgs_Twist];
   nm_topics := [scan; cmd];
   nm_inrels := [mkinrel "scan" range1 "R1"; mkinrel "scan" (ranges "len") "Len";
@@ -214,9 +214,9 @@ Definition delem (j : Z) : path := [PField "data"; PField "data"; PIndex j].
 Definition publisher : node_model := {|
   nm_name := "publisher"; nm_period_ms := 20; nm_ctrl := "Controller";
   nm_in_var := "Controller_U"; nm_in_struct := "ExtU_Controller_T";
-  nm_inputs := [("Len", Puint32)];
+  nm_inputs := [("Len", FTprim Puint32)];
   nm_out_var := "Controller_Y"; nm_out_struct := "ExtY_Controller_T";
-  nm_outputs := [("L", Puint32); ("E0", Pfloat32); ("E2", Pfloat32)];
+  nm_outputs := [("L", FTprim Puint32); ("E0", FTprim Pfloat32); ("E2", FTprim Pfloat32)];
   nm_msgs := [seq4; laser_scan; floats_msg];
   nm_topics := [scan; out];
   nm_inrels := [mkinrel "scan" (ranges "len") "Len"]; nm_outrels := [mkoutrel "L" "out" dlen; mkoutrel "E0" "out" (delem 0);
@@ -320,7 +320,8 @@ Proof.
   intros y now g mv Ty (T & Rel & _).
   destruct (Rel (mkoutrel "L" "out" dlen) (or_introl eq_refl) eq_refl) as (vl & Gl & Ml).
   destruct (Rel (mkoutrel "E0" "out" (delem 0)) (or_intror (or_introl eq_refl)) eq_refl) as (v0 & G0 & M0).
-  cbn [or_output or_path] in Gl, Ml, G0, M0.
+  cbn [or_output or_path or_elem mkoutrel] in Gl, Ml, G0, M0.
+  change (path_steps []) with (@nil step) in Gl, G0.
   destruct (mval_get_has_type _ [Sfield "L"] _ _ (Tint I32 Unsigned) Ty ltac:(vm_compute; reflexivity))
     as (xl & Gxl & Txl). rewrite Gl in Gxl. inversion Gxl; subst xl.
   inversion Txl as [? ? _ Vl| |]; subst.
@@ -426,9 +427,9 @@ Definition laser_scan_r : msgdef :=
 Definition rejector : node_model := {|
   nm_name := "rejector"; nm_period_ms := 20; nm_ctrl := "Controller";
   nm_in_var := "Controller_U"; nm_in_struct := "ExtU_Controller_T";
-  nm_inputs := [("R1", Pfloat32); ("Len", Puint32); ("Trunc", Pbool)];
+  nm_inputs := [("R1", FTprim Pfloat32); ("Len", FTprim Puint32); ("Trunc", FTprim Pbool)];
   nm_out_var := "Controller_Y"; nm_out_struct := "ExtY_Controller_T";
-  nm_outputs := [("Out1", Pfloat64)];
+  nm_outputs := [("Out1", FTprim Pfloat64)];
   nm_msgs := [rseq4; laser_scan_r; geometry_msgs_Vector3; geometry_msgs_Twist];
   nm_topics := [scan; cmd];
   nm_inrels := nm_inrels scanner;

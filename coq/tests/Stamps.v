@@ -64,7 +64,7 @@ Definition stamp_and_relation : node_model :=
   {| nm_name := nm_name stamped; nm_period_ms := nm_period_ms stamped; nm_ctrl := nm_ctrl stamped;
      nm_in_var := nm_in_var stamped; nm_in_struct := nm_in_struct stamped;
      nm_inputs := nm_inputs stamped; nm_out_var := nm_out_var stamped;
-     nm_out_struct := nm_out_struct stamped; nm_outputs := [("Out1", Pfloat64); ("Sec", Puint32)];
+     nm_out_struct := nm_out_struct stamped; nm_outputs := [("Out1", FTprim Pfloat64); ("Sec", FTprim Puint32)];
      nm_msgs := nm_msgs stamped; nm_topics := nm_topics stamped; nm_inrels := nm_inrels stamped;
      nm_outrels := nm_outrels stamped ++
                    [mkoutrel "Sec" "landshark_control_base_velocity" (header_stamp ++ [PField "sec"])%list];

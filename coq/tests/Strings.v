@@ -119,7 +119,7 @@ Example refuse_overwritten:
   refused {| nm_name := nm_name framed; nm_period_ms := nm_period_ms framed; nm_ctrl := nm_ctrl framed;
              nm_in_var := nm_in_var framed; nm_in_struct := nm_in_struct framed;
              nm_inputs := nm_inputs framed; nm_out_var := nm_out_var framed;
-             nm_out_struct := nm_out_struct framed; nm_outputs := [("Out1", Pfloat64); ("Len", Puint32)];
+             nm_out_struct := nm_out_struct framed; nm_outputs := [("Out1", FTprim Pfloat64); ("Len", FTprim Puint32)];
              nm_msgs := nm_msgs framed; nm_topics := nm_topics framed; nm_inrels := nm_inrels framed;
              nm_outrels := nm_outrels framed ++
                            [mkoutrel "Len" "landshark_control_base_velocity" (frame_id ++ [PField "len"])];

@@ -623,8 +623,8 @@ Theorem generate_input_glue:
                  end
   /\ NoDup (map fst (fn_temps f))
   /\ (forall ir, In ir (nm_inrels m) ->
-        find_assoc (temp_name (input_prim (make_tables m) (ir_input ir))) (fn_temps f)
-        = Some (ctype_of_prim (input_prim (make_tables m) (ir_input ir))))
+        find_assoc (temp_name (inrel_prim (make_tables m) ir)) (fn_temps f)
+        = Some (ctype_of_prim (inrel_prim (make_tables m) ir)))
   /\ (timed m <> [] ->
         (reads_age m = true ->
            find_assoc now_temp (fn_temps f) = Some (Tlong Unsigned)
@@ -671,8 +671,8 @@ Theorem generate_output_glue:
                  (strings_stmts m c M)
   /\ NoDup (map fst (fn_temps f))
   /\ (forall o, In o lor ->
-        find_assoc (temp_name (output_prim (make_tables m) (or_output o))) (fn_temps f)
-        = Some (ctype_of_prim (output_prim (make_tables m) (or_output o))))
+        find_assoc (temp_name (outrel_prim (make_tables m) o)) (fn_temps f)
+        = Some (ctype_of_prim (outrel_prim (make_tables m) o)))
   /\ (forall sp, topic_stamp m c = Some sp ->
         find_assoc (temp_name Puint32) (fn_temps f) = Some (ctype_of_prim Puint32)).
 Proof. exact Generatorproof.generate_output_glue. Qed.
@@ -754,9 +754,9 @@ Proof. exact Generatorproof.generate_topic_externals. Qed.
 
 (** Which generated function assigns what: a callback assigns only its
     topic's global message and, if the topic is timed, its clock;
-    [input_glue] only fields of [Controller_U] and the [c_new] flags of
-    the timed topics; [output_glue_c] only through its pointer parameter
-    [command]; [loop] and [main] assign nothing. *)
+    [input_glue] only fields of [Controller_U] (or their elements) and
+    the [c_new] flags of the timed topics; [output_glue_c] only through
+    its pointer parameter [command]; [loop] and [main] assign nothing. *)
 Theorem generate_assigned_places:
   forall m p id f, generate m = OK p -> find_def p id = Some (Gfun (Internal f)) ->
   forall pl, In pl (assigned_places (fn_body f)) ->
@@ -764,7 +764,7 @@ Theorem generate_assigned_places:
                       /\ pl = Some (Rvar (msg_var (tp_cname tp)), path))
   \/ (exists tp x, In tp (timed m) /\ id = callback_name (tp_cname tp)
                    /\ In x (clock_names tp) /\ pl = Some (Rvar x, []))
-  \/ (exists x, id = input_glue_name /\ pl = Some (Rvar (nm_in_var m), [PField x]))
+  \/ (exists x path, id = input_glue_name /\ pl = Some (Rvar (nm_in_var m), PField x :: path))
   \/ (exists tp, In tp (timed m) /\ id = input_glue_name /\ pl = Some (Rvar (new_var (tp_cname tp)), []))
   \/ (exists tp path, In tp (published m) /\ id = output_glue_name (tp_cname tp)
                       /\ pl = Some (Rderef command_param, path)).

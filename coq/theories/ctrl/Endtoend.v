@@ -48,21 +48,47 @@ Proof.
   apply String.eqb_eq in H1. apply prim_eqb_true in H2. subst. f_equal. auto.
 Qed.
 
+(** The scalar fields of a controller, if all its fields are scalars
+    (a diagram has no array inputs or outputs). *)
+Fixpoint prims_of (fs : list (ident * ftype)) : option (list (ident * prim)) :=
+  match fs with
+  | [] => Some []
+  | (x, FTprim q) :: fs' => match prims_of fs' with Some l => Some ((x, q) :: l) | None => None end
+  | _ :: _ => None
+  end.
+
+Lemma prims_of_spec: forall fs l, prims_of fs = Some l -> fs = prim_fields l.
+Proof.
+  induction fs as [|[x [q| |]] fs IH]; simpl; intros l H; try discriminate.
+  - inversion H; reflexivity.
+  - destruct (prims_of fs) as [l'|] eqn:E; [|discriminate]. inversion H; subst.
+    simpl. f_equal. auto.
+Qed.
+
+Definition fields_match (a : list (ident * prim)) (b : list (ident * ftype)) : bool :=
+  match prims_of b with Some l => fields_eqb a l | None => false end.
+
+Lemma fields_match_spec: forall a b, fields_match a b = true -> b = prim_fields a.
+Proof.
+  unfold fields_match; intros a b H. destruct (prims_of b) as [l|] eqn:E; [|discriminate].
+  apply fields_eqb_true in H. subst. apply prims_of_spec; auto.
+Qed.
+
 Definition dg_matches (m : node_model) (d : diagram) : bool :=
   String.eqb (dg_in_var d) (nm_in_var m) && String.eqb (dg_in_struct d) (nm_in_struct m)
   && String.eqb (dg_out_var d) (nm_out_var m) && String.eqb (dg_out_struct d) (nm_out_struct m)
-  && fields_eqb (dg_inputs d) (nm_inputs m) && fields_eqb (dg_outputs d) (nm_outputs m).
+  && fields_match (dg_inputs d) (nm_inputs m) && fields_match (dg_outputs d) (nm_outputs m).
 
 Lemma dg_matches_spec:
   forall m d, dg_matches m d = true ->
   dg_in_var d = nm_in_var m /\ dg_in_struct d = nm_in_struct m
   /\ dg_out_var d = nm_out_var m /\ dg_out_struct d = nm_out_struct m
-  /\ dg_inputs d = nm_inputs m /\ dg_outputs d = nm_outputs m.
+  /\ nm_inputs m = prim_fields (dg_inputs d) /\ nm_outputs m = prim_fields (dg_outputs d).
 Proof.
   intros m d H. unfold dg_matches in H.
   repeat match goal with H : (_ && _) = true |- _ => apply andb_true_iff in H as [? ?] end.
   repeat match goal with H : String.eqb _ _ = true |- _ => apply String.eqb_eq in H end.
-  repeat match goal with H : fields_eqb _ _ = true |- _ => apply fields_eqb_true in H end.
+  repeat match goal with H : fields_match _ _ = true |- _ => apply fields_match_spec in H end.
   tauto.
 Qed.
 
@@ -175,13 +201,26 @@ Hypothesis W : wf_facts m.
 Definition members_of (fs : list (ident * prim)) : list (ident * type) :=
   map (fun fq => (fst fq, ctype_of_prim (snd fq))) fs.
 
-Lemma in_members: struct_members (composites m) (nm_in_struct m) = Some (members_of (nm_inputs m)).
+Definition ftype_members (fs : list (ident * ftype)) : list (ident * type) :=
+  map (fun xt => (fst xt, ctype_of_ftype (snd xt))) fs.
+
+Lemma ftype_members_prim: forall l, ftype_members (prim_fields l) = members_of l.
+Proof. intros l. unfold ftype_members, prim_fields. rewrite map_map. reflexivity. Qed.
+
+Lemma find_assoc_members:
+  forall x fs q, find_assoc x fs = Some q -> find_assoc x (members_of fs) = Some (ctype_of_prim q).
+Proof.
+  induction fs as [|[y r] fs IH]; simpl; intros q H; [discriminate|].
+  destruct (string_dec x y); [congruence|auto].
+Qed.
+
+Lemma in_members: struct_members (composites m) (nm_in_struct m) = Some (ftype_members (nm_inputs m)).
 Proof.
   unfold struct_members, composites. rewrite find_composite_skip_msgs by (apply in_struct_not_msg; auto).
   unfold find_composite; simpl. destruct (string_dec (nm_in_struct m) (nm_in_struct m)); [reflexivity | congruence].
 Qed.
 
-Lemma out_members: struct_members (composites m) (nm_out_struct m) = Some (members_of (nm_outputs m)).
+Lemma out_members: struct_members (composites m) (nm_out_struct m) = Some (ftype_members (nm_outputs m)).
 Proof.
   unfold struct_members, composites. rewrite find_composite_skip_msgs by (apply out_struct_not_msg; auto).
   unfold find_composite; simpl.
@@ -202,17 +241,17 @@ Qed.
 
 (** Inputs of the inputs' struct type have typed fields. *)
 Lemma inputs_typed_of:
-  forall d u, dg_inputs d = nm_inputs m ->
+  forall d u, nm_inputs m = prim_fields (dg_inputs d) ->
   mval_has_type (composites m) (Tstruct (nm_in_struct m)) u -> inputs_typed d u.
 Proof.
-  intros d u DI H f q F. rewrite DI in F.
+  intros d u DI H f q F.
   inversion H as [ty0 v0 Sc0 Hv0 | id members fs SM FT | t0 n0 es0 L0 E0]; subst;
     [simpl in Sc0; discriminate|].
-  rewrite in_members in SM. inversion SM; subst members.
-  assert (FM: find_assoc f (members_of (nm_inputs m)) = Some (ctype_of_prim q))
-    by (apply find_assoc_controller; auto).
+  rewrite in_members, DI, ftype_members_prim in SM. inversion SM; subst members.
+  assert (FM: find_assoc f (members_of (dg_inputs d)) = Some (ctype_of_prim q))
+    by (apply find_assoc_members; auto).
   clear SM H DI F.
-  revert FT FM. generalize (members_of (nm_inputs m)) as ms. intros ms FT FM.
+  revert FT FM. generalize (members_of (dg_inputs d)) as ms. intros ms FT FM.
   induction FT as [|g t mv ms' fs' Hmv Hfs IH]; simpl in FM |- *; [discriminate|].
   destruct (string_dec f g).
   - inversion FM; subst t.
@@ -235,7 +274,7 @@ Variable d : diagram.
     well-formed diagram never gives on inputs and state of their types:
     [guard_step_eq]). *)
 Definition zero_outputs : mval :=
-  MVstruct (map (fun fq => (fst fq, MVscalar (zero_of_prim (snd fq)))) (nm_outputs m)).
+  MVstruct (map (fun fq => (fst fq, MVscalar (zero_of_prim (snd fq)))) (dg_outputs d)).
 
 Definition guard_step (s u : mval) : mval * mval :=
   let r := dg_step d s u in
@@ -251,7 +290,8 @@ Hypothesis MA : dg_matches m d = true.
 
 Lemma zero_outputs_typed: mval_has_type (composites m) (Tstruct (nm_out_struct m)) zero_outputs.
 Proof.
-  econstructor; [apply out_members; auto|]. apply fields_typed_of.
+  destruct (dg_matches_spec m d MA) as (_ & _ & _ & _ & _ & DO).
+  econstructor; [rewrite (out_members m W), DO, ftype_members_prim; reflexivity|]. apply fields_typed_of.
   intros [f q] _. simpl. destruct q; reflexivity.
 Qed.
 
@@ -306,10 +346,10 @@ Proof.
         apply arith_typed; auto; try (left; discriminate).
         -- apply val_of_prim_typed; auto.
         -- eapply sig_typed; eauto.
-  - unfold output_value. rewrite DO. econstructor; [apply out_members; auto|].
-    apply (fields_typed_of m (nm_outputs m)
+  - unfold output_value. econstructor; [rewrite (out_members m W), DO, ftype_members_prim; reflexivity|].
+    apply (fields_typed_of m (dg_outputs d)
              (fun fq => match find_assoc (fst fq) (dg_outs d) with Some x => sig env x | None => Vundef end)).
-    intros fq I. rewrite <- DO in I. unfold outs_ok in OO.
+    intros fq I. unfold outs_ok in OO.
     apply andb_true_iff in OO as [_ OO]. rewrite forallb_forall in OO. specialize (OO fq I).
     destruct (find_assoc (fst fq) (dg_outs d)) as [x|]; [eapply sig_typed; eauto | discriminate].
 Qed.
@@ -362,7 +402,7 @@ Proof.
   assert (W: wf_facts m) by (apply wf_facts_intro, (Generatorproof.generate_sound m p GEN)).
   destruct (dg_matches_spec m d MA) as (_ & _ & _ & _ & DI & _).
   destruct (generate_node_ddc m p GEN mval (diagram_ctx m d arrivals clock) n AWT
-              (diagram_controller_wt m d W arrivals clock)) as [EX RUN].
+              (diagram_controller_wt m d W MA arrivals clock)) as [EX RUN].
   split; [exact EX|]. intros t B.
   destruct (RUN t B) as [s [evs [S0 [T C]]]].
   exists s, evs. split; [exact S0|]. split; [exact T|].

@@ -1269,7 +1269,7 @@ Proof.
   - apply in_map_iff in F as [md [E _]]. subst co. simpl in I.
     apply in_map_iff in I as [[g ft] [E _]]. inversion E; subst. apply no_ptr_ftype.
   - simpl in F. destruct F as [E|[E|[]]]; subst co; simpl in I;
-      apply in_map_iff in I as [[g q] [E _]]; inversion E; subst; apply no_ptr_prim.
+      apply in_map_iff in I as [[g q] [E _]]; inversion E; subst; apply no_ptr_ftype.
 Qed.
 
 (** ** The node with its generated controller, linked *)
@@ -1444,7 +1444,7 @@ Proof.
     inversion TY0 as [ty0 v0 Hs0 Hv0 | id ms fsY SM FT | t0 n0 es0 L0 E0]; subst; [discriminate Hs0|].
     rewrite (out_members m W) in SM. inversion SM; subst ms.
     assert (NY: map fst fsY = map fst (dg_outputs d)).
-    { rewrite (fields_names _ _ _ FT), DO. unfold members_of. rewrite map_map. reflexivity. }
+    { rewrite (fields_names _ _ _ FT), DO. unfold ftype_members, prim_fields. rewrite !map_map. reflexivity. }
     destruct ST as (sfs & Es & Ns & Vs).
     assert (HSt: has_states d = true ->
                  find_var geL (dg_state_var d) = Some (dwb, Tstruct (dg_state_struct d))

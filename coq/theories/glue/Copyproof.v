@@ -368,15 +368,22 @@ Proof.
     assert (N1: ~ In (nm_in_struct m) (md_names msgs)) by (apply in_struct_not_msg; auto).
     assert (N2: ~ In (nm_out_struct m) (md_names msgs)) by (apply out_struct_not_msg; auto).
     assert (N3: nm_in_struct m <> nm_out_struct m) by (apply in_out_structs_differ; auto).
-    assert (Cp: forall known (l : list (ident * prim)),
+    assert (Cp: forall known (l : list (ident * ftype)),
+              (forall xt, In xt l -> ctrl_ftype_ok (snd xt) = true) ->
               forallb (fun mt : ident * type => complete_type known (snd mt))
-                      (map (fun xq : ident * prim => (fst xq, ctype_of_prim (snd xq))) l) = true).
-    { intros known l. rewrite forallb_forall. intros x Hx.
-      apply in_map_iff in Hx; destruct Hx as ([y q] & <- & _). simpl; destruct q; reflexivity. }
-    assert (Nd: forall l : list (ident * prim), NoDup (map fst l) ->
-              nodup_idents (map fst (map (fun xq => (fst xq, ctype_of_prim (snd xq))) l)) = true).
+                      (map (fun xt : ident * ftype => (fst xt, ctype_of_ftype (snd xt))) l) = true).
+    { intros known l OKl. rewrite forallb_forall. intros x Hx.
+      apply in_map_iff in Hx; destruct Hx as ([y t] & <- & Hin). simpl.
+      generalize (OKl _ Hin); simpl. destruct t as [q| |[q| |] n]; simpl; try discriminate.
+      - destruct q; reflexivity.
+      - intros H. rewrite andb_true_iff in H; destruct H as [H1 _]. apply Z.ltb_lt in H1.
+        assert (Hn: (0 <=? n)%Z = true) by (apply Z.leb_le; lia).
+        destruct q; simpl; rewrite ?Hn; reflexivity. }
+    assert (Nd: forall l : list (ident * ftype), NoDup (map fst l) ->
+              nodup_idents (map fst (map (fun xt => (fst xt, ctype_of_ftype (snd xt))) l)) = true).
     { intros l H. apply nodup_idents_spec. rewrite map_map; simpl; auto. }
-    rewrite !Cp, !Nd by (first [apply wf_inputs_nodup | apply wf_outputs_nodup]; auto).
+    rewrite !Cp by (first [apply wf_inputs_ok | apply wf_outputs_ok]; auto).
+    rewrite !Nd by (first [apply wf_inputs_nodup | apply wf_outputs_nodup]; auto).
     destruct (in_ident (nm_in_struct m) (rev (md_names (nm_msgs m)))) eqn:E1.
     { apply in_ident_spec, in_rev in E1. contradiction. }
     destruct (ident_eq (nm_in_struct m) (nm_out_struct m)); [contradiction|].

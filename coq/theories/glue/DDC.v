@@ -229,8 +229,9 @@ Definition callback_ddc (m : node_model) (p : program) (tp : topic) : Prop :=
 (** [input_glue] (the paper's Figure 12): from any memory where the globals
     hold values of their types, and the clock of every timed topic [c]
     holds some [ck c], it writes a value [u] of the inputs' type into
-    [Controller_U] in which every input field [In] equals the field of the
-    global message of the topic that the input relation of [In] names
+    [Controller_U] in which the leaf of every input relation (an input
+    field [In], or an element [Scan[i]] of an array input) equals the
+    field of the global message of the topic that the relation names
     (or its fallback value if that topic is stale at the time [now] of
     the call: [fed_value]), and every derived input is exact at [now]
     ([derived_value]); then it clears the [c_new] flag of every timed
@@ -250,7 +251,7 @@ Definition input_glue_ddc (m : node_model) (p : program) : Prop :=
               exists g v,
                  global_value p mm (msg_var (ir_topic ir)) = Some g
               /\ mval_get g (path_steps (ir_path ir)) = Some (MVscalar v)
-              /\ mval_get u [Sfield (ir_input ir)] = Some (MVscalar (fed_value m ir v (snd (ck (ir_topic ir))) now)))
+              /\ mval_get u (Sfield (ir_input ir) :: path_steps (ir_elem ir)) = Some (MVscalar (fed_value m ir v (snd (ck (ir_topic ir))) now)))
          /\ (forall dr, In dr (nm_drels m) ->
               mval_get u [Sfield (dr_input dr)]
               = Some (MVscalar (derived_value (dr_kind dr) (fst (ck (dr_topic dr))) (snd (ck (dr_topic dr))) now)))).
@@ -270,7 +271,7 @@ Definition published_value (m : node_model) (y : mval) (now : Z) (g : ident -> m
                            (tp : topic) (mv : mval) : Prop :=
   mval_has_type (composites m) (Tstruct (tp_msg tp)) mv
   /\ (forall o, In o (nm_outrels m) -> or_topic o = tp_cname tp ->
-        exists v, mval_get y [Sfield (or_output o)] = Some (MVscalar v)
+        exists v, mval_get y (Sfield (or_output o) :: path_steps (or_elem o)) = Some (MVscalar v)
                /\ mval_get mv (path_steps (or_path o)) = Some (MVscalar v))
   /\ (forall sp, find_assoc (tp_cname tp) (nm_stamps m) = Some sp ->
         match find_assoc (tp_cname tp) (nm_stamp_from m) with
@@ -541,8 +542,9 @@ Definition arrived {CS : Type} (m : node_model) (ctx : ros_context CS) (tp : top
   match last_on (tp_name tp) (received_on m tp (ctx_arrivals ctx i)) with Some _ => true | None => false end.
 
 (** The inputs [u] handed to the controller in cycle [i]: a value of the
-    inputs' type in which every input field [In] holds the field, named
-    by the input relation of [In], of the newest message received so far
+    inputs' type in which every input field [In] (every element [Scan[i]]
+    of an array input) holds the field, named by its input relation, of
+    the newest message received so far
     on the relation's topic (zero if none yet) -- unless that topic is
     stale at the cycle's time [ctx_time ctx (S i)] and [In] has a
     fallback value, which it then holds ([fed_value], rule 4.12); and
@@ -555,7 +557,7 @@ Definition input_values {CS : Type} (m : node_model) (ctx : ros_context CS) (i :
           In tp (subscribed m)
        /\ tp_cname tp = ir_topic ir
        /\ mval_get (newest m ctx tp i) (path_steps (ir_path ir)) = Some (MVscalar v)
-       /\ mval_get u [Sfield (ir_input ir)]
+       /\ mval_get u (Sfield (ir_input ir) :: path_steps (ir_elem ir))
           = Some (MVscalar (fed_value m ir v (newest_time m ctx tp i) (ctx_time ctx (S i)))))
   /\ (forall dr, In dr (nm_drels m) ->
        exists tp,

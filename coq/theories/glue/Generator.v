@@ -56,8 +56,8 @@ Definition temps_of (qs : list prim) : list (ident * type) :=
 (** ** Composite types *)
 
 (** The struct of the controller's inputs or outputs. *)
-Definition controller_composite (id : ident) (fs : list (ident * prim)) : composite_definition :=
-  Composite id (map (fun xq => (fst xq, ctype_of_prim (snd xq))) fs).
+Definition controller_composite (id : ident) (fs : list (ident * ftype)) : composite_definition :=
+  Composite id (map (fun xt => (fst xt, ctype_of_ftype (snd xt))) fs).
 
 (** All structs: the messages in dependency order, then the controller's. *)
 Definition composites (m : node_model) : list composite_definition :=
@@ -169,11 +169,14 @@ Variable tb : tables.
 Definition topic_msg (c : ident) : ident :=
   match lookup_topic tb c with Some tp => tp_msg tp | None => "" end.
 
-(** The primitive of a controller input / output field. *)
-Definition input_prim (x : ident) : prim :=
-  match tget (enc_string x) (tb_inputs tb) with Some q => q | None => Pbool end.
-Definition output_prim (x : ident) : prim :=
-  match tget (enc_string x) (tb_outputs tb) with Some q => q | None => Pbool end.
+(** The primitive of the leaf [p] of a controller input / output field [x]. *)
+Definition leaf_prim (ot : option ftype) (p : path) : prim :=
+  match ot with
+  | Some t => match ctrl_prim t p with Some q => q | None => Pbool end
+  | None => Pbool
+  end.
+Definition input_prim (x : ident) (p : path) : prim := leaf_prim (tget (enc_string x) (tb_inputs tb)) p.
+Definition output_prim (x : ident) (p : path) : prim := leaf_prim (tget (enc_string x) (tb_outputs tb)) p.
 
 (** The output relations of the topic with C name [c], in order. *)
 Definition topic_outrels (c : ident) : list outrel :=
@@ -226,14 +229,18 @@ Definition callback_function (tp : topic) : function :=
 (** ** Input glue (Figures 8, 14) *)
 
 (** Source and destination of the copy for an input relation: the leaf
-    [ir_path] of [c_msg] and the field [ir_input] of [Controller_U]. *)
+    [ir_path] of [c_msg] and the leaf [ir_elem] of the field [ir_input]
+    of [Controller_U] ([Controller_U.In1], [Controller_U.Scan[540]]). *)
 Definition input_src (ir : inrel) : expr :=
   path_expr ce (Evar (msg_var (ir_topic ir)) (Tstruct (topic_msg (ir_topic ir)))) (ir_path ir).
 Definition input_dst (ir : inrel) : expr :=
-  Efield in_var_expr (ir_input ir) (ctype_of_prim (input_prim (ir_input ir))).
+  path_expr ce in_var_expr (PField (ir_input ir) :: ir_elem ir).
+
+(** The primitive that an input relation copies. *)
+Definition inrel_prim (ir : inrel) : prim := input_prim (ir_input ir) (ir_elem ir).
 
 Definition input_copy (ir : inrel) : statement :=
-  copy (input_prim (ir_input ir)) (input_dst ir) (input_src ir).
+  copy (inrel_prim ir) (input_dst ir) (input_src ir).
 
 (** *** Freshness (rule 4.12) *)
 
@@ -274,7 +281,7 @@ Definition fallback_stmt (ir : inrel) : statement :=
   match find_assoc (ir_input ir) (nm_fallbacks m), timeout_of m (ir_topic ir) with
   | Some v, Some t =>
       Ssequence (age_stmt (ir_topic ir))
-        (Sifthenelse (stale_expr t) (Sassign (input_dst ir) (const_of (input_prim (ir_input ir)) v)) Sskip)
+        (Sifthenelse (stale_expr t) (Sassign (input_dst ir) (const_of (inrel_prim ir) v)) Sskip)
   | _, _ => Sskip
   end.
 
@@ -288,7 +295,7 @@ Definition max_uint : Z := 4294967295.
 
 (** [U.In = e] for a derived input [In]. *)
 Definition derived_dst (dr : drel) : expr :=
-  Efield in_var_expr (dr_input dr) (ctype_of_prim (input_prim (dr_input dr))).
+  Efield in_var_expr (dr_input dr) (ctype_of_prim (input_prim (dr_input dr) [])).
 
 (** A derived input: [is_new] and [received] copy the flags; [age_ms] is
     the age of the topic's newest message, then
@@ -339,12 +346,12 @@ Definition timed_stmts : statement :=
 (** The temporaries of [input_glue] when some topic is timed. *)
 Definition timed_temps : list (ident * type) :=
   (if reads_age then [(now_temp, tulong); (age_temp, tulong)] else [])
-  ++ temps_of ((if reads_flag then [Pbool] else []) ++ map (fun ir => input_prim (ir_input ir)) (nm_inrels m)).
+  ++ temps_of ((if reads_flag then [Pbool] else []) ++ map inrel_prim (nm_inrels m)).
 
 (** [void input_glue(void)]: one copy per input relation, in order; then,
     if some topic is timed, the freshness. *)
 Definition input_glue_function : function :=
-  let temps := temps_of (map (fun ir => input_prim (ir_input ir)) (nm_inrels m)) in
+  let temps := temps_of (map inrel_prim (nm_inrels m)) in
   let base := seq_of (map input_copy (nm_inrels m)) in
   match timed m with
   | [] => mkfunction Tvoid [] [] temps base
@@ -353,15 +360,19 @@ Definition input_glue_function : function :=
 
 (** ** Output glue (Figure 8) *)
 
-(** Source and destination of the copy for an output relation: the field
-    [or_output] of [Controller_Y] and the leaf [or_path] of [*command]. *)
+(** Source and destination of the copy for an output relation: the leaf
+    [or_elem] of the field [or_output] of [Controller_Y] and the leaf
+    [or_path] of [*command]. *)
 Definition output_src (o : outrel) : expr :=
-  Efield out_var_expr (or_output o) (ctype_of_prim (output_prim (or_output o))).
+  path_expr ce out_var_expr (PField (or_output o) :: or_elem o).
 Definition output_dst (M : ident) (o : outrel) : expr :=
   path_expr ce (deref_param command_param M) (or_path o).
 
+(** The primitive that an output relation copies. *)
+Definition outrel_prim (o : outrel) : prim := output_prim (or_output o) (or_elem o).
+
 Definition output_copy (M : ident) (o : outrel) : statement :=
-  copy (output_prim (or_output o)) (output_dst M o) (output_src o).
+  copy (outrel_prim o) (output_dst M o) (output_src o).
 
 (** The stamp path of the topic with C name [c], if it is stamped. *)
 Definition topic_stamp (c : ident) : option path := find_assoc c (nm_stamps m).
@@ -423,7 +434,7 @@ Definition strings_stmts (c M : ident) : statement :=
 Definition output_glue_function (tp : topic) : function :=
   let M := tp_msg tp in
   let os := topic_outrels (tp_cname tp) in
-  let qs := map (fun o => output_prim (or_output o)) os in
+  let qs := map outrel_prim os in
   let body := Ssequence (seq_of (map (leaf_zero ce (deref_param command_param M)) (leaves (nm_msgs m) M)))
                         (seq_of (map (output_copy M) os)) in
   let strs := strings_stmts (tp_cname tp) M in

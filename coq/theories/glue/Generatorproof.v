@@ -70,7 +70,8 @@ Proof.
   intros; unfold inrel_check, inrel_ok.
   destruct (lookup_topic tb (ir_topic ir)) as [tp|]; [|split; discriminate].
   rewrite bind_unit_ok, assertion_ok, andb_true_iff.
-  destruct (tget (enc_string (ir_input ir)) (tb_inputs tb)) as [q|]; [|intuition discriminate].
+  destruct (tget (enc_string (ir_input ir)) (tb_inputs tb)) as [t|]; [|intuition discriminate].
+  destruct (ctrl_prim t (ir_elem ir)) as [q|]; [|intuition discriminate].
   destruct (resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir)) as [q'|];
     [rewrite assertion_ok|]; intuition discriminate.
 Qed.
@@ -79,7 +80,8 @@ Lemma outrel_check_ok:
   forall m tb o, outrel_check m tb o = OK tt <-> outrel_ok m tb o = true.
 Proof.
   intros; unfold outrel_check, outrel_ok.
-  destruct (tget (enc_string (or_output o)) (tb_outputs tb)) as [q|]; [|split; discriminate].
+  destruct (tget (enc_string (or_output o)) (tb_outputs tb)) as [t|]; [|split; discriminate].
+  destruct (ctrl_prim t (or_elem o)) as [q|]; [|split; discriminate].
   destruct (lookup_topic tb (or_topic o)) as [tp|]; [|split; discriminate].
   rewrite bind_unit_ok, assertion_ok, andb_true_iff.
   destruct (resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (or_path o)) as [q'|];
@@ -376,7 +378,7 @@ Qed.
 Definition gen_list_global_expr_input_glue (m : node_model) (lir : list inrel) : list expr :=
   map (input_src m (make_tables m)) lir.
 Definition gen_list_controller_expr_input_glue (m : node_model) (lir : list inrel) : list expr :=
-  map (input_dst m (make_tables m)) lir.
+  map (input_dst m) lir.
 
 (** The sequence of copies [d1 = s1; d2 = s2; ...] through the temporaries
     of the primitives [qs]. *)
@@ -394,7 +396,7 @@ Inductive relation_consistency_input (m : node_model) : list inrel -> list expr 
       relation_consistency_input m [] [] []
   | rci_cons: forall ir lir g lg c lc,
       expr_place g = Some (Rvar (msg_var (ir_topic ir)), ir_path ir) ->
-      expr_place c = Some (Rvar (nm_in_var m), [PField (ir_input ir)]) ->
+      expr_place c = Some (Rvar (nm_in_var m), PField (ir_input ir) :: ir_elem ir) ->
       relation_consistency_input m lir lg lc ->
       relation_consistency_input m (ir :: lir) (g :: lg) (c :: lc).
 
@@ -411,7 +413,7 @@ Qed.
 (** The copies of the relations, in order: [Controller_U.In_i =
     c_i_msg.path_i] through a temporary. *)
 Definition input_base (m : node_model) : statement :=
-  seq_of (copies (map (fun ir => input_prim (make_tables m) (ir_input ir)) (nm_inrels m))
+  seq_of (copies (map (inrel_prim (make_tables m)) (nm_inrels m))
                  (gen_list_controller_expr_input_glue m (nm_inrels m))
                  (gen_list_global_expr_input_glue m (nm_inrels m))).
 
@@ -433,7 +435,7 @@ Qed.
 
 (** The same for one published topic with C name [c] and message [M]. *)
 Definition gen_list_controller_expr_output_glue (m : node_model) (lor : list outrel) : list expr :=
-  map (output_src m (make_tables m)) lor.
+  map (output_src m) lor.
 Definition gen_list_message_expr_output_glue (m : node_model) (M : ident) (lor : list outrel) : list expr :=
   map (output_dst m M) lor.
 
@@ -443,7 +445,7 @@ Inductive relation_consistency_output (m : node_model) (c : ident) :
       relation_consistency_output m c [] [] []
   | rco_cons: forall o lor s ls d ld,
       or_topic o = c ->
-      expr_place s = Some (Rvar (nm_out_var m), [PField (or_output o)]) ->
+      expr_place s = Some (Rvar (nm_out_var m), PField (or_output o) :: or_elem o) ->
       expr_place d = Some (Rderef command_param, or_path o) ->
       relation_consistency_output m c lor ls ld ->
       relation_consistency_output m c (o :: lor) (s :: ls) (d :: ld).
@@ -468,14 +470,14 @@ Definition output_base (m : node_model) (tp : topic) : statement :=
   let lor := topic_outrels (make_tables m) (tp_cname tp) in
   Ssequence
     (seq_of (map (leaf_zero (composites m) (deref_param command_param M)) (leaves (nm_msgs m) M)))
-    (seq_of (copies (map (fun o => output_prim (make_tables m) (or_output o)) lor)
+    (seq_of (copies (map (outrel_prim (make_tables m)) lor)
                     (gen_list_message_expr_output_glue m M lor)
                     (gen_list_controller_expr_output_glue m lor))).
 
 Lemma output_copies_eq:
   forall m M l,
   seq_of (map (output_copy m (make_tables m) M) l)
-  = seq_of (copies (map (fun o => output_prim (make_tables m) (or_output o)) l)
+  = seq_of (copies (map (outrel_prim (make_tables m)) l)
                    (gen_list_message_expr_output_glue m M l)
                    (gen_list_controller_expr_output_glue m l)).
 Proof.
@@ -505,46 +507,46 @@ Qed.
 (** The copy of an input relation, concretely. *)
 Lemma input_exprs:
   forall m ir, wf_facts m -> In ir (nm_inrels m) ->
-  exists tp q,
+  exists tp t q,
      find_topic (nm_topics m) (ir_topic ir) = Some tp
   /\ tp_cname tp = ir_topic ir
   /\ In tp (subscribed m)
-  /\ find_assoc (ir_input ir) (nm_inputs m) = Some q
+  /\ find_assoc (ir_input ir) (nm_inputs m) = Some t
+  /\ ctrl_prim t (ir_elem ir) = Some q
   /\ resolve (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir) = Some (FTprim q)
-  /\ input_prim (make_tables m) (ir_input ir) = q
+  /\ inrel_prim (make_tables m) ir = q
   /\ input_src m (make_tables m) ir = path_expr (composites m) (Evar (msg_var (ir_topic ir)) (Tstruct (tp_msg tp))) (ir_path ir)
-  /\ input_dst m (make_tables m) ir = Efield (Evar (nm_in_var m) (Tstruct (nm_in_struct m))) (ir_input ir) (ctype_of_prim q).
+  /\ input_dst m ir = path_expr (composites m) (Evar (nm_in_var m) (Tstruct (nm_in_struct m))) (PField (ir_input ir) :: ir_elem ir).
 Proof.
-  intros m ir W Hin. destruct (wf_inrel m ir W Hin) as (tp & q & F & S & I & R).
-  exists tp, q. destruct (find_topic_In _ _ _ F) as [Htp Ec].
+  intros m ir W Hin. destruct (wf_inrel m ir W Hin) as (tp & t & q & F & S & I & Q & R).
+  exists tp, t, q. destruct (find_topic_In _ _ _ F) as [Htp Ec].
   repeat split; auto.
   - apply in_subscribed; split; auto. unfold is_subscribed in S.
     destruct (tp_dir tp); auto; discriminate.
-  - apply input_prim_tables; auto.
+  - eapply input_prim_tables; eauto.
   - unfold input_src. rewrite (topic_msg_tables m _ _ F); auto.
-  - unfold input_dst, in_var_expr. rewrite (input_prim_tables m _ _ I); auto.
 Qed.
 
 (** The copy of an output relation of a published topic, concretely. *)
 Lemma output_exprs:
   forall m tp o, wf_facts m -> In tp (nm_topics m) -> In o (topic_outrels (make_tables m) (tp_cname tp)) ->
-  exists q,
+  exists t q,
      In o (nm_outrels m)
   /\ or_topic o = tp_cname tp
   /\ tp_dir tp = Publish
-  /\ find_assoc (or_output o) (nm_outputs m) = Some q
+  /\ find_assoc (or_output o) (nm_outputs m) = Some t
+  /\ ctrl_prim t (or_elem o) = Some q
   /\ resolve (nm_msgs m) (FTmsg (tp_msg tp)) (or_path o) = Some (FTprim q)
-  /\ output_prim (make_tables m) (or_output o) = q
-  /\ output_src m (make_tables m) o = Efield (Evar (nm_out_var m) (Tstruct (nm_out_struct m))) (or_output o) (ctype_of_prim q)
+  /\ outrel_prim (make_tables m) o = q
+  /\ output_src m o = path_expr (composites m) (Evar (nm_out_var m) (Tstruct (nm_out_struct m))) (PField (or_output o) :: or_elem o)
   /\ output_dst m (tp_msg tp) o = path_expr (composites m) (deref_param command_param (tp_msg tp)) (or_path o).
 Proof.
   intros m tp o W Htp Ho. apply In_topic_outrels in Ho. destruct Ho as [Hin E].
-  destruct (wf_outrel m o W Hin) as (tp' & q & F & S & O & R).
+  destruct (wf_outrel m o W Hin) as (tp' & t & q & F & S & O & Q & R).
   rewrite E, (In_find_topic _ _ (wf_cnames_nodup m W) Htp) in F. inversion F; subst tp'.
-  exists q; repeat split; auto.
+  exists t, q; repeat split; auto.
   - unfold is_published in S; destruct (tp_dir tp); auto; discriminate.
-  - apply output_prim_tables; auto.
-  - unfold output_src, out_var_expr. rewrite (output_prim_tables m _ _ O); auto.
+  - eapply output_prim_tables; eauto.
 Qed.
 
 (** [input_glue]: the copies of the input relations, in order. *)
@@ -559,8 +561,8 @@ Theorem generate_input_glue:
                  end
   /\ NoDup (map fst (fn_temps f))
   /\ (forall ir, In ir (nm_inrels m) ->
-        find_assoc (temp_name (input_prim (make_tables m) (ir_input ir))) (fn_temps f)
-        = Some (ctype_of_prim (input_prim (make_tables m) (ir_input ir))))
+        find_assoc (temp_name (inrel_prim (make_tables m) ir)) (fn_temps f)
+        = Some (ctype_of_prim (inrel_prim (make_tables m) ir)))
   /\ (timed m <> [] ->
         (reads_age m = true ->
            find_assoc now_temp (fn_temps f) = Some (Tlong Unsigned)
@@ -590,7 +592,7 @@ Proof.
     + intros ir Hir. unfold timed_temps. rewrite find_assoc_app_right.
       * apply temps_of_find. apply in_app_iff; right; apply in_map_iff; eauto.
       * destruct (reads_age m); [|simpl; auto].
-        destruct (input_prim (make_tables m) (ir_input ir)); simpl; intuition discriminate.
+        destruct (inrel_prim (make_tables m) ir); simpl; intuition discriminate.
   - unfold input_glue_function; destruct (timed m) eqn:T; cbn [fn_temps].
     + intros; congruence.
     + intros _. unfold timed_temps. split.
@@ -615,8 +617,8 @@ Theorem generate_output_glue:
   /\ fn_body f = Ssequence (output_pre m tp) (strings_stmts m c M)
   /\ NoDup (map fst (fn_temps f))
   /\ (forall o, In o lor ->
-        find_assoc (temp_name (output_prim (make_tables m) (or_output o))) (fn_temps f)
-        = Some (ctype_of_prim (output_prim (make_tables m) (or_output o))))
+        find_assoc (temp_name (outrel_prim (make_tables m) o)) (fn_temps f)
+        = Some (ctype_of_prim (outrel_prim (make_tables m) o)))
   /\ (forall sp, topic_stamp m c = Some sp ->
         find_assoc (temp_name Puint32) (fn_temps f) = Some (ctype_of_prim Puint32)).
 Proof.
@@ -898,15 +900,15 @@ Proof.
     unfold fallback_stmt. destruct (find_assoc (ir_input ir) (nm_fallbacks m)); [|exact I].
     destruct (timeout_of m (ir_topic ir)); [|exact I].
     split; [apply AGE|].
-    simpl. rewrite typeof_const_of. unfold input_dst in *. simpl in T2 |- *.
+    simpl. rewrite typeof_const_of, T2.
     repeat split; auto using ctype_of_prim_scalar, wt_rhs_const_of.
   - apply in_map_iff in Hst. destruct Hst as (dr & <- & Hdr).
     destruct (wf_drel m dr W Hdr) as (tp' & _ & _ & I).
-    assert (Hp: input_prim (make_tables m) (dr_input dr) = derived_prim (dr_kind dr))
-      by (apply input_prim_tables; auto).
+    assert (Hp: input_prim (make_tables m) (dr_input dr) [] = derived_prim (dr_kind dr))
+      by (eapply input_prim_tables; eauto; reflexivity).
     assert (WD: wt_place (composites m) (derived_dst m (make_tables m) dr)).
     { unfold derived_dst, in_var_expr. econstructor; [constructor|reflexivity|].
-      rewrite Hp. apply field_type_inputs; auto. }
+      rewrite Hp. apply (field_type_inputs m W _ _ I). }
     unfold derived_stmt. destruct (dr_kind dr) eqn:K.
     + assert (TB' := TB (reads_flag_derived m dr Hdr ltac:(congruence))).
       apply valid_copy; auto; try constructor.
@@ -928,9 +930,9 @@ Proof. intros; simpl; repeat split; auto; constructor. Qed.
 
 Lemma output_temps:
   forall m tp o, In o (topic_outrels (make_tables m) (tp_cname tp)) ->
-  find_assoc (temp_name (output_prim (make_tables m) (or_output o)))
+  find_assoc (temp_name (outrel_prim (make_tables m) o))
              (fn_temps (output_glue_function m (make_tables m) tp))
-  = Some (ctype_of_prim (output_prim (make_tables m) (or_output o))).
+  = Some (ctype_of_prim (outrel_prim (make_tables m) o)).
 Proof.
   intros m tp o Ho. unfold output_glue_function.
   destruct (topic_stamp m (tp_cname tp)); apply temps_of_find; [right|]; apply in_map_iff; eauto.
@@ -1111,7 +1113,7 @@ Theorem generate_assigned_places:
                       /\ pl = Some (Rvar (msg_var (tp_cname tp)), path))
   \/ (exists tp x, In tp (timed m) /\ id = callback_name (tp_cname tp)
                    /\ In x (clock_names tp) /\ pl = Some (Rvar x, []))
-  \/ (exists x, id = input_glue_name /\ pl = Some (Rvar (nm_in_var m), [PField x]))
+  \/ (exists x path, id = input_glue_name /\ pl = Some (Rvar (nm_in_var m), PField x :: path))
   \/ (exists tp, In tp (timed m) /\ id = input_glue_name /\ pl = Some (Rvar (new_var (tp_cname tp)), []))
   \/ (exists tp path, In tp (published m) /\ id = output_glue_name (tp_cname tp)
                       /\ pl = Some (Rderef command_param, path)).
@@ -1144,14 +1146,15 @@ Proof.
     + left. destruct (BASE Hpl) as (pa & ->). exists tp, pa; auto.
   - simpl in F; destruct F as [E|[]]; inversion E; subst; clear E.
     rewrite input_glue_body in Hpl.
-    assert (BASE: In pl (assigned_places (input_base m)) -> exists x, pl = Some (Rvar (nm_in_var m), [PField x])).
+    assert (BASE: In pl (assigned_places (input_base m)) -> exists x path, pl = Some (Rvar (nm_in_var m), PField x :: path)).
     { clear Hpl. intros Hpl. apply assigned_places_copies in Hpl.
       destruct Hpl as (d & Hd & ->). unfold gen_list_controller_expr_input_glue in Hd.
-      apply in_map_iff in Hd; destruct Hd as (ir & <- & _). exists (ir_input ir); auto. }
+      apply in_map_iff in Hd; destruct Hd as (ir & <- & _). exists (ir_input ir), (ir_elem ir).
+      apply expr_place_path_expr with (q := []); auto. }
     destruct (timed m) as [|tp0 l] eqn:T.
-    + right; right; left. destruct (BASE Hpl) as (x & ->). eauto.
+    + right; right; left. destruct (BASE Hpl) as (x & pa & ->). eauto.
     + rewrite <- T. cbn [assigned_places] in Hpl. apply in_app_iff in Hpl. destruct Hpl as [Hpl|Hpl].
-      * right; right; left. destruct (BASE Hpl) as (x & ->). eauto.
+      * right; right; left. destruct (BASE Hpl) as (x & pa & ->). eauto.
       * unfold timed_stmts in Hpl. rewrite T, assigned_places_seq in Hpl.
         apply in_flat_map in Hpl. destruct Hpl as (st & Hst & Hpl).
         rewrite <- T in Hst. apply in_app_iff in Hst. destruct Hst as [Hst|Hst].
@@ -1161,7 +1164,8 @@ Proof.
            unfold fallback_stmt in Hpl.
            destruct (find_assoc (ir_input ir) (nm_fallbacks m)); [|simpl in Hpl; tauto].
            destruct (timeout_of m (ir_topic ir)); simpl in Hpl; [|tauto].
-           repeat (destruct Hpl as [Hpl|Hpl]; [subst pl; eauto|]); contradiction.
+           destruct Hpl as [Hpl|[]]. subst pl. exists (ir_input ir), (ir_elem ir).
+           split; auto. unfold input_dst. apply expr_place_path_expr with (q := []); auto.
         -- right; right; left. apply in_map_iff in Hst. destruct Hst as (dr & <- & _).
            unfold derived_stmt in Hpl.
            unfold derived_dst, in_var_expr in Hpl. destruct (dr_kind dr); simpl in Hpl;
@@ -1284,7 +1288,7 @@ Proof.
   assert (W: wf_facts m) by (apply wf_facts_intro, (generate_sound m p H)).
   destruct (wf_controller_vars_fresh m W) as (_ & NU & _).
   destruct (generate_assigned_places m p id f H F pl Hpl)
-    as [(tp & pa & Htp & _ & ->)|[(tp & x & Htp & _ & Hx & ->)|[(x & E & _)|[(tp & Htp & E & _)|(tp & pa & _ & _ & ->)]]]].
+    as [(tp & pa & Htp & _ & ->)|[(tp & x & Htp & _ & Hx & ->)|[(x & pa & E & _)|[(tp & Htp & E & _)|(tp & pa & _ & _ & ->)]]]].
   - exists (Rvar (msg_var (tp_cname tp))), pa; split; auto.
     intros E; inversion E. apply NU; rewrite <- H1; apply msg_var_in_after; auto.
   - exists (Rvar x), []; split; auto.
@@ -1305,12 +1309,12 @@ Proof.
   assert (W: wf_facts m) by (apply wf_facts_intro, (generate_sound m p H)).
   destruct (wf_controller_vars_fresh m W) as (NUY & _ & NY).
   destruct (generate_assigned_places m p id f H F pl Hpl)
-    as [(tp & pa & Htp & _ & ->)|[(tp & x & Htp & _ & Hx & ->)|[(x & _ & ->)|[(tp & Htp & _ & ->)|(tp & pa & _ & _ & ->)]]]].
+    as [(tp & pa & Htp & _ & ->)|[(tp & x & Htp & _ & Hx & ->)|[(x & pa & _ & ->)|[(tp & Htp & _ & ->)|(tp & pa & _ & _ & ->)]]]].
   - exists (Rvar (msg_var (tp_cname tp))), pa; split; auto.
     intros E; inversion E. apply NY; rewrite <- H1; apply msg_var_in_after; auto.
   - exists (Rvar x), []; split; auto.
     intros E; inversion E. apply NY; rewrite <- H1; eapply clock_name_in_after; eauto.
-  - exists (Rvar (nm_in_var m)), [PField x]; split; auto. intros E; inversion E; auto.
+  - exists (Rvar (nm_in_var m)), (PField x :: pa); split; auto. intros E; inversion E; auto.
   - exists (Rvar (new_var (tp_cname tp))), []; split; auto.
     intros E; inversion E. apply NY; rewrite <- H1; eapply clock_name_in_after; eauto. simpl; auto.
   - exists (Rderef command_param), pa; split; auto; discriminate.
@@ -1402,7 +1406,7 @@ Proof.
     assert (BASE: stmt_takes_addr x (input_base m) = false).
     { unfold input_base. rewrite stmt_takes_addr_seq, copies_take_no_addr; auto.
       + intros d Hd. unfold gen_list_controller_expr_input_glue in Hd.
-        apply in_map_iff in Hd; destruct Hd as (ir & <- & _). unfold input_dst; auto.
+        apply in_map_iff in Hd; destruct Hd as (ir & <- & _). unfold input_dst; rewrite expr_takes_addr_path; auto.
       + intros s Hs. unfold gen_list_global_expr_input_glue in Hs.
         apply in_map_iff in Hs; destruct Hs as (ir & <- & _). unfold input_src.
         rewrite expr_takes_addr_path; auto. }
@@ -1416,8 +1420,9 @@ Proof.
     + apply in_map_iff in Hst. destruct Hst as (ir & <- & _). unfold fallback_stmt in T.
       destruct (find_assoc (ir_input ir) (nm_fallbacks m)) as [v|]; [|discriminate].
       destruct (timeout_of m (ir_topic ir)); [|discriminate].
-      simpl in T. destruct v; simpl in T; try discriminate;
-        destruct (input_prim (make_tables m) (ir_input ir)); discriminate.
+      simpl in T. unfold input_dst in T. rewrite expr_takes_addr_path in T.
+      destruct v; simpl in T; try discriminate;
+        destruct (inrel_prim (make_tables m) ir); discriminate.
     + apply in_map_iff in Hst. destruct Hst as (dr & <- & _). unfold derived_stmt in T.
       destruct (dr_kind dr); discriminate.
     + apply in_map_iff in Hst. destruct Hst as (tp & <- & _). discriminate.
@@ -1443,7 +1448,8 @@ Proof.
           apply in_map_iff in Hd; destruct Hd as (o & <- & _); unfold output_dst;
           rewrite expr_takes_addr_path; auto
         | intros s Hs; unfold gen_list_controller_expr_output_glue in Hs;
-          apply in_map_iff in Hs; destruct Hs as (o & <- & _); unfold output_src; auto ] ].
+          apply in_map_iff in Hs; destruct Hs as (o & <- & _); unfold output_src;
+          rewrite expr_takes_addr_path; auto ] ].
   - simpl in F; destruct F as [E|[E|[]]]; inversion E; subst; clear E.
     + left. simpl in T. rewrite stmt_takes_addr_seq, existsb_app in T. simpl in T.
       rewrite orb_false_r in T.

@@ -197,8 +197,10 @@ Record wf_facts (m : node_model) : Prop := {
   wf_msgs: msgs_ok [] (nm_msgs m) = true;
   wf_inputs_nonempty: nm_inputs m <> [];
   wf_inputs_nodup: NoDup (map fst (nm_inputs m));
+  wf_inputs_ok: forall xt, In xt (nm_inputs m) -> ctrl_ftype_ok (snd xt) = true;
   wf_outputs_nonempty: nm_outputs m <> [];
   wf_outputs_nodup: NoDup (map fst (nm_outputs m));
+  wf_outputs_ok: forall xt, In xt (nm_outputs m) -> ctrl_ftype_ok (snd xt) = true;
   wf_cnames_nodup: NoDup (map tp_cname (nm_topics m));
   wf_rosnames_nodup: NoDup (map tp_name (nm_topics m));
   wf_topics: forall tp, In tp (nm_topics m) -> topic_ok (nm_msgs m) tp = true;
@@ -207,7 +209,7 @@ Record wf_facts (m : node_model) : Prop := {
   wf_timeouts_nodup: NoDup (map fst (nm_timeouts m));
   wf_drels: forall dr, In dr (nm_drels m) -> drel_ok m (make_tables m) dr = true;
   wf_fed_nodup: NoDup (fed_list m);
-  wf_inputs_fed: forall x q, In (x, q) (nm_inputs m) -> In x (fed_list m);
+  wf_inputs_fed: forall x p q, In (x, p, q) (ctrl_leaves (nm_inputs m)) -> In (x, p) (fed_list m);
   wf_fallbacks: forall xv, In xv (nm_fallbacks m) -> fallback_ok m (make_tables m) xv = true;
   wf_fallbacks_nodup: NoDup (map fst (nm_fallbacks m));
   wf_outrels: forall o, In o (nm_outrels m) -> outrel_ok m (make_tables m) o = true;
@@ -233,16 +235,16 @@ Proof.
   rewrite ?forallb_forall in *.
   constructor; auto using null_false.
   - apply Z.ltb_lt; auto.
-  - intros x q Hin.
-    match goal with Hf : forall xq, In xq (nm_inputs m) -> tmem _ _ _ = true |- _ =>
-      generalize (Hf (x, q) Hin) end.
-    unfold fed_inputs; rewrite (tmem_of_list _ _ enc_string_inj); auto.
+  - intros x p q Hin.
+    match goal with Hf : forall l, In l (ctrl_leaves (nm_inputs m)) -> tmem _ _ _ = true |- _ =>
+      generalize (Hf (x, p, q) Hin) end.
+    unfold fed_inputs; rewrite (tmem_of_list _ _ enc_target_inj); auto.
   - intros NE. destruct (nm_stamps m) as [|st l] eqn:E; [congruence|].
     repeat match goal with H : context [nm_stamps m] |- _ => rewrite E in H end.
     simpl in *. auto.
 Qed.
 
-Lemma wf_inrel_inputs_nodup: forall m, wf_facts m -> NoDup (map ir_input (nm_inrels m)).
+Lemma wf_inrel_inputs_nodup: forall m, wf_facts m -> NoDup (map (fun ir => (ir_input ir, ir_elem ir)) (nm_inrels m)).
 Proof.
   intros m W. generalize (wf_fed_nodup m W). unfold fed_list. intros N.
   apply NoDup_app_inv in N. tauto.
@@ -298,12 +300,14 @@ Proof.
 Qed.
 
 Lemma input_prim_tables:
-  forall m x q, find_assoc x (nm_inputs m) = Some q -> input_prim (make_tables m) x = q.
-Proof. intros m x q H; unfold input_prim; rewrite tables_inputs, H; auto. Qed.
+  forall m x t p q, find_assoc x (nm_inputs m) = Some t -> ctrl_prim t p = Some q ->
+  input_prim (make_tables m) x p = q.
+Proof. intros m x t p q H Q; unfold input_prim, leaf_prim; rewrite tables_inputs, H, Q; auto. Qed.
 
 Lemma output_prim_tables:
-  forall m x q, find_assoc x (nm_outputs m) = Some q -> output_prim (make_tables m) x = q.
-Proof. intros m x q H; unfold output_prim; rewrite tables_outputs, H; auto. Qed.
+  forall m x t p q, find_assoc x (nm_outputs m) = Some t -> ctrl_prim t p = Some q ->
+  output_prim (make_tables m) x p = q.
+Proof. intros m x t p q H Q; unfold output_prim, leaf_prim; rewrite tables_outputs, H, Q; auto. Qed.
 
 Lemma topic_msg_tables:
   forall m c tp, find_topic (nm_topics m) c = Some tp -> topic_msg (make_tables m) c = tp_msg tp.
@@ -338,36 +342,38 @@ Qed.
     types. *)
 Lemma wf_inrel:
   forall m ir, wf_facts m -> In ir (nm_inrels m) ->
-  exists tp q,
+  exists tp t q,
      find_topic (nm_topics m) (ir_topic ir) = Some tp /\ is_subscribed tp = true
-  /\ find_assoc (ir_input ir) (nm_inputs m) = Some q
+  /\ find_assoc (ir_input ir) (nm_inputs m) = Some t /\ ctrl_prim t (ir_elem ir) = Some q
   /\ resolve (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir) = Some (FTprim q).
 Proof.
   intros m ir W Hin. generalize (wf_inrels m W ir Hin); unfold inrel_ok.
   rewrite tables_topics, tables_inputs.
   destruct (find_topic (nm_topics m) (ir_topic ir)) as [tp|]; [|discriminate].
-  destruct (find_assoc (ir_input ir) (nm_inputs m)) as [q|]; [|rewrite andb_false_r; discriminate].
+  destruct (find_assoc (ir_input ir) (nm_inputs m)) as [t|]; [|rewrite andb_false_r; discriminate].
+  destruct (ctrl_prim t (ir_elem ir)) as [q|] eqn:Q; [|rewrite andb_false_r; discriminate].
   destruct (resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir)) as [q'|] eqn:R;
     [|rewrite andb_false_r; discriminate].
   rewrite andb_true_iff, prim_eqb_true; intros [S <-].
-  exists tp, q'; repeat split; auto. apply resolve_prim_inv; auto.
+  exists tp, t, q'; repeat split; auto. apply resolve_prim_inv; auto.
 Qed.
 
 Lemma wf_outrel:
   forall m o, wf_facts m -> In o (nm_outrels m) ->
-  exists tp q,
+  exists tp t q,
      find_topic (nm_topics m) (or_topic o) = Some tp /\ is_published tp = true
-  /\ find_assoc (or_output o) (nm_outputs m) = Some q
+  /\ find_assoc (or_output o) (nm_outputs m) = Some t /\ ctrl_prim t (or_elem o) = Some q
   /\ resolve (nm_msgs m) (FTmsg (tp_msg tp)) (or_path o) = Some (FTprim q).
 Proof.
   intros m o W Hin. generalize (wf_outrels m W o Hin); unfold outrel_ok.
   rewrite tables_topics, tables_outputs.
-  destruct (find_assoc (or_output o) (nm_outputs m)) as [q|]; [|discriminate].
+  destruct (find_assoc (or_output o) (nm_outputs m)) as [t|]; [|discriminate].
+  destruct (ctrl_prim t (or_elem o)) as [q|] eqn:Q; [|discriminate].
   destruct (find_topic (nm_topics m) (or_topic o)) as [tp|]; [|discriminate].
   destruct (resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (or_path o)) as [q'|] eqn:R;
     [|rewrite andb_false_r; discriminate].
   rewrite andb_true_iff, prim_eqb_true; intros [S <-].
-  exists tp, q'; repeat split; auto. apply resolve_prim_inv; auto.
+  exists tp, t, q'; repeat split; auto. apply resolve_prim_inv; auto.
 Qed.
 
 (** Rule 4.12: a derived input is about a subscribed topic and feeds a
@@ -376,12 +382,12 @@ Lemma wf_drel:
   forall m dr, wf_facts m -> In dr (nm_drels m) ->
   exists tp,
      find_topic (nm_topics m) (dr_topic dr) = Some tp /\ is_subscribed tp = true
-  /\ find_assoc (dr_input dr) (nm_inputs m) = Some (derived_prim (dr_kind dr)).
+  /\ find_assoc (dr_input dr) (nm_inputs m) = Some (FTprim (derived_prim (dr_kind dr))).
 Proof.
   intros m dr W Hin. generalize (wf_drels m W dr Hin); unfold drel_ok.
   rewrite tables_topics, tables_inputs.
   destruct (find_topic (nm_topics m) (dr_topic dr)) as [tp|]; [|discriminate].
-  destruct (find_assoc (dr_input dr) (nm_inputs m)) as [q|]; [|rewrite andb_false_r; discriminate].
+  destruct (find_assoc (dr_input dr) (nm_inputs m)) as [[q| |]|]; try (rewrite andb_false_r; discriminate).
   rewrite andb_true_iff, prim_eqb_true. intros [S <-]. eauto.
 Qed.
 
@@ -390,11 +396,11 @@ Qed.
 Lemma wf_fallback:
   forall m x v, wf_facts m -> In (x, v) (nm_fallbacks m) ->
   exists q ir t,
-     find_assoc x (nm_inputs m) = Some q /\ val_has_type v (ctype_of_prim q)
+     find_assoc x (nm_inputs m) = Some (FTprim q) /\ val_has_type v (ctype_of_prim q)
   /\ In ir (nm_inrels m) /\ ir_input ir = x /\ In (ir_topic ir, t) (nm_timeouts m).
 Proof.
   intros m x v W Hin. generalize (wf_fallbacks m W (x, v) Hin); unfold fallback_ok; cbn [fst snd].
-  rewrite tables_inputs. destruct (find_assoc x (nm_inputs m)) as [q|]; [|discriminate].
+  rewrite tables_inputs. destruct (find_assoc x (nm_inputs m)) as [[q| |]|]; try discriminate.
   rewrite andb_true_iff, val_has_typeb_correct, existsb_exists. intros [T (ir & Hir & E)].
   rewrite andb_true_iff, ident_eqb_true, existsb_exists in E. destruct E as [Ex ((c & t) & Hct & Ec)].
   apply ident_eqb_true in Ec. simpl in Ec. subst c. exists q, ir, t; auto.
@@ -411,31 +417,41 @@ Proof.
   rewrite !andb_true_iff, !Z.leb_le. intros [[S L] U]. exists tp; auto.
 Qed.
 
-(** The number of input relations and derived inputs that feed
-    controller input [x]. *)
-Definition feeds (m : node_model) (x : ident) : nat :=
-  length (filter (fun y => ident_eqb y x) (fed_list m)).
+(** The number of input relations and derived inputs that feed the
+    leaf [p] of controller input [x]. *)
+Definition target_eqb (a b : ident * path) : bool := ident_eqb (fst a) (fst b) && path_eqb (snd a) (snd b).
+
+Lemma target_eqb_true: forall a b, target_eqb a b = true <-> a = b.
+Proof.
+  intros [x p] [y q]; unfold target_eqb; simpl. rewrite andb_true_iff, ident_eqb_true, path_eqb_iff.
+  split; [intros [-> ->]; auto|intros E; inversion E; auto].
+Qed.
+
+Definition feeds (m : node_model) (x : ident) (p : path) : nat :=
+  length (filter (fun y => target_eqb y (x, p)) (fed_list m)).
 
 Lemma filter_nodup_single:
-  forall (l : list ident) x, NoDup l -> In x l -> filter (fun y => ident_eqb y x) l = [x].
+  forall (l : list (ident * path)) x, NoDup l -> In x l -> filter (fun y => target_eqb y x) l = [x].
 Proof.
   induction l as [|y l IH]; simpl; intros x ND H; [contradiction|].
   inversion ND as [|? ? Hn ND']; subst.
-  destruct (ident_eqb y x) eqn:E.
-  - apply ident_eqb_true in E; subst. f_equal.
-    destruct (filter (fun y => ident_eqb y x) l) as [|y' l'] eqn:F; auto.
-    assert (In y' (filter (fun y => ident_eqb y x) l)) by (rewrite F; simpl; auto).
-    apply filter_In in H0; destruct H0 as [H0 E']. apply ident_eqb_true in E'. subst. contradiction.
-  - destruct H as [H|H]; [apply ident_eqb_false in E; contradiction|]. apply IH; auto.
+  destruct (target_eqb y x) eqn:E.
+  - apply target_eqb_true in E; subst. f_equal.
+    destruct (filter (fun y => target_eqb y x) l) as [|y' l'] eqn:F; auto.
+    assert (In y' (filter (fun y => target_eqb y x) l)) by (rewrite F; simpl; auto).
+    apply filter_In in H0; destruct H0 as [H0 E']. apply target_eqb_true in E'. subst. contradiction.
+  - destruct H as [H|H]; [subst; rewrite (proj2 (target_eqb_true x x) eq_refl) in E; discriminate|].
+    apply IH; auto.
 Qed.
 
-(** Every controller input is fed exactly once, by an input relation or
-    a derived input. *)
-Lemma wf_feeds: forall m, wf_facts m -> forall x q, In (x, q) (nm_inputs m) -> feeds m x = 1%nat.
+(** Every leaf of every controller input is fed exactly once, by an
+    input relation or a derived input. *)
+Lemma wf_feeds:
+  forall m, wf_facts m -> forall x p q, In (x, p, q) (ctrl_leaves (nm_inputs m)) -> feeds m x p = 1%nat.
 Proof.
-  intros m W x q H. unfold feeds. rewrite filter_nodup_single; auto.
+  intros m W x p q H. unfold feeds. rewrite filter_nodup_single; auto.
   - apply wf_fed_nodup; auto.
-  - apply (wf_inputs_fed m W x q H).
+  - apply (wf_inputs_fed m W x p q H).
 Qed.
 
 (** ** Messages: scopes, resolution and leaves *)
@@ -830,6 +846,45 @@ Proof.
   intros M p q H. apply (resolve_type_of_path _ _ _ (FTmsg M) (FTprim q) H).
 Qed.
 
+(** The leaves of a controller field: the field itself if it is a
+    primitive, one element [[i]] if it is an array. *)
+Lemma ctrl_leaf_cases:
+  forall t p q, ctrl_ftype_ok t = true -> ctrl_prim t p = Some q ->
+  (t = FTprim q /\ p = [])
+  \/ (exists n i, t = FTarray (FTprim q) n /\ p = [PIndex i] /\ (0 <= i < n)%Z).
+Proof.
+  unfold ctrl_prim, resolve_prim. intros t p q OK R.
+  destruct t as [q'| |[q'| |] n]; simpl in OK; try discriminate.
+  - destruct p as [|[f|i] p]; simpl in R; try discriminate. inversion R; auto.
+  - destruct p as [|[f|i] p]; simpl in R; try discriminate.
+    destruct ((0 <=? i) && (i <? n))%Z eqn:B; [|discriminate].
+    destruct p as [|s p]; simpl in R; [|destruct s; discriminate].
+    inversion R; subst. right. exists n, i. apply andb_true_iff in B as [B1 B2].
+    apply Z.leb_le in B1; apply Z.ltb_lt in B2. auto.
+Qed.
+
+(** A leaf of a controller field resolves the same in any message list. *)
+Lemma ctrl_leaf_resolve:
+  forall msgs seen t p q, ctrl_ftype_ok t = true -> ctrl_prim t p = Some q ->
+  ftype_ok seen t = true /\ resolve msgs t p = Some (FTprim q).
+Proof.
+  intros msgs seen t p q OK R.
+  destruct (ctrl_leaf_cases t p q OK R) as [[-> ->]|(n & i & -> & -> & B)]; simpl; auto.
+  simpl in OK. rewrite OK. split; auto.
+  replace ((0 <=? i) && (i <? n))%Z with true; auto.
+  symmetry; apply andb_true_iff; split; [apply Z.leb_le|apply Z.ltb_lt]; lia.
+Qed.
+
+(** A leaf of a controller field has the C type of its primitive. *)
+Lemma ctrl_prim_type_of_path:
+  forall ce p t q, ctrl_prim t p = Some q -> type_of_path ce (ctype_of_ftype t) p = Some (ctype_of_prim q).
+Proof.
+  unfold ctrl_prim, resolve_prim. intros ce. induction p as [|[f|i] p IH]; intros t q H; simpl in *.
+  - destruct t; try discriminate. inversion H; auto.
+  - destruct t; simpl in H; discriminate.
+  - destruct t; simpl in H |- *; try discriminate. destruct (_ && _); [|discriminate]. apply IH; auto.
+Qed.
+
 (** A path to a scalar leaf of [M], from a place of type [struct M], is a
     well-typed place of the leaf's C type. *)
 Lemma leaf_path_expr_typed:
@@ -861,8 +916,8 @@ Proof.
 Qed.
 
 Lemma find_assoc_controller:
-  forall x fs q, find_assoc x fs = Some q ->
-  find_assoc x (map (fun xq => (fst xq, ctype_of_prim (snd xq))) fs) = Some (ctype_of_prim q).
+  forall x fs t, find_assoc x fs = Some t ->
+  find_assoc x (map (fun xt => (fst xt, ctype_of_ftype (snd xt))) fs) = Some (ctype_of_ftype t).
 Proof.
   induction fs as [|[y r] fs IH]; simpl; intros q H; [discriminate|].
   destruct (string_dec x y); [congruence|auto].
@@ -870,7 +925,7 @@ Qed.
 
 Lemma field_type_inputs:
   forall x q, find_assoc x (nm_inputs m) = Some q ->
-  field_type (composites m) (nm_in_struct m) x = Some (ctype_of_prim q).
+  field_type (composites m) (nm_in_struct m) x = Some (ctype_of_ftype q).
 Proof.
   intros x q H; unfold field_type, composites.
   rewrite find_composite_skip_msgs by apply in_struct_not_msg.
@@ -880,7 +935,7 @@ Qed.
 
 Lemma field_type_outputs:
   forall x q, find_assoc x (nm_outputs m) = Some q ->
-  field_type (composites m) (nm_out_struct m) x = Some (ctype_of_prim q).
+  field_type (composites m) (nm_out_struct m) x = Some (ctype_of_ftype q).
 Proof.
   intros x q H; unfold field_type, composites.
   rewrite find_composite_skip_msgs by apply out_struct_not_msg.
@@ -891,42 +946,60 @@ Proof.
   simpl; apply find_assoc_controller; auto.
 Qed.
 
+(** The leaf [p] of the controller input [x] of type [t] has the C type
+    of its primitive. *)
+Lemma input_leaf_type:
+  forall x t p q, find_assoc x (nm_inputs m) = Some t -> ctrl_prim t p = Some q ->
+  type_of_path (composites m) (Tstruct (nm_in_struct m)) (PField x :: p) = Some (ctype_of_prim q).
+Proof.
+  intros x t p q F Q. simpl. rewrite (field_type_inputs _ _ F). apply ctrl_prim_type_of_path; auto.
+Qed.
+
+Lemma output_leaf_type:
+  forall x t p q, find_assoc x (nm_outputs m) = Some t -> ctrl_prim t p = Some q ->
+  type_of_path (composites m) (Tstruct (nm_out_struct m)) (PField x :: p) = Some (ctype_of_prim q).
+Proof.
+  intros x t p q F Q. simpl. rewrite (field_type_outputs _ _ F). apply ctrl_prim_type_of_path; auto.
+Qed.
+
 (** The source and destination of the copy of an input relation are
     well-typed places of the input's C type. *)
 Lemma input_copy_typed:
   forall ir, In ir (nm_inrels m) ->
-     typeof (input_src m (make_tables m) ir) = ctype_of_prim (input_prim (make_tables m) (ir_input ir))
+     typeof (input_src m (make_tables m) ir) = ctype_of_prim (inrel_prim (make_tables m) ir)
   /\ wt_place (composites m) (input_src m (make_tables m) ir)
-  /\ typeof (input_dst m (make_tables m) ir) = ctype_of_prim (input_prim (make_tables m) (ir_input ir))
-  /\ wt_place (composites m) (input_dst m (make_tables m) ir).
+  /\ typeof (input_dst m ir) = ctype_of_prim (inrel_prim (make_tables m) ir)
+  /\ wt_place (composites m) (input_dst m ir).
 Proof.
-  intros ir Hin. destruct (wf_inrel m ir W Hin) as (tp & q & F & S & I & R).
+  intros ir Hin. destruct (wf_inrel m ir W Hin) as (tp & t & q & F & S & I & Q & R).
   destruct (leaf_path_expr_typed (tp_msg tp) (ir_path ir) q
               (Evar (msg_var (ir_topic ir)) (Tstruct (tp_msg tp))) R) as [T1 W1];
     [reflexivity|constructor|].
-  unfold input_src, input_dst. rewrite (topic_msg_tables m _ _ F), (input_prim_tables m _ _ I).
-  split; [exact T1|]; split; [exact W1|]. split; [reflexivity|].
-  eapply wt_Efield; [constructor|reflexivity|apply field_type_inputs; auto].
+  unfold input_src, input_dst, inrel_prim. rewrite (topic_msg_tables m _ _ F), (input_prim_tables m _ _ _ _ I Q).
+  split; [exact T1|]; split; [exact W1|].
+  assert (TP := input_leaf_type _ _ _ _ I Q).
+  split; [apply typeof_path_expr; auto|]. eapply path_expr_wt; [constructor|]. exact TP.
 Qed.
 
 (** Same for output relations, writing into the message of a published
     topic [tp]. *)
 Lemma output_copy_typed:
   forall tp o, In tp (nm_topics m) -> In o (topic_outrels (make_tables m) (tp_cname tp)) ->
-     typeof (output_src m (make_tables m) o) = ctype_of_prim (output_prim (make_tables m) (or_output o))
-  /\ wt_place (composites m) (output_src m (make_tables m) o)
-  /\ typeof (output_dst m (tp_msg tp) o) = ctype_of_prim (output_prim (make_tables m) (or_output o))
+     typeof (output_src m o) = ctype_of_prim (outrel_prim (make_tables m) o)
+  /\ wt_place (composites m) (output_src m o)
+  /\ typeof (output_dst m (tp_msg tp) o) = ctype_of_prim (outrel_prim (make_tables m) o)
   /\ wt_place (composites m) (output_dst m (tp_msg tp) o).
 Proof.
   intros tp o Htp Ho. apply In_topic_outrels in Ho. destruct Ho as [Hin E].
-  destruct (wf_outrel m o W Hin) as (tp' & q & F & S & O & R).
+  destruct (wf_outrel m o W Hin) as (tp' & t & q & F & S & O & Q & R).
   rewrite E, (In_find_topic _ _ (wf_cnames_nodup m W) Htp) in F. inversion F; subst tp'.
-  rewrite (output_prim_tables m _ _ O).
+  unfold outrel_prim. rewrite (output_prim_tables m _ _ _ _ O Q).
   destruct (leaf_path_expr_typed (tp_msg tp) (or_path o) q (deref_param command_param (tp_msg tp)) R)
     as [T1 W1]; [auto|constructor|].
-  unfold output_src, output_dst, out_var_expr. rewrite (output_prim_tables m _ _ O).
-  split; [reflexivity|].
-  split; [eapply wt_Efield; [constructor|reflexivity|apply field_type_outputs; auto]|].
+  assert (TP := output_leaf_type _ _ _ _ O Q).
+  unfold output_src, output_dst, out_var_expr.
+  split; [apply typeof_path_expr; auto|].
+  split; [eapply path_expr_wt; [constructor|]; exact TP|].
   split; auto.
 Qed.
 
@@ -1022,12 +1095,13 @@ Theorem leaves_nodup:
 Proof. intros m id W; apply scope_leaves_nodup, wf_scope_ok; auto. Qed.
 
 Lemma wf_inputs_fed_rel:
-  forall m x q, wf_facts m -> In (x, q) (nm_inputs m) ->
-  (exists ir, In ir (nm_inrels m) /\ ir_input ir = x) \/ (exists dr, In dr (nm_drels m) /\ dr_input dr = x).
+  forall m x p q, wf_facts m -> In (x, p, q) (ctrl_leaves (nm_inputs m)) ->
+  (exists ir, In ir (nm_inrels m) /\ ir_input ir = x /\ ir_elem ir = p)
+  \/ (exists dr, In dr (nm_drels m) /\ dr_input dr = x /\ p = []).
 Proof.
-  intros m x q W H. generalize (wf_inputs_fed m W x q H); intros Hx.
+  intros m x p q W H. generalize (wf_inputs_fed m W x p q H); intros Hx.
   unfold fed_list in Hx. apply in_app_iff in Hx. destruct Hx as [Hx|Hx];
-    apply in_map_iff in Hx; destruct Hx as (r & E & Hr); eauto.
+    apply in_map_iff in Hx; destruct Hx as (r & E & Hr); inversion E; subst; eauto.
 Qed.
 
 (** A published field is fed by at most one output relation. *)

@@ -511,6 +511,67 @@ Proof.
   split; intros E; [apply NU | apply NY]; rewrite <- E; auto.
 Qed.
 
+(** Two distinct leaves of a controller field are disjoint: both are the
+    field itself, or two different elements. *)
+Lemma ctrl_leaves_disjoint:
+  forall t p1 p2 q1 q2, ctrl_ftype_ok t = true -> ctrl_prim t p1 = Some q1 -> ctrl_prim t p2 = Some q2 ->
+  p1 <> p2 -> path_disjoint (path_steps p1) (path_steps p2).
+Proof.
+  intros t p1 p2 q1 q2 OK R1 R2 N.
+  destruct (ctrl_leaf_cases t p1 q1 OK R1) as [[E1 ->]|(n1 & i1 & E1 & -> & B1)];
+  destruct (ctrl_leaf_cases t p2 q2 OK R2) as [[E2 ->]|(n2 & i2 & E2 & -> & B2)];
+    subst t; try discriminate; [congruence|].
+  simpl. left. intros E. inversion E. congruence.
+Qed.
+
+(** A leaf [v.x.p] of a controller field of type [t] in a global [v]:
+    the place of the field's leaf, of its primitive's type, read by a
+    scalar load. *)
+Lemma eval_ctrl_leaf:
+  forall ge e le mm v x t pa q id bv,
+  ctrl_ftype_ok t = true -> ctrl_prim t pa = Some q ->
+  Generator.field_type ce id x = Some (ctype_of_ftype t) ->
+  eval_lvalue ge e le mm (Evar v (Tstruct id)) = Some (bv, []) ->
+     eval_lvalue ge e le mm (path_expr ce (Evar v (Tstruct id)) (PField x :: pa)) = Some (bv, Sfield x :: path_steps pa)
+  /\ typeof (path_expr ce (Evar v (Tstruct id)) (PField x :: pa)) = ctype_of_prim q
+  /\ eval_expr ge e le mm (path_expr ce (Evar v (Tstruct id)) (PField x :: pa))
+     = load (ctype_of_prim q) mm bv (Sfield x :: path_steps pa).
+Proof.
+  intros ge e le mm v x t pa q id bv OK Q FT E.
+  destruct (ctrl_leaf_resolve msgs (md_names msgs) t pa q OK Q) as [Ft Rt].
+  assert (E1: eval_lvalue ge e le mm (Efield (Evar v (Tstruct id)) x (ctype_of_ftype t)) = Some (bv, [Sfield x])).
+  { change [Sfield x] with ([] ++ [Sfield x]). eapply eval_lvalue_field; [reflexivity|exact E]. }
+  assert (EQ: path_expr ce (Evar v (Tstruct id)) (PField x :: pa)
+              = path_expr ce (Efield (Evar v (Tstruct id)) x (ctype_of_ftype t)) pa).
+  { cbn [path_expr step_expr]. unfold step_type. cbn [typeof]. rewrite FT. reflexivity. }
+  destruct (eval_lvalue_path m W ge e le mm pa t (FTprim q) (Efield (Evar v (Tstruct id)) x (ctype_of_ftype t))
+              bv [Sfield x] Ft Rt eq_refl E1) as [A B].
+  rewrite <- EQ in A, B. split; [exact A|]. split; [exact B|].
+  destruct (path_expr_lvalue_form m (PField x :: pa) (Evar v (Tstruct id)) ltac:(discriminate))
+    as [(a & f & ty & Ea)|(a & i & ty & Ea)]; rewrite Ea in *.
+  - rewrite (eval_expr_lvalue ge e le mm (Efield a f ty) I). simpl in B. subst ty.
+    simpl typeof. rewrite A. reflexivity.
+  - rewrite (eval_expr_lvalue ge e le mm (Eindex a i ty) I). simpl in B. subst ty.
+    simpl typeof. rewrite A. reflexivity.
+Qed.
+
+(** The destinations of two input relations are the same leaf of the
+    controller's inputs or disjoint ones. *)
+Lemma input_leaves_disjoint:
+  forall ir1 ir2, In ir1 (nm_inrels m) -> In ir2 (nm_inrels m) ->
+  Sfield (ir_input ir1) :: path_steps (ir_elem ir1) <> Sfield (ir_input ir2) :: path_steps (ir_elem ir2) ->
+  path_disjoint (Sfield (ir_input ir1) :: path_steps (ir_elem ir1)) (Sfield (ir_input ir2) :: path_steps (ir_elem ir2)).
+Proof.
+  intros ir1 ir2 H1 H2 N. simpl.
+  destruct (string_dec (ir_input ir1) (ir_input ir2)) as [E|E]; [right|left; congruence].
+  destruct (wf_inrel m ir1 W H1) as (_ & t1 & q1 & _ & _ & I1 & Q1 & _).
+  destruct (wf_inrel m ir2 W H2) as (_ & t2 & q2 & _ & _ & I2 & Q2 & _).
+  rewrite E, I2 in I1. inversion I1; subst t2.
+  apply (ctrl_leaves_disjoint t1 _ _ q1 q2); auto.
+  - apply (wf_inputs_ok m W (ir_input ir1, t1)). apply find_assoc_In. rewrite E; auto.
+  - intros Ep. apply N. rewrite E, Ep. auto.
+Qed.
+
 Section INPUT.
 
 Variables (mm : mem) (bu : block).
@@ -523,13 +584,14 @@ Let sv (ir : inrel) : val := scalar_at (gval ir) (path_steps (ir_path ir)).
 
 Lemma input_source:
   forall ir, In ir (nm_inrels m) ->
-  exists tp q bg g x,
+  exists tp t q bg g x,
      tp_cname tp = ir_topic ir /\ In tp (subscribed m)
-  /\ find_assoc (ir_input ir) (nm_inputs m) = Some q
+  /\ find_assoc (ir_input ir) (nm_inputs m) = Some t
+  /\ ctrl_prim t (ir_elem ir) = Some q
   /\ resolve msgs (FTmsg (tp_msg tp)) (ir_path ir) = Some (FTprim q)
-  /\ input_prim (make_tables m) (ir_input ir) = q
+  /\ inrel_prim (make_tables m) ir = q
   /\ input_src m (make_tables m) ir = path_expr ce (Evar (msg_var (ir_topic ir)) (Tstruct (tp_msg tp))) (ir_path ir)
-  /\ input_dst m (make_tables m) ir = Efield (Evar (nm_in_var m) (Tstruct (nm_in_struct m))) (ir_input ir) (ctype_of_prim q)
+  /\ input_dst m ir = path_expr ce (Evar (nm_in_var m) (Tstruct (nm_in_struct m))) (PField (ir_input ir) :: ir_elem ir)
   /\ find_var ge (msg_var (ir_topic ir)) = Some (bg, Tstruct (tp_msg tp))
   /\ get_block mm bg = Some (Tstruct (tp_msg tp), g)
   /\ bg <> bu
@@ -539,25 +601,28 @@ Lemma input_source:
   /\ sv ir = x.
 Proof.
   intros ir Hir.
-  destruct (input_exprs m ir W Hir) as (tp & q & _ & Ec & Hs & I & R & Pq & Es & Ed).
+  destruct (input_exprs m ir W Hir) as (tp & t & q & _ & Ec & Hs & I & Q & R & Pq & Es & Ed).
   destruct (generate_callback m p tp GEN Hs) as [Fv _].
   destruct (gen_var _ _ Fv) as [bg Vg]. rewrite Ec in Vg.
   destruct (GT _ _ _ Vg) as (g & Gg & Hg). rewrite gen_types in Hg.
   destruct (leaf_typed m W _ _ _ g R Hg) as (x & Gx & Tx).
   assert (GV: global_value p mm (msg_var (ir_topic ir)) = Some g)
     by (unfold global_value; rewrite Vg, Gg; auto).
-  exists tp, q, bg, g, x. repeat split; auto.
+  exists tp, t, q, bg, g, x. repeat split; auto.
   - eapply globalenv_vars_disjoint; eauto. rewrite <- Ec. apply gen_in_out_vars; auto.
   - unfold sv, gval. rewrite GV. apply scalar_at_spec; auto.
 Qed.
 
 Lemma input_item_ok:
   forall ir, In ir (nm_inrels m) ->
-  item_ok ge [] ce _ (fun ir => input_prim (make_tables m) (ir_input ir)) (input_dst m (make_tables m)) (input_src m (make_tables m))
-          (fun ir => [Sfield (ir_input ir)]) sv (fun _ => True) mm bu (Tstruct (nm_in_struct m)) ir.
+  item_ok ge [] ce _ (fun ir => inrel_prim (make_tables m) ir) (input_dst m) (input_src m (make_tables m))
+          (fun ir => Sfield (ir_input ir) :: path_steps (ir_elem ir)) sv (fun _ => True) mm bu (Tstruct (nm_in_struct m)) ir.
 Proof.
   intros ir Hir.
-  destruct (input_source ir Hir) as (tp & q & bg & g & x & Ec & Hs & I & R & Pq & Es & Ed & Vg & Gg & Nbg & GV & Gx & Tx & Sx).
+  destruct (input_source ir Hir) as (tp & t & q & bg & g & x & Ec & Hs & I & Q & R & Pq & Es & Ed & Vg & Gg & Nbg & GV & Gx & Tx & Sx).
+  assert (OKt: ctrl_ftype_ok t = true) by (apply (wf_inputs_ok m W (ir_input ir, t)); apply find_assoc_In; auto).
+  destruct (ctrl_leaf_resolve msgs (md_names msgs) t (ir_elem ir) q OKt Q) as [Ft Rt].
+  assert (FT := field_type_inputs m W _ _ I).
   unfold item_ok. rewrite Pq, Es, Ed, Sx. repeat split.
   - intros le mm1 _ [Fn Fo].
     destruct (eval_leaf m W ge [] le mm1 (tp_msg tp) (ir_path ir) q
@@ -565,10 +630,16 @@ Proof.
     { eapply eval_lvalue_global_struct; eauto. }
     rewrite E. apply load_spec; [apply ctype_of_prim_scalar_type|].
     unfold load_path. rewrite Fo by auto. rewrite Gg. auto.
-  - intros le mm1 _. change [Sfield (ir_input ir)] with ([] ++ [Sfield (ir_input ir)]).
+  - intros le mm1 _. cbn [path_expr step_expr]. unfold step_type. cbn [typeof]. rewrite FT.
+    change (Sfield (ir_input ir) :: path_steps (ir_elem ir)) with ([Sfield (ir_input ir)] ++ path_steps (ir_elem ir)).
+    eapply (eval_lvalue_path m W); eauto.
+    change [Sfield (ir_input ir)] with ([] ++ [Sfield (ir_input ir)]).
     eapply eval_lvalue_field; [reflexivity|]. eapply eval_lvalue_global_struct; eauto.
+  - rewrite typeof_path_expr with (t := ctype_of_prim q); auto.
+    apply (input_leaf_type m W _ _ _ _ I Q).
   - auto.
-  - cbn [type_at]. rewrite type_step_field, (field_type_inputs m W _ _ I). auto.
+  - cbn [type_at]. rewrite type_step_field, FT.
+    rewrite (type_at_ctype m W); auto. rewrite Rt; auto.
 Qed.
 
 Lemma input_body:
@@ -577,7 +648,7 @@ Lemma input_body:
   mval_has_type ce (Tstruct (nm_in_struct m)) u0 ->
   exists le' mm' u,
      exec_stmt ctx ge [] le mm w
-       (seq_of (map (fun ir => copy (input_prim (make_tables m) (ir_input ir)) (input_dst m (make_tables m) ir) (input_src m (make_tables m) ir))
+       (seq_of (map (fun ir => copy (inrel_prim (make_tables m) ir) (input_dst m ir) (input_src m (make_tables m) ir))
                     (nm_inrels m))) [] le' mm' w Out_normal
   /\ get_block mm' bu = Some (Tstruct (nm_in_struct m), u)
   /\ unchanged_except mm mm' bu
@@ -585,22 +656,23 @@ Lemma input_body:
   /\ forall ir, In ir (nm_inrels m) ->
        exists g v, global_value p mm (msg_var (ir_topic ir)) = Some g
          /\ mval_get g (path_steps (ir_path ir)) = Some (MVscalar v)
-         /\ mval_get u [Sfield (ir_input ir)] = Some (MVscalar v).
+         /\ mval_get u (Sfield (ir_input ir) :: path_steps (ir_elem ir)) = Some (MVscalar v).
 Proof.
   intros CS ctx w le u0 Gu Hu0.
-  destruct (exec_copies ctx ge [] w ce _ (fun ir => input_prim (make_tables m) (ir_input ir)) (input_dst m (make_tables m)) (input_src m (make_tables m))
-              (fun ir => [Sfield (ir_input ir)]) sv (fun _ => True) (fun _ _ _ _ => I)
+  destruct (exec_copies ctx ge [] w ce _ (fun ir => inrel_prim (make_tables m) ir) (input_dst m) (input_src m (make_tables m))
+              (fun ir => Sfield (ir_input ir) :: path_steps (ir_elem ir)) sv (fun _ => True) (fun _ _ _ _ => I)
               mm bu (Tstruct (nm_in_struct m)) (nm_inrels m) le mm u0)
     as (le' & mm' & u & X & _ & Fr & G' & Hu & Set' & _); auto.
   - split; auto.
   - apply input_item_ok.
-  - rewrite <- (map_map ir_input (fun x => [Sfield x])). apply NoDup_map_inj.
-    + intros a b' E; inversion E; auto.
+  - rewrite <- (map_map (fun ir => (ir_input ir, ir_elem ir)) (fun xp => Sfield (fst xp) :: path_steps (snd xp))).
+    apply NoDup_map_inj.
+    + intros [x1 p1] [x2 p2] E; inversion E as [[E1 E2]]. apply path_steps_inj in E2. subst; auto.
     + apply wf_inrel_inputs_nodup; auto.
-  - intros a1 a2 _ _ N. simpl. left. congruence.
+  - intros a1 a2 H1 H2 N. apply input_leaves_disjoint; auto.
   - exists le', mm', u. repeat split; auto; try apply Fr.
     intros ir Hir.
-    destruct (input_source ir Hir) as (tp & q & bg & g & x & _ & _ & _ & _ & _ & _ & _ & _ & _ & _ & GV & Gx & _ & Sx).
+    destruct (input_source ir Hir) as (tp & t & q & bg & g & x & _ & _ & _ & _ & _ & _ & _ & _ & _ & _ & _ & GV & Gx & _ & Sx).
     exists g, x. repeat split; auto. rewrite Set'; auto. rewrite Sx; auto.
 Qed.
 
@@ -664,15 +736,34 @@ Lemma timed_of_cname:
   exists tp, In tp (timed m) /\ tp_cname tp = c.
 Proof. intros c T (tp & H & <-). exists tp; split; auto. apply in_timed; auto. Qed.
 
+(** An input relation into a scalar input feeds the input itself. *)
+Lemma scalar_input_elem:
+  forall ir q, In ir (nm_inrels m) -> find_assoc (ir_input ir) (nm_inputs m) = Some (FTprim q) -> ir_elem ir = [].
+Proof.
+  intros ir q H F. destruct (wf_inrel m ir W H) as (_ & t & q' & _ & _ & I & Q & _).
+  rewrite F in I; inversion I; subst t. destruct (ir_elem ir) as [|[f|i] pa]; auto; discriminate.
+Qed.
+
+Lemma input_dst_scalar:
+  forall ir q, In ir (nm_inrels m) -> find_assoc (ir_input ir) (nm_inputs m) = Some (FTprim q) ->
+  input_dst m ir = Efield (in_var_expr m) (ir_input ir) (ctype_of_prim q).
+Proof.
+  intros ir q H F. unfold input_dst. rewrite (scalar_input_elem ir q H F). cbn [path_expr step_expr].
+  unfold step_type, in_var_expr. cbn [typeof]. rewrite (field_type_inputs m W _ _ F). reflexivity.
+Qed.
+
 Lemma fallback_topic:
   forall ir fv, In ir (nm_inrels m) -> find_assoc (ir_input ir) (nm_fallbacks m) = Some fv ->
   exists tp t, In tp (timed m) /\ tp_cname tp = ir_topic ir /\ timeout_of m (ir_topic ir) = Some t
-            /\ val_has_type fv (ctype_of_prim (input_prim (make_tables m) (ir_input ir)))
+            /\ val_has_type fv (ctype_of_prim (inrel_prim (make_tables m) ir))
             /\ (0 < t * 1000000 < max_ulong)%Z.
 Proof.
   intros ir fv Hir F.
   destruct (wf_fallback m (ir_input ir) fv W (find_assoc_In _ _ _ _ F)) as (q & ir' & t & Q & Tv & Hir' & E & Ht).
-  assert (ir' = ir) by (apply (NoDup_map_eq _ _ ir_input (nm_inrels m)); auto; apply wf_inrel_inputs_nodup; auto).
+  assert (ir' = ir).
+  { apply (NoDup_map_eq _ _ (fun ir => (ir_input ir, ir_elem ir)) (nm_inrels m)); auto.
+    - apply wf_inrel_inputs_nodup; auto.
+    - rewrite (scalar_input_elem ir' q), (scalar_input_elem ir q), E; auto. rewrite E; auto. }
   subst ir'.
   destruct (wf_timeout m _ _ W Ht) as (tp & Ft & S & Rt).
   apply find_topic_In in Ft. destruct Ft as [Ft Ec].
@@ -688,7 +779,8 @@ Proof.
   exists tp, t. repeat split; auto.
   - apply in_timed; auto. rewrite Ec. unfold is_timed. apply orb_true_iff; left.
     apply existsb_exists. exists (ir_topic ir, t); split; auto. apply ident_eqb_refl.
-  - rewrite (input_prim_tables m _ _ Q); auto.
+  - unfold inrel_prim. rewrite (input_prim_tables m _ _ (ir_elem ir) q Q); auto.
+    rewrite (scalar_input_elem ir q); auto.
   - unfold max_timeout_ms in Rt. generalize (wf_period m W). lia.
   - unfold max_timeout_ms, max_ulong in *. lia.
 Qed.
@@ -696,7 +788,7 @@ Qed.
 Lemma drel_topic:
   forall dr, In dr (nm_drels m) ->
   exists tp, In tp (timed m) /\ tp_cname tp = dr_topic dr
-          /\ input_prim (make_tables m) (dr_input dr) = derived_prim (dr_kind dr).
+          /\ input_prim (make_tables m) (dr_input dr) [] = derived_prim (dr_kind dr).
 Proof.
   intros dr Hdr. destruct (wf_drel m dr W Hdr) as (tp & Ft & S & I).
   apply find_topic_In in Ft. destruct Ft as [Ft Ec].
@@ -705,7 +797,7 @@ Proof.
     + apply in_subscribed; split; auto. unfold is_subscribed in S; destruct (tp_dir tp); [auto|discriminate].
     + rewrite Ec. unfold is_timed. apply orb_true_iff; right.
       apply existsb_exists. exists dr; split; auto. apply ident_eqb_refl.
-  - apply input_prim_tables; auto.
+  - eapply input_prim_tables; eauto; reflexivity.
 Qed.
 
 Section FRESH.
@@ -801,7 +893,7 @@ Qed.
 (** A store into the field [x] of [Controller_U]. *)
 Lemma exec_store_input:
   forall le mm u x q rhs v,
-  find_assoc x (nm_inputs m) = Some q -> get_block mm bu = Some (UT, u) -> mval_has_type ce UT u ->
+  find_assoc x (nm_inputs m) = Some (FTprim q) -> get_block mm bu = Some (UT, u) -> mval_has_type ce UT u ->
   eval_expr ge [] le mm rhs = Some v -> val_has_type v (ctype_of_prim q) ->
   exists mm' u',
      exec_stmt ctx ge [] le mm w (Sassign (Efield (in_var_expr m) x (ctype_of_prim q)) rhs) [] le mm' w Out_normal
@@ -877,8 +969,9 @@ Proof.
   specialize (Hle (reads_age_fallback m ir Hir HF)) as Hnow.
   unfold has_fallback in HF. destruct (find_assoc (ir_input ir) (nm_fallbacks m)) as [fv|] eqn:F; [|discriminate].
   destruct (fallback_topic ir fv Hir F) as (tp & t & Ht & Ec & TO & Tv & Rt).
-  destruct (wf_inrel m ir W Hir) as (tp' & q & _ & _ & I & _).
-  assert (Pq: input_prim (make_tables m) (ir_input ir) = q) by (apply input_prim_tables; auto).
+  destruct (wf_fallback m (ir_input ir) fv W (find_assoc_In _ _ _ _ F)) as (q & _ & _ & I & _).
+  assert (Pq: inrel_prim (make_tables m) ir = q).
+  { unfold inrel_prim. rewrite (scalar_input_elem ir q Hir I). eapply input_prim_tables; eauto; reflexivity. }
   rewrite Pq in Tv.
   set (age := age_ns (snd (ck (ir_topic ir))) now).
   set (le1 := set_assoc age_temp (Vlong age) le).
@@ -901,7 +994,7 @@ Proof.
     exists le1, mm', u'. repeat split; auto.
     + change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; [exact X1|].
       eapply exec_Sifthenelse; [exact EC|reflexivity|]. simpl.
-      unfold input_dst, in_var_expr. rewrite Pq. exact X2.
+      rewrite (input_dst_scalar ir q Hir I), Pq. exact X2.
     + destruct Fr as [Fn Fo]. congruence.
     + intros b' N. destruct Fr as [Fn Fo]. rewrite O' by auto. auto.
     + eapply mval_get_set_same; eauto.
@@ -1100,12 +1193,17 @@ Proof.
                   forall ir, In ir (nm_inrels m) ->
                   exists g v, global_value p mm (msg_var (ir_topic ir)) = Some g
                     /\ mval_get g (path_steps (ir_path ir)) = Some (MVscalar v)
-                    /\ mval_get u [Sfield (ir_input ir)] = Some (MVscalar (fed_value m ir v (snd (ck (ir_topic ir))) (w_time w)))).
+                    /\ mval_get u (Sfield (ir_input ir) :: path_steps (ir_elem ir))
+                       = Some (MVscalar (fed_value m ir v (snd (ck (ir_topic ir))) (w_time w)))).
     { intros u KEEP SET ir Hir. destruct (Rel1 ir Hir) as (g & v & GV & Gg & Gu1).
       exists g, v. repeat split; auto. unfold fed_value.
       destruct (find_assoc (ir_input ir) (nm_fallbacks m)) as [fv|] eqn:F.
-      - rewrite (SET ir Hir fv F). destruct (stale m (ir_topic ir) (snd (ck (ir_topic ir))) (w_time w)); auto.
-      - rewrite (KEEP ir Hir F), Gu1. destruct (stale _ _ _ _); auto. }
+      - destruct (wf_fallback m (ir_input ir) fv W (find_assoc_In _ _ _ _ F)) as (q & _ & _ & I & _).
+        rewrite (scalar_input_elem ir q Hir I) in Gu1 |- *. change (path_steps []) with (@nil step) in Gu1 |- *.
+        rewrite (SET ir Hir fv F). destruct (stale m (ir_topic ir) (snd (ck (ir_topic ir))) (w_time w)); auto.
+      - change (Sfield (ir_input ir) :: path_steps (ir_elem ir))
+          with ([Sfield (ir_input ir)] ++ path_steps (ir_elem ir)) in Gu1 |- *.
+        rewrite mval_get_app in Gu1 |- *. rewrite (KEEP ir Hir F), Gu1. destruct (stale _ _ _ _); auto. }
     rewrite Fbody. destruct (timed m) as [|tp0 l] eqn:TM.
     + (* no timed topic: no fallback, no derived input *)
       assert (NF: nm_fallbacks m = []).
@@ -1139,14 +1237,23 @@ Proof.
         apply exec_now_call; auto. }
       set (L := map inl (filter (has_fallback m) (nm_inrels m)) ++ map inr (nm_drels m)).
       assert (NDL: NoDup (map item_field L)).
-      { unfold L. rewrite map_app, !map_map. cbn [item_field].
+      { apply (NoDup_map_inv (fun x => (x, @nil pstep))). rewrite map_map.
+        assert (E: map (fun a => (item_field a, @nil pstep)) L
+                   = map (fun ir => (ir_input ir, ir_elem ir)) (filter (has_fallback m) (nm_inrels m))
+                     ++ map (fun dr => (dr_input dr, @nil pstep)) (nm_drels m)).
+        { unfold L. rewrite map_app, !map_map. f_equal. apply map_ext_in. intros ir Hx.
+          apply filter_In in Hx. destruct Hx as [Hir HF]. unfold has_fallback in HF.
+          destruct (find_assoc (ir_input ir) (nm_fallbacks m)) as [fv|] eqn:F; [|discriminate].
+          destruct (wf_fallback m (ir_input ir) fv W (find_assoc_In _ _ _ _ F)) as (q & _ & _ & I & _).
+          cbn [item_field]. rewrite (scalar_input_elem ir q Hir I). reflexivity. }
+        rewrite E.
         generalize (wf_fed_nodup m W). unfold fed_list. intros N.
         apply NoDup_app_inv in N. destruct N as (N1 & N2 & D).
         apply NoDup_app_intro.
-        - apply (NoDup_map_filter _ _ ir_input); auto.
+        - apply (NoDup_map_filter _ _ (fun ir => (ir_input ir, ir_elem ir))); auto.
         - exact N2.
         - intros x Hx. apply in_map_iff in Hx. destruct Hx as (ir & <- & Hx). apply filter_In in Hx.
-          apply D. apply in_map; tauto. }
+          apply D. apply (in_map (fun ir => (ir_input ir, ir_elem ir))); tauto. }
       assert (RUN: forall a, In a L -> item_run ctx w mm1 bu ck a).
       { intros a Ha. unfold L in Ha. apply in_app_iff in Ha. destruct Ha as [Ha|Ha];
           apply in_map_iff in Ha; destruct Ha as (r & <- & Hr);
@@ -1177,12 +1284,14 @@ Proof.
            ++ intros ir Hir F. apply Keep3. unfold L. rewrite map_app, !map_map, in_app_iff. cbn [item_field].
               intros [Hx|Hx]; apply in_map_iff in Hx.
               ** destruct Hx as (ir' & E & Hir'). apply filter_In in Hir'. destruct Hir' as [Hir' HF].
-                 assert (ir' = ir) by (apply (NoDup_map_eq _ _ ir_input (nm_inrels m)); auto; apply wf_inrel_inputs_nodup; auto).
-                 subst ir'. unfold has_fallback in HF. rewrite F in HF. discriminate.
+                 unfold has_fallback in HF. rewrite E, F in HF. discriminate.
               ** destruct Hx as (dr & E & Hdr). generalize (wf_fed_nodup m W). unfold fed_list. intros N.
-                 apply NoDup_app_inv in N. destruct N as (_ & _ & D). apply (D (ir_input ir)).
-                 --- apply in_map; auto.
-                 --- rewrite <- E. apply in_map; auto.
+                 apply NoDup_app_inv in N. destruct N as (_ & _ & D).
+                 destruct (wf_drel m dr W Hdr) as (_ & _ & _ & I). rewrite E in I.
+                 apply (D (ir_input ir, ir_elem ir)).
+                 --- apply (in_map (fun ir => (ir_input ir, ir_elem ir))); auto.
+                 --- rewrite (scalar_input_elem ir _ Hir I), <- E.
+                     apply (in_map (fun dr => (dr_input dr, @nil pstep))); auto.
            ++ intros ir Hir fv F.
               assert (Ha: In (inl ir) L).
               { unfold L. apply in_app_iff. left. apply in_map. apply filter_In. split; auto.
@@ -1284,45 +1393,51 @@ Proof.
       eapply mval_get_set_disjoint; eauto. apply (Dp (lp, q)); simpl; auto.
 Qed.
 
-Let sv (o : outrel) : val := scalar_at y [Sfield (or_output o)].
+Let sv (o : outrel) : val := scalar_at y (Sfield (or_output o) :: path_steps (or_elem o)).
 
 Lemma output_source:
   forall o, In o (topic_outrels (make_tables m) c) ->
-  exists q x,
+  exists t q x,
      In o (nm_outrels m) /\ or_topic o = c
-  /\ find_assoc (or_output o) (nm_outputs m) = Some q
+  /\ find_assoc (or_output o) (nm_outputs m) = Some t
+  /\ ctrl_ftype_ok t = true
+  /\ ctrl_prim t (or_elem o) = Some q
   /\ resolve msgs (FTmsg M) (or_path o) = Some (FTprim q)
-  /\ output_prim (make_tables m) (or_output o) = q
-  /\ output_src m (make_tables m) o = Efield (Evar (nm_out_var m) (Tstruct (nm_out_struct m))) (or_output o) (ctype_of_prim q)
+  /\ outrel_prim (make_tables m) o = q
+  /\ output_src m o = path_expr ce (Evar (nm_out_var m) (Tstruct (nm_out_struct m))) (PField (or_output o) :: or_elem o)
   /\ output_dst m M o = path_expr ce cmdE (or_path o)
-  /\ mval_get y [Sfield (or_output o)] = Some (MVscalar x)
+  /\ mval_get y (Sfield (or_output o) :: path_steps (or_elem o)) = Some (MVscalar x)
   /\ val_has_type x (ctype_of_prim q)
   /\ sv o = x.
 Proof.
   intros o Ho.
   assert (Ht: In tp (nm_topics m)) by (apply in_published in Htp; tauto).
-  destruct (output_exprs m tp o W Ht Ho) as (q & Hin & Ec & _ & O & R & Pq & Es & Ed).
-  assert (T: type_at ce (Tstruct (nm_out_struct m)) [Sfield (or_output o)] = Some (ctype_of_prim q)).
-  { cbn [type_at]. rewrite type_step_field, (field_type_outputs m W _ _ O). auto. }
+  destruct (output_exprs m tp o W Ht Ho) as (t & q & Hin & Ec & _ & O & Q & R & Pq & Es & Ed).
+  assert (OKt: ctrl_ftype_ok t = true) by (apply (wf_outputs_ok m W (or_output o, t)); apply find_assoc_In; auto).
+  destruct (ctrl_leaf_resolve msgs (md_names msgs) t (or_elem o) q OKt Q) as [Ft Rt].
+  assert (T: type_at ce (Tstruct (nm_out_struct m)) (Sfield (or_output o) :: path_steps (or_elem o)) = Some (ctype_of_prim q)).
+  { cbn [type_at]. rewrite type_step_field, (field_type_outputs m W _ _ O).
+    rewrite (type_at_ctype m W); auto. rewrite Rt; auto. }
   destruct (mval_get_has_type _ _ _ _ _ Hy T) as (xv & Gx & Hx).
   assert (Hs: exists x, xv = MVscalar x /\ val_has_type x (ctype_of_prim q)).
   { inversion Hx; eauto; destruct q; discriminate. }
   destruct Hs as (x & -> & Tx).
-  exists q, x. repeat split; auto. unfold sv. apply scalar_at_spec; auto.
+  exists t, q, x. repeat split; auto. unfold sv. apply scalar_at_spec; auto.
 Qed.
 
 Lemma output_item_ok:
   forall o, In o (topic_outrels (make_tables m) c) ->
-  item_ok ge [] ce _ (fun o => output_prim (make_tables m) (or_output o)) (output_dst m M) (output_src m (make_tables m))
+  item_ok ge [] ce _ (fun o => outrel_prim (make_tables m) o) (output_dst m M) (output_src m)
           (fun o => path_steps (or_path o)) sv le_ok mm b (Tstruct M) o.
 Proof.
   intros o Ho.
-  destruct (output_source o Ho) as (q & x & Hin & Ec & O & R & Pq & Es & Ed & Gx & Tx & Sx).
+  destruct (output_source o Ho) as (t & q & x & Hin & Ec & O & OKt & Q & R & Pq & Es & Ed & Gx & Tx & Sx).
   unfold item_ok. rewrite Pq, Es, Ed, Sx. repeat split.
   - intros le mm1 _ [Fn Fo].
-    rewrite (eval_expr_lvalue ge [] le mm1 (Efield _ _ _) I).
-    erewrite eval_lvalue_field; [|reflexivity|eapply eval_lvalue_global_struct; eauto]. simpl.
-    apply load_spec; [apply ctype_of_prim_scalar_type|].
+    destruct (eval_ctrl_leaf ge [] le mm1 (nm_out_var m) (or_output o) t (or_elem o) q (nm_out_struct m) by_
+                OKt Q (field_type_outputs m W _ _ O)) as (_ & _ & EV).
+    { eapply eval_lvalue_global_struct; eauto. }
+    rewrite EV. apply load_spec; [apply ctype_of_prim_scalar_type|].
     unfold load_path. rewrite Fo by (apply not_eq_sym, Nby). rewrite Gy. auto.
   - intros le mm1 Hle.
     destruct (eval_leaf m W ge [] le mm1 M (or_path o) q cmdE b [] R) as (A & _ & _); auto.
@@ -1341,7 +1456,7 @@ Qed.
 Definition base_value (mv : mval) : Prop :=
   mval_has_type ce (Tstruct M) mv
   /\ (forall o, In o (nm_outrels m) -> or_topic o = c ->
-        exists v, mval_get y [Sfield (or_output o)] = Some (MVscalar v)
+        exists v, mval_get y (Sfield (or_output o) :: path_steps (or_elem o)) = Some (MVscalar v)
                /\ mval_get mv (path_steps (or_path o)) = Some (MVscalar v))
   /\ (forall lp q, resolve msgs (FTmsg M) lp = Some (FTprim q) ->
         (forall o, In o (nm_outrels m) -> or_topic o = c -> or_path o <> lp) ->
@@ -1355,7 +1470,7 @@ Lemma output_body:
   exists le' mm' mv,
      exec_stmt ctx ge [] le mm w
        (Ssequence (seq_of (map (leaf_zero ce cmdE) (leaves msgs M)))
-                  (seq_of (map (fun o => copy (output_prim (make_tables m) (or_output o)) (output_dst m M o) (output_src m (make_tables m) o))
+                  (seq_of (map (fun o => copy (outrel_prim (make_tables m) o) (output_dst m M o) (output_src m o))
                                (topic_outrels (make_tables m) c)))) [] le' mm' w Out_normal
   /\ le_ok le'
   /\ get_block mm' b = Some (Tstruct M, mv)
@@ -1382,10 +1497,10 @@ Proof.
                  path_steps (or_path o1) <> path_steps (or_path o2) ->
                  path_disjoint (path_steps (or_path o1)) (path_steps (or_path o2))).
   { intros o1 o2 H1 H2 N.
-    destruct (output_source o1 H1) as (q1 & _ & _ & _ & _ & R1 & _).
-    destruct (output_source o2 H2) as (q2 & _ & _ & _ & _ & R2 & _).
+    destruct (output_source o1 H1) as (t1 & q1 & _ & _ & _ & _ & _ & _ & R1 & _).
+    destruct (output_source o2 H2) as (t2 & q2 & _ & _ & _ & _ & _ & _ & R2 & _).
     apply (leaves_disjoint m _ _ (FTmsg M) q1 q2 R1 R2). congruence. }
-  destruct (exec_copies ctx ge [] w ce _ (fun o => output_prim (make_tables m) (or_output o)) (output_dst m M) (output_src m (make_tables m))
+  destruct (exec_copies ctx ge [] w ce _ (fun o => outrel_prim (make_tables m) o) (output_dst m M) (output_src m)
               (fun o => path_steps (or_path o)) sv le_ok output_le_ok_set mm b (Tstruct M)
               (topic_outrels (make_tables m) c) le mm1 z Hle Fr1 G1 Hz output_item_ok ND1 DJ1)
     as (le' & mm' & mv & X2 & Hle' & Fr & G' & Hmv & Set' & Keep').
@@ -1395,11 +1510,11 @@ Proof.
       * intros o Ho Eo.
         assert (Ho': In o (topic_outrels (make_tables m) c)).
         { apply In_topic_outrels; auto. }
-        destruct (output_source o Ho') as (q & x & _ & _ & _ & _ & _ & _ & _ & Gx & _ & Sx).
+        destruct (output_source o Ho') as (t & q & x & _ & _ & _ & _ & _ & _ & _ & _ & _ & Gx & _ & Sx).
         exists x. split; auto. rewrite Set'; auto. rewrite Sx; auto.
       * intros lp q R NF. rewrite Keep'.
         { unfold z. apply gen_zero_leaf; auto. }
-        intros o Ho. destruct (output_source o Ho) as (q' & _ & Hin & Ec & _ & R' & _).
+        intros o Ho. destruct (output_source o Ho) as (t' & q' & _ & Hin & Ec & _ & _ & _ & R' & _).
         apply (leaves_disjoint m _ _ (FTmsg M) q' q R' R). apply NF; auto.
     + destruct Fr as [Fn Fo]. split; auto.
 Qed.
@@ -1665,7 +1780,7 @@ Proof.
         rewrite copies_map. exact X. }
       assert (ROUT: forall o, In o (nm_outrels m) -> or_topic o = tp_cname tp ->
                     exists q, resolve msgs (FTmsg (tp_msg tp)) (or_path o) = Some (FTprim q)).
-      { intros o Ho Eo. destruct (wf_outrel m o W Ho) as (tp' & q & Ft & _ & _ & R).
+      { intros o Ho Eo. destruct (wf_outrel m o W Ho) as (tp' & t & q & Ft & _ & _ & _ & R).
         rewrite Eo, FT in Ft. inversion Ft; subst tp'. eauto. }
       destruct (topic_stamp m (tp_cname tp)) as [sp|] eqn:ST.
       + destruct (stamp_run tp Htp mm b GT NG CS ctx w le' mm' mv sp Hle' ST ltac:(intros b' Nb; destruct U1 as [_ U2']; auto) G' Tm)
@@ -1720,7 +1835,7 @@ Proof.
     + exists v3. split; [auto|split].
       * split; [exact H3|split; [|split; [|split]]].
         -- intros o Ho Eo. destruct (Rel2 o Ho Eo) as (v & Yv & Mv). exists v. split; auto.
-           destruct (wf_outrel m o W Ho) as (tp' & q & Ft & _ & _ & R).
+           destruct (wf_outrel m o W Ho) as (tp' & t & q & Ft & _ & _ & _ & R).
            rewrite Eo, FT in Ft. inversion Ft; subst tp'.
            rewrite (KL _ q R); auto.
            intros a Ha E. apply In_topic_stores in Ha. destruct Ha as (sp & bs & Hs & Ha).

@@ -557,7 +557,7 @@ Proof.
     by (apply In_find_topic; [apply wf_cnames_nodup; auto|apply in_subscribed in Hs; tauto]).
   unfold read_paths in Hr. apply in_app_iff in Hr as [Hr|Hr].
   - apply in_map_iff in Hr as (ir & <- & Hir). apply filter_In in Hir as [Hir E]. apply ident_eqb_true in E.
-    destruct (input_exprs m ir W Hir) as (tp' & q & F' & _ & _ & _ & R & _).
+    destruct (input_exprs m ir W Hir) as (tp' & t & q & F' & _ & _ & _ & _ & R & _).
     rewrite E, FT in F'. inversion F'; subst. eauto.
   - apply in_flat_map in Hr as ([c [s0 sp]] & Hin & Hr). cbn [fst snd] in Hr.
     destruct (ident_eqb s0 (tp_cname tp)) eqn:E; [|contradiction].
@@ -965,7 +965,7 @@ Proof.
     + simpl. unfold type_of_function. rewrite Fpar, Fret. auto.
   - split; [auto|split].
     + intros ir Hir. destruct (Rel ir Hir) as (g & v & GV & Gg & Gv).
-      destruct (input_exprs m ir W Hir) as (tp & q & _ & Ec & Hs & _).
+      destruct (input_exprs m ir W Hir) as (tp & t & q & _ & Ec & Hs & _).
       exists tp, v. repeat split; auto.
       * rewrite <- Ec in GV. destruct (li_msgs I tp Hs) as (g' & Gg' & Ag). rewrite Gg' in GV. inversion GV; subst g'.
         transitivity (mval_get g (path_steps (ir_path ir))); [symmetry; apply Ag|exact Gg].

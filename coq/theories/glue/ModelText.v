@@ -18,14 +18,16 @@
     period_ms N
     controller NAME
     inputs VAR STRUCT
-    input FIELD PRIM                      (one per controller input, in C order)
+    input FIELD CTYPE                     (one per controller input, in C order;
+                                           CTYPE: PRIM | array N PRIM)
     outputs VAR STRUCT
-    output FIELD PRIM
+    output FIELD CTYPE
     message STRUCT                        (one per message definition)
     field NAME FTYPE                      (FTYPE: PRIM | msg STRUCT | array N FTYPE)
     topic ROSNAME CNAME subscribe|publish TYPE QUEUE   (TYPE: the ROS type pkg/Type)
-    input_relation TOPIC PATH INPUT       (PATH: twist.linear.x, covariance[35])
-    output_relation OUTPUT TOPIC PATH
+    input_relation TOPIC PATH INPUT       (PATH: twist.linear.x, covariance[35];
+                                           INPUT: In1, or Scan[540] for an element)
+    output_relation OUTPUT TOPIC PATH     (OUTPUT: Out1, or Cmd[3])
     timeout TOPIC MS                      (rule 4.12, in topic order)
     fallback INPUT VALUE                  (VALUE: decimal integer, or a float's
                                            bits: 0x and 16 or 8 hex digits)
@@ -65,8 +67,8 @@ Definition path_text (p : NodeModel.path) : string := path_text_rec true p.
 Definition direction_text (d : direction) : string :=
   match d with Subscribe => "subscribe" | Publish => "publish" end.
 
-Definition field_lines (kw : string) (fs : list (ident * prim)) : list string :=
-  map (fun fp => kw ++ " " ++ fst fp ++ " " ++ prim_name (snd fp)) fs.
+Definition field_lines (kw : string) (fs : list (ident * ftype)) : list string :=
+  map (fun ft => kw ++ " " ++ fst ft ++ " " ++ ftype_text (snd ft)) fs.
 
 Definition msg_lines (md : msgdef) : list string :=
   ("message " ++ md_name md)
@@ -77,10 +79,12 @@ Definition topic_line (t : topic) : string :=
   ++ " " ++ tp_type t ++ " " ++ string_of_Z (Z.of_nat (tp_queue t)).
 
 Definition inrel_line (r : inrel) : string :=
-  "input_relation " ++ ir_topic r ++ " " ++ path_text (ir_path r) ++ " " ++ ir_input r.
+  "input_relation " ++ ir_topic r ++ " " ++ path_text (ir_path r) ++ " " ++ ir_input r
+  ++ path_text_rec false (ir_elem r).
 
 Definition outrel_line (r : outrel) : string :=
-  "output_relation " ++ or_output r ++ " " ++ or_topic r ++ " " ++ path_text (or_path r).
+  "output_relation " ++ or_output r ++ path_text_rec false (or_elem r) ++ " " ++ or_topic r
+  ++ " " ++ path_text (or_path r).
 
 (** A constant: an integer in decimal, a float as its IEEE bit pattern
     (also the diagram text's notation, [DiagramText]). *)

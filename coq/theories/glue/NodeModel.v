@@ -130,20 +130,33 @@ Definition path := list pstep.
 
 (** An input relation (an SI row of the paper's Table 1): the leaf
     [ir_path] of the last message received on topic [ir_topic] (a
-    [tp_cname]) feeds the controller input field [ir_input]. *)
-Record inrel : Type := mkinrel {
+    [tp_cname]) feeds the leaf [ir_elem] of the controller input field
+    [ir_input]: the field itself ([[]]) for a scalar input, one element
+    ([[PIndex i]]) of an array input (Embedded Coder's [real32_T
+    Scan[1081]]). *)
+Record inrel : Type := mkinrel_at {
   ir_topic : ident;
   ir_path : path;
-  ir_input : ident
+  ir_input : ident;
+  ir_elem : path
 }.
 
-(** An output relation (a PO row): the controller output field [or_output]
-    feeds the leaf [or_path] of the message published on [or_topic]. *)
-Record outrel : Type := mkoutrel {
+(** An input relation into a scalar input. *)
+Definition mkinrel (t : ident) (p : path) (x : ident) : inrel := mkinrel_at t p x [].
+
+(** An output relation (a PO row): the leaf [or_elem] of the controller
+    output field [or_output] (the field itself, or one element of an
+    array output) feeds the leaf [or_path] of the message published on
+    [or_topic]. *)
+Record outrel : Type := mkoutrel_at {
   or_output : ident;
+  or_elem : path;
   or_topic : ident;
   or_path : path
 }.
+
+(** An output relation from a scalar output. *)
+Definition mkoutrel (y : ident) (t : ident) (p : path) : outrel := mkoutrel_at y [] t p.
 
 (** ** Freshness *)
 
@@ -171,7 +184,8 @@ Record drel : Type := mkdrel {
     with functions [Controller_initialize] and [Controller_step]; its inputs
     are the global [nm_in_var] ([Controller_U]) of type [struct nm_in_struct]
     ([ExtU_Controller_T]) with fields [nm_inputs] in C order, and likewise
-    for the outputs.  [nm_msgs] lists the message definitions in dependency
+    for the outputs.  A controller field is a primitive or a fixed-size
+    array of a primitive ([Wellformed.ctrl_ftype_ok]).  [nm_msgs] lists the message definitions in dependency
     order (a message only refers to messages defined before it).
 
     Freshness (rule 4.12): [nm_timeouts] gives some subscribed topics (by
@@ -201,10 +215,10 @@ Record node_model : Type := mknode_model {
   nm_ctrl : ident;
   nm_in_var : ident;
   nm_in_struct : ident;
-  nm_inputs : list (ident * prim);
+  nm_inputs : list (ident * ftype);
   nm_out_var : ident;
   nm_out_struct : ident;
-  nm_outputs : list (ident * prim);
+  nm_outputs : list (ident * ftype);
   nm_msgs : list msgdef;
   nm_topics : list topic;
   nm_inrels : list inrel;
@@ -391,3 +405,14 @@ Proof.
   intros m t s sp H. unfold read_paths. split; apply in_or_app; right; apply in_flat_map;
     exists (t, (s, sp)); split; auto; simpl; rewrite ident_eqb_refl; simpl; auto.
 Qed.
+
+(** ** Controller fields *)
+
+(** The scalar leaves of controller fields: each scalar field itself,
+    each element of an array field, with its primitive. *)
+Definition ctrl_leaves (fs : list (ident * ftype)) : list (ident * path * prim) :=
+  flat_map (fun xt => map (fun lq => (fst xt, fst lq, snd lq)) (ftype_leaves (fun _ => []) (snd xt))) fs.
+
+(** Scalar controller fields, as the diagram language has them. *)
+Definition prim_fields (fs : list (ident * prim)) : list (ident * ftype) :=
+  map (fun xq => (fst xq, FTprim (snd xq))) fs.

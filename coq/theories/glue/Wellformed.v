@@ -96,8 +96,8 @@ Definition all_temps : list (ident * type) :=
     [find_topic], [find_assoc] and [filter]. *)
 Record tables : Type := mktables {
   tb_topics : ptree topic;
-  tb_inputs : ptree prim;
-  tb_outputs : ptree prim;
+  tb_inputs : ptree ftype;
+  tb_outputs : ptree ftype;
   tb_outrels : ptree (list outrel)
 }.
 
@@ -367,6 +367,18 @@ Fixpoint ftype_ok (seen : list ident) (t : ftype) : bool :=
   | FTarray t' n => (0 <? n)%Z && (n <=? max_array)%Z && ftype_ok seen t'
   end.
 
+(** Rule: a controller field is a primitive or a fixed-size array of a
+    primitive (Embedded Coder's [real32_T Scan[1081]]). *)
+Definition ctrl_ftype_ok (t : ftype) : bool :=
+  match t with
+  | FTprim _ => true
+  | FTarray (FTprim _) n => (0 <? n)%Z && (n <=? max_array)%Z
+  | _ => false
+  end.
+
+(** The primitive of the leaf [p] of a controller field of type [t]. *)
+Definition ctrl_prim (t : ftype) (p : path) : option prim := resolve_prim [] t p.
+
 (** Rule: a message has fields, distinct field names and good field types. *)
 Definition msgdef_ok (seen : list ident) (md : msgdef) : bool :=
   negb (null (md_fields md))
@@ -400,38 +412,42 @@ Definition inrel_ok (m : node_model) (tb : tables) (ir : inrel) : bool :=
       is_subscribed tp
       && match tget (enc_string (ir_input ir)) (tb_inputs tb) with
          | None => false
-         | Some q =>
-             match resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir) with
-             | None => false
-             | Some q' => prim_eqb q' q
+         | Some t =>
+             match ctrl_prim t (ir_elem ir), resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir) with
+             | Some q, Some q' => prim_eqb q' q
+             | _, _ => false
              end
          end
   end.
 
 (** Rule: an output relation writes a leaf of a published topic's message
-    whose primitive type is the controller output's. *)
+    whose primitive type is the controller output's leaf's. *)
 Definition outrel_ok (m : node_model) (tb : tables) (o : outrel) : bool :=
   match tget (enc_string (or_output o)) (tb_outputs tb) with
   | None => false
-  | Some q =>
-      match lookup_topic tb (or_topic o) with
+  | Some t =>
+      match ctrl_prim t (or_elem o) with
       | None => false
-      | Some tp =>
-          is_published tp
-          && match resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (or_path o) with
-             | None => false
-             | Some q' => prim_eqb q' q
-             end
+      | Some q =>
+          match lookup_topic tb (or_topic o) with
+          | None => false
+          | Some tp =>
+              is_published tp
+              && match resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (or_path o) with
+                 | None => false
+                 | Some q' => prim_eqb q' q
+                 end
+          end
       end
   end.
 
-(** The controller inputs fed by an input relation or a derived input,
-    in model order. *)
-Definition fed_list (m : node_model) : list ident :=
-  map ir_input (nm_inrels m) ++ map dr_input (nm_drels m).
+(** The leaves of controller inputs fed by an input relation or a
+    derived input, in model order: the input and the path in it. *)
+Definition fed_list (m : node_model) : list (ident * path) :=
+  map (fun ir => (ir_input ir, ir_elem ir)) (nm_inrels m) ++ map (fun dr => (dr_input dr, [])) (nm_drels m).
 
 Definition fed_inputs (m : node_model) : ptree unit :=
-  tset_of_list enc_string (fed_list m).
+  tset_of_list enc_target (fed_list m).
 
 (** Rule 4.13: a stamp is written in a published topic's message, at a
     field of type [time] (the message [ros_time] of two [uint32] fields
@@ -545,12 +561,12 @@ Definition timeout_of (m : node_model) (c : ident) : option Z := find_assoc c (n
     timeout. *)
 Definition fallback_ok (m : node_model) (tb : tables) (xv : ident * val) : bool :=
   match tget (enc_string (fst xv)) (tb_inputs tb) with
-  | None => false
-  | Some q =>
+  | Some (FTprim q) =>
       val_has_typeb (snd xv) (ctype_of_prim q)
       && existsb (fun ir => ident_eqb (ir_input ir) (fst xv)
                             && existsb (fun ct => ident_eqb (fst ct) (ir_topic ir)) (nm_timeouts m))
                  (nm_inrels m)
+  | _ => false
   end.
 
 (** The type of a derived input. *)
@@ -564,8 +580,8 @@ Definition drel_ok (m : node_model) (tb : tables) (dr : drel) : bool :=
   | Some tp =>
       is_subscribed tp
       && match tget (enc_string (dr_input dr)) (tb_inputs tb) with
-         | Some q => prim_eqb q (derived_prim (dr_kind dr))
-         | None => false
+         | Some (FTprim q) => prim_eqb q (derived_prim (dr_kind dr))
+         | _ => false
          end
   | None => false
   end.
@@ -584,14 +600,16 @@ Definition wf (m : node_model) : bool :=
   && nodup_keys enc_string (struct_names m)
   && msgs_ok [] (nm_msgs m)
   && negb (null (nm_inputs m)) && nodup_keys enc_string (map fst (nm_inputs m))
+  && forallb (fun xt => ctrl_ftype_ok (snd xt)) (nm_inputs m)
   && negb (null (nm_outputs m)) && nodup_keys enc_string (map fst (nm_outputs m))
+  && forallb (fun xt => ctrl_ftype_ok (snd xt)) (nm_outputs m)
   && forallb (topic_ok (nm_msgs m)) (nm_topics m)
   && forallb (inrel_ok m tb) (nm_inrels m)
   && forallb (timeout_ok m tb) (nm_timeouts m)
   && nodup_keys enc_string (map fst (nm_timeouts m))
   && forallb (drel_ok m tb) (nm_drels m)
-  && nodup_keys enc_string (fed_list m)
-  && forallb (fun xq => tmem enc_string (fst xq) fed) (nm_inputs m)
+  && nodup_keys enc_target (fed_list m)
+  && forallb (fun l => tmem enc_target (fst l) fed) (ctrl_leaves (nm_inputs m))
   && forallb (fallback_ok m tb) (nm_fallbacks m)
   && nodup_keys enc_string (map fst (nm_fallbacks m))
   && forallb (outrel_ok m tb) (nm_outrels m)
@@ -663,7 +681,12 @@ Definition inrel_check (m : node_model) (tb : tables) (ir : inrel) : res unit :=
                  MSG ", which is not subscribed"];
       match tget (enc_string (ir_input ir)) (tb_inputs tb) with
       | None => Error (gen_error "input relation for unknown controller input " (ir_input ir))
-      | Some q =>
+      | Some t =>
+          match ctrl_prim t (ir_elem ir) with
+          | None =>
+              Error [MSG "Generator: input relation: "; CTX (ir_input ir ++ string_of_path (ir_elem ir))%string;
+                     MSG " is not a scalar leaf of the controller's inputs"]
+          | Some q =>
           match resolve_prim (nm_msgs m) (FTmsg (tp_msg tp)) (ir_path ir) with
           | None =>
               Error [MSG "Generator: input relation: "; CTX (string_of_path (ir_path ir));
@@ -673,7 +696,8 @@ Definition inrel_check (m : node_model) (tb : tables) (ir : inrel) : res unit :=
                 [MSG "Generator: type mismatch in input relation: ";
                  CTX (ir_topic ir ++ string_of_path (ir_path ir))%string;
                  MSG (" is " ++ prim_name q' ++ " but controller input ")%string;
-                 CTX (ir_input ir); MSG (" is " ++ prim_name q)%string]
+                 CTX (ir_input ir ++ string_of_path (ir_elem ir))%string; MSG (" is " ++ prim_name q)%string]
+          end
           end
       end
   end.
@@ -681,7 +705,12 @@ Definition inrel_check (m : node_model) (tb : tables) (ir : inrel) : res unit :=
 Definition outrel_check (m : node_model) (tb : tables) (o : outrel) : res unit :=
   match tget (enc_string (or_output o)) (tb_outputs tb) with
   | None => Error (gen_error "output relation from unknown controller output " (or_output o))
-  | Some q =>
+  | Some t =>
+      match ctrl_prim t (or_elem o) with
+      | None =>
+          Error [MSG "Generator: output relation: "; CTX (or_output o ++ string_of_path (or_elem o))%string;
+                 MSG " is not a scalar leaf of the controller's outputs"]
+      | Some q =>
       match lookup_topic tb (or_topic o) with
       | None => Error (gen_error "output relation for unknown topic " (or_topic o))
       | Some tp =>
@@ -695,10 +724,11 @@ Definition outrel_check (m : node_model) (tb : tables) (o : outrel) : res unit :
           | Some q' =>
               assertion (prim_eqb q' q)
                 [MSG "Generator: type mismatch in output relation: controller output ";
-                 CTX (or_output o); MSG (" is " ++ prim_name q ++ " but ")%string;
+                 CTX (or_output o ++ string_of_path (or_elem o))%string; MSG (" is " ++ prim_name q ++ " but ")%string;
                  CTX (or_topic o ++ string_of_path (or_path o))%string;
                  MSG (" is " ++ prim_name q')%string]
           end
+      end
       end
   end.
 
@@ -719,8 +749,14 @@ Definition wf_check (m : node_model) : res unit :=
   do _ <- msgs_check [] (nm_msgs m);
   do _ <- assertion (negb (null (nm_inputs m))) (gen_error "controller has no input: " (nm_ctrl m));
   do _ <- check_nodup_keys enc_string (gen_error "controller input declared twice: ") (map fst (nm_inputs m));
+  do _ <- check_all (fun xt => assertion (ctrl_ftype_ok (snd xt))
+                                 (gen_error "controller input is neither a primitive nor an array of a primitive: " (fst xt)))
+            (nm_inputs m);
   do _ <- assertion (negb (null (nm_outputs m))) (gen_error "controller has no output: " (nm_ctrl m));
   do _ <- check_nodup_keys enc_string (gen_error "controller output declared twice: ") (map fst (nm_outputs m));
+  do _ <- check_all (fun xt => assertion (ctrl_ftype_ok (snd xt))
+                                 (gen_error "controller output is neither a primitive nor an array of a primitive: " (fst xt)))
+            (nm_outputs m);
   do _ <- check_all (topic_check (nm_msgs m)) (nm_topics m);
   do _ <- check_all (inrel_check m tb) (nm_inrels m);
   do _ <- check_all (fun ct => assertion (timeout_ok m tb ct)
@@ -734,11 +770,12 @@ Definition wf_check (m : node_model) : res unit :=
                                   MSG ": it must be of topic "; CTX (dr_topic dr);
                                   MSG ", subscribed, and feed a controller input of its type (bool, or uint32 for age_ms)"])
             (nm_drels m);
-  do _ <- check_nodup_keys enc_string (gen_error "controller input fed by several input relations: ")
+  do _ <- check_nodup_keys enc_target
+            (fun xp => gen_error "controller input fed by several input relations: " (fst xp ++ string_of_path (snd xp))%string)
             (fed_list m);
-  do _ <- check_all (fun xq => assertion (tmem enc_string (fst xq) fed)
-                                 (gen_error "controller input not fed by any input relation: " (fst xq)))
-            (nm_inputs m);
+  do _ <- check_all (fun l => assertion (tmem enc_target (fst l) fed)
+                                 (gen_error "controller input not fed by any input relation: " (fst (fst l) ++ string_of_path (snd (fst l)))%string))
+            (ctrl_leaves (nm_inputs m));
   do _ <- check_all (fun xv => assertion (fallback_ok m tb xv)
                                  [MSG "Generator: bad fallback (rule 4.12) for controller input "; CTX (fst xv);
                                   MSG ": it must be a value of the input's type, for an input fed by a topic with a timeout"])
