@@ -14,10 +14,12 @@
     Six scans arrive, of lengths 0, 1, 3, 4, 5 and 8 (0, 1, N-1, N, N+1
     and 2N), each with junk past its length: the interpreter gives the
     controller the first [min(len, 4)] elements and zeros after (the
-    padding of [Environment.clamp]), and publishes them back.  Two
+    padding of [Environment.clamp]), and publishes them back.  Four
     generator mutants are refuted against T2: two elements' destinations
-    swapped, and the copy of the last element dropped (the padding of a
-    short scan hides it, a full one does not).  The well-formedness rules refuse an element fed
+    swapped, the copy of the last element dropped (the padding of a
+    short scan hides it, a full one does not), an output element read
+    one index off, and the length written into the wrong field of the
+    published sequence.  The well-formedness rules refuse an element fed
     twice or not at all, an index past the array, an element of another
     type, a fallback or a derived input into an array. *)
 
@@ -211,6 +213,127 @@ Fixpoint drop_last_copy (s : statement) : statement :=
 Definition m_no_last : program := on_function "input_glue" drop_last_copy echo_prog.
 Theorem m_no_last_refuted: ~ node_ddc echo m_no_last.
 Proof. apply (erefute _ 4). vm_compute. reflexivity. Qed.
+
+(** *** The published array *)
+
+(** A computable consequence of T2 for the echo: in every cycle the
+    message published for the outputs [y] is sent with the length
+    [min(NC, 4)] and, when that length is not 0, element 0 equal to
+    [Cmd[0]] (by [published_value] and [Main.sent_sequence]). *)
+Definition echo_sent_okb (y mv : mval) : bool :=
+  match mval_get y [Sfield "NC"], mval_get y [Sfield "Cmd"; Sindex 0] with
+  | Some (MVscalar (Vint l)), Some (MVscalar (Vsingle e0)) =>
+      match bits_at mv dlen, bits_at mv (delem 0) with
+      | Some n, Some b0 =>
+          Z.eqb n (Z.min l 4) && (if (0 <? Z.min l 4)%Z then Z.eqb b0 (bits_of_b32 e0) else true)
+      | _, _ => false
+      end
+  | _, _ => false
+  end.
+
+Fixpoint echo_okb (t : trace) : bool :=
+  match t with
+  | Estep _ y :: Epublish _ mv :: t' => echo_sent_okb y mv && echo_okb t'
+  | [] => true
+  | _ :: t' => echo_okb t'
+  end.
+
+Lemma echo_okb_app_cycle:
+  forall u y mv t, echo_sent_okb y mv = true -> echo_okb t = true ->
+  echo_okb (Estep u y :: Epublish "/out" mv :: Esleep 20 :: t) = true.
+Proof. intros u y mv t H1 H2. simpl. rewrite H1. exact H2. Qed.
+
+Lemma echo_cycle_sent:
+  forall y now g mv,
+  mval_has_type (composites echo) (Tstruct (nm_out_struct echo)) y ->
+  published_value echo y now g out mv -> echo_sent_okb y (sent echo out mv) = true.
+Proof.
+  intros y now g mv Ty (T & Rel & _).
+  destruct (Rel (mkoutrel "NC" "out" dlen) (or_introl eq_refl) eq_refl) as (vl & Gl & Ml).
+  destruct (Rel (mkoutrel_at "Cmd" [PIndex 0] "out" (delem 0)) ltac:(simpl; auto) eq_refl) as (v0 & G0 & M0).
+  cbn [or_output or_path or_elem mkoutrel] in Gl, Ml, G0, M0.
+  change (path_steps []) with (@nil step) in Gl. change (path_steps [PIndex 0]) with [Sindex 0] in G0.
+  destruct (mval_get_has_type _ [Sfield "NC"] _ _ (Tint I32 Unsigned) Ty ltac:(vm_compute; reflexivity))
+    as (xl & Gxl & Txl). rewrite Gl in Gxl. inversion Gxl; subst xl.
+  inversion Txl as [? ? _ Vl| |]; subst.
+  assert (El: exists l, vl = Vint l) by (destruct vl; try contradiction; eauto). destruct El as [l ->].
+  destruct (mval_get_has_type _ [Sfield "Cmd"; Sindex 0] _ _ (Tfloat F32) Ty ltac:(vm_compute; reflexivity))
+    as (x0 & Gx0 & Tx0). rewrite G0 in Gx0. inversion Gx0; subst x0.
+  inversion Tx0 as [? ? _ V0| |]; subst.
+  assert (E0: exists e0, v0 = Vsingle e0) by (destruct v0; try contradiction; eauto). destruct E0 as [e0 ->].
+  destruct (sent_sequence echo out mv [PField "data"] "ros_seq_float32_4" 4 (Tfloat F32) l T
+              ltac:(repeat split; vm_compute; reflexivity) Ml) as (L & _ & D).
+  unfold echo_sent_okb. rewrite Gl, G0. unfold bits_at.
+  change (path_steps dlen) with (path_steps ([PField "data"] ++ [PField "len"])). rewrite L.
+  change (path_steps (delem 0)) with (path_steps ([PField "data"] ++ [PField "data"; PIndex 0])).
+  rewrite (D 0%Z ltac:(lia)).
+  rewrite Z.eqb_refl. simpl andb.
+  destruct (0 <? Z.min l 4)%Z; [|reflexivity].
+  change (path_steps ([PField "data"] ++ [PField "data"; PIndex 0])) with (path_steps (delem 0)).
+  rewrite M0. apply Z.eqb_refl.
+Qed.
+
+Lemma run_ok_echo: forall n t, run_ok echo ectx_typed n t -> echo_okb t = true.
+Proof.
+  intros n t (s & evs & _ & -> & C).
+  assert (S0: forall t0, echo_okb (start_events echo ++ t0) = echo_okb t0) by (intros t0; reflexivity).
+  rewrite S0.
+  assert (G: forall k i, (forall j, (i <= j < i + k)%nat -> cycle_ok echo ectx_typed j (s j) (evs j) (s (S j))) ->
+             echo_okb (concat (map evs (seq i k))) = true).
+  { induction k as [|k IH]; intros i0 Ck; [reflexivity|].
+    destruct (Ck i0 ltac:(lia)) as (u & y & mvs & E & _ & St & PV).
+    cbn [seq map concat]. rewrite E. simpl published in PV.
+    inversion PV as [|tp mv tps mvs' P F]; subst. inversion F; subst.
+    assert (Ty: mval_has_type (composites echo) (Tstruct (nm_out_struct echo)) y).
+    { generalize (ectx_controller_wt (s i0) u). rewrite St. auto. }
+    apply echo_okb_app_cycle; [apply (echo_cycle_sent y _ _ mv Ty P)|].
+    apply IH. intros j Hj. apply Ck. lia. }
+  apply G. intros j Hj. apply C. lia.
+Qed.
+
+Definition echeck_out (p : program) (n : nat) : bool :=
+  match run_trace 6000%nat p ectx_typed n with
+  | Some t => echo_okb t
+  | None => true
+  end.
+
+Lemma erefute_out: forall p n, echeck_out p n = false -> ~ node_ddc echo p.
+Proof.
+  intros p n H D. unfold echeck_out in H.
+  destruct (run_trace 6000%nat p ectx_typed n) as [t|] eqn:R; [|discriminate].
+  destruct (D unit ectx_typed n ectx_typed_arrivals_wt ectx_controller_wt) as [_ All].
+  rewrite (run_ok_echo n t (All t (run_trace_sound _ ectx_typed 6000%nat p n t R))) in H. discriminate.
+Qed.
+
+Example echo_passes_out: echeck_out echo_prog 6 = true.
+Proof. vm_compute. reflexivity. Qed.
+
+(** (c3) an output element read one index off: [data.data[0] = Cmd[1]] *)
+Definition shift_src (e : expr) : expr :=
+  match e with
+  | Eindex a (Econst_int 0 ti) t => Eindex a (Econst_int 1 ti) t
+  | _ => e
+  end.
+Fixpoint map_sets (h : expr -> expr) (s : statement) : statement :=
+  match s with
+  | Ssequence a b => Ssequence (map_sets h a) (map_sets h b)
+  | Sset x e => Sset x (h e)
+  | _ => s
+  end.
+Definition m_out_off : program := on_function "output_glue_out" (map_sets shift_src) echo_prog.
+Theorem m_out_off_refuted: ~ node_ddc echo m_out_off.
+Proof. apply (erefute_out _ 3). vm_compute. reflexivity. Qed.
+
+(** (c4) the length written into the wrong field of the sequence:
+    [data.truncated = NC] instead of [data.len] (the length stays 0) *)
+Definition len_to_trunc (e : expr) : expr :=
+  match e with
+  | Efield a "len" t => Efield a "truncated" (Tint I8 Unsigned)
+  | _ => e
+  end.
+Definition m_len_field : program := on_function "output_glue_out" (map_assigns len_to_trunc) echo_prog.
+Theorem m_len_field_refuted: ~ node_ddc echo m_len_field.
+Proof. apply (erefute_out _ 2). vm_compute. reflexivity. Qed.
 
 (** ** Refused models *)
 
