@@ -121,7 +121,7 @@ def test_numbers_and_constructors():
 def test_emit_landshark():
     m = emit_model(load_model(LANDSHARK))
     assert m.name == '"landshark_controller"' and m.period_ms == "20"
-    assert m.inputs == (('"In1"', "Pfloat64"), ('"In2"', "Pfloat64"), ('"In3"', "Pfloat64"))
+    assert m.inputs == (('"In1"', "FTprim Pfloat64"), ('"In2"', "FTprim Pfloat64"), ('"In3"', "FTprim Pfloat64"))
     assert [md.name for md in m.msgs] == [
         '"ros_time"', '"std_msgs_Header"', '"geometry_msgs_Vector3"', '"geometry_msgs_Twist"',
         '"geometry_msgs_TwistStamped"']
