@@ -439,7 +439,8 @@ def _yaml_error_message(exc: yaml.YAMLError) -> str:
         if exc.context:
             text += f" ({exc.context})"
         if "but got '['" in problem and "flow" in (exc.context or ""):
-            text += '; inside {...} a field path with an index must be quoted, e.g. "pose.covariance[35]"'
+            text += ('; inside {...} a field path with an index must be quoted, e.g. "pose.covariance[35]" '
+                     '(and a controller array\'s type, e.g. "float32[8]")')
         if "found character '>' that cannot start any token" in problem or (
                 "chomping or indentation indicators" in problem):
             text += "; a value that starts with '>' must be quoted, e.g. operator: '>='"

@@ -758,3 +758,17 @@ def test_lengths_into_elements(tmp_path):
     found = diags(tmp_path, bad)
     assert [r for _, _, _, r in found] == ["4.15", "4.15"]
     assert "length related to a non-uint32 field: controller input 'Lens' is int32" in found[0][2]
+
+
+def test_a_flow_mapping_needs_the_type_quoted(tmp_path):
+    """In a flow mapping ``[`` opens a list: the type is quoted there, and
+    YAML's error says so."""
+    text = swap(BASE, "    fields:\n      Scan: float32[8]\n      N: uint32\n",
+                "    fields: {Scan: float32[8], N: uint32,\n             ")
+    text = swap(text, "      Cov: float64[36]\n      Frame: uint8[16]\n      Pc: float32[2]\n",
+                "Cov: \"float64[36]\", Frame: \"uint8[16]\", Pc: \"float32[2]\"}\n")
+    line, col, msg, rule = one(tmp_path, text)
+    assert (line, rule) == (at(text, "float32[8]")[0], "4.1")
+    assert 'a controller array\'s type, e.g. "float32[8]"' in msg
+    m = load(tmp_path, text.replace("{Scan: float32[8],", '{Scan: "float32[8]",'))
+    assert m.controller.inputs.field("Scan").size == 8 and m.controller.inputs.field("Cov").size == 36
