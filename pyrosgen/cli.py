@@ -242,7 +242,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
     try:
         with _stopped_by_signals():
             report = verify_folder(args.folder, node=args.node, model=args.model, wp=args.wp,
-                                   progress=_progress(args))
+                                   kernel=args.kernel, progress=_progress(args))
     except VerifyFailed as exc:
         print(f"pyrosgen: {exc.verify_report.folder} does NOT verify (node {exc.verify_report.node})")
         _print_checks(exc.verify_report)
@@ -454,6 +454,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--node", metavar="NAME", help="the node to check when OUT holds several")
     p.add_argument("--model", metavar="MODEL.yaml", help="also check that the proved model is this file's")
     p.add_argument("--wp", action="store_true", help="also re-run Frama-C WP on the folder's ACSL contracts")
+    p.add_argument("--kernel", action="store_true",
+                   help="coqchk re-checks the node's vm_compute steps in its own conversion, not in Coq's "
+                        "bytecode machine (independent of it; slower for large models)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     p.set_defaults(func=cmd_verify)
 

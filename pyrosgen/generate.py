@@ -267,7 +267,8 @@ def generate_model(
         outputs = (out_h, out_c, out_s, out_m)
         if has_diagram:
             outputs += (stage / names.controller_c, stage / names.controller_sexp, stage / names.controller_text)
-        drv.print_texts(module, lib, outputs)
+        drv.print_texts(module, lib, outputs,
+                        relations=len(model.input_relations) + len(model.output_relations))
         # The model the theorems are about is the model of the YAML file
         # (raises ModelMismatch, exit 2, naming the differing items).
         proved_model = out_m.read_text(encoding="utf-8")

@@ -75,6 +75,13 @@ _MAX_MESSAGE = 2000
 #: faster native (2000 relations, 485 KB: 0.2 s against 1.6 s, for 1.2 s
 #: against 0.5 s of compilation).  Measured in BENCHMARKS.md, section 1.
 BYTECODE_MAX_BYTES = 256 * 1024
+#: A model with at least this many relations is printed by a native
+#: printer whatever the size of ``job.ml``: the element relations of a
+#: whole array are one ``map`` in the model (rule 4.15), so the file stays
+#: small while the printer has every element to print (two controller
+#: arrays of 8,192: 28.2 s of bytecode against 6.9 s native, for 0.8 s of
+#: compilation; BENCHMARKS.md, section 11).
+NATIVE_MIN_RELATIONS = 500
 
 
 class CoqError(DetailedFailure):
@@ -416,10 +423,20 @@ class CoqDriver:
                     if conjunction else f"{len(theorems) - closed} of the theorems {', '.join(theorems)} depend")
             raise CoqError(f"{what} on axioms (Print Assumptions did not say \"{CLOSED}\")", axioms)
 
-    def coqchk(self, module: str, lib: tuple[Path, str]) -> CoqcResult:
+    def coqchk(self, module: str, lib: tuple[Path, str], *, vm: bool = True) -> CoqcResult:
         """Re-check the compiled ``module`` with ``coqchk`` (the library
-        itself is checked by ``make proofs``: ``-norec``)."""
-        argv = [self.tool("coqchk"), "-silent", *self.load_path([lib]), "-norec", module]
+        itself is checked by ``make proofs``: ``-norec``).
+
+        With ``vm`` (the default), ``coqchk`` re-runs the module's
+        ``vm_compute`` steps in Coq's bytecode machine
+        (``-bytecode-compiler yes``), the machine that ``coqc`` ran them
+        in; without it, in its own lazy conversion, independent of that
+        machine but slower: a node's well-formedness check follows every
+        relation, and for 2,166 relations it takes 8.9 s instead of 1.5 s
+        (BENCHMARKS.md, section 11).  ``pyrosgen verify --kernel`` asks
+        for the latter."""
+        argv = [self.tool("coqchk"), "-silent", *(["-bytecode-compiler", "yes"] if vm else []),
+                *self.load_path([lib]), "-norec", module]
         res = self.run(argv, lib[0])
         if not res.ok:
             raise CoqError(
@@ -428,11 +445,14 @@ class CoqDriver:
             )
         return res
 
-    def print_texts(self, module: str, lib: tuple[Path, str], outputs: tuple[Path, ...]) -> dict[str, float]:
+    def print_texts(self, module: str, lib: tuple[Path, str], outputs: tuple[Path, ...], *,
+                    relations: int = 0) -> dict[str, float]:
         """Print the compiled per-node ``module`` through extraction: write
         its ``types_h``, ``glue_c`` and ``ast_sexp`` texts, and with a fourth
         output its ``model_text`` (the model its theorem is about), to
-        ``outputs``.  Returns the time of each step."""
+        ``outputs``.  ``relations``, the model's number of (element)
+        relations, chooses a native printer from
+        :data:`NATIVE_MIN_RELATIONS` on.  Returns the time of each step."""
         work = lib[0]
         times: dict[str, float] = {}
         if (work / "job.ml").is_file() and (work / "job.mli").is_file():
@@ -446,7 +466,7 @@ class CoqDriver:
             times["extraction"] = self._extract(module, lib, outputs)
         driver = _DRIVER_CTRL_ML if len(outputs) == 7 else _DRIVER_ML
         (work / "driver.ml").write_text(driver, encoding="ascii")
-        small = (work / "job.ml").stat().st_size < BYTECODE_MAX_BYTES
+        small = (work / "job.ml").stat().st_size < BYTECODE_MAX_BYTES and relations < NATIVE_MIN_RELATIONS
         compiler = self.ocamlc() if small else self.ocamlopt()
         res = self.run([*compiler, "-w", "-a", "job.mli", "job.ml", "driver.ml", "-o", "print_job"], work,
                        big_stack=True)

@@ -337,6 +337,12 @@ class CoqNodeModel:
     stamp_from: tuple[tuple[str, str, str], ...] = ()  #: (topic C name, source C name, path), rule 4.13
     #: (topic C name, path, bytes as a Coq ``list Z``, comment), rule 4.14
     strings: tuple[tuple[str, str, str, str], ...] = ()
+    #: ``inrels`` as the template writes them: runs of element relations
+    #: that a whole-array row stands for (``ranges.data[i] -> Scan[i]``
+    #: for ``i`` from 0 to ``n - 1``, rule 4.15) as one ``map`` over
+    #: ``zrange n``, the others one by one (:func:`_segments`)
+    inrel_segments: tuple[tuple[str, tuple], ...] = ()
+    outrel_segments: tuple[tuple[str, tuple], ...] = ()
 
 
 def _msgdef(m: MsgType) -> CoqMsgdef:
@@ -357,6 +363,39 @@ def emit_model(model: NodeModel) -> CoqNodeModel:
     if not isinstance(model.name, str) or not _C_IDENT.fullmatch(model.name):
         raise EmitError(f"refusing to print {model.name!r} as a node name")
     c = model.controller
+    ins, outs = list(model.input_relations), list(model.output_relations)
+    inrel_rows = tuple(
+        (
+            coq_ident(r.topic.c_name, "topic C name"),
+            coq_path(r.path),
+            coq_ident(r.input_field, "controller input"),
+            coq_comment(f"{r.topic.name} {r.path} -> {_target(r.input_field, r.input_index)}"),
+            _elem(r.input_index),
+        )
+        for r in ins
+    )
+    outrel_rows = tuple(
+        (
+            coq_ident(r.output_field, "controller output"),
+            coq_ident(r.topic.c_name, "topic C name"),
+            coq_path(r.path),
+            coq_comment(f"{_target(r.output_field, r.output_index)} -> {r.topic.name} {r.path}"),
+            _elem(r.output_index),
+        )
+        for r in outs
+    )
+
+    def in_run(r, n):
+        # (topic, path prefix, input, n, comment): i ranges over zrange n
+        return (coq_ident(r.topic.c_name, "topic C name"), coq_path(r.path.steps[:-1]),
+                coq_ident(r.input_field, "controller input"), coq_z(n),
+                coq_comment(f"{r.topic.name} {_path_text(r.path.steps[:-1])}[i] -> {r.input_field}[i], i < {n}"))
+
+    def out_run(r, n):
+        return (coq_ident(r.output_field, "controller output"), coq_ident(r.topic.c_name, "topic C name"),
+                coq_path(r.path.steps[:-1]), coq_z(n),
+                coq_comment(f"{r.output_field}[i] -> {r.topic.name} {_path_text(r.path.steps[:-1])}[i], i < {n}"))
+
     return CoqNodeModel(
         node=model.name,
         name=coq_ident(model.name, "node name"),
@@ -381,26 +420,10 @@ def emit_model(model: NodeModel) -> CoqNodeModel:
             )
             for t in model.topics
         ),
-        inrels=tuple(
-            (
-                coq_ident(r.topic.c_name, "topic C name"),
-                coq_path(r.path),
-                coq_ident(r.input_field, "controller input"),
-                coq_comment(f"{r.topic.name} {r.path} -> {_target(r.input_field, r.input_index)}"),
-                _elem(r.input_index),
-            )
-            for r in model.input_relations
-        ),
-        outrels=tuple(
-            (
-                coq_ident(r.output_field, "controller output"),
-                coq_ident(r.topic.c_name, "topic C name"),
-                coq_path(r.path),
-                coq_comment(f"{_target(r.output_field, r.output_index)} -> {r.topic.name} {r.path}"),
-                _elem(r.output_index),
-            )
-            for r in model.output_relations
-        ),
+        inrels=inrel_rows,
+        outrels=outrel_rows,
+        inrel_segments=_segments(ins, inrel_rows, _in_key, in_run),
+        outrel_segments=_segments(outs, outrel_rows, _out_key, out_run),
         timeouts=tuple(
             (coq_ident(c_name, "topic C name"), f"{coq_z(ms)}%Z") for c_name, ms in model.timeouts
         ),
@@ -434,6 +457,71 @@ def emit_model(model: NodeModel) -> CoqNodeModel:
             for c_name, p, data in model.strings
         ),
     )
+
+
+#: The shortest run of element relations printed as one ``map``.
+MIN_RUN = 4
+
+
+def _runs(rels, key) -> list[tuple[int, int]]:
+    """Maximal runs ``(start, length)`` of ``rels`` (at least
+    :data:`MIN_RUN` long) in which relation ``start + i`` has
+    ``key(rel) == (k, prefix, i)`` for one ``k`` and one ``prefix``: the
+    element relations of a whole array, ``prefix ++ [i] -> X[i]``, in
+    index order from 0.  ``key`` gives ``None`` for a relation that is no
+    element relation."""
+    out = []
+    i = 0
+    while i < len(rels):
+        k = key(rels[i])
+        if k is None or k[2] != 0:
+            i += 1
+            continue
+        j = i + 1
+        while j < len(rels):
+            kj = key(rels[j])
+            if kj is None or kj[:2] != k[:2] or kj[2] != j - i:
+                break
+            j += 1
+        if j - i >= MIN_RUN:
+            out.append((i, j - i))
+        i = j
+    return out
+
+
+def _in_key(r):
+    steps = r.path.steps
+    if r.input_index is None or not steps or isinstance(steps[-1], bool) or not isinstance(steps[-1], int):
+        return None
+    if steps[-1] != r.input_index:
+        return None
+    return ((r.topic.c_name, r.input_field), tuple(steps[:-1]), r.input_index)
+
+
+def _out_key(r):
+    steps = r.path.steps
+    if r.output_index is None or not steps or isinstance(steps[-1], bool) or not isinstance(steps[-1], int):
+        return None
+    if steps[-1] != r.output_index:
+        return None
+    return ((r.topic.c_name, r.output_field), tuple(steps[:-1]), r.output_index)
+
+
+def _segments(rels, rows, key, run_row) -> tuple[tuple[str, tuple], ...]:
+    """``rows`` (the printed relations) cut into segments: ``("list",
+    rows)`` printed one by one, ``("map", run_row(rel, n))`` for a run
+    of ``n`` element relations from :func:`_runs`.  The segments
+    concatenated are ``rows`` again, once Coq computes the ``map``s."""
+    segs: list[tuple[str, tuple]] = []
+    pos = 0
+    for start, n in _runs(rels, key):
+        if start > pos:
+            segs.append(("list", tuple(rows[pos:start])))
+        segs.append(("map", run_row(rels[start], n)))
+        pos = start + n
+    if pos < len(rows) or not segs:
+        segs.append(("list", tuple(rows[pos:])))
+    return tuple(segs)
 
 
 def _elem(index) -> str | None:

@@ -160,16 +160,37 @@ def _span(spans: dict[str, tuple[int, int]], fn: str) -> tuple[int, int]:
         raise CertificateError(f"certificate: the printed C has no function {fn}") from None
 
 
+class _Copies(list):
+    """The lines of a printed C text, with the line numbers of its copies
+    ``dst = _t_...;`` indexed by ``dst`` (built once: a node with a
+    controller array of 8,192 elements has 16,384 relations to look up)."""
+
+    def __init__(self, lines: list[str]):
+        super().__init__(lines)
+        self.by_dst: dict[str, list[int]] = {}
+        for n, line in enumerate(lines, 1):
+            text = line.strip()
+            k = text.find(" = _t_")
+            if k > 0:
+                self.by_dst.setdefault(text[:k], []).append(n)
+
+
 def _copy_lines(lines: list[str], span: tuple[int, int], dst: str) -> list[tuple[int, str]]:
     """The two lines of the relation's copy into ``dst`` inside ``span``:
     ``_t = src;`` then ``dst = _t;`` (the last such assignment: an output
     glue first zeroes every field, then copies the related ones)."""
     first, last = span
-    for n in range(last, first, -1):
-        text = lines[n - 1].strip()
-        if text.startswith(dst + " = _t_"):
-            prev = lines[n - 2].strip()
-            return [(n - 1, prev), (n, text)]
+    if isinstance(lines, _Copies):
+        ns = [n for n in lines.by_dst.get(dst, ()) if first < n <= last]
+        if ns:
+            n = ns[-1]
+            return [(n - 1, lines[n - 2].strip()), (n, lines[n - 1].strip())]
+    else:
+        for n in range(last, first, -1):
+            text = lines[n - 1].strip()
+            if text.startswith(dst + " = _t_"):
+                prev = lines[n - 2].strip()
+                return [(n - 1, prev), (n, text)]
     raise CertificateError(f"certificate: no copy into {dst} in lines {first}-{last}")
 
 
@@ -417,7 +438,7 @@ def _freshness(pm: ProvedModel, c_text: str) -> dict:
 def _relations(pm: ProvedModel, c_text: str) -> tuple[list[dict], list[dict]]:
     """The rows of the relation sections, from the proved model and the
     printed C."""
-    lines = c_text.splitlines()
+    lines = _Copies(c_text.splitlines())
     spans = _function_spans(c_text)
     inputs = []
     for topic_c, path, fld in pm.input_relations:

@@ -159,7 +159,7 @@ def _check_certificate(folder: Path, rec: ProofRecord, files: dict[str, str], pr
 
 
 def verify_folder(folder: str | Path, *, node: str | None = None, model: str | Path | None = None,
-                  wp: bool = False, driver: CoqDriver | None = None,
+                  wp: bool = False, kernel: bool = False, driver: CoqDriver | None = None,
                   progress: Callable[[str], None] | None = None) -> VerifyReport:
     """Run the checks of the module documentation on ``folder``; raise
     :class:`VerifyFailed` unless all hold (the report is its
@@ -209,9 +209,10 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
             shutil.copyfile(folder / rec.node_v, coq_dir / rec.node_v)
             res = drv.coqc(coq_dir / rec.node_v, lib)
             drv.check_assumptions(res.stdout, rec.theorems, node_file_names(rec.node).theorem_all)
-            drv.coqchk(module, lib)
+            drv.coqchk(module, lib, vm=not kernel)
             compiled = True
-            checks.append(Check("coqc", True, f"{', '.join(rec.theorems)}: {CLOSED}; coqchk OK"))
+            how = " (kernel conversion, no bytecode machine)" if kernel else ""
+            checks.append(Check("coqc", True, f"{', '.join(rec.theorems)}: {CLOSED}; coqchk OK{how}"))
         except OSError as exc:
             checks.append(Check("coqc", False, f"cannot read {rec.node_v}: {exc.strerror or exc}"))
         except CoqError as exc:
@@ -232,7 +233,10 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
                 outs += (printed / rec.controller["c"], printed / rec.controller["sexp"],
                          printed / rec.controller["text"])
             try:
-                drv.print_texts(module, lib, outs)
+                proved = folder / rec.model_file
+                relations = sum(1 for line in proved.read_text(encoding="utf-8", errors="replace").splitlines()
+                                if line.startswith(("input_relation ", "output_relation "))) if proved.is_file() else 0
+                drv.print_texts(module, lib, outs, relations=relations)
                 differ = []
                 for p in outs:
                     mine = folder / p.name

@@ -215,13 +215,20 @@ def test_emitted_coq(tmp_path):
     assert e.outputs[0] == ('"Min"', "FTprim Pfloat32")
     v = render_node_file(m, ddc_available=True)
     assert '("Scan", FTarray (FTprim Pfloat32) 8);' in v and '("N", FTprim Puint32);' in v
-    assert ('       mkinrel_at "scan" [PField "ranges"; PField "data"; PIndex 5] "Scan" [PIndex 5];\n' in v)
-    assert 'mkinrel "scan" [PField "ranges"; PField "len"] "N";' in v
+    # a whole array: one map over zrange, which Coq computes into the
+    # element relations (the seam compares the model text it prints)
+    assert ('       map (fun i => mkinrel_at "scan" ([PField "ranges"; PField "data"] ++ [PIndex i]) "Scan" [PIndex i])'
+            ' (zrange 8) ++\n' in v)
+    assert 'mkinrel "scan" [PField "ranges"; PField "len"] "N"]' in v
     assert 'mkinrel_at "scan" [PField "ranges"; PField "data"; PIndex 0] "Pc" [PIndex 1];' in v
-    assert ('       mkoutrel_at "Echo" [PIndex 3] "echo" [PField "data"; PField "data"; PIndex 3];\n' in v)
+    assert ('       map (fun i => mkoutrel_at "Echo" [PIndex i] "echo" ([PField "data"; PField "data"] ++ [PIndex i]))'
+            ' (zrange 8) ++\n' in v)
     assert 'mkoutrel "Min" "min" [PField "data"]' in v
     assert 'mkoutrel_at "E2" [PIndex 2] "cov" [PField "pose"; PField "position"; PField "x"]' in v
-    assert v.count("mkinrel_at ") == 62 and v.count("mkoutrel_at ") == 25
+    # Scan, Cov, Frame as maps, Pc's two elements one by one; Echo and F as maps, E2 one by one
+    assert v.count("map (fun i => mkinrel_at ") == 3 and v.count("mkinrel_at ") == 5
+    assert v.count("map (fun i => mkoutrel_at ") == 2 and v.count("mkoutrel_at ") == 3
+    assert sum(int(seg[1][3]) if seg[0] == "map" else len(seg[1]) for seg in e.inrel_segments) == len(e.inrels)
     # the emitter refuses sizes Coq's well-formedness refuses
     for size in (0, MAX_CONTROLLER_ARRAY + 1, True, "8"):
         with pytest.raises(EmitError):
@@ -772,3 +779,22 @@ def test_a_flow_mapping_needs_the_type_quoted(tmp_path):
     assert 'a controller array\'s type, e.g. "float32[8]"' in msg
     m = load(tmp_path, text.replace("{Scan: float32[8],", '{Scan: "float32[8]",'))
     assert m.controller.inputs.field("Scan").size == 8 and m.controller.inputs.field("Cov").size == 36
+
+
+def test_the_scan_guard_example(capsys):
+    """examples/scan_guard: the whole scan into ScanGuard's Scan[1081];
+    check says what the README says it says, and the model text lists the
+    1081 element relations in index order."""
+    path = REPO / "examples" / "scan_guard" / "scan_guard.yaml"
+    assert cli.main(["check", str(path)]) == 0
+    out = capsys.readouterr().out
+    readme = " ".join((REPO / "README.md").read_text().split())
+    for part in ("1082 input relations (from 2 rows), 2 output relations",
+                 "1 controller array: input Scan (float32[1081])"):
+        assert part in out and part in readme, part
+    from pyrosgen.frontend.validate import load_model
+
+    lines = model_text(load_model(path)).splitlines()
+    rels = [ln for ln in lines if ln.startswith("input_relation scan ranges.data[")]
+    assert rels == [f"input_relation scan ranges.data[{i}] Scan[{i}]" for i in range(1081)]
+    assert "input Scan array 1081 float32" in lines

@@ -274,3 +274,60 @@ def test_driver_tool_missing(monkeypatch, tmp_path):
     monkeypatch.setenv("PATH", str(tmp_path))
     with pytest.raises(CoqError, match="coqc not found: run make deps"):
         CoqDriver().check_tools()
+
+
+# ---------------------------------------------------------------------------
+# Runs of element relations (rule 4.15): one map over zrange
+
+
+SCAN_ARRAY = LANDSHARK.parents[2] / "tests" / "ros" / "models" / "scan_array.yaml"
+
+
+def test_whole_array_rows_are_printed_as_one_map():
+    """`ranges` whole into Scan[8] and Echo[8] whole into `data` are each
+    one `map` over `zrange 8`; the element relations written one by one
+    (Last[0], Last[1], Pt[0..2]) stay literal."""
+    model = load_model(SCAN_ARRAY)
+    m = emit_model(model)
+    ins = [seg for seg in m.inrel_segments if seg[0] == "map"]
+    outs = [seg for seg in m.outrel_segments if seg[0] == "map"]
+    assert [s[1][:4] for s in ins] == [('"scan"', '[PField "ranges"; PField "data"]', '"Scan"', "8")]
+    assert [s[1][:4] for s in outs] == [('"Echo"', '"echo"', '[PField "data"; PField "data"]', "8")]
+    # the segments are the rows again: 8 in the map, the others literal
+    assert sum(int(s[1][3]) if s[0] == "map" else len(s[1]) for s in m.inrel_segments) == len(m.inrels)
+    assert sum(int(s[1][3]) if s[0] == "map" else len(s[1]) for s in m.outrel_segments) == len(m.outrels)
+    text = render_node_file(model, ddc_available=True)
+    assert ('map (fun i => mkinrel_at "scan" ([PField "ranges"; PField "data"] ++ [PIndex i]) "Scan" [PIndex i]) '
+            "(zrange 8)") in text
+    assert '"Scan" [PIndex 3]' not in text
+    assert 'mkinrel_at "scan" [PField "ranges"; PField "data"; PIndex 7] "Last" [PIndex 0]' in text
+
+
+class _Rel:
+    def __init__(self, topic, steps, field, index):
+        self.topic = type("T", (), {"c_name": topic})()
+        self.path = FieldPath(tuple(steps), "float32")
+        self.input_field = field
+        self.input_index = index
+
+
+@pytest.mark.parametrize("rels, runs", [
+    # a whole array of 5, then a scalar
+    ([_Rel("s", ("d", i), "A", i) for i in range(5)] + [_Rel("s", ("n",), "N", None)], [(0, 5)]),
+    # too short for a map
+    ([_Rel("s", ("d", i), "A", i) for i in range(3)], []),
+    # not from index 0: literal
+    ([_Rel("s", ("d", i + 1), "A", i + 1) for i in range(5)], []),
+    # message index and controller index differ (d[i+1] -> A[i]): literal
+    ([_Rel("s", ("d", i + 1), "A", i) for i in range(5)], []),
+    # a gap breaks the run: 0..3 is one, 5.. is not from 0
+    ([_Rel("s", ("d", i), "A", i) for i in (0, 1, 2, 3, 5, 6, 7, 8)], [(0, 4)]),
+    # two arrays back to back
+    ([_Rel("s", ("d", i), "A", i) for i in range(4)] + [_Rel("s", ("e", i), "B", i) for i in range(4)],
+     [(0, 4), (4, 4)]),
+    # another topic or another prefix ends the run
+    ([_Rel("s", ("d", i), "A", i) for i in range(4)] + [_Rel("t", ("d", 4), "A", 4)], [(0, 4)]),
+])
+def test_runs_of_element_relations(rels, runs):
+    from pyrosgen.proof.coqmodel import _in_key, _runs
+    assert _runs(rels, _in_key) == runs

@@ -405,8 +405,8 @@ def test_generate_refuses_a_mismatched_print(monkeypatch, capsys, tmp_path):
     ``pyrosgen generate`` exits 2, names the difference, writes nothing."""
     original = CoqDriver.print_texts
 
-    def corrupting(self, module, lib, outputs):
-        times = original(self, module, lib, outputs)
+    def corrupting(self, module, lib, outputs, **kw):
+        times = original(self, module, lib, outputs, **kw)
         glue = outputs[1]
         glue.write_text(_replace(glue.read_text(), LS_IN1 + LS_IN2, LS_IN2 + LS_IN1))
         return times
