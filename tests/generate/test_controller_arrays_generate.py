@@ -63,7 +63,13 @@ def test_theorem_is_closed(arrays):
     assert all(t in result.record.assumptions for t in result.theorems)
     v = (out / f"{NODE}.v").read_text()
     assert '("Scan", FTarray (FTprim Pfloat32) 8)' in v and '("NScan", FTprim Puint32)' in v
-    assert v.count("mkinrel_at ") == N + 2 and v.count("mkoutrel_at ") == N + 3
+    # Scan and Echo whole: one map over zrange N each (Coq computes the N
+    # element relations); Last's and Pt's elements one by one
+    assert ('map (fun i => mkinrel_at "scan" ([PField "ranges"; PField "data"] ++ [PIndex i]) "Scan" [PIndex i]) '
+            f"(zrange {N})") in v
+    assert ('map (fun i => mkoutrel_at "Echo" [PIndex i] "echo" ([PField "data"; PField "data"] ++ [PIndex i])) '
+            f"(zrange {N})") in v
+    assert v.count("mkinrel_at ") == 1 + 2 and v.count("mkoutrel_at ") == 1 + 3
 
 
 def test_types_header_declares_the_arrays(arrays):
@@ -166,15 +172,15 @@ def test_wp_proves_the_contracts(arrays, tmp_path):
 
 def test_a_per_node_file_relating_another_element_is_refused(monkeypatch, capsys, tmp_path):
     """The per-node file proves its theorem about a node that publishes
-    Echo[4] as data[3]: the seam (the model Coq printed against the
-    YAML's) refuses it."""
+    Echo reversed (Echo[7 - i] as data[i], a well-formed model): the seam
+    (the model Coq printed against the YAML's) refuses it."""
     require_library()
-    want = 'mkoutrel_at "Echo" [PIndex 3] "echo"'
+    want = 'mkoutrel_at "Echo" [PIndex i] "echo"'
     out = tmp_path / "out"
-    code, err = generate_with_tampered_node_file(MODEL, want, want.replace("PIndex 3", "PIndex 4"),
+    code, err = generate_with_tampered_node_file(MODEL, want, want.replace("PIndex i", f"PIndex ({N - 1} - i)"),
                                                  monkeypatch, capsys, out)
     assert code == 2 and not out.exists(), err
-    assert "is not the model of the YAML file" in err and "Echo[4] echo data.data[3]" in err, err
+    assert "is not the model of the YAML file" in err and "Echo[7] echo data.data[0]" in err, err
 
 
 # --------------------------------------------------------------------------

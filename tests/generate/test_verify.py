@@ -162,3 +162,27 @@ def test_two_nodes_in_one_folder(copy):
 def test_wp_without_contracts_is_a_failed_check(copy):
     failed = _failed(copy, wp=True)
     assert set(failed) == {"wp"}
+
+
+def test_kernel_rechecks_without_the_bytecode_machine(folder, capsys, monkeypatch):
+    """`generate` and `verify` run coqchk with Coq's bytecode machine
+    (`-bytecode-compiler yes`, as coqc ran the node's vm_compute);
+    `verify --kernel` without it, and says so."""
+    seen = []
+    orig = CoqDriver.run
+
+    def spy(self, argv, *a, **kw):
+        seen.append([str(x) for x in argv])
+        return orig(self, argv, *a, **kw)
+
+    monkeypatch.setattr(CoqDriver, "run", spy)
+    assert cli.main(["verify", str(folder), "--kernel", "-q"]) == 0
+    out = capsys.readouterr().out
+    assert f"{NODE}_ddc, {NODE}_wf: Closed under the global context; coqchk OK (kernel conversion" in out
+    chk = [a for a in seen if Path(a[0]).name == "coqchk"]
+    assert len(chk) == 1 and "-bytecode-compiler" not in chk[0]
+    seen.clear()
+    assert cli.main(["verify", str(folder), "-q"]) == 0
+    assert "kernel conversion" not in capsys.readouterr().out
+    chk = [a for a in seen if Path(a[0]).name == "coqchk"]
+    assert len(chk) == 1 and chk[0][chk[0].index("-bytecode-compiler") + 1] == "yes"
