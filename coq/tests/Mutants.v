@@ -149,6 +149,57 @@ Proof.
   inversion F; subst. rewrite H1. auto.
 Qed.
 
+(** ** A computable consequence of T2 for a node that publishes one topic *)
+
+(** [f y mv] checks what is sent in a cycle whose step gave the outputs
+    [y] and whose one publication sent [mv]; [pub_okb f t] checks it for
+    every cycle of the trace [t]. *)
+Fixpoint pub_okb (f : mval -> mval -> bool) (t : trace) : bool :=
+  match t with
+  | Estep _ y :: Epublish _ mv :: t' => f y mv && pub_okb f t'
+  | Estep _ _ :: _ => false
+  | _ :: t' => pub_okb f t'
+  | [] => true
+  end.
+
+Lemma pub_okb_skip:
+  forall f e t, match e with Estep _ _ => False | _ => True end -> pub_okb f (e :: t) = pub_okb f t.
+Proof. intros f [] t H; try contradiction; reflexivity. Qed.
+
+Lemma pub_okb_start: forall f m t0, pub_okb f (start_events m ++ t0) = pub_okb f t0.
+Proof.
+  intros f m t0. unfold start_events. rewrite <- app_comm_cons, <- app_assoc, pub_okb_skip by exact I.
+  induction (subscribed m) as [|a l IH]; cbn [map app].
+  - induction (published m) as [|b l' IH']; cbn [map app]; [reflexivity|].
+    rewrite pub_okb_skip by (unfold advertise_event; exact I). exact IH'.
+  - rewrite pub_okb_skip by (unfold subscribe_event; exact I). exact IH.
+Qed.
+
+(** If [f] holds of every message [published_value] allows, as it is sent,
+    then every run T2 allows passes [pub_okb f]: a program whose run fails
+    it does not satisfy [node_ddc]. *)
+Lemma run_ok_pub:
+  forall CS m (ctx : ros_context CS) tp f n t,
+  published m = [tp] -> controller_wt m ctx ->
+  (forall y now g mv, mval_has_type (composites m) (Tstruct (nm_out_struct m)) y ->
+     published_value m y now g tp mv -> f y (sent m tp mv) = true) ->
+  run_ok m ctx n t -> pub_okb f t = true.
+Proof.
+  intros CS m ctx tp f n t Pub CW F (s & evs & _ & -> & C).
+  rewrite pub_okb_start.
+  assert (G: forall k i, (forall j, (i <= j < i + k)%nat -> cycle_ok m ctx j (s j) (evs j) (s (S j))) ->
+             pub_okb f (concat (map evs (seq i k))) = true).
+  { induction k as [|k IH]; intros i0 Ck; [reflexivity|].
+    destruct (Ck i0 ltac:(lia)) as (u & y & mvs & E & _ & St & PV).
+    cbn [seq map concat]. rewrite E, Pub. rewrite Pub in PV.
+    inversion PV as [|tp' mv tps mvs' P Fa]; subst. inversion Fa; subst.
+    assert (Ty: mval_has_type (composites m) (Tstruct (nm_out_struct m)) y).
+    { generalize (CW (s i0) u). rewrite St. auto. }
+    cbn [pub_okb publish_events map combine app fst snd]. rewrite (F y _ _ mv Ty P). cbn [andb].
+    apply IH. intros j Hj. apply Ck. lia. }
+  apply G. intros j Hj. apply C. lia.
+Qed.
+
 Lemma start_events_refl: forall m, Forall (fun e => start_eqb e e = true) (start_events m).
 Proof.
   intros m. unfold start_events. constructor; [reflexivity|].
