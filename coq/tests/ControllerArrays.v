@@ -230,45 +230,18 @@ Proof. apply (erefute _ 4). vm_compute. reflexivity. Qed.
     message published for the outputs [y] is sent with the length
     [min(NC, 4)] and, when that length is not 0, element 0 equal to
     [Cmd[0]] (by [published_value] and [Main.sent_sequence]). *)
-Definition echo_sent_okb (y mv : mval) : bool :=
-  match mval_get y [Sfield "NC"], mval_get y [Sfield "Cmd"; Sindex 0] with
-  | Some (MVscalar (Vint l)), Some (MVscalar (Vsingle e0)) =>
-      match bits_at mv dlen, bits_at mv (delem 0) with
-      | Some n, Some b0 =>
-          Z.eqb n (Z.min l 4) && (if (0 <? Z.min l 4)%Z then Z.eqb b0 (bits_of_b32 e0) else true)
-      | _, _ => false
-      end
-  | _, _ => false
-  end.
+Definition echo_sent_okb : mval -> mval -> bool := seq_sent_okb [Sfield "NC"] [Sfield "Cmd"; Sindex 0].
 
 Lemma echo_cycle_sent:
   forall y now g mv,
   mval_has_type (composites echo) (Tstruct (nm_out_struct echo)) y ->
   published_value echo y now g out mv -> echo_sent_okb y (sent echo out mv) = true.
 Proof.
-  intros y now g mv Ty (T & Rel & _).
-  destruct (Rel (mkoutrel "NC" "out" dlen) (or_introl eq_refl) eq_refl) as (vl & Gl & Ml).
-  destruct (Rel (mkoutrel_at "Cmd" [PIndex 0] "out" (delem 0)) ltac:(simpl; auto) eq_refl) as (v0 & G0 & M0).
-  cbn [or_output or_path or_elem mkoutrel] in Gl, Ml, G0, M0.
-  change (path_steps []) with (@nil step) in Gl. change (path_steps [PIndex 0]) with [Sindex 0] in G0.
-  destruct (mval_get_has_type _ [Sfield "NC"] _ _ (Tint I32 Unsigned) Ty ltac:(vm_compute; reflexivity))
-    as (xl & Gxl & Txl). rewrite Gl in Gxl. inversion Gxl; subst xl.
-  inversion Txl as [? ? _ Vl| |]; subst.
-  assert (El: exists l, vl = Vint l) by (destruct vl; try contradiction; eauto). destruct El as [l ->].
-  destruct (mval_get_has_type _ [Sfield "Cmd"; Sindex 0] _ _ (Tfloat F32) Ty ltac:(vm_compute; reflexivity))
-    as (x0 & Gx0 & Tx0). rewrite G0 in Gx0. inversion Gx0; subst x0.
-  inversion Tx0 as [? ? _ V0| |]; subst.
-  assert (E0: exists e0, v0 = Vsingle e0) by (destruct v0; try contradiction; eauto). destruct E0 as [e0 ->].
-  destruct (sent_sequence echo out mv [PField "data"] "ros_seq_float32_4" 4 (Tfloat F32) l T
-              ltac:(repeat split; vm_compute; reflexivity) Ml) as (L & _ & D).
-  unfold echo_sent_okb. rewrite Gl, G0. unfold bits_at.
-  change (path_steps dlen) with (path_steps ([PField "data"] ++ [PField "len"])). rewrite L.
-  change (path_steps (delem 0)) with (path_steps ([PField "data"] ++ [PField "data"; PIndex 0])).
-  rewrite (D 0%Z ltac:(lia)).
-  rewrite Z.eqb_refl. simpl andb.
-  destruct (0 <? Z.min l 4)%Z; [|reflexivity].
-  change (path_steps ([PField "data"] ++ [PField "data"; PIndex 0])) with (path_steps (delem 0)).
-  rewrite M0. apply Z.eqb_refl.
+  intros y now g mv Ty P.
+  exact (seq_sent echo out (mkoutrel "NC" "out" dlen) (mkoutrel_at "Cmd" [PIndex 0] "out" (delem 0)) y now g mv
+           (or_introl eq_refl) eq_refl eq_refl ltac:(simpl; auto) eq_refl eq_refl
+           ltac:(vm_compute; reflexivity) ltac:(vm_compute; reflexivity)
+           ltac:(repeat split; vm_compute; reflexivity) Ty P).
 Qed.
 
 Lemma run_ok_echo: forall n t, run_ok echo ectx_typed n t -> pub_okb echo_sent_okb t = true.

@@ -288,8 +288,8 @@ Proof. vm_compute. reflexivity. Qed.
     published message that the step's outputs [y] call for is sent with
     the length [min(L, 4)] and, when that length is not 0, element 0
     equal to [E0] (by [published_value] and [Main.sent_sequence]). *)
-Definition cycle_sent_okb (y mv : mval) : bool :=
-  match mval_get y [Sfield "L"], mval_get y [Sfield "E0"] with
+Definition seq_sent_okb (yl ye : Values.path) (y mv : mval) : bool :=
+  match mval_get y yl, mval_get y ye with
   | Some (MVscalar (Vint l)), Some (MVscalar (Vsingle e0)) =>
       match bits_at mv dlen, bits_at mv (delem 0) with
       | Some n, Some b0 =>
@@ -299,27 +299,35 @@ Definition cycle_sent_okb (y mv : mval) : bool :=
   | _, _ => false
   end.
 
-Lemma cycle_sent:
-  forall y now g mv,
-  mval_has_type (composites publisher) (Tstruct (nm_out_struct publisher)) y ->
-  published_value publisher y now g out mv -> cycle_sent_okb y (sent publisher out mv) = true.
+(** For any node that publishes, on a topic [tp], a [ros_seq_float32_4]
+    at [data] whose length comes from the output leaf of [ol] and whose
+    element 0 from that of [oe]: every message [published_value] allows
+    is sent with that length capped and that element 0. *)
+Lemma seq_sent:
+  forall m tp ol oe y now g mv,
+  In ol (nm_outrels m) -> or_topic ol = tp_cname tp -> or_path ol = dlen ->
+  In oe (nm_outrels m) -> or_topic oe = tp_cname tp -> or_path oe = delem 0 ->
+  type_at (composites m) (Tstruct (nm_out_struct m)) (Sfield (or_output ol) :: path_steps (or_elem ol))
+    = Some (Tint I32 Unsigned) ->
+  type_at (composites m) (Tstruct (nm_out_struct m)) (Sfield (or_output oe) :: path_steps (or_elem oe))
+    = Some (Tfloat F32) ->
+  bounded_at m tp [PField "data"] "ros_seq_float32_4" 4 (Tfloat F32) ->
+  mval_has_type (composites m) (Tstruct (nm_out_struct m)) y ->
+  published_value m y now g tp mv ->
+  seq_sent_okb (Sfield (or_output ol) :: path_steps (or_elem ol)) (Sfield (or_output oe) :: path_steps (or_elem oe))
+               y (sent m tp mv) = true.
 Proof.
-  intros y now g mv Ty (T & Rel & _).
-  destruct (Rel (mkoutrel "L" "out" dlen) (or_introl eq_refl) eq_refl) as (vl & Gl & Ml).
-  destruct (Rel (mkoutrel "E0" "out" (delem 0)) (or_intror (or_introl eq_refl)) eq_refl) as (v0 & G0 & M0).
-  cbn [or_output or_path or_elem mkoutrel] in Gl, Ml, G0, M0.
-  change (path_steps []) with (@nil step) in Gl, G0.
-  destruct (mval_get_has_type _ [Sfield "L"] _ _ (Tint I32 Unsigned) Ty ltac:(vm_compute; reflexivity))
-    as (xl & Gxl & Txl). rewrite Gl in Gxl. inversion Gxl; subst xl.
+  intros m tp ol oe y now g mv Hl El Pl He Ee Pe TL TE B Ty (T & Rel & _).
+  destruct (Rel ol Hl El) as (vl & Gl & Ml). destruct (Rel oe He Ee) as (v0 & G0 & M0).
+  rewrite Pl in Ml. rewrite Pe in M0.
+  destruct (mval_get_has_type _ _ _ _ _ Ty TL) as (xl & Gxl & Txl). rewrite Gl in Gxl. inversion Gxl; subst xl.
   inversion Txl as [? ? _ Vl| |]; subst.
-  assert (El: exists l, vl = Vint l) by (destruct vl; try contradiction; eauto). destruct El as [l ->].
-  destruct (mval_get_has_type _ [Sfield "E0"] _ _ (Tfloat F32) Ty ltac:(vm_compute; reflexivity))
-    as (x0 & Gx0 & Tx0). rewrite G0 in Gx0. inversion Gx0; subst x0.
+  assert (Ex: exists l, vl = Vint l) by (destruct vl; try contradiction; eauto). destruct Ex as [l ->].
+  destruct (mval_get_has_type _ _ _ _ _ Ty TE) as (x0 & Gx0 & Tx0). rewrite G0 in Gx0. inversion Gx0; subst x0.
   inversion Tx0 as [? ? _ V0| |]; subst.
-  assert (E0: exists e0, v0 = Vsingle e0) by (destruct v0; try contradiction; eauto). destruct E0 as [e0 ->].
-  destruct (sent_sequence publisher out mv [PField "data"] "ros_seq_float32_4" 4 (Tfloat F32) l T
-              ltac:(repeat split; vm_compute; reflexivity) Ml) as (L & _ & D).
-  unfold cycle_sent_okb. rewrite Gl, G0. unfold bits_at.
+  assert (Ex: exists e0, v0 = Vsingle e0) by (destruct v0; try contradiction; eauto). destruct Ex as [e0 ->].
+  destruct (sent_sequence m tp mv [PField "data"] "ros_seq_float32_4" 4 (Tfloat F32) l T B Ml) as (L & _ & D).
+  unfold seq_sent_okb. rewrite Gl, G0. unfold bits_at.
   change (path_steps dlen) with (path_steps ([PField "data"] ++ [PField "len"])). rewrite L.
   change (path_steps (delem 0)) with (path_steps ([PField "data"] ++ [PField "data"; PIndex 0])).
   rewrite (D 0%Z ltac:(lia)).
@@ -327,6 +335,20 @@ Proof.
   destruct (0 <? Z.min l 4)%Z; [|reflexivity].
   change (path_steps ([PField "data"] ++ [PField "data"; PIndex 0])) with (path_steps (delem 0)).
   rewrite M0. apply Z.eqb_refl.
+Qed.
+
+Definition cycle_sent_okb : mval -> mval -> bool := seq_sent_okb [Sfield "L"] [Sfield "E0"].
+
+Lemma cycle_sent:
+  forall y now g mv,
+  mval_has_type (composites publisher) (Tstruct (nm_out_struct publisher)) y ->
+  published_value publisher y now g out mv -> cycle_sent_okb y (sent publisher out mv) = true.
+Proof.
+  intros y now g mv Ty P.
+  exact (seq_sent publisher out (mkoutrel "L" "out" dlen) (mkoutrel "E0" "out" (delem 0)) y now g mv
+           (or_introl eq_refl) eq_refl eq_refl (or_intror (or_introl eq_refl)) eq_refl eq_refl
+           ltac:(vm_compute; reflexivity) ltac:(vm_compute; reflexivity)
+           ltac:(repeat split; vm_compute; reflexivity) Ty P).
 Qed.
 
 Lemma run_ok_pub_seq: forall n t, run_ok publisher pctx n t -> pub_okb cycle_sent_okb t = true.
