@@ -23,7 +23,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from common import PY, REPO, WORK, loadavg, machine, run, save_json  # noqa: E402
+from common import WORK, machine, save_json  # noqa: E402
+from sequences import generate  # noqa: E402  (the same measurement of one `pyrosgen generate`)
 
 CA = WORK / "controller_arrays"
 
@@ -48,13 +49,6 @@ relations:
 
 def log(msg: str) -> None:
     print(f"controller_arrays: {msg}", file=sys.stderr, flush=True)
-
-
-def generate(model: Path, out: Path) -> dict:
-    p = run([PY, "-m", "pyrosgen", "generate", str(model), "-o", str(out)], cwd=REPO, timeout=3600)
-    summary = next((line.strip() for line in p.stdout.splitlines() if line.strip().startswith("time")), "")
-    return {"wall": round(p.wall, 2), "cpu": round(p.cpu, 2), "maxrss_mb": round(p.maxrss_kb / 1024),
-            "summary": summary, "load": loadavg()}
 
 
 def main() -> None:
