@@ -489,22 +489,23 @@ def _runs(rels, key) -> list[tuple[int, int]]:
     return out
 
 
-def _in_key(r):
+def _elem_key(r, field: str, index):
+    """The run key of a relation between element ``index`` of controller
+    field ``field`` and the leaf ``r.path`` of ``r.topic``: its topic and
+    field, the path without its last step, the index; ``None`` unless the
+    path ends with that same index (``ranges.data[i] -> Scan[i]``)."""
     steps = r.path.steps
-    if r.input_index is None or not steps or isinstance(steps[-1], bool) or not isinstance(steps[-1], int):
+    if index is None or not steps or isinstance(steps[-1], bool) or steps[-1] != index:
         return None
-    if steps[-1] != r.input_index:
-        return None
-    return ((r.topic.c_name, r.input_field), tuple(steps[:-1]), r.input_index)
+    return ((r.topic.c_name, field), tuple(steps[:-1]), index)
+
+
+def _in_key(r):
+    return _elem_key(r, r.input_field, r.input_index)
 
 
 def _out_key(r):
-    steps = r.path.steps
-    if r.output_index is None or not steps or isinstance(steps[-1], bool) or not isinstance(steps[-1], int):
-        return None
-    if steps[-1] != r.output_index:
-        return None
-    return ((r.topic.c_name, r.output_field), tuple(steps[:-1]), r.output_index)
+    return _elem_key(r, r.output_field, r.output_index)
 
 
 def _segments(rels, rows, key, run_row) -> tuple[tuple[str, tuple], ...]:
