@@ -672,8 +672,8 @@ class NodeModel:
         string (rules 4.14, 4.15) and variable-length array (rule 4.15),
         in the order of :attr:`messages`."""
         by_name = {m.name: m for m in self.messages}
-        return tuple((m.name, f.name, by_name[f.msg]) for m in self.messages for f in m.fields
-                     if f.kind == "msg" and f.msg in by_name and by_name[f.msg].is_bounded)
+        return tuple((m.name, f.name, by_name[f.msg]) for m in self.messages if not m.is_bounded
+                     for f in m.fields if f.kind == "msg" and f.msg in by_name and by_name[f.msg].is_bounded)
 
     def derived_relation(self, input_field: str) -> DerivedRelation:
         """The derived relation feeding controller input ``input_field``."""

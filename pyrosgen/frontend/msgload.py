@@ -20,9 +20,15 @@ turns them into the *carried* view that the generators use:
 - a variable-length array ``T[]`` of a primitive ``T`` is carried, as the
   bounded struct ``ros_seq_<T>_<N>``
   (:func:`~pyrosgen.frontend.msgmodel.seq_type`), exactly when an input
-  relation reads it (rule 4.15, :attr:`MsgRegistry.carry_bounded`); every
-  other variable-length (or bounded) array, arrays of strings and fields
-  of other base types are dropped.
+  relation reads it (rule 4.15, :attr:`MsgRegistry.carry_bounded`);
+- a variable-length array of messages ``T[]`` or of strings is carried
+  the same way, as ``ros_seq_<pkg>_<Type>_<N>`` or
+  ``ros_seq_string<M>_<N>`` (:func:`~pyrosgen.frontend.msgmodel.seq_elem_type`),
+  whose ``data`` is an array of the element's carried struct (the key
+  ``(type, 'name[]')`` of :attr:`MsgRegistry.carry_bounded` holds the
+  element strings' ``M``);
+- every other variable-length (or bounded) array, fixed-size arrays of
+  strings and fields of other base types are dropped.
 
 It also resolves field paths such as ``pose.covariance[35]`` against the
 original definitions, so that naming a dropped field is reported with the
@@ -52,6 +58,8 @@ from pyrosgen.frontend.msgmodel import (
     is_bounded_type,
     leaf_paths,
     msg_c_name,
+    seq_msg_type_name,
+    seq_string_type_name,
     seq_type_name,
     string_type_name,
 )
@@ -218,16 +226,25 @@ class BoundedTarget:
     owner: str
     field: str
     elem: str
+    #: a variable-length array of messages (``'msg'``, ``elem`` the
+    #: element's type) or of strings (``'string'``), rule 4.15; ``None``
+    #: for an array of primitives or a string.  The strings of an array of
+    #: strings are the target ``field`` ``name[]`` (``elem`` ``'string'``)
+    seq_of: str | None = None
+    #: the path reaches it through an element of a variable-length array
+    #: (``poses[2].header.frame_id``, ``name[0]``)
+    in_element: bool = False
 
     @property
     def key(self) -> tuple[str, str]:
         """``(owner, field)``: the field of its message type, which one
-        bounded struct holds in every topic of the type."""
+        bounded struct holds in every topic of the type (``(owner,
+        'name[]')``: the strings of the array of strings ``name``)."""
         return (self.owner, self.field)
 
     @property
     def is_string(self) -> bool:
-        return self.elem == "string"
+        return self.elem == "string" and self.seq_of is None
 
 
 @dataclass(frozen=True)
@@ -473,9 +490,13 @@ class MsgRegistry:
                 if f.base in self._broken:
                     broken = True
                     continue
-                if sub is None or f.card == "sequence" or (f.card == "array" and f.size == 0):
+                if f.card == "sequence" and sub is not None and (name, f.name) in self.carry_bounded:
+                    mf = MsgField(f.name, "msg", msg=seq_msg_type_name(f.base, self.carry_bounded[(name, f.name)],
+                                                                     (name, f.name) in self.carry_reject))
+                elif sub is None or f.card == "sequence" or (f.card == "array" and f.size == 0):
                     continue
-                mf = MsgField(f.name, "msg", msg=f.base, array_len=f.size if f.card == "array" else None)
+                else:
+                    mf = MsgField(f.name, "msg", msg=f.base, array_len=f.size if f.card == "array" else None)
             elif f.base_kind == "prim":
                 if f.card == "sequence" and (name, f.name) in self.carry_bounded:
                     mf = MsgField(f.name, "msg", msg=seq_type_name(f.base, self.carry_bounded[(name, f.name)],
@@ -487,6 +508,10 @@ class MsgRegistry:
             elif f.base_kind == "string" and f.card == "scalar" and (name, f.name) in self.carry_bounded:
                 mf = MsgField(f.name, "msg", msg=string_type_name(self.carry_bounded[(name, f.name)],
                                                                 (name, f.name) in self.carry_reject))
+            elif f.base_kind == "string" and f.card == "sequence" and (name, f.name) in self.carry_bounded:
+                elem_n = self.carry_bounded.get((name, f.name + "[]"), DEFAULT_MAX_LENGTH)
+                mf = MsgField(f.name, "msg", msg=seq_string_type_name(elem_n, self.carry_bounded[(name, f.name)],
+                                                                    (name, f.name) in self.carry_reject))
             else:
                 continue
             if raw.file is not None:
@@ -554,15 +579,33 @@ class MsgRegistry:
         (``writes``: an output relation's, which the messages say).
         Without it, a path into a variable-length array is refused as rule
         4.15 says."""
-        steps = parse_path(text)
+        steps = parse_path(text, extended=bounded)
         cur = self.raw(type_name)
         assert cur is not None
         out: list[str | int] = []
         shown = ""
         for i, (fname, index) in enumerate(steps):
             last = i == len(steps) - 1
+            step = steps[i]
             f, shown = _field_step(cur, text, fname, shown)
             out.append(fname)
+            if step.any:
+                raise BoundedPathError(
+                    f"field path {show(text)}: {show(shown + '[]')}: a relation names one element with a "
+                    f"constant index ({show(shown + '[0]')}); [] (every element) is for max_length and policy keys")
+            if f.card == "sequence" and f.base_kind in ("msg", "string") and bounded:
+                nxt_name = steps[i + 1][0] if not last else None
+                leaf = self._element_step(text, cur, f, step, nxt_name, out, shown, writes)
+                if leaf is not None:
+                    return leaf
+                shown = f"{shown}[{index}]"
+                cur = self.raw(f.base)
+                assert cur is not None
+                continue
+            if step.more:
+                raise BoundedPathError(
+                    f"field path {show(text)}: {show(shown + f'[{index}]')} is not an array "
+                    f"({show(shown)} is {_article(f.base)} {f.type_text()}), it cannot be indexed again")
             if f.card == "sequence" or (bounded and f.base_kind == "string" and f.card == "scalar"):
                 nxt_name = steps[i + 1][0] if not last else None
                 return self._bounded_leaf(text, cur, f, index, nxt_name, tuple(out), shown, bounded, writes)
@@ -605,6 +648,80 @@ class MsgRegistry:
             assert nxt is not None
             cur = nxt
         raise PathError(f"field path {show(text)} is empty")  # pragma: no cover
+
+    def _element_step(self, text: object, cur: _RawMsg, f: _RawField, step, nxt: str | None,
+                      out: list[str | int], shown: str, writes: bool) -> FieldPath | None:
+        """One step of :meth:`walk_path` into ``f``, a variable-length
+        array of messages or strings of ``cur`` (rule 4.15), written
+        ``step`` (its index, and a second one for a string's byte), ``nxt``
+        the next step's name: appends ``data`` and the element's index to
+        ``out``; returns the leaf when the path ends in the element (a byte
+        of an element string), ``None`` when it goes on into an element
+        message; raises :class:`PathError` saying why not."""
+        ftype = f.type_text()
+        string = f.base_kind == "string"
+        what = f"a variable-length array of {'strings' if string else 'messages'} ({ftype})"
+        index = step[1]
+        if writes:
+            raise BoundedPathError(
+                f"field path {show(text)}: {show(shown)} is {what}; an output relation does not write "
+                "into the elements of a published array of messages or strings yet (rule 4.15)")
+        if index is None:
+            example = f"{shown}[0]" + ("[0]" if string else "." + (nxt or "<field>"))
+            raise BoundedPathError(
+                f"field path {show(text)}: {show(shown)} is {what}; a relation reads "
+                + ("a byte of one of its strings" if string else "a leaf of one of its elements")
+                + f" ({show(example)}) or its length or whether it was truncated (derived: length, "
+                "derived: truncated)")
+        n = self.capacity(cur.name, f.name)
+        if n is None:  # pragma: no cover - the front end carries what relations name
+            raise BoundedPathError(f"field path {show(text)}: {show(shown)} ({what}) is not carried")
+        if index >= n:
+            raise BoundedPathError(
+                f"field path {show(text)}: index {index} is beyond the maximum length of {show(shown)}: "
+                f"the node carries at most {n} of its elements (max_length, default {DEFAULT_MAX_LENGTH}); "
+                f"valid indices are 0..{n - 1}")
+        out += ["data", index]
+        shown_i = f"{shown}[{index}]"
+        if not string:
+            if step.more:
+                raise BoundedPathError(
+                    f"field path {show(text)}: {show(shown_i)} is a message ({f.base}), not an array: "
+                    "it cannot be indexed again")
+            if nxt is None:
+                sub = self.carried(f.base)
+                leaf = _ros_leaf(sub, self.messages()) if sub is not None else None
+                example = f"; name one of its leaf fields, e.g. {show(shown_i + '.' + str(leaf))}" if leaf else ""
+                raise BoundedPathError(
+                    f"field path {show(text)}: {show(shown_i)} is a whole element ({f.base}) of {show(shown)}, "
+                    f"not a leaf field{example}")
+            if self.carried(f.base) is None:
+                raise BoundedPathError(
+                    f"field path {show(text)}: the elements of {show(shown)} ({f.base}) carry no field")
+            return None
+        m = self.capacity(cur.name, f.name + "[]") or DEFAULT_MAX_LENGTH
+        if not step.more:
+            if nxt is None:
+                raise BoundedPathError(
+                    f"field path {show(text)}: {show(shown_i)} is a string (an element of {what}); a relation "
+                    f"reads one of its bytes ({show(shown_i + '[0]')}, a uint8) or its length (derived: length), "
+                    "or relates it whole to a uint8 controller array")
+            raise BoundedPathError(
+                f"field path {show(text)}: {show(shown_i)} is a string; a path does not go inside it "
+                f"({show(nxt)}: len, truncated and data are fields of its C struct, not of the ROS message); "
+                f"name one of its bytes ({show(shown_i + '[0]')}) or use derived: length")
+        if len(step.more) > 1:  # pragma: no cover - parse_path takes two indices at most
+            raise BoundedPathError(f"field path {show(text)}: too many indices after {show(shown)}")
+        j = step.more[0]
+        if nxt is not None:
+            raise BoundedPathError(
+                f"field path {show(text)}: {show(shown_i + f'[{j}]')} is a uint8, it has no field {show(nxt)}")
+        if j >= m:
+            raise BoundedPathError(
+                f"field path {show(text)}: index {j} is beyond the maximum length of the strings of "
+                f"{show(shown)}: the node carries at most {m} bytes of each (max_length "
+                f"{show(f.name + '[]')}, default {DEFAULT_MAX_LENGTH}); valid indices are 0..{m - 1}")
+        return FieldPath((*out, "data", j), "uint8")
 
     def _bounded_leaf(self, text: object, cur: _RawMsg, f: _RawField, index: int | None, nxt: str | None,
                       out: tuple[str | int, ...], shown: str, bounded: bool, writes: bool = False) -> FieldPath:
@@ -660,37 +777,65 @@ class MsgRegistry:
         return FieldPath((*out, "data", index), elem)
 
     def bounded_in_path(self, type_name: str, text: object) -> BoundedTarget | None:
-        """The variable-length array of primitives or ``string`` field that
-        field path ``text`` of ``type_name`` reaches (through nested
-        messages and fixed-size arrays of messages, on the definitions as
-        written), whether the path ends there or names an element; ``None``
-        when it reaches none (nothing is reported here: the path is
-        checked again when it is resolved)."""
+        """The variable-length array or ``string`` field that field path
+        ``text`` of ``type_name`` reaches last (through nested messages,
+        fixed-size arrays of messages and elements of variable-length
+        arrays of messages, on the definitions as written), whether the
+        path ends there or names an element; ``None`` when it reaches none
+        (nothing is reported here: the path is checked again when it is
+        resolved)."""
+        along = self.bounded_along(type_name, text)
+        return along[-1] if along else None
+
+    def bounded_along(self, type_name: str, text: object) -> list[BoundedTarget]:
+        """Every variable-length array or ``string`` field that field path
+        ``text`` of ``type_name`` reaches, outermost first: ``poses[2].
+        header.frame_id`` reaches ``poses`` and the ``frame_id`` of its
+        element's header; ``name[0][3]`` reaches ``name`` and its strings
+        (``name[]``).  Nothing is reported here."""
         try:
-            steps = parse_path(text)
+            steps = parse_path(text, extended=True)
         except PathError:
-            return None
+            return []
+        acc: list[BoundedTarget] = []
         cur = self.raw(type_name)
         out: list[str | int] = []
+        inside = False
         for fname, index in steps:
             f = cur.field(fname) if cur is not None else None
             if f is None:
-                return None
+                return acc
             out.append(fname)
             if f.card == "sequence":
-                return BoundedTarget(tuple(out), cur.name, f.name, f.base) if f.base_kind == "prim" else None
+                if f.base_kind == "prim":
+                    acc.append(BoundedTarget(tuple(out), cur.name, f.name, f.base, in_element=inside))
+                    return acc
+                if f.base_kind not in ("msg", "string"):
+                    return acc
+                acc.append(BoundedTarget(tuple(out), cur.name, f.name, f.base, f.base_kind, inside))
+                if index is None:
+                    return acc
+                out += ["data", index]
+                inside = True
+                if f.base_kind == "string":
+                    acc.append(BoundedTarget(tuple(out), cur.name, f.name + "[]", "string", None, True))
+                    return acc
+                cur = self.raw(f.base)
+                continue
             if f.base_kind == "string":
-                return BoundedTarget(tuple(out), cur.name, f.name, "string") if f.card == "scalar" else None
+                if f.card == "scalar":
+                    acc.append(BoundedTarget(tuple(out), cur.name, f.name, "string", in_element=inside))
+                return acc
             if f.card == "array":
                 if index is None or index >= f.size:
-                    return None
+                    return acc
                 out.append(index)
             elif index is not None:
-                return None
+                return acc
             if f.base_kind != "msg":
-                return None
+                return acc
             cur = self.raw(f.base)
-        return None
+        return acc
 
     def walk_bounded(self, type_name: str, text: object, what: str) -> BoundedTarget:
         """Resolve field path ``text`` of ``type_name`` to a whole
@@ -699,18 +844,71 @@ class MsgRegistry:
         length`` or ``truncated``; ``what`` names it in messages), through
         nested messages and fixed-size arrays of messages; raises
         :class:`PathError` saying why not."""
-        steps = parse_path(text)
+        keys = what in ("max_length", "policy")
+        steps = parse_path(text, extended=True)
         cur = self.raw(type_name)
         assert cur is not None
         out: list[str | int] = []
         shown = ""
+        inside = False
         for i, (fname, index) in enumerate(steps):
             last = i == len(steps) - 1
+            step = steps[i]
             f, shown = _field_step(cur, text, fname, shown)
             out.append(fname)
             ftype = f.type_text()
             bounded = f.card == "sequence" or (f.base_kind == "string" and f.card == "scalar")
-            _refuse_sequence_of_non_prims(text, f, shown)
+            if f.card == "sequence" and f.base_kind in ("msg", "string"):
+                string = f.base_kind == "string"
+                kind = f"a variable-length array of {'strings' if string else 'messages'} ({ftype})"
+                if index is None and not step.any:
+                    if last:
+                        return BoundedTarget(tuple(out), cur.name, f.name, f.base, f.base_kind, inside)
+                    raise BoundedPathError(
+                        f"field path {show(text)}: {show(shown)} is {kind}; "
+                        + (f"a {what} key reaches into every element with [] ({show(shown + '[].' + steps[i + 1][0])})"
+                           if keys else f"name one element with a constant index ({show(shown + '[0].' + steps[i + 1][0])})"))
+                if keys and not step.any:
+                    raise BoundedPathError(
+                        f"field path {show(text)}: {show(shown + f'[{index}]')}: a {what} key names every element "
+                        f"of {show(shown)} ({kind}) with [] ({show(shown + '[]')}): one struct holds them all")
+                if not keys and step.any:
+                    raise BoundedPathError(
+                        f"field path {show(text)}: {show(shown + '[]')}: {what} names one element with a constant "
+                        f"index ({show(shown + '[0]')}); [] (every element) is for max_length and policy keys")
+                if index is not None:
+                    n = self.capacity(cur.name, f.name)
+                    if n is not None and index >= n:
+                        raise BoundedPathError(
+                            f"field path {show(text)}: index {index} is beyond the maximum length of {show(shown)}: "
+                            f"the node carries at most {n} of its elements (max_length, default "
+                            f"{DEFAULT_MAX_LENGTH}); valid indices are 0..{n - 1}")
+                out += ["data", index if index is not None else 0]
+                shown += f"[{index}]" if index is not None else "[]"
+                inside = True
+                if step.more:
+                    raise BoundedPathError(
+                        f"field path {show(text)}: {show(shown + f'[{step.more[0]}]')} is one element of "
+                        + ("a string" if string else f"an array of messages") + f"; {what} names a whole "
+                        + ("string" if string else "array") + f" ({show(shown)})")
+                if string:
+                    if not last:
+                        raise BoundedPathError(
+                            f"field path {show(text)}: {show(shown)} is a string; a path does not go inside it "
+                            f"({show(steps[i + 1][0])}: len, truncated and data are fields of its C struct, not "
+                            "of the ROS message)")
+                    return BoundedTarget(tuple(out), cur.name, f.name + "[]", "string", None, True)
+                if last:
+                    raise BoundedPathError(
+                        f"field path {show(text)}: {show(shown)} is a whole element ({f.base}) of {kind}, "
+                        f"not a variable-length array or a string ({what} is for those)")
+                cur = self.raw(f.base)
+                assert cur is not None
+                continue
+            if step.any or step.more:
+                raise BoundedPathError(
+                    f"field path {show(text)}: {show(shown)} ({ftype}) is not a variable-length array of messages "
+                    f"or strings: {'[]' if step.any else 'a second index'} is for those")
             if bounded:
                 kind = "a string" if f.base_kind == "string" else f"a variable-length array ({ftype})"
                 if index is not None:
@@ -724,7 +922,10 @@ class MsgRegistry:
                         f"({show(steps[i + 1][0])}: len, truncated and data are fields of its C struct, not of "
                         f"the ROS message)"
                     )
-                return BoundedTarget(tuple(out), cur.name, f.name, "string" if f.base_kind == "string" else f.base)
+                if f.card == "sequence" and f.base_kind != "prim":
+                    _refuse_sequence_of_non_prims(text, f, shown)
+                return BoundedTarget(tuple(out), cur.name, f.name, "string" if f.base_kind == "string" else f.base,
+                                     in_element=inside)
             if f.card == "array" and f.base_kind == "string":
                 raise BoundedPathError(
                     f"field path {show(text)}: {show(shown)} is an array of strings ({ftype}); "
@@ -863,13 +1064,12 @@ def _index_step(text: object, steps: list[tuple[str, int | None]], i: int, f: _R
 
 def _refuse_sequence_of_non_prims(text: object, f: _RawField, shown: str) -> None:
     """Raise :class:`BoundedPathError` when ``f`` (reached as ``shown``) is a
-    variable-length array of messages or strings, which are not carried
-    yet (rule 4.15, issue 15)."""
-    if f.card == "sequence" and f.base_kind != "prim":
-        of = {"string": "strings", "msg": "messages"}.get(f.base_kind, f.base)
+    variable-length array of a type the glue does not carry (rule 4.15:
+    of primitives, messages and strings only)."""
+    if f.card == "sequence" and f.base_kind not in ("prim", "msg", "string"):
         raise BoundedPathError(
-            f"field path {show(text)}: {show(shown)} is a variable-length array of {of} ({f.type_text()}); "
-            "variable-length arrays of messages or strings are not carried yet (issue 15)"
+            f"field path {show(text)}: {show(shown)} is a variable-length array of {f.base} ({f.type_text()}), "
+            "which the glue does not carry"
         )
 
 
@@ -920,18 +1120,44 @@ def _article(word: str) -> str:
     return "an" if word[:1] in "aeiou" else "a"
 
 
-_STEP_RE = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)(?:\[([0-9]{1,9})\])?")
+_STEP_RE = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)((?:\[[0-9]{0,9}\])*)")
+_INDEX_RE = re.compile(r"\[([0-9]{0,9})\]")
 
 
-def parse_path(text: object) -> list[tuple[str, int | None]]:
+class _Step(tuple):
+    """One step of a field path: ``(name, index)`` (``index`` ``None``
+    when none is written), with ``more``, the indices written after the
+    first (``name[0][3]``: a byte of an element of an array of strings,
+    rule 4.15), and ``any``, whether the first index is written ``[]``
+    (every element: a ``max_length`` or ``policy`` key reaching into the
+    elements of a variable-length array, rule 4.15)."""
+
+    more: tuple[int, ...] = ()
+    any: bool = False
+
+    def __new__(cls, name: str, index: int | None, more: tuple[int, ...] = (), any_: bool = False):
+        t = super().__new__(cls, (name, index))
+        t.more = more
+        t.any = any_
+        return t
+
+
+def parse_path(text: object, *, extended: bool = False) -> list[tuple[str, int | None]]:
     """Split ``a.b[3].c`` into ``[('a', None), ('b', 3), ('c', None)]``;
-    raises :class:`PathError` when ``text`` is not of that form."""
+    raises :class:`PathError` when ``text`` is not of that form.  With
+    ``extended`` (rule 4.15), a step may also carry a second index
+    (``name[0][3]``) or ``[]`` (``poses[].header.frame_id``), kept in the
+    step's ``more`` and ``any`` (:class:`_Step`)."""
     if not isinstance(text, str) or not text:
         raise PathError(f"field path {show(text)} is empty")
     out = []
     for part in text.split("."):
         m = _STEP_RE.fullmatch(part)
-        if not m:
+        indices = _INDEX_RE.findall(m.group(2)) if m else []
+        ok = m is not None and (
+            "" not in indices[1:] and not (indices and indices[0] == "" and len(indices) > 1) and (extended or (len(indices) <= 1 and "" not in indices))
+            and len(indices) <= 2)
+        if not ok:
             hint = ""
             if re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*\[.*\]", part):
                 hint = "; array indices are non-negative integer constants, e.g. covariance[35]"
@@ -939,7 +1165,9 @@ def parse_path(text: object) -> list[tuple[str, int | None]]:
                 f"field path {show(text)} is malformed: expected field names, each "
                 f"optionally followed by [INDEX], separated by '.'{hint}"
             )
-        out.append((m.group(1), int(m.group(2)) if m.group(2) is not None else None))
+        first = indices[0] if indices else None
+        out.append(_Step(m.group(1), int(first) if first else None,
+                         tuple(int(x) for x in indices[1:]), first == ""))
     return out
 
 

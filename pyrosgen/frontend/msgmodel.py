@@ -37,6 +37,9 @@ __all__ = [
     "MAX_SEQUENCE_LENGTH",
     "seq_type_name",
     "seq_type",
+    "seq_msg_type_name",
+    "seq_string_type_name",
+    "seq_elem_type",
     "is_seq_type",
     "bounded_type",
     "is_bounded_type",
@@ -176,9 +179,11 @@ class MsgType:
     #: ``ros_string<N>`` of :func:`string_type`, ``N`` its capacity in
     #: bytes; ``None`` for every other type
     string_capacity: int | None = None
-    #: a carried variable-length array ``T[]`` of a primitive ``T`` (rule
-    #: 4.15): the bounded struct ``ros_seq_<T>_<N>`` of :func:`seq_type`,
-    #: ``(T, N)``; ``None`` for every other type
+    #: a carried variable-length array ``T[]`` (rule 4.15): the bounded
+    #: struct ``ros_seq_<T>_<N>`` of :func:`seq_type`, ``(T, N)``, ``T`` a
+    #: primitive, or of :func:`seq_elem_type`, ``T`` a message type
+    #: (``geometry_msgs/PoseStamped``) or ``'string'``; ``None`` for every
+    #: other type
     seq_of: tuple[str, int] | None = None
     #: a bounded struct of policy reject (rule 4.15, ``policy``): named
     #: ``ros_rseq_<T>_<N>`` or ``ros_rstring<N>`` (``Environment.reject_name``);
@@ -220,7 +225,24 @@ class MsgType:
     def element_cpp(self) -> str | None:
         """The C++ element type roscpp gives a carried sequence
         (``std::vector<element_cpp>``), else ``None``."""
-        return CPP_ELEMENT_TYPES[self.seq_of[0]] if self.seq_of is not None else None
+        if self.seq_of is None:
+            return None
+        elem = self.seq_of[0]
+        if elem in CPP_ELEMENT_TYPES:
+            return CPP_ELEMENT_TYPES[elem]
+        return {"string": "std::string", "time": "ros::Time", "duration": "ros::Duration"}.get(
+            elem, elem.replace("/", "::"))
+
+    @property
+    def elem_struct(self) -> str | None:
+        """The element type of a carried sequence of messages or strings
+        (rule 4.15): the message type (``geometry_msgs/PoseStamped``,
+        ``time``) or the element string's struct (``ros_string32``) that
+        its ``data`` array holds; ``None`` for every other type (a
+        sequence of primitives included)."""
+        if self.seq_of is None or len(self.fields) != 3 or self.fields[2].kind != "msg":
+            return None
+        return self.fields[2].msg
 
     @property
     def package(self) -> str | None:
@@ -373,10 +395,84 @@ def is_seq_type(name: str) -> bool:
     return isinstance(name, str) and _SEQ_NAME.fullmatch(name) is not None
 
 
+#: The struct of a carried variable-length array of strings (rule 4.15):
+#: ``ros_seq_string<M>_<N>``, at most ``N`` strings of at most ``M`` bytes.
+_SEQ_STRING_NAME = re.compile(r"ros_(r?)seq_string([1-9][0-9]{0,5})_([1-9][0-9]{0,5})")
+#: The struct of a carried variable-length array of messages (rule 4.15):
+#: ``ros_seq_<pkg>_<Type>_<N>`` (the element's C struct name, ``ros_time``
+#: and ``ros_duration`` included: a ROS type name has no '_').
+_SEQ_MSG_NAME = re.compile(r"ros_(r?)seq_([a-z][a-z0-9_]*_[A-Za-z][A-Za-z0-9]*)_([1-9][0-9]{0,5})")
+
+
+def seq_msg_type_name(elem: str, capacity: int = DEFAULT_MAX_LENGTH, reject: bool = False) -> str:
+    """The name (and C struct name) of a carried variable-length array of
+    at most ``capacity`` messages of type ``elem`` (``pkg/Type``, ``time``
+    or ``duration``): ``ros_seq_geometry_msgs_PoseStamped_128``
+    (``ros_rseq_...`` of policy reject)."""
+    c = msg_c_name(elem)
+    if _elem_msg_name(c) != elem:
+        raise ValueError(f"not a message type: {elem!r}")
+    return f"ros_{'r' if reject else ''}seq_{c}_{capacity}"
+
+
+def seq_string_type_name(elem_capacity: int, capacity: int = DEFAULT_MAX_LENGTH, reject: bool = False) -> str:
+    """The name (and C struct name) of a carried variable-length array of
+    at most ``capacity`` strings of at most ``elem_capacity`` bytes each:
+    ``ros_seq_string32_6`` (``ros_rseq_string32_6`` of policy reject)."""
+    return f"ros_{'r' if reject else ''}seq_string{elem_capacity}_{capacity}"
+
+
+def _elem_msg_name(c_name: str) -> str | None:
+    """The message type whose C struct name is ``c_name`` (``pkg_Type``
+    gives ``pkg/Type``; ``ros_time``, ``ros_duration``), ``None`` if none
+    can be (a package called ``ros`` or ``ros_...`` is refused, rule 4.15)."""
+    if c_name == "ros_time":
+        return "time"
+    if c_name == "ros_duration":
+        return "duration"
+    pkg, _, typ = c_name.rpartition("_")
+    if not pkg or pkg == "ros" or pkg.startswith("ros_") or not re.fullmatch(r"[A-Za-z][A-Za-z0-9]*", typ):
+        return None
+    return f"{pkg}/{typ}"
+
+
+def seq_elem_type(elem: str, capacity: int = DEFAULT_MAX_LENGTH, reject: bool = False,
+                  elem_capacity: int | None = None) -> MsgType:
+    """The C struct of a carried variable-length array of messages of type
+    ``elem`` or, with ``elem == 'string'``, of strings of at most
+    ``elem_capacity`` bytes (rule 4.15; ``Environment.bounded_name``,
+    ``clamp``, ``clamp_bounded_elems``): ``len`` (``uint32``), ``truncated``
+    (``bool``) and ``data``, an array of ``capacity`` element structs (the
+    element message's carried struct, or ``ros_string<M>``): the first
+    ``len`` converted in turn (their own sequences and strings capped),
+    every other one zero."""
+    if elem == "string":
+        if elem_capacity is None:
+            raise ValueError("a sequence of strings needs the strings' capacity")
+        name = seq_string_type_name(elem_capacity, capacity, reject)
+        data = MsgField("data", "msg", msg=string_type_name(elem_capacity), array_len=capacity)
+    else:
+        name = seq_msg_type_name(elem, capacity, reject)
+        data = MsgField("data", "msg", msg=elem, array_len=capacity)
+    return MsgType(
+        name,
+        name,
+        (MsgField("len", "prim", prim="uint32"), MsgField("truncated", "prim", prim="bool"), data),
+        seq_of=(elem, capacity),
+        reject=reject,
+    )
+
+
 def is_bounded_type(name: str) -> bool:
     """Whether ``name`` is the name of a bounded struct: a carried string
-    (``ros_string<N>``) or sequence (``ros_seq_<T>_<N>``)."""
-    return is_string_type(name) or is_seq_type(name)
+    (``ros_string<N>``) or sequence (``ros_seq_<T>_<N>``, of strings
+    ``ros_seq_string<M>_<N>``, of messages ``ros_seq_<pkg>_<Type>_<N>``)."""
+    if not isinstance(name, str):
+        return False
+    if is_string_type(name) or is_seq_type(name) or _SEQ_STRING_NAME.fullmatch(name):
+        return True
+    m = _SEQ_MSG_NAME.fullmatch(name)
+    return m is not None and _elem_msg_name(m.group(2)) is not None
 
 
 def bounded_type(name: str) -> MsgType:
@@ -387,6 +483,12 @@ def bounded_type(name: str) -> MsgType:
     m = _STRING_NAME.fullmatch(name)
     if m is not None:
         return string_type(int(m.group(2)), m.group(1) == "r")
+    m = _SEQ_STRING_NAME.fullmatch(name)
+    if m is not None:
+        return seq_elem_type("string", int(m.group(3)), m.group(1) == "r", int(m.group(2)))
+    m = _SEQ_MSG_NAME.fullmatch(name)
+    if m is not None and _elem_msg_name(m.group(2)) is not None:
+        return seq_elem_type(_elem_msg_name(m.group(2)), int(m.group(3)), m.group(1) == "r")
     raise KeyError(name)
 
 

@@ -410,8 +410,9 @@ class _Checker:
             elif arr.kind == "fixed":
                 why = "the sizes differ"
             else:
+                key = _max_length_key(registry, msg_type, ptext)
                 why = (f"the sizes differ: give the field max_length {cf.size} on the topic "
-                       f"(max_length: {{{ptext}: {cf.size}}}), or declare {cf.name} {cf.prim}[{arr.size}]")
+                       f"(max_length: {{{key}: {cf.size}}}), or declare {cf.name} {cf.prim}[{arr.size}]")
             self.err_rule("4.15", rel.node, f"{w}: {first} but {second}: {why}")
             rel.ok = False
             return
@@ -575,7 +576,10 @@ class _Checker:
                                 "4.5",
                                 tnode,
                                 f"{what}.type: message type {t} has {n} scalar leaves; "
-                                f"the glue carries at most {MAX_LEAVES} per message",
+                                f"the glue carries at most {MAX_LEAVES} per message"
+                                + (" (lower the max_length of its variable-length arrays and strings: each "
+                                   "carries its maximum, every element of an array of messages or strings "
+                                   "all of its element's leaves)" if _has_bounded(carried, registry) else ""),
                             )
                         elif width > MAX_STRUCT_FIELDS:
                             self.err_rule(
@@ -890,6 +894,8 @@ def _whole_array(registry: MsgRegistry, msg_type: str, text: object) -> _WholeAr
         t = registry.walk_bounded(msg_type, text, "a relation to a controller array")
     except PathError:
         t = None
+    if t is not None and t.seq_of is not None:
+        return None  # an array of messages or strings: no controller array holds it
     if t is not None:
         n = registry.capacity(*t.key)
         if n is None:  # pragma: no cover - the front end carries what relations name
@@ -914,6 +920,25 @@ def _whole_array(registry: MsgRegistry, msg_type: str, text: object) -> _WholeAr
     if f is None or f.card != "array" or f.base_kind != "prim":
         return None
     return _WholeArray("fixed", tuple(steps), p.prim, f.size)
+
+
+def _max_length_key(registry: MsgRegistry, msg_type: str, text: str) -> str:
+    """The ``max_length`` key of the field that path ``text`` names: the
+    path itself, but with ``[]`` for the element of each variable-length
+    array of messages or strings it goes through (``name[0]`` gives
+    ``"name[]"``, rule 4.15), quoted when it holds brackets."""
+    from pyrosgen.frontend.msgload import parse_path
+
+    cur, parts = registry.raw(msg_type), []
+    for fname, index in parse_path(text, extended=True):
+        f = cur.field(fname) if cur is not None else None
+        if f is not None and f.card == "sequence" and f.base_kind in ("msg", "string") and index is not None:
+            parts.append(f"{fname}[]")
+        else:
+            parts.append(fname if index is None else f"{fname}[{index}]")
+        cur = registry.raw(f.base) if f is not None and f.base_kind == "msg" else None
+    key = ".".join(parts)
+    return f'"{key}"' if "[" in key else key
 
 
 def _split_target(text: str) -> tuple[str, int | None]:
@@ -979,6 +1004,15 @@ def check_published_sequences(ck: "_Checker", out_rels: list[_Rel]) -> None:
     reported: set[tuple] = set()
     for r in out_rels:
         if r.topic is None or r.bounded is None or r.path is None:
+            continue
+        if r.bounded.seq_of is not None or r.bounded.in_element:
+            ck.err_rule("4.15", r.path_node,
+                        f"{r.what}.field: {show(_steps_text(r.bounded.steps))} of topic {show(r.topic.name)} is "
+                        + ("a variable-length array of messages or strings" if r.bounded.seq_of is not None
+                           else "inside an element of a variable-length array")
+                        + "; an output relation does not write those of a published message yet (rule 4.15: "
+                        "arrays of messages and strings are carried on the subscribe side)")
+            r.ok = False
             continue
         key = (r.topic.name, r.bounded.steps)
         field_text = _steps_text(r.bounded.steps)
@@ -1087,6 +1121,11 @@ def check_stamps(ck: _Checker, decls: list[_TopicDecl], out_rels: list[_Rel], re
 #: type of the ``header`` it needs.
 FRAME_ID_FIELD = "header.frame_id"
 HEADER_TYPE = "std_msgs/Header"
+
+
+def _has_bounded(t, registry: MsgRegistry) -> bool:
+    """Whether carried type ``t`` holds a variable-length array or a string."""
+    return any(m.is_bounded for m in registry.used_types([t.name]))
 
 
 @dataclass
@@ -1267,8 +1306,9 @@ def carried_bounded_fields(topics: YNode | None, relations: YNode | None,
             info = declared.get(tnode.value)
             if info is None or info[1] != direction:
                 continue
-            target = registry.bounded_in_path(info[2], fnode.value)
-            if target is not None:
+            for target in registry.bounded_along(info[2], fnode.value):
+                if direction == PUBLISH and (target.seq_of is not None or target.in_element):
+                    break  # not written on the publish side (check_published_sequences refuses it)
                 named.add(target.key)
     return {key: maxima.get(key, DEFAULT_MAX_LENGTH) for key in sorted(named)}
 
@@ -1359,6 +1399,7 @@ def check_policy(ck: _Checker, decls: list[_TopicDecl], registry: MsgRegistry) -
     the type) gets one policy."""
     rule = "4.15"
     seen: dict[tuple[str, str], tuple[_PolicyItem, str]] = {}
+    inner = _element_types(registry)
     for d in decls:
         pnode = d.node.get("policy")
         if pnode is None or isinstance(pnode, YBad):
@@ -1387,7 +1428,33 @@ def check_policy(ck: _Checker, decls: list[_TopicDecl], registry: MsgRegistry) -
                 continue
             if it.value is None:
                 continue
+            if it.value == "reject" and (it.target.in_element or it.target.owner in inner):
+                owner, fname = it.target.key
+                where = (f"{show(it.key.value)} is inside an element of a variable-length array" if it.target.in_element
+                         else f"{fname} of {owner} is also inside the elements of {inner[owner]}")
+                ck.err_rule(rule, it.key,
+                            f"{it.what}: {where}: policy reject is refused there (the environment model's "
+                            "Environment.too_long would test it in every element the node can hold, received or "
+                            "not, the wrapper in the received ones only); use truncate, or reject on the array "
+                            "itself")
+                continue
             _one_value_per_field(ck, rule, seen, it, it.value, "policy")
+
+
+def _element_types(registry: MsgRegistry) -> dict[str, str]:
+    """The message types inside the elements of the carried
+    variable-length arrays of messages (rule 4.15), each with the array
+    it is in (``poses of nav_msgs/Path``): a string or sequence of these
+    types is in every element of such an array."""
+    out: dict[str, str] = {}
+    for owner, fname in sorted(registry.carry_bounded):
+        raw = registry.raw(owner)
+        f = raw.field(fname) if raw is not None else None
+        if f is None or f.card != "sequence" or f.base_kind != "msg":
+            continue
+        for t in registry.used_types([f.base]):
+            out.setdefault(t.name, f"{fname} of {owner}")
+    return out
 
 
 def check_max_length(ck: _Checker, decls: list[_TopicDecl], registry: MsgRegistry) -> None:

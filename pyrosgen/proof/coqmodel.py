@@ -88,7 +88,9 @@ assert tuple(PRIM_CONSTRUCTORS) == PRIMITIVES
 _C_IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _ROS_NAME = re.compile(r"/?[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*")
 _MSG_NAME = re.compile(r"[a-z][a-z0-9_]*/[A-Za-z][A-Za-z0-9]*|time|duration|ros_r?string[1-9][0-9]{0,5}"
-                       r"|ros_r?seq_(?:" + "|".join(PRIMITIVES) + r")_[1-9][0-9]{0,5}")
+                       r"|ros_r?seq_(?:" + "|".join(PRIMITIVES) + r")_[1-9][0-9]{0,5}"
+                       r"|ros_r?seq_string[1-9][0-9]{0,5}_[1-9][0-9]{0,5}"
+                       r"|ros_r?seq_[a-z][a-z0-9_]*_[A-Za-z][A-Za-z0-9]*_[1-9][0-9]{0,5}")
 _PRINTABLE = re.compile(r"[ -~]*")
 #: Characters kept as they are in Coq comments: printable ASCII but the
 #: double quote (Coq lexes strings inside comments), the star and the

@@ -126,6 +126,11 @@ class Bounded:
     struct: str
     capacity: int
     first_leaf: int
+    #: the leaves of one element: 1 for a scalar, all of an element
+    #: struct's for a sequence of strings or messages (rule 4.15)
+    elem_leaves: int = 1
+    #: the element struct of a sequence of strings or messages, else None
+    elem_struct: str | None = None
 
     @property
     def reject(self) -> bool:
@@ -242,20 +247,63 @@ class NodeDump:
         go(["struct", struct], "")
         return tuple(out)
 
-    def bounded_capacity(self, name: str) -> int | None:
-        """The capacity of struct ``name`` if it is a bounded sequence or
-        string as the environment model recognises one
+    def bounded_shape(self, name: str) -> tuple[int, list] | None:
+        """The capacity and element type of struct ``name`` if it is a
+        bounded sequence or string as the environment model recognises one
         (``Environment.bounded_name``, ``clamp_seq``: the name's prefix and
         the members ``len`` (unsigned int), ``truncated`` (unsigned char),
-        ``data`` (an array of scalars)), else ``None``."""
+        ``data`` (an array of scalars or, a sequence of strings or messages,
+        rule 4.15, of structs)), else ``None``."""
         members = self.items["structs"].get(name)
         if not name.startswith(_BOUNDED_PREFIXES) or members is None or len(members) != 3:
             return None
         (l, lt), (t, tt), (dname, dt) = members
         if (l, t, dname) != ("len", "truncated", "data") or lt != ["int", "I32", "unsigned"] \
-                or tt != ["int", "I8", "unsigned"] or dt[0] != "array" or dt[1][0] in ("struct", "array"):
+                or tt != ["int", "I8", "unsigned"] or dt[0] != "array" or dt[1][0] == "array":
             return None
-        return int(dt[2])
+        return int(dt[2]), dt[1]
+
+    def bounded_capacity(self, name: str) -> int | None:
+        """The capacity of struct ``name`` if it is a bounded sequence or
+        string (:meth:`bounded_shape`), else ``None``."""
+        shape = self.bounded_shape(name)
+        return shape[0] if shape is not None else None
+
+    def leaf_count(self, t) -> int:
+        """The number of scalar leaves of a type of the dump."""
+        if t[0] == "struct":
+            return sum(self.leaf_count(mt) for _, mt in self.items["structs"][t[1]])
+        if t[0] == "array":
+            return int(t[2]) * self.leaf_count(t[1])
+        return 1
+
+    def clamped(self, roots) -> list[tuple[str, int, str | None, tuple[tuple[str, str], ...]]]:
+        """The bounded structs that the harness converts in messages of the
+        structs ``roots``, inner ones first (through the elements of
+        sequences of strings or messages, rule 4.15): ``(struct, capacity,
+        element struct or None, bounded structs inside one element as
+        (C access suffix, struct))``."""
+        out: dict[str, tuple] = {}
+
+        def add(name: str) -> None:
+            if name in out:
+                return
+            n, et = self.bounded_shape(name)
+            inner: tuple[tuple[str, str], ...] = ()
+            elem = et[1] if et[0] == "struct" else None
+            if elem is not None:
+                if self.bounded_shape(elem) is not None:
+                    inner = (("", elem),)
+                else:
+                    inner = tuple((f".{b.path}", b.struct) for b in self.bounded(elem))
+                for _, st in inner:
+                    add(st)
+            out[name] = (name, n, elem, inner)
+
+        for r in roots:
+            for b in self.bounded(r):
+                add(b.struct)
+        return list(out.values())
 
     def bounded(self, struct: str) -> tuple[Bounded, ...]:
         """The bounded sequences and strings inside ``struct`` (through
@@ -266,10 +314,12 @@ class NodeDump:
         def go(t, path: str) -> None:
             nonlocal count
             if t[0] == "struct":
-                n = self.bounded_capacity(t[1])
-                if n is not None and path:
-                    out.append(Bounded(path, t[1], n, count))
-                    count += 2 + n
+                shape = self.bounded_shape(t[1])
+                if shape is not None and path:
+                    n, et = shape
+                    k = self.leaf_count(et)
+                    out.append(Bounded(path, t[1], n, count, k, et[1] if et[0] == "struct" else None))
+                    count += 2 + n * k
                     return
                 for m, mt in self.items["structs"][t[1]]:
                     go(mt, f"{path}.{m}" if path else m)
@@ -300,7 +350,8 @@ def _prints(leaves: tuple[Leaf, ...], bounded: tuple[Bounded, ...]) -> tuple:
         role[b.first_leaf] = ("len", b, 0)
         role[b.first_leaf + 1] = ("skip", b, 0)
         for j in range(b.capacity):
-            role[b.first_leaf + 2 + j] = ("elem", b, j)
+            for t in range(b.elem_leaves):
+                role[b.first_leaf + 2 + j * b.elem_leaves + t] = ("elem", b, j)
     return tuple((leaf, *role.get(i, ("leaf", None, 0))) for i, leaf in enumerate(leaves))
 
 
@@ -319,7 +370,7 @@ def harness_source(sexp_text: str, header_name: str, source: str = "the AST dump
                       _prints(d.leaves(s), d.bounded(s) if s in published else ()))
                for s in d.root_structs()]
     kinds = sorted({leaf.kind for s in structs if s.fill for leaf in s.leaves})
-    clamped = sorted({(b.struct, b.capacity) for s in structs for b in s.bounded})
+    clamped = d.clamped([s.name for s in structs if s.bounded])
     return render("difftest_ros.c.j2",
         template=HARNESS_TEMPLATE, source=source_label(source), header=header_name, structs=structs, kinds=kinds,
         fns=d.fns, subs=d.subs, advs=d.advs, pubs=d.pubs, u=d.u, y=d.y, clamped=clamped, clamp=clamp)

@@ -44,7 +44,15 @@ message (``Environment.clamp`` on publish, ``DDC.sent``; the length and
 elements of a published array may come from the controller, rule 4.15):
 the text of the template, once each, and no other vector conversion (a
 published conversion without the ``min``, with another bound, from the
-whole array or from another start is refused).
+whole array or from another start is refused).  For a carried sequence
+of strings (``ros_seq_string<M>_<N>``) or of messages
+(``ros_seq_<pkg>_<Type>_<N>``), whose ``data`` holds element structs
+(``Environment.clamp_bounded_elems``): ``len`` the size capped at ``N``,
+``truncated`` set when longer, the first ``len`` elements each converted
+by the element's own ``to_c`` (its strings and sequences capped in turn),
+every other element zeroed (``memset`` of ``N - len`` elements); published,
+the first ``min(len, N)`` elements each converted back; the same text
+once each.
 
 With the glue and the wrapper's header (:func:`check_glue_externals`), the
 ROS functions the glue declares are declared by the header with the same C
@@ -265,19 +273,73 @@ _CPP_ELEMENT = {"bool": "uint8_t", "int8": "int8_t", "uint8": "uint8_t", "int16"
 _SEQ_NAME = re.compile(r"ros_r?seq_(" + "|".join(_CPP_ELEMENT) + r")_([1-9][0-9]*)")
 
 
+#: A carried sequence of strings, ``ros_seq_string<M>_<N>``, or of
+#: messages, ``ros_seq_<pkg>_<Type>_<N>`` (rule 4.15).
+_SEQ_STRING_NAME = re.compile(r"ros_r?seq_string([1-9][0-9]*)_([1-9][0-9]*)")
+_SEQ_MSG_NAME = re.compile(r"ros_r?seq_([a-z][a-z0-9_]*_[A-Za-z][A-Za-z0-9]*)_([1-9][0-9]*)")
+
+
+def _elem_cpp(elem: str) -> str | None:
+    """The roscpp type of the element struct ``elem`` of a carried
+    sequence of strings or messages: ``std::string`` for ``ros_string<M>``,
+    ``ros::Time``, ``ros::Duration``, ``pkg::Type`` for ``pkg_Type``."""
+    if re.fullmatch(r"ros_string[1-9][0-9]*", elem):
+        return "std::string"
+    if elem in ("ros_time", "ros_duration"):
+        return {"ros_time": "ros::Time", "ros_duration": "ros::Duration"}[elem]
+    pkg, _, typ = elem.rpartition("_")
+    if not pkg or pkg == "ros" or pkg.startswith("ros_") or not re.fullmatch(r"[A-Za-z][A-Za-z0-9]*", typ):
+        return None
+    return f"{pkg}::{typ}"
+
+
 def _seq_shape(name: str, fields: list[tuple[str, str]]) -> tuple[str, int] | None:
     """``(T, N)`` of a proved message that is a carried sequence's struct
     ``ros_seq_<T>_<N>`` (``len``, ``truncated``, ``data`` of ``N`` ``T``),
-    else ``None``."""
-    m = _SEQ_NAME.fullmatch(name)
-    if m is None or len(fields) != 3 or fields[0] != ("len", "uint32") or fields[1] != ("truncated", "bool"):
+    else ``None``; for a sequence of strings or messages (rule 4.15),
+    ``T`` is ``struct <elem>`` (``data`` of ``N`` structs ``elem``)."""
+    if len(fields) != 3 or fields[0] != ("len", "uint32") or fields[1] != ("truncated", "bool"):
         return None
-    prim, n = m.group(1), int(m.group(2))
-    return (prim, n) if fields[2] == ("data", f"array {n} {prim}") else None
+    m = _SEQ_NAME.fullmatch(name)
+    if m is not None:
+        prim, n = m.group(1), int(m.group(2))
+        return (prim, n) if fields[2] == ("data", f"array {n} {prim}") else None
+    ms = _SEQ_STRING_NAME.fullmatch(name)
+    mm = _SEQ_MSG_NAME.fullmatch(name)
+    if ms is not None:
+        elem, n = f"ros_string{ms.group(1)}", int(ms.group(2))
+    elif mm is not None and _elem_cpp(mm.group(1)) is not None:
+        elem, n = mm.group(1), int(mm.group(2))
+    else:
+        return None
+    return (f"struct {elem}", n) if fields[2] == ("data", f"array {n} msg {elem}") else None
+
+
+def _seq_elems_to_c(struct: str, elem: str, n: int) -> str:
+    """The one accepted conversion of a received vector of strings or
+    messages into ``struct`` (``Environment.clamp``, ``clamp_bounded_elems``):
+    the first ``min(size, N)`` elements converted, the others zero."""
+    return (f"inline void to_c(const std::vector<{_elem_cpp(elem)}> &r, struct {struct} *c)\n{{\n"
+            f"    const std::size_t n = r.size();\n"
+            f"    const std::size_t len = std::min<std::size_t>(n, {n});\n"
+            f"    c->len = static_cast<unsigned int>(len);\n"
+            f"    c->truncated = n > {n} ? 1 : 0;\n"
+            f"    for (std::size_t i = 0; i < len; ++i) to_c(r[i], &c->data[i]);\n"
+            f"    std::memset(c->data + len, 0, ({n} - len) * sizeof c->data[0]);\n}}\n")
+
+
+def _seq_elems_from_c(struct: str, elem: str, n: int) -> str:
+    """The one accepted conversion of ``struct`` into a published vector of
+    strings or messages: its first ``min(len, N)`` elements, each converted."""
+    return (f"inline void from_c(const struct {struct} *c, std::vector<{_elem_cpp(elem)}> &r)\n{{\n"
+            f"    r.resize(std::min<std::size_t>(c->len, {n}));\n"
+            f"    for (std::size_t i = 0; i < r.size(); ++i) from_c(&c->data[i], r[i]);\n}}\n")
 
 
 def _seq_to_c(struct: str, prim: str, n: int) -> str:
     """The one accepted conversion of a received vector into ``struct``."""
+    if prim.startswith("struct "):
+        return _seq_elems_to_c(struct, prim[len("struct "):], n)
     return (f"inline void to_c(const std::vector<{_CPP_ELEMENT[prim]}> &r, struct {struct} *c)\n{{\n"
             f"    const std::size_t n = r.size();\n"
             f"    const std::size_t len = std::min<std::size_t>(n, {n});\n"
@@ -289,6 +351,8 @@ def _seq_to_c(struct: str, prim: str, n: int) -> str:
 
 def _seq_from_c(struct: str, prim: str, n: int) -> str:
     """The one accepted conversion of ``struct`` into a published vector."""
+    if prim.startswith("struct "):
+        return _seq_elems_from_c(struct, prim[len("struct "):], n)
     return (f"inline void from_c(const struct {struct} *c, std::vector<{_CPP_ELEMENT[prim]}> &r)\n{{\n"
             f"    r.assign(c->data, c->data + std::min<std::size_t>(c->len, {n}));\n}}\n")
 

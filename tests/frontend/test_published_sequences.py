@@ -277,7 +277,7 @@ def test_a_length_of_something_that_is_no_sequence(tmp_path):
 
 def test_sequences_of_messages_and_strings_are_not_written(tmp_path):
     """``layout.dim`` (MultiArrayDimension[]) and JointState's ``name``
-    (string[]) are not carried yet."""
+    (string[]) are carried on the subscribe side only (rule 4.15)."""
     text = swap(BASE, '"data[3]"', '"layout.dim[0].size"').replace("E3: float64", "E3: uint32")
     got = one(tmp_path, text)
     assert got[3] == "4.15" and "'layout.dim' is a variable-length array of messages" in got[2], got
@@ -287,8 +287,8 @@ def test_sequences_of_messages_and_strings_are_not_written(tmp_path):
         '"data[0]"', '"position[0]"')
     got = one(tmp_path, text)
     assert got[:2] == at(text, '"name[0]"') and got[3] == "4.15", got
-    assert "'name' is a variable-length array of strings (string[]); variable-length arrays of messages or strings " \
-        "are not carried yet" in got[2], got
+    assert "'name' is a variable-length array of strings (string[]); an output relation does not write into the " \
+        "elements of a published array of messages or strings yet (rule 4.15)" in got[2], got
 
 
 # --------------------------------------------------------------------------

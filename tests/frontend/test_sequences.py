@@ -364,13 +364,17 @@ def test_max_length_problems_with_their_paths(tmp_path):
 
 
 def test_max_length_of_a_sequence_of_messages_and_not_a_mapping(tmp_path):
+    """A max_length key reaches into every element of an array of messages
+    with [] (one struct holds them all): a constant index is refused."""
     text = BASE.replace("  - {name: /cmd,", "  - {name: /path, direction: subscribe, type: nav_msgs/Path, "
-                                          "queue_size: 1, max_length: {poses: 10}}\n  - {name: /cmd,")
+                                          "queue_size: 1, max_length: {poses: 10, "
+                                          "\"poses[0].header.frame_id\": 8}}\n  - {name: /cmd,")
     (line, col, msg, rule), = diags(tmp_path, text)
-    assert (line, col, rule) == (*at(text, "poses"), "4.15")
-    assert msg == ("topics[1].max_length['poses']: field path 'poses': 'poses' is a variable-length array of "
-                   "messages (geometry_msgs/PoseStamped[]); variable-length arrays of messages or strings are not "
-                   "carried yet (issue 15) (topic '/path', nav_msgs/Path)")
+    assert (line, col, rule) == (*at(text, '"poses[0].header.frame_id"'), "4.15")
+    assert msg == ("topics[1].max_length['poses[0].header.frame_id']: field path 'poses[0].header.frame_id': "
+                   "'poses[0]': a max_length key names every element of 'poses' (a variable-length array of "
+                   "messages (geometry_msgs/PoseStamped[])) with [] ('poses[]'): one struct holds them all "
+                   "(topic '/path', nav_msgs/Path)")
     text = BASE.replace("max_length: {ranges: 1081}", "max_length: 1081").replace("ranges[540]", "ranges[0]")
     assert one(tmp_path, text) == (*at(text, "1081}"), "topics[0].max_length must be a mapping of field paths to "
                                    "maximum lengths (e.g. {ranges: 1081}), got int '1081'", "4.15")
@@ -478,16 +482,16 @@ def test_a_string_into_a_numeric_input(tmp_path):
                                    "as uint8, with its length from derived: length)", "4.15")
 
 
-def test_sequences_of_messages_are_not_carried_yet(tmp_path):
+def test_sequences_of_messages_are_carried(tmp_path):
+    """An element's leaf of an array of messages (rule 4.15;
+    tests/frontend/test_elem_sequences.py has the rest)."""
     text = BASE.replace("  - {name: /cmd,", "  - {name: /path, direction: subscribe, type: nav_msgs/Path, "
                                           "queue_size: 1}\n  - {name: /cmd,").replace(
         "TR: bool}", "TR: bool, X: float64}").replace(
         "  outputs:\n", "    - {topic: /path, field: \"poses[0].pose.position.x\", input: X}\n  outputs:\n")
-    assert one(tmp_path, text) == (*at(text, '"poses[0].pose.position.x"'),
-                                   "relations.inputs[3].field: field path 'poses[0].pose.position.x': 'poses' is a "
-                                   "variable-length array of messages (geometry_msgs/PoseStamped[]); "
-                                   "variable-length arrays of messages or strings are not carried yet (issue 15) "
-                                   "(topic '/path', nav_msgs/Path)", "4.15")
+    m = load(tmp_path, text)
+    assert rels(m)[-1] == ("X", ("poses", "data", 0, "pose", "position", "x"), "float64", "poses[0].pose.position.x")
+    assert ("poses", "msg", "ros_seq_geometry_msgs_PoseStamped_128", None) in fields_of(m, "nav_msgs/Path")
 
 
 def test_output_relations_write_a_sequence_with_its_length(tmp_path):

@@ -18,7 +18,10 @@ PLAN (JSON):
   linger: seconds to keep receiving after the last step
 
 Values: "d:<16 hex digits>" is a float64 by its bits, "f:<8 hex digits>" a
-float32 by its bits, integers and booleans as JSON.  Leaf paths are written
+float32 by its bits, integers and booleans as JSON, a variable-length array
+of primitives or strings as a JSON list; {"elems": n} gives a variable-length
+array of messages n default elements (``poses``), whose leaves are then set
+by index (``poses[1].pose.position.x``).  Leaf paths are written
 like pyrosgen's FieldPath (``pose.covariance[35]``, ``header.stamp.sec``).
 
 Published messages are sent exactly as given: rospy's habit of overwriting
@@ -179,7 +182,12 @@ def set_leaf(msg, path, value):
             setattr(obj, name + "s", int(value))
             return
         if idx is None:
-            if last:
+            if last and isinstance(value, dict) and "elems" in value:
+                # a variable-length array of messages: that many default elements
+                base = obj._slot_types[obj.__slots__.index(name)].split("[", 1)[0]
+                cls = load_class("std_msgs/Header" if base == "Header" else base, {})
+                setattr(obj, name, [cls() for _ in range(int(value["elems"]))])
+            elif last:
                 setattr(obj, name, decode(value))
             else:
                 obj = getattr(obj, name)
