@@ -171,6 +171,42 @@ def generate(
     )
 
 
+def _print_and_validate(drv: CoqDriver, model: NodeModel, module: str, lib: tuple[Path, str], names, work: Path,
+                        stage: Path, has_diagram: bool):
+    """Step 4: print the texts of the compiled ``module`` into ``stage``
+    (the model text into ``work``), hold the model text to the YAML's and
+    the C to the AST dump; returns (the proved model text, the validation
+    report)."""
+    out_h, out_c, out_s = stage / names.types_header, stage / names.glue_c, stage / names.sexp
+    out_m = work / f"{model.name}.model"
+    outputs = (out_h, out_c, out_s, out_m)
+    if has_diagram:
+        outputs += (stage / names.controller_c, stage / names.controller_sexp, stage / names.controller_text)
+    drv.print_texts(module, lib, outputs, relations=len(model.input_relations) + len(model.output_relations))
+    # The model the theorems are about is the model of the YAML file
+    # (raises ModelMismatch, exit 2, naming the differing items).
+    proved_model = out_m.read_text(encoding="utf-8")
+    compare_model_texts(model_text(model), proved_model, vfile=names.v_file)
+    from pyrosgen.verify.printer_validation import validate_glue  # raises PrinterValidationError (a CoqError)
+
+    validation = validate_glue(
+        out_c.read_text(encoding="utf-8"), out_h.read_text(encoding="utf-8"),
+        out_s.read_text(encoding="utf-8"), glue_name=names.glue_c, header_name=names.types_header)
+    if has_diagram:
+        # The diagram the controller theorems are about is the diagram of
+        # the YAML file (raises ModelMismatch, exit 2).
+        from pyrosgen.proof.modeltext import compare_diagram_texts, diagram_text
+
+        compare_diagram_texts(diagram_text(model), (stage / names.controller_text).read_text(encoding="utf-8"),
+                              vfile=names.v_file)
+        from pyrosgen.verify.printer_validation import validate_program
+
+        validate_program((stage / names.controller_c).read_text(encoding="utf-8"),
+                         (stage / names.controller_sexp).read_text(encoding="utf-8"),
+                         name=names.controller_c)
+    return proved_model, validation
+
+
 #: How the certificate writes the conjunction of the node's theorems.
 CONJ = " /\\ "
 
@@ -252,45 +288,26 @@ def generate_model(
         res = drv.coqc(vfile, lib, display=lambda f: shown_v if Path(f).name == names.v_file else f)
         times["coqc"] = res.seconds
 
-        # 3. assumptions and coqchk
-        say(f"[3/{STEPS}] checking: Print Assumptions, coqchk")
+        # 3. assumptions, and coqchk in the background while 4. prints
+        say(f"[3/{STEPS}] checking: Print Assumptions, coqchk (alongside the printing)")
         t0 = time.monotonic()
         drv.check_assumptions(res.stdout, theorems, names.theorem_all)
-        drv.coqchk(module, lib)
+        with drv.coqchk_start(module, lib) as chk:
+            # 4. printing
+            say(f"[4/{STEPS}] printing: extraction, ocamlopt, run; validation against the AST dump")
+            t1 = time.monotonic()
+            try:
+                proved_model, validation = _print_and_validate(drv, model, module, lib, names, work, stage,
+                                                              has_diagram)
+            except Exception:
+                # coqchk's verdict is the earlier step's: it comes first
+                chk.result()
+                raise
+            times["printing"] = time.monotonic() - t1
+            chk.result()
         times["checking"] = time.monotonic() - t0
-
-        # 4. printing
-        say(f"[4/{STEPS}] printing: extraction, ocamlopt, run; validation against the AST dump")
-        t0 = time.monotonic()
-        out_h, out_c, out_s = stage / names.types_header, stage / names.glue_c, stage / names.sexp
+        out_h, out_c = stage / names.types_header, stage / names.glue_c
         out_m = work / f"{model.name}.model"
-        outputs = (out_h, out_c, out_s, out_m)
-        if has_diagram:
-            outputs += (stage / names.controller_c, stage / names.controller_sexp, stage / names.controller_text)
-        drv.print_texts(module, lib, outputs,
-                        relations=len(model.input_relations) + len(model.output_relations))
-        # The model the theorems are about is the model of the YAML file
-        # (raises ModelMismatch, exit 2, naming the differing items).
-        proved_model = out_m.read_text(encoding="utf-8")
-        compare_model_texts(model_text(model), proved_model, vfile=names.v_file)
-        from pyrosgen.verify.printer_validation import validate_glue  # raises PrinterValidationError (a CoqError)
-
-        validation = validate_glue(
-            out_c.read_text(encoding="utf-8"), out_h.read_text(encoding="utf-8"),
-            out_s.read_text(encoding="utf-8"), glue_name=names.glue_c, header_name=names.types_header)
-        if has_diagram:
-            # The diagram the controller theorems are about is the diagram of
-            # the YAML file (raises ModelMismatch, exit 2).
-            from pyrosgen.proof.modeltext import compare_diagram_texts, diagram_text
-
-            compare_diagram_texts(diagram_text(model), (stage / names.controller_text).read_text(encoding="utf-8"),
-                                  vfile=names.v_file)
-            from pyrosgen.verify.printer_validation import validate_program
-
-            validate_program((stage / names.controller_c).read_text(encoding="utf-8"),
-                             (stage / names.controller_sexp).read_text(encoding="utf-8"),
-                             name=names.controller_c)
-        times["printing"] = time.monotonic() - t0
         wp_result = None
         if wp:
             from pyrosgen.verify.acsl import run_wp  # raises WPError (a CoqError) unless every goal is proved

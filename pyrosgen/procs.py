@@ -13,10 +13,11 @@ from __future__ import annotations
 import os
 import signal
 import subprocess
+import tempfile
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-__all__ = ["run", "stop_group"]
+__all__ = ["run", "start", "Started", "stop_group"]
 
 
 def stop_group(proc: subprocess.Popen, grace: float = 2.0) -> None:
@@ -70,3 +71,70 @@ def run(argv: Sequence[str], *, cwd: str | Path | None = None, timeout: float | 
             stop_group(proc)
             raise
         return subprocess.CompletedProcess(proc.args, proc.returncode, out, err)
+
+
+class Started:
+    """A tool started by :func:`start`, running while pyrosgen goes on.
+
+    :meth:`finish` waits for it and returns what :func:`run` would have;
+    :meth:`stop` stops its process group if it still runs.  As a context
+    manager, leaving the block stops it (an exception in the block, an
+    interrupt: no tool outlives pyrosgen)."""
+
+    def __init__(self, proc: subprocess.Popen, out, err):
+        self._proc, self._out, self._err = proc, out, err
+        self._done: subprocess.CompletedProcess | None = None
+
+    @property
+    def args(self):
+        return self._proc.args
+
+    def finish(self, timeout: float | None = None) -> subprocess.CompletedProcess:
+        """Wait for the tool (raises ``subprocess.TimeoutExpired`` after
+        ``timeout`` seconds, the tool then stopped); its outputs."""
+        if self._done is None:
+            try:
+                self._proc.wait(timeout=timeout)
+            except BaseException:
+                self.stop()
+                raise
+            texts = []
+            for f in (self._out, self._err):
+                f.seek(0)
+                texts.append(f.read())
+                f.close()
+            self._done = subprocess.CompletedProcess(self._proc.args, self._proc.returncode, *texts)
+        return self._done
+
+    def stop(self) -> None:
+        if self._proc.poll() is None:
+            stop_group(self._proc)
+        for f in (self._out, self._err):
+            if not f.closed:
+                f.close()
+
+    def __enter__(self) -> "Started":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self._done is None:
+            self.stop()
+
+
+def start(argv: Sequence[str], *, cwd: str | Path | None = None) -> Started:
+    """Start ``argv`` as :func:`run` would run it (standard input from
+    ``/dev/null``, a process group of its own), its outputs kept in
+    temporary files (a pipe nobody reads while pyrosgen does something
+    else could fill up and block the tool), and return at once."""
+    out = tempfile.TemporaryFile(mode="w+", encoding="utf-8", errors="replace")
+    err = tempfile.TemporaryFile(mode="w+", encoding="utf-8", errors="replace")
+    try:
+        proc = subprocess.Popen(
+            [str(a) for a in argv], cwd=None if cwd is None else str(cwd), stdin=subprocess.DEVNULL,
+            stdout=out, stderr=err, start_new_session=True,
+        )
+    except BaseException:
+        out.close()
+        err.close()
+        raise
+    return Started(proc, out, err)

@@ -234,6 +234,35 @@ _DRIVER_CTRL_ML = _DRIVER_ML.replace(
       prerr_endline "usage: print_job OUT.h OUT.c OUT.sexp OUT.model CTRL.c CTRL.sexp CTRL.diagram";""")
 
 
+class Running:
+    """A tool the driver started in the background
+    (:meth:`CoqDriver.coqchk_start`)."""
+
+    def __init__(self, started: "procs.Started", t0: float, timeout: float | None,
+                 verdict: Callable[[CoqcResult], CoqcResult]):
+        self._started, self._t0, self._timeout, self._verdict = started, t0, timeout, verdict
+
+    def result(self) -> CoqcResult:
+        """Wait for the tool; its result, or :class:`CoqError` if it failed
+        or did not finish within the driver's timeout (counted from its
+        start)."""
+        argv = [str(a) for a in self._started.args]
+        left = None if self._timeout is None else max(0.0, self._timeout - (time.monotonic() - self._t0))
+        try:
+            proc = self._started.finish(timeout=left)
+        except subprocess.TimeoutExpired:
+            raise CoqError(f"{Path(argv[0]).name} did not finish within {self._timeout} s") from None
+        seconds = time.monotonic() - self._t0
+        console.trace_result(argv, proc.returncode, seconds)
+        return self._verdict(CoqcResult(tuple(argv), proc.returncode, proc.stdout, proc.stderr, seconds))
+
+    def __enter__(self) -> "Running":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._started.__exit__(*exc)
+
+
 class CoqDriver:
     """Runs the Coq tool chain against the ROSGen library.
 
@@ -423,6 +452,19 @@ class CoqDriver:
                     if conjunction else f"{len(theorems) - closed} of the theorems {', '.join(theorems)} depend")
             raise CoqError(f"{what} on axioms (Print Assumptions did not say \"{CLOSED}\")", axioms)
 
+    def _coqchk_argv(self, module: str, lib: tuple[Path, str], vm: bool) -> list[str]:
+        return [self.tool("coqchk"), "-silent", *(["-bytecode-compiler", "yes"] if vm else []),
+                *self.load_path([lib]), "-norec", module]
+
+    @staticmethod
+    def _coqchk_verdict(module: str, res: CoqcResult) -> CoqcResult:
+        if not res.ok:
+            raise CoqError(
+                f"coqchk rejected {module} (exit status {res.returncode})",
+                coq_messages(res.output) or [_one_line(res.output)],
+            )
+        return res
+
     def coqchk(self, module: str, lib: tuple[Path, str], *, vm: bool = True) -> CoqcResult:
         """Re-check the compiled ``module`` with ``coqchk`` (the library
         itself is checked by ``make proofs``: ``-norec``).
@@ -435,15 +477,24 @@ class CoqDriver:
         relation, and for 2,166 relations it takes 8.9 s instead of 1.5 s
         (BENCHMARKS.md, section 11).  ``pyrosgen verify --kernel`` asks
         for the latter."""
-        argv = [self.tool("coqchk"), "-silent", *(["-bytecode-compiler", "yes"] if vm else []),
-                *self.load_path([lib]), "-norec", module]
-        res = self.run(argv, lib[0])
-        if not res.ok:
-            raise CoqError(
-                f"coqchk rejected {module} (exit status {res.returncode})",
-                coq_messages(res.output) or [_one_line(res.output)],
-            )
-        return res
+        res = self.run(self._coqchk_argv(module, lib, vm), lib[0])
+        return self._coqchk_verdict(module, res)
+
+    def coqchk_start(self, module: str, lib: tuple[Path, str], *, vm: bool = True) -> "Running":
+        """:meth:`coqchk`, started in the background: ``generate`` prints
+        the texts while ``coqchk`` re-checks the module (they are
+        independent, and nothing is written before both succeeded).  Use
+        the result as a context manager (leaving it stops ``coqchk`` if
+        it still runs) and ask for the verdict with
+        :meth:`Running.result`."""
+        argv = self._coqchk_argv(module, lib, vm)
+        console.trace_command(argv)
+        t0 = time.monotonic()
+        try:
+            started = procs.start(argv, cwd=lib[0])
+        except OSError as exc:
+            raise CoqError(f"cannot run {argv[0]}: {exc.strerror or exc}") from None
+        return Running(started, t0, self.timeout, lambda res: self._coqchk_verdict(module, res))
 
     def print_texts(self, module: str, lib: tuple[Path, str], outputs: tuple[Path, ...], *,
                     relations: int = 0) -> dict[str, float]:

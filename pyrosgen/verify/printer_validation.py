@@ -118,6 +118,8 @@ nanoseconds, ``unsigned int ros_time_sec(void);``) with their tags
 
 from __future__ import annotations
 
+import contextlib
+import gc
 from pathlib import Path
 from pyrosgen.verify.printer_types import (
     F32_HELPER,
@@ -301,7 +303,28 @@ def _compare(dp: _DumpProgram, cp: _CProgram, require_main: str | None) -> None:
             raise _Diff(f"the AST's entry point is {it['main']!r}, the C program's is {require_main!r}")
 
 
+@contextlib.contextmanager
+def _without_cyclic_gc():
+    """Python's cyclic garbage collector off for the block: parsing builds
+    hundreds of thousands of objects (pycparser's AST, the dump's tree),
+    none garbage, and the collector would traverse them again and again (a
+    third of the validation's time; BENCHMARKS.md section 11).  Reference
+    counting still frees everything; the collector is re-enabled after."""
+    was = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was:
+            gc.enable()
+
+
 def _validate(tu_text: str, sexp_text: str, require_main: str | None, label: str) -> ValidationReport:
+    with _without_cyclic_gc():
+        return _validate_parsed(tu_text, sexp_text, require_main, label)
+
+
+def _validate_parsed(tu_text: str, sexp_text: str, require_main: str | None, label: str) -> ValidationReport:
     from pycparser import c_parser
     ParseError = _parse_error()
 

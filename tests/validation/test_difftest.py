@@ -242,6 +242,31 @@ def _timeouts(model) -> tuple[int, ...]:
     return tuple(t.timeout_ms for t in model.topics if t.timeout_ms is not None)
 
 
+def _freshness_schedule(s: Sides, rnd: random.Random) -> Schedule:
+    """One schedule that meets every freshness case of every timed topic:
+    a cycle before any message (never), messages received after their
+    cycle's time (a clock that went back), then one period later (in
+    range, fresh), messages exactly a timeout old (boundary), one
+    nanosecond later (stale), and an age beyond what ``age_ms`` can say
+    (saturated).  The random schedules meet them by chance only (how often
+    depends on what hypothesis draws)."""
+    subs = [(t, st_) for _, t, st_, _ in s.dump.subs]
+    timeout = {t.name: t.timeout_ms for t in s.model.timed_topics if t.timeout_ms is not None}
+    y = lambda: _values(rnd, s.dump.leaves(s.dump.y[1]))  # noqa: E731
+    msgs = lambda receipt: tuple(Message(t, _values(rnd, s.dump.leaves(st_)), receipt(t))  # noqa: E731
+                                 for t, st_ in subs)
+    t0 = rnd.randint(1, 1 << 40) * MS
+    t1, t2, t3 = t0 + 10 * MS, t0 + 30 * MS, t0 + 50 * MS
+    t4 = t3 + 10_000 * MS
+    cycles = [((), y()),                                              # never
+              (msgs(lambda t: t2 + 1), y()),                          # back
+              ((), y()),                                              # received, in range
+              (msgs(lambda t: t4 - timeout.get(t, 20) * MS), y()),    # boundary
+              ((), y()),                                              # stale
+              ((), y())]                                              # saturated
+    return Schedule(tuple(cycles), (t1, t2, t3, t4, t4 + 1, t4 + MAX_AGE + 1), t0)
+
+
 # ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("key", list(ALL))
@@ -259,6 +284,10 @@ def test_random_schedules(sides, key):
         seen["empty"] += sum(1 for m, _ in sched.cycles if not m)
 
     run()
+    if key in TIMED_EXAMPLES:
+        # and, whatever hypothesis drew, each freshness case on purpose
+        for k in range(3):
+            _check(s, _freshness_schedule(s, random.Random(k)), seen)
     # the schedules did exercise something
     assert seen["cycles"] > EXAMPLES_PER_MODEL and seen["messages"] > 5 * EXAMPLES_PER_MODEL
     assert seen["empty"] > 0
