@@ -17,7 +17,14 @@ N) elements converted in turn, its own string capped, the others zero)
 and the printed glue under gcc -O2 and ASan/UBSan (whose fake ROS API
 converts it as the wrapper does): the traces agree bit for bit and give
 the controller exactly the expected values; a harness that does not zero
-past the length is caught."""
+past the length is caught.
+
+With policy reject on both arrays (``poses``, ``name``:
+``ros_rseq_...``), a Path or JointState holding more than N elements is
+not delivered (``Environment.too_long``, ``accepted``: the array's own
+length, and no reject field inside its elements, which the front end
+refuses): both sides keep the previous message, and a harness that
+delivers it truncated is caught."""
 
 from __future__ import annotations
 
@@ -35,6 +42,8 @@ from pyrosgen.verify.difftest import GCC_STRICT, Message, Schedule, leaf_token, 
 from support.generate import (
     REPO as ROOT, difftest_sides, generate_with_tampered_node_file, require_library, sides_agree,
 )
+
+from build.test_elem_seq_wrapper_check import reject_model
 
 MODEL = ROOT / "tests" / "ros" / "models" / "elem_seq.yaml"
 NODE = "elem_seq"
@@ -236,3 +245,52 @@ def test_difftest_at_the_lengths(sides):
         assert got == want, (k, got, want)
     # a harness that does not zero past the length is caught
     assert run_side(sides["c_mutant"], sched) != coq
+
+
+# --------------------------------------------------------------------------
+# Policy reject on the arrays themselves
+
+
+@pytest.fixture(scope="module")
+def reject_sides(tmp_path_factory):
+    require_library()
+    work = tmp_path_factory.mktemp("elem_seq_reject")
+    out = work / "out"
+    result = gen.generate(reject_model(work), out)
+    assert result.ddc and result.record.assumptions.count(CLOSED) == 1
+    h = (out / f"{NODE}_types.h").read_text()
+    assert "struct ros_rseq_geometry_msgs_PoseStamped_3 poses;" in h and "struct ros_rseq_string4_3 name;" in h
+    return difftest_sides(out, NODE, work / "sides", mutant="no_reject")
+
+
+def test_difftest_reject_keeps_the_previous_message(reject_sides):
+    """Lengths 0, 1, N-1, N, N+1, 2N and 2^32-1 of each array: the
+    over-long messages are dropped (the controller keeps the previous
+    values, its element strings capped as under truncate)."""
+    dump = reject_sides["dump"]
+    rnd = random.Random(16)
+    y0 = tuple(leaf_token(lf, 0) for lf in dump.leaves(dump.y[1]))
+    cycles, wants = [], []
+    current = {}
+    for k, length in enumerate(LENGTHS + (2**32 - 1,) + LENGTHS[::-1]):
+        frames = [STR_LENGTHS[(k + i) % len(STR_LENGTHS)] for i in range(N)]
+        path, wp = _path_msg(dump, rnd, length, frames)
+        joints, wj = _joints_msg(dump, rnd, LENGTHS[(k + 2) % len(LENGTHS)], frames[::-1])
+        cycles.append(((path, joints), y0))
+        # TP and TJ read the truncated flags of pose 0's frame_id and of name[1]
+        if length <= N:
+            current.update({x: v for x, v in wp.items() if x != "TP"})
+            current["TP"] = str(int(length > 0 and frames[0] > M))
+        jl = LENGTHS[(k + 2) % len(LENGTHS)]
+        if jl <= N:
+            current.update({x: v for x, v in wj.items() if x != "TJ"})
+            current["TJ"] = str(int(jl > 1 and frames[::-1][1] > M))
+        assert "NP" in current and "NJ" in current  # the first cycle's messages are both accepted
+        wants.append(dict(current))
+    sched = Schedule(tuple(cycles)).text()
+    coq = sides_agree(reject_sides, sched)
+    steps = _steps(coq)
+    assert len(steps) == len(wants)
+    for k, (got, want) in enumerate(zip(steps, wants)):
+        assert got == want, (k, got, want)
+    assert run_side(reject_sides["c_mutant"], sched) != coq
