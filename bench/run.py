@@ -1,7 +1,7 @@
 """``make bench``: every benchmark of BENCHMARKS.md, then its tables and the
 plots in bench/results/.
 
-usage: run.py [--quick] [--only proofs,pipeline,runtime,laserscan] [--report-only]
+usage: run.py [--quick] [--only proofs,pipeline,runtime,laserscan,scan_guard] [--report-only]
 
 - ``proofs``: ``make proofs`` from clean in a private copy of coq/
   (bench/proofs.py); the copy is the library the other benchmarks use;
@@ -12,7 +12,10 @@ usage: run.py [--quick] [--only proofs,pipeline,runtime,laserscan] [--report-onl
   (bench/runtime.py);
 - ``laserscan``: the same for the laser guard (LaserScan), against a
   hand-written node: instructions per cycle of the glue and latency at a
-  1 ms period (bench/laserscan.py).
+  1 ms period (bench/laserscan.py);
+- ``scan_guard``: the same for the scan guard (the whole scan into a
+  controller array), with the wrapper's conversions counted too
+  (bench/scan_guard.py).
 
 ``--quick`` is for iteration: N up to 400, one run each, a short latency
 run; the library copy is rebuilt only when the sources changed; its
@@ -36,7 +39,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import common  # noqa: E402
 from common import WORK, load_json, loadavg, machine, save_json  # noqa: E402
 
-ALL = ("proofs", "pipeline", "runtime", "laserscan")
+ALL = ("proofs", "pipeline", "runtime", "laserscan", "scan_guard")
 
 
 def log(msg: str) -> None:
@@ -101,10 +104,18 @@ def main(argv: list[str] | None = None) -> int:
         if "laserscan" in only:
             import laserscan
 
-            res = laserscan.run_laserscan(env, rounds=1 if a.quick else 3, edges=300 if a.quick else 1500,
-                                          log=log)
+            res = laserscan.run_laserscan(env, rounds=1 if a.quick else 3, edges=300 if a.quick else 1500)
             res["machine"] = mach
             save_json("laserscan.json", res)
+        if "scan_guard" in only:
+            import laserscan
+            import scan_guard
+
+            res = laserscan.run_laserscan(env, rounds=1 if a.quick else 3, edges=300 if a.quick else 1500,
+                                          guard=scan_guard.SCAN_GUARD,
+                                          more_instructions=scan_guard.more_instructions)
+            res["machine"] = mach
+            save_json("scan_guard.json", res)
         mach["load_at_end"] = loadavg()
         mach["bench_seconds"] = time.monotonic() - t0
         save_json("machine.json", mach)

@@ -13,11 +13,19 @@
  * ros_time_nsec() are the wrapper's (from the time read at the last spin),
  * over a fake clock that advances 20 ms per cycle.  ros_publish_cmd_vel
  * folds the published command into a checksum printed at exit, so that
- * nothing is optimised away and the hand-written harness can be compared. */
+ * nothing is optimised away and the hand-written harness can be compared.
+ *
+ * With -DFAKE_SCAN_GUARD (and -DSCAN_GUARD_SCANS) it is the C ROS API of
+ * the scan guard's glue (scan_guard_ros.h; bench/scan_guard.py): the same,
+ * plus /closest (std_msgs/Float32), folded into the checksum too. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef FAKE_SCAN_GUARD
+#include "scan_guard_types.h"
+#else
 #include "laser_guard_types.h"
+#endif
 #include "laser_scans.h"
 
 typedef void (*cb_t)(struct sensor_msgs_LaserScan *);
@@ -44,12 +52,7 @@ void ros_init(void)
         memset(c, 0, sizeof *c);
         c->header.frame_id.len = LASER_FRAME_LEN;
         memcpy(c->header.frame_id.data, LASER_FRAME, LASER_FRAME_LEN);
-        c->angle_min = -2.35619449f;
-        c->angle_max = 2.35619449f;
-        c->angle_increment = 0.00436332313f;
-        c->scan_time = 0.025f;
-        c->range_min = 0.1f;
-        c->range_max = 30.0f;
+        LASER_SCAN_SET_FIELDS(c);
         c->ranges.len = len;
         c->ranges.truncated = n > 1081;
         for (i = 0; i < len; ++i)
@@ -103,3 +106,12 @@ void ros_publish_cmd_vel(struct geometry_msgs_TwistStamped *msg)
                msg->header.frame_id.data, len, msg->twist.linear.x, msg->twist.linear.y, msg->twist.linear.z,
                msg->twist.angular.x, msg->twist.angular.y, msg->twist.angular.z);
 }
+
+#ifdef FAKE_SCAN_GUARD
+void ros_advertise_closest(void) {}
+
+void ros_publish_closest(struct std_msgs_Float32 *msg)
+{
+    laser_fold_closest(&checksum, msg->data);
+}
+#endif

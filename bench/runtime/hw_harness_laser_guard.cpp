@@ -12,23 +12,42 @@
 // same times.  BENCH_CYCLES cycles (default 1000).
 // Link with laser_guard_handwritten.cpp compiled with
 // -DLASER_GUARD_HANDWRITTEN_NO_MAIN, the controller, and roscpp's libraries.
+//
+// With -DHW_SCAN_GUARD (and -DSCAN_GUARD_SCANS) it drives the hand-written
+// scan guard instead (bench/handwritten/scan_guard_handwritten.cpp built
+// with -DSCAN_GUARD_HANDWRITTEN_NO_MAIN; bench/scan_guard.py): the same,
+// with the ScanGuard controller and, each cycle, the /closest Float32 built
+// by make_closest() and handed to the sink too.
 #include <geometry_msgs/TwistStamped.h>
 #include <sensor_msgs/LaserScan.h>
 #include <ros/serialization.h>
 #include <ros/time.h>
 
+#ifdef HW_SCAN_GUARD
+#include <std_msgs/Float32.h>
+extern "C" {
+#include "ScanGuard.h"
+}
+#define CONTROLLER_INITIALIZE ScanGuard_initialize
+#define CONTROLLER_STEP ScanGuard_step
+#else
 extern "C" {
 #include "Guard.h"
 }
+#define CONTROLLER_INITIALIZE Guard_initialize
+#define CONTROLLER_STEP Guard_step
+#endif
 #include "laser_scans.h"
 
-// From laser_guard_handwritten.cpp, compiled on its own (so that nothing is
-// inlined into this harness: each function is counted as the real node
-// calls it).
+// From laser_guard_handwritten.cpp (scan_guard_handwritten.cpp), compiled
+// on its own (so that nothing is inlined into this harness: each function
+// is counted as the real node calls it).
 void scanCallback(const sensor_msgs::LaserScan::ConstPtr &msg);
 geometry_msgs::TwistStamped make_command();
+#ifdef HW_SCAN_GUARD
+std_msgs::Float32 make_closest();
+#endif
 
-#include <boost/make_shared.hpp>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -38,17 +57,24 @@ static double g_checksum;
 
 __attribute__((noinline)) void sink(const geometry_msgs::TwistStamped &c)
 {
-    const std::string &f = c.header.frame_id;
-    laser_fold(&g_checksum, c.header.seq, c.header.stamp.sec, c.header.stamp.nsec,
-               reinterpret_cast<const unsigned char *>(f.data()), unsigned(f.size()), c.twist.linear.x,
-               c.twist.linear.y, c.twist.linear.z, c.twist.angular.x, c.twist.angular.y, c.twist.angular.z);
+    laser_fold_twist(&g_checksum, c);
 }
 
-// What the real node's loop does with make_command(): build the message,
-// hand it over, destroy it.
+#ifdef HW_SCAN_GUARD
+__attribute__((noinline)) void sink(const std_msgs::Float32 &c)
+{
+    laser_fold_closest(&g_checksum, c.data);
+}
+#endif
+
+// What the real node's loop does with make_command() (and make_closest()):
+// build the message, hand it over, destroy it.
 __attribute__((noinline)) void hw_output()
 {
     sink(make_command());
+#ifdef HW_SCAN_GUARD
+    sink(make_closest());
+#endif
 }
 
 // For scale: what roscpp itself does with a scan, once per scan received
@@ -71,35 +97,18 @@ int main()
     const bool roscpp = mode && std::string(mode) == "roscpp";
     const char *s = std::getenv("BENCH_CYCLES");
     long cycles = s ? std::atol(s) : 1000;
-    std::vector<sensor_msgs::LaserScan::Ptr> scans;
-    for (long k = 0; k < LASER_SCANS; ++k) {
-        sensor_msgs::LaserScan::Ptr m = boost::make_shared<sensor_msgs::LaserScan>();
-        m->header.frame_id = LASER_FRAME;
-        m->angle_min = -2.35619449f;
-        m->angle_max = 2.35619449f;
-        m->angle_increment = 0.00436332313f;
-        m->scan_time = 0.025f;
-        m->range_min = 0.1f;
-        m->range_max = 30.0f;
-        m->ranges.resize(laser_scan_length(k));
-        for (unsigned i = 0; i < m->ranges.size(); ++i) m->ranges[i] = laser_scan_range(k, i);
-        scans.push_back(m);
-    }
+    const std::vector<sensor_msgs::LaserScan::Ptr> scans = laser_scan_messages();
     ros::Time::init();
-    Guard_initialize();
+    CONTROLLER_INITIALIZE();
     sensor_msgs::LaserScan back;
     std::vector<uint8_t> buf;
     long cycle;
     for (cycle = 0; cycle < cycles; ++cycle) {
-        const sensor_msgs::LaserScan::Ptr &m = scans[cycle % LASER_SCANS];
         ros::Time now;
-        now.fromNSec(laser_clock_ns(cycle));
-        ros::Time::setNow(now);
-        m->header.seq = unsigned(cycle);
-        m->header.stamp.sec = now.sec;
+        const sensor_msgs::LaserScan::Ptr &m = laser_scan_of_cycle(scans, cycle, &now);
         sensor_msgs::LaserScan::ConstPtr cm = m;
         scanCallback(cm);
-        Guard_step();
+        CONTROLLER_STEP();
         hw_output();
         if (roscpp) {
             roscpp_roundtrip(*m, back, buf);
