@@ -798,3 +798,26 @@ def test_the_scan_guard_example(capsys):
     rels = [ln for ln in lines if ln.startswith("input_relation scan ranges.data[")]
     assert rels == [f"input_relation scan ranges.data[{i}] Scan[{i}]" for i in range(1081)]
     assert "input Scan array 1081 float32" in lines
+
+
+def test_the_arm_named_example(capsys):
+    """examples/arm_named: each JointState name whole into a uint8[32]
+    controller array, positions, velocities and target whole, the efforts
+    whole back; check says what the README says, and the model text
+    relates byte j of name i to Name_i[j] for every i < 6, j < 32."""
+    path = REPO / "examples" / "arm_named" / "arm_named.yaml"
+    assert cli.main(["check", str(path)]) == 0
+    out = capsys.readouterr().out
+    readme = " ".join((REPO / "README.md").read_text().split())
+    for part in ("214 input relations (from 13 rows), 7 output relations (from 2 rows)",
+                 "4 variable-length arrays: sensor_msgs/JointState name (string[], at most 6)"):
+        assert part in out and part in readme, part
+    from pyrosgen.frontend.validate import load_model
+
+    lines = model_text(load_model(path)).splitlines()
+    names = [ln for ln in lines if ln.startswith("input_relation joint_states name.data[")]
+    assert names == [f"input_relation joint_states name.data[{i}].data[{j}] Name{i}[{j}]"
+                     for i in range(6) for j in range(32)]
+    assert "input_relation joint_states name.len NNames" in lines
+    assert [ln for ln in lines if ln.startswith("output_relation Effort[")] == [
+        f"output_relation Effort[{i}] arm_effort data.data[{i}]" for i in range(6)]
