@@ -234,6 +234,9 @@ class BoundedTarget:
     #: the path reaches it through an element of a variable-length array
     #: (``poses[2].header.frame_id``, ``name[0]``)
     in_element: bool = False
+    #: the path to it as a model writes it (``poses[2].header.frame_id``);
+    #: set by :meth:`MsgRegistry.bounded_along`
+    shown: str = ""
 
     @property
     def key(self) -> tuple[str, str]:
@@ -662,17 +665,15 @@ class MsgRegistry:
         string = f.base_kind == "string"
         what = f"a variable-length array of {'strings' if string else 'messages'} ({ftype})"
         index = step[1]
-        if writes:
-            raise BoundedPathError(
-                f"field path {show(text)}: {show(shown)} is {what}; an output relation does not write "
-                "into the elements of a published array of messages or strings yet (rule 4.15)")
         if index is None:
             example = f"{shown}[0]" + ("[0]" if string else "." + (nxt or "<field>"))
             raise BoundedPathError(
-                f"field path {show(text)}: {show(shown)} is {what}; a relation reads "
+                f"field path {show(text)}: {show(shown)} is {what}; "
+                + ("an output relation writes " if writes else "a relation reads ")
                 + ("a byte of one of its strings" if string else "a leaf of one of its elements")
-                + f" ({show(example)}) or its length or whether it was truncated (derived: length, "
-                "derived: truncated)")
+                + f" ({show(example)}) or its length "
+                + ("(derived: length)" if writes else "or whether it was truncated (derived: length, "
+                   "derived: truncated)"))
         n = self.capacity(cur.name, f.name)
         if n is None:  # pragma: no cover - the front end carries what relations name
             raise BoundedPathError(f"field path {show(text)}: {show(shown)} ({what}) is not carried")
@@ -703,8 +704,9 @@ class MsgRegistry:
         if not step.more:
             if nxt is None:
                 raise BoundedPathError(
-                    f"field path {show(text)}: {show(shown_i)} is a string (an element of {what}); a relation "
-                    f"reads one of its bytes ({show(shown_i + '[0]')}, a uint8) or its length (derived: length), "
+                    f"field path {show(text)}: {show(shown_i)} is a string (an element of {what}); "
+                    + ("an output relation writes" if writes else "a relation reads")
+                    + f" one of its bytes ({show(shown_i + '[0]')}, a uint8) or its length (derived: length), "
                     "or relates it whole to a uint8 controller array")
             raise BoundedPathError(
                 f"field path {show(text)}: {show(shown_i)} is a string; a path does not go inside it "
@@ -801,35 +803,39 @@ class MsgRegistry:
         cur = self.raw(type_name)
         out: list[str | int] = []
         inside = False
+        shown = ""
         for fname, index in steps:
             f = cur.field(fname) if cur is not None else None
             if f is None:
                 return acc
             out.append(fname)
+            shown = f"{shown}.{fname}" if shown else fname
             if f.card == "sequence":
                 if f.base_kind == "prim":
-                    acc.append(BoundedTarget(tuple(out), cur.name, f.name, f.base, in_element=inside))
+                    acc.append(BoundedTarget(tuple(out), cur.name, f.name, f.base, in_element=inside, shown=shown))
                     return acc
                 if f.base_kind not in ("msg", "string"):
                     return acc
-                acc.append(BoundedTarget(tuple(out), cur.name, f.name, f.base, f.base_kind, inside))
+                acc.append(BoundedTarget(tuple(out), cur.name, f.name, f.base, f.base_kind, inside, shown))
                 if index is None:
                     return acc
                 out += ["data", index]
+                shown += f"[{index}]"
                 inside = True
                 if f.base_kind == "string":
-                    acc.append(BoundedTarget(tuple(out), cur.name, f.name + "[]", "string", None, True))
+                    acc.append(BoundedTarget(tuple(out), cur.name, f.name + "[]", "string", None, True, shown))
                     return acc
                 cur = self.raw(f.base)
                 continue
             if f.base_kind == "string":
                 if f.card == "scalar":
-                    acc.append(BoundedTarget(tuple(out), cur.name, f.name, "string", in_element=inside))
+                    acc.append(BoundedTarget(tuple(out), cur.name, f.name, "string", in_element=inside, shown=shown))
                 return acc
             if f.card == "array":
                 if index is None or index >= f.size:
                     return acc
                 out.append(index)
+                shown += f"[{index}]"
             elif index is not None:
                 return acc
             if f.base_kind != "msg":

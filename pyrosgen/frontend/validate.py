@@ -992,11 +992,13 @@ def _output_derived_problem(dnode: YNode) -> str:
             f"array or string, from a uint32 output), got {got}")
 
 
-def check_published_sequences(ck: "_Checker", out_rels: list[_Rel]) -> None:
+def check_published_sequences(ck: "_Checker", out_rels: list[_Rel], registry: MsgRegistry) -> None:
     """Rule 4.15, publish side: a published variable-length array or
     string whose elements output relations write also has its length
-    written (``derived: length``), and a published string written by the
-    controller has no constant (rule 4.14)."""
+    written (``derived: length``), and so has every array a written leaf
+    or length is inside (``poses`` for ``poses[0].pose.position.x`` and
+    for the length of ``poses[0].header.frame_id``); a published string
+    written by the controller has no constant (rule 4.14)."""
     # a refused relation on the field (its path, its derived) may have
     # meant the length: it is not reported again as a missing one
     lengths = {(r.topic.name, r.bounded.steps) for r in out_rels
@@ -1005,16 +1007,6 @@ def check_published_sequences(ck: "_Checker", out_rels: list[_Rel]) -> None:
     for r in out_rels:
         if r.topic is None or r.bounded is None or r.path is None:
             continue
-        if r.bounded.seq_of is not None or r.bounded.in_element:
-            ck.err_rule("4.15", r.path_node,
-                        f"{r.what}.field: {show(_steps_text(r.bounded.steps))} of topic {show(r.topic.name)} is "
-                        + ("a variable-length array of messages or strings" if r.bounded.seq_of is not None
-                           else "inside an element of a variable-length array")
-                        + "; an output relation does not write those of a published message yet (rule 4.15: "
-                        "arrays of messages and strings are carried on the subscribe side)")
-            r.ok = False
-            continue
-        key = (r.topic.name, r.bounded.steps)
         field_text = _steps_text(r.bounded.steps)
         kind = "string" if r.bounded.is_string else "variable-length array"
         first = r.topic.constant_steps.get(r.bounded.steps)
@@ -1025,14 +1017,33 @@ def check_published_sequences(ck: "_Checker", out_rels: list[_Rel]) -> None:
                         "from controller outputs, not both")
             r.ok = False
             continue
-        if r.seq_kind is None and key not in lengths and key not in reported:
+        fnode = r.node.get("field")
+        along = registry.bounded_along(r.topic.msg_type, fnode.value) if isinstance(fnode, YScalar) else []
+        if not along or along[-1].steps != r.bounded.steps:  # pragma: no cover - the same walk
+            along = [r.bounded]
+        need = along if r.seq_kind is None else along[:-1]
+        for t in need:
+            key = (r.topic.name, t.steps)
+            if key in lengths or key in reported:
+                continue
             reported.add(key)
+            what = ("string" if t.is_string else "variable-length array of messages" if t.seq_of == "msg"
+                    else "variable-length array of strings" if t.seq_of == "string" else "variable-length array")
+            writes = "elements of" if t is along[-1] and r.seq_kind is None else "inside"
             ck.err_rule("4.15", r.path_node,
-                        f"{r.what}.field: the controller writes elements of the published {kind} "
-                        f"{show(field_text)} of topic {show(r.topic.name)} but not its length: add "
-                        f"{{output: <a uint32 output>, topic: {r.topic.name}, field: {field_text}, derived: length}} "
-                        f"(the subscriber receives the first min(length, N) elements, N its max_length)")
+                        f"{r.what}.field: the controller writes {writes} the published {what} "
+                        f"{show(t.shown)} of topic {show(r.topic.name)} but not its length: add "
+                        f"{{output: <a uint32 output>, topic: {r.topic.name}, field: {_flow(t.shown)}, "
+                        "derived: length} (the subscriber receives the first min(length, N) elements, N its "
+                        "max_length)")
             r.ok = False
+            break
+
+
+def _flow(text: str) -> str:
+    """A field path as a YAML flow mapping's value: quoted when it holds
+    brackets."""
+    return f'"{text}"' if "[" in text else text
 
 
 #: The field a stamped topic's message carries the time in (rule 4.13).
@@ -1307,8 +1318,6 @@ def carried_bounded_fields(topics: YNode | None, relations: YNode | None,
             if info is None or info[1] != direction:
                 continue
             for target in registry.bounded_along(info[2], fnode.value):
-                if direction == PUBLISH and (target.seq_of is not None or target.in_element):
-                    break  # not written on the publish side (check_published_sequences refuses it)
                 named.add(target.key)
     return {key: maxima.get(key, DEFAULT_MAX_LENGTH) for key in sorted(named)}
 
@@ -1845,7 +1854,7 @@ def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> N
     check_strings(ck, decls, registry)
 
     # Published sequences and strings from the controller (rule 4.15).
-    check_published_sequences(ck, out_rels)
+    check_published_sequences(ck, out_rels, registry)
 
     # Every controller input (each element of an array input, rule 4.15)
     # is fed by exactly one relation, plain or derived.

@@ -152,10 +152,11 @@ class Struct:
     show: bool
     bounded: tuple[Bounded, ...] = ()
     #: how the harness prints each leaf of a shown struct: ``(leaf, mode,
-    #: bounded, index)``, mode ``leaf`` (as it is), ``len`` (a bounded
-    #: struct's length, printed as min(len, N)), ``skip`` (its truncated
-    #: flag) or ``elem`` (its element ``index``, printed when below min(len,
-    #: N)): a published message as the wrapper puts it on the wire
+    #: conditions, bounded path, N)``, mode ``leaf`` (as it is), ``len`` (a
+    #: bounded struct's length, printed as min(len, N)) or ``skip`` (its
+    #: truncated flag), printed only when every condition holds (each
+    #: element it is inside of is below its array's length): a published
+    #: message as the wrapper puts it on the wire
     prints: tuple = ()
 
 
@@ -341,18 +342,40 @@ class NodeDump:
         return out
 
 
-def _prints(leaves: tuple[Leaf, ...], bounded: tuple[Bounded, ...]) -> tuple:
+def _prints(d: "NodeDump", leaves: tuple[Leaf, ...], bounded: tuple[Bounded, ...]) -> tuple:
     """How the harness prints ``leaves`` of a struct whose bounded
     sequences and strings ``bounded`` go on the wire as their first
-    min(len, N) elements (a published message; :attr:`Struct.prints`)."""
-    role: dict[int, tuple[str, Bounded, int]] = {}
+    min(len, N) elements (a published message; :attr:`Struct.prints`):
+    ``(leaf, mode, conditions, bounded path, capacity)``, the conditions
+    (C expressions on ``p``) under which it is on the wire: the elements
+    it is inside of are below their arrays' lengths.  Inside an element of
+    a sequence of strings or messages (rule 4.15), the element's own
+    strings and sequences go on the wire the same way, in turn."""
+    role: dict[int, tuple] = {}
+
+    def mark(path: str, first: int, cap: int, k: int, elem: str | None, conds: tuple[str, ...]) -> None:
+        role[first] = ("len", conds, path, cap)
+        role[first + 1] = ("skip", conds, path, cap)
+        for j in range(cap):
+            c = (*conds, f"{j}u < p->{path}.len")
+            base = first + 2 + j * k
+            for t in range(k):
+                role[base + t] = ("leaf", c, path, cap)
+            if elem is None:
+                continue
+            epath = f"{path}.data[{j}]"
+            shape = d.bounded_shape(elem)
+            if shape is not None:
+                n2, et2 = shape
+                mark(epath, base, n2, d.leaf_count(et2), et2[1] if et2[0] == "struct" else None, c)
+            else:
+                for ib in d.bounded(elem):
+                    mark(f"{epath}.{ib.path}", base + ib.first_leaf, ib.capacity, ib.elem_leaves,
+                         ib.elem_struct, c)
+
     for b in bounded:
-        role[b.first_leaf] = ("len", b, 0)
-        role[b.first_leaf + 1] = ("skip", b, 0)
-        for j in range(b.capacity):
-            for t in range(b.elem_leaves):
-                role[b.first_leaf + 2 + j * b.elem_leaves + t] = ("elem", b, j)
-    return tuple((leaf, *role.get(i, ("leaf", None, 0))) for i, leaf in enumerate(leaves))
+        mark(b.path, b.first_leaf, b.capacity, b.elem_leaves, b.elem_struct, ())
+    return tuple((leaf, *role.get(i, ("leaf", (), "", 0))) for i, leaf in enumerate(leaves))
 
 
 def harness_source(sexp_text: str, header_name: str, source: str = "the AST dump",
@@ -367,7 +390,7 @@ def harness_source(sexp_text: str, header_name: str, source: str = "the AST dump
     shown = {st for _, _, st in d.pubs} | {d.u[1], d.y[1]}
     published = {st for _, _, st in d.pubs}
     structs = [Struct(s, d.leaves(s), s in filled, s in shown, d.bounded(s) if s in filled else (),
-                      _prints(d.leaves(s), d.bounded(s) if s in published else ()))
+                      _prints(d, d.leaves(s), d.bounded(s) if s in published else ()))
                for s in d.root_structs()]
     kinds = sorted({leaf.kind for s in structs if s.fill for leaf in s.leaves})
     clamped = d.clamped([s.name for s in structs if s.bounded])

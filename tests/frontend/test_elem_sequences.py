@@ -204,6 +204,50 @@ def test_check_counts_the_arrays(tmp_path, capsys):
             "sensor_msgs/JointState name (string[], at most 6)") in out, out
 
 
+def test_published_elements_lengths_and_strings(tmp_path):
+    """The publish side (tests/ros/models/elem_seq_pub.yaml): output
+    relations into element leaves, element strings (bytes, whole from a
+    uint8[M] controller array) and the lengths of the arrays and strings."""
+    from support.frontend import REPO
+
+    m = load(tmp_path, (REPO / "tests" / "ros" / "models" / "elem_seq_pub.yaml").read_text())
+    outs = [(r.output_source, r.path.steps) for r in m.output_relations]
+    assert outs[:3] == [("NP", ("poses", "len")), ("X0", ("poses", "data", 0, "pose", "position", "x")),
+                        ("X1", ("poses", "data", 1, "pose", "position", "x"))]
+    assert ("FL1", ("poses", "data", 1, "header", "frame_id", "len")) in outs
+    assert ("N0[3]", ("name", "data", 0, "data", 3)) in outs and ("N2L", ("name", "data", 2, "len")) in outs
+    assert fields_of(m, "nav_msgs/Path")[1] == ("poses", "msg", "ros_seq_geometry_msgs_PoseStamped_3", None)
+
+
+PUB = BASE.replace("type: geometry_msgs/Twist, queue_size: 1}", "type: nav_msgs/Path, queue_size: 1, "
+                   "max_length: {poses: 4}}").replace("Out1: float64}", "Out1: uint32, F: uint8, FL: uint32}").replace(
+    "    - {output: Out1, topic: /cmd, field: linear.x}\n",
+    "    - {output: Out1, topic: /cmd, field: poses, derived: length}\n"
+    "    - {output: F, topic: /cmd, field: \"poses[1].header.frame_id[0]\"}\n"
+    "    - {output: FL, topic: /cmd, field: \"poses[1].header.frame_id\", derived: length}\n")
+
+
+def test_published_lengths_inside_elements(tmp_path):
+    """A string written inside a published element needs its own length
+    and the array's; a length inside an element needs the array's."""
+    load(tmp_path, PUB)
+    text = _swap('    - {output: FL, topic: /cmd, field: "poses[1].header.frame_id", derived: length}\n', "", PUB)
+    text = text.replace(", FL: uint32}", "}")
+    assert one(tmp_path, text) == (
+        *at(text, '"poses[1].header.frame_id[0]"'), "relations.outputs[1].field: the controller writes elements of "
+        "the published string 'poses[1].header.frame_id' of topic '/cmd' but not its length: add {output: <a uint32 "
+        'output>, topic: /cmd, field: "poses[1].header.frame_id", derived: length} (the subscriber receives the '
+        "first min(length, N) elements, N its max_length)", "4.15")
+    text = _swap("    - {output: Out1, topic: /cmd, field: poses, derived: length}\n", "", PUB).replace(
+        "Out1: uint32, ", "")
+    found = diags(tmp_path, text)
+    assert found[0] == (*at(text, '"poses[1].header.frame_id[0]"'), "relations.outputs[0].field: the controller writes "
+                        "inside the published variable-length array of messages 'poses' of topic '/cmd' but not its "
+                        "length: add {output: <a uint32 output>, topic: /cmd, field: poses, derived: length} (the "
+                        "subscriber receives the first min(length, N) elements, N its max_length)", "4.15")
+    assert len(found) == 1  # the missing length is reported once, at its first relation
+
+
 # --------------------------------------------------------------------------
 # Refusals: each at its place, citing rule 4.15
 
@@ -296,17 +340,12 @@ REFUSALS = {
         "the elements of poses of nav_msgs/Path: policy reject is refused there (the environment model's "
         "Environment.too_long would test it in every element the node can hold, received or not, the wrapper in "
         "the received ones only); use truncate, or reject on the array itself"),
-    "an element of a published array of messages": (
+    "an element of a published array of messages without its length": (
         _swap("type: geometry_msgs/Twist", "type: nav_msgs/Path", _swap("field: linear.x", 'field: "poses[0].pose.position.x"')),
-        '"poses[0].pose.position.x"}', "relations.outputs[0].field: field path 'poses[0].pose.position.x': 'poses' "
-        "is a variable-length array of messages (geometry_msgs/PoseStamped[]); an output relation does not write into "
-        "the elements of a published array of messages or strings yet (rule 4.15) (topic '/cmd', nav_msgs/Path)"),
-    "the length of a published array of messages": (
-        _swap("type: geometry_msgs/Twist", "type: nav_msgs/Path",
-              _swap("Out1: float64", "Out1: uint32", _swap("field: linear.x", "field: poses, derived: length"))),
-        "poses, derived: length}", "relations.outputs[0].field: 'poses' of topic '/cmd' is a variable-length array "
-        "of messages or strings; an output relation does not write those of a published message yet (rule 4.15: "
-        "arrays of messages and strings are carried on the subscribe side)"),
+        '"poses[0].pose.position.x"}', "relations.outputs[0].field: the controller writes elements of the published "
+        "variable-length array of messages 'poses' of topic '/cmd' but not its length: add {output: <a uint32 "
+        "output>, topic: /cmd, field: poses, derived: length} (the subscriber receives the first min(length, N) "
+        "elements, N its max_length)"),
 }
 
 

@@ -275,20 +275,25 @@ def test_a_length_of_something_that_is_no_sequence(tmp_path):
                         f"{_OUT}", "4.15")
 
 
-def test_sequences_of_messages_and_strings_are_not_written(tmp_path):
+def test_sequences_of_messages_and_strings_need_their_lengths(tmp_path):
     """``layout.dim`` (MultiArrayDimension[]) and JointState's ``name``
-    (string[]) are carried on the subscribe side only (rule 4.15)."""
+    (string[]) are written element by element with their lengths (rule
+    4.15; tests/frontend/test_elem_sequences.py has the rest)."""
     text = swap(BASE, '"data[3]"', '"layout.dim[0].size"').replace("E3: float64", "E3: uint32")
-    got = one(tmp_path, text)
-    assert got[3] == "4.15" and "'layout.dim' is a variable-length array of messages" in got[2], got
+    assert one(tmp_path, text) == (*at(text, '"layout.dim[0].size"'), "relations.outputs[2].field: the controller "
+                                   "writes elements of the published variable-length array of messages 'layout.dim' "
+                                   "of topic '/out' but not its length: add {output: <a uint32 output>, topic: /out, "
+                                   "field: layout.dim, derived: length} (the subscriber receives the first "
+                                   "min(length, N) elements, N its max_length)", "4.15")
     text = swap(BASE, "type: std_msgs/Float64MultiArray, queue_size: 1, max_length: {data: 4}",
-                "type: sensor_msgs/JointState, queue_size: 1, max_length: {position: 4}")
+                'type: sensor_msgs/JointState, queue_size: 1, max_length: {position: 4, name: 2, "name[]": 8}')
     text = swap(text, '"data[3]"', '"name[0]"').replace("field: data, derived", "field: position, derived").replace(
         '"data[0]"', '"position[0]"')
     got = one(tmp_path, text)
-    assert got[:2] == at(text, '"name[0]"') and got[3] == "4.15", got
-    assert "'name' is a variable-length array of strings (string[]); an output relation does not write into the " \
-        "elements of a published array of messages or strings yet (rule 4.15)" in got[2], got
+    assert got == (*at(text, '"name[0]"'), "relations.outputs[2].field: field path 'name[0]': 'name[0]' is a string "
+                   "(an element of a variable-length array of strings (string[])); an output relation writes one of "
+                   "its bytes ('name[0][0]', a uint8) or its length (derived: length), or relates it whole to a "
+                   "uint8 controller array (topic '/out', sensor_msgs/JointState)", "4.15")
 
 
 # --------------------------------------------------------------------------

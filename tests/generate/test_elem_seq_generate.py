@@ -19,6 +19,12 @@ converts it as the wrapper does): the traces agree bit for bit and give
 the controller exactly the expected values; a harness that does not zero
 past the length is caught.
 
+Published (tests/ros/models/elem_seq_pub.yaml): both sides print a
+published Path and JointState as the wrapper puts them on the wire, the
+first min(len, N) elements, each string its first min(len, M) bytes, for
+lengths 0, 1, N-1, N, N+1, 2N and 2^32-1 of the arrays and of the strings,
+and that is exactly what the controller's outputs say.
+
 With policy reject on both arrays (``poses``, ``name``:
 ``ros_rseq_...``), a Path or JointState holding more than N elements is
 not delivered (``Environment.too_long``, ``accepted``: the array's own
@@ -294,3 +300,82 @@ def test_difftest_reject_keeps_the_previous_message(reject_sides):
     for k, (got, want) in enumerate(zip(steps, wants)):
         assert got == want, (k, got, want)
     assert run_side(reject_sides["c_mutant"], sched) != coq
+
+
+# --------------------------------------------------------------------------
+# Published arrays of messages and strings (tests/ros/models/elem_seq_pub.yaml)
+
+PUB_MODEL = ROOT / "tests" / "ros" / "models" / "elem_seq_pub.yaml"
+
+
+@pytest.fixture(scope="module")
+def pub_sides(tmp_path_factory):
+    require_library()
+    work = tmp_path_factory.mktemp("elem_seq_pub")
+    result = gen.generate(PUB_MODEL, work / "out")
+    assert result.ddc and result.record.assumptions.count(CLOSED) == 1
+    text = (work / "out" / "elem_seq_pub.model").read_text().splitlines()
+    assert "output_relation NP path poses.len" in text and "output_relation N2B0 joints name.data[2].data[0]" in text
+    return difftest_sides(work / "out", "elem_seq_pub", work / "sides")
+
+
+def _published(trace: str) -> list[tuple[str, list[str]]]:
+    """The published messages of a trace: (topic, their lines)."""
+    out: list[tuple[str, list[str]]] = []
+    for line in trace.splitlines():
+        if line.startswith("publish "):
+            out.append((line.split()[1], []))
+        elif line.startswith("  m ") and out:
+            out[-1][1].append(line[4:])
+    return out
+
+
+def _wire(length: int, slen: int, x: list[int]) -> tuple[list[str], list[str]]:
+    """The Path and JointState the controller's outputs make, as they go
+    on the wire: the first min(length, N) elements, each string its first
+    min(slen, M) bytes (Environment.clamp on publish)."""
+    k, s = min(length, N), min(slen, M)
+    path = ["header.seq 0", "header.stamp.sec 0", "header.stamp.nsec 0", "header.frame_id.len 3",
+            "header.frame_id.data[0] 109", "header.frame_id.data[1] 97", "header.frame_id.data[2] 112",
+            f"poses.len {k}"]
+    for i in range(k):
+        p = f"poses.data[{i}]"
+        path += [f"{p}.header.seq {length if i == 1 else 0}", f"{p}.header.stamp.sec 0", f"{p}.header.stamp.nsec 0"]
+        fb = [97, 98, 0, 0] if i == 1 else []
+        flen = s if i == 1 else 0
+        path += [f"{p}.header.frame_id.len {flen}"] + [f"{p}.header.frame_id.data[{j}] {fb[j]}" for j in range(flen)]
+        path += [f"{p}.pose.position.x 0x{x[i]:016x}"] + [f"{p}.pose.{f} 0x{0:016x}" for f in (
+            "position.y", "position.z", "orientation.x", "orientation.y", "orientation.z", "orientation.w")]
+    joints = ["header.seq 0", "header.stamp.sec 0", "header.stamp.nsec 0", "header.frame_id.len 0", f"name.len {k}"]
+    names = [[119, 120, 121, 122], [], [122, 0, 0, 0]]
+    for i in range(k):
+        n = s if i != 1 else 0
+        joints += [f"name.data[{i}].len {n}"] + [f"name.data[{i}].data[{j}] {names[i][j]}" for j in range(n)]
+    return path, joints
+
+
+def test_difftest_published_elements(pub_sides):
+    """Lengths 0, 1, N-1, N, N+1, 2N and 2^32-1 of the arrays with string
+    lengths 0, 1, M-1, M, M+1, 2M and 2^32-1: both sides print exactly the
+    first min(len, N) elements, each string's first min(len, M) bytes."""
+    dump = pub_sides["dump"]
+    ys = dump.leaves(dump.y[1])
+    rnd = random.Random(17)
+    cycles, wants = [], []
+    for length in LENGTHS + (2**32 - 1,):
+        for slen in STR_LENGTHS + (2**32 - 1,):
+            x = [rnd.getrandbits(64) for _ in range(3)]
+            vals = {"NP": length, "X0": x[0], "X1": x[1], "X2": x[2], "Q1": length, "FL1": slen, "F10": 97,
+                    "F11": 98, "NJ": length, "N0L": slen, "N0[0]": 119, "N0[1]": 120, "N0[2]": 121, "N0[3]": 122,
+                    "N2L": slen, "N2B0": 122}
+            cycles.append(((), tuple(leaf_token(lf, vals[lf.path]) for lf in ys)))
+            wants.append(_wire(length, slen, x))
+    sched = Schedule(tuple(cycles)).text()
+    coq = sides_agree(pub_sides, sched)
+    pubs = _published(coq)
+    # one Path and one JointState per cycle, from the cycle's outputs
+    got = [(pubs[i][1], pubs[i + 1][1]) for i in range(0, len(pubs), 2)]
+    assert [t for t, _ in pubs[::2]] == ["/path"] * len(got) and [t for t, _ in pubs[1::2]] == ["/joints"] * len(got)
+    assert len(got) == len(wants)
+    for k, (g, w) in enumerate(zip(got, wants)):
+        assert g == w, (k, g, w)

@@ -6,7 +6,7 @@
 PLAN (JSON):
   msg_paths:   {"robot_msgs": "/abs/folder/of/robot_msgs/msg", ...} custom packages
   publishers:  [{"topic", "type", "queue_size"?}]
-  subscribers: [{"topic", "type", "record"?: "leaves" | "elements" | "time"}]
+  subscribers: [{"topic", "type", "record"?: "leaves" | "elements" | "deep" | "time"}]
   connect_timeout: seconds to wait until every publisher has a subscriber and
                every subscriber a publisher (the node under test)
   wait_messages: also wait for one message on every subscriber before the steps
@@ -32,7 +32,9 @@ RESULT (JSON): {"t_ready", "steps": [{"t0", "t1"}], "received": [{"topic",
 is listed: floats by their bits ("d:"/"f:"), integers, strings as
 {"str": s}, variable-length arrays as {"var": length}; with "record":
 "elements", a variable-length array of primitives also lists each element
-as a leaf ("data[0]", ...).
+as a leaf ("data[0]", ...); with "record": "deep", every variable-length
+array does, an array of messages its elements' leaves ("poses[0].pose.
+position.x"), an array of strings its strings ("name[0]": {"str": s}).
 """
 
 import json
@@ -102,9 +104,10 @@ def flatten(obj, slot_type, path, out, msg_paths, elements=False):
     if n is not None:
         if n == "":
             out[path] = {"var": len(obj)}
-            if elements and (base in (_FLOAT64, _FLOAT32, "bool") or base in _INTS):
+            prim = base in (_FLOAT64, _FLOAT32, "bool") or base in _INTS
+            if (elements and prim) or elements == "deep":
                 for i in range(len(obj)):
-                    flatten(obj[i], base, "%s[%d]" % (path, i), out, msg_paths)
+                    flatten(obj[i], base, "%s[%d]" % (path, i), out, msg_paths, elements)
             return
         for i in range(int(n)):
             flatten(obj[i], base, "%s[%d]" % (path, i), out, msg_paths, elements)
@@ -237,8 +240,8 @@ def main():
             def cb(msg, topic=s["topic"], mode=mode):
                 t = time.monotonic()
                 item = {"topic": topic, "t": t}
-                if mode in ("leaves", "elements"):
-                    item["leaves"] = leaves(msg, msg_paths, mode == "elements")
+                if mode in ("leaves", "elements", "deep"):
+                    item["leaves"] = leaves(msg, msg_paths, "deep" if mode == "deep" else mode == "elements")
                 with lock:
                     result["received"].append(item)
 
