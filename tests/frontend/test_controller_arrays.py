@@ -742,7 +742,7 @@ def test_the_readme_example(tmp_path, capsys):
     p = write(tmp_path, "node: {name: ex, period_ms: 20}\n" + block)
     assert cli.main(["check", str(p)]) == 0
     out = capsys.readouterr().out
-    said = " ".join(readme[start:readme.index("**Not yet**", start)].split())
+    said = " ".join(readme[start:readme.index("\n#### ", start + 1)].split())
     for part in ("1134 input relations (from 4 rows), 7 output relations (from 2 rows)",
                  "4 controller arrays: input Scan (float32[1081]), input Cov (float64[36]), input Frame (uint8[16]), "
                  "output Cmd (float64[6])"):
