@@ -371,3 +371,21 @@ def test_too_many_leaves_names_the_maxima(tmp_path):
     assert (line, col, rule) == (*at(text, "sensor_msgs/JointState"), "4.5")
     assert msg.startswith("topics[1].type: message type sensor_msgs/JointState has 16645 scalar leaves; the glue "
                           "carries at most 10000 per message (lower the max_length of its variable-length arrays")
+
+
+def test_an_array_struct_name_too_long_is_refused(tmp_path):
+    """The struct of an array of messages is named after its element's C
+    struct: a name longer than C's 63 significant characters is refused
+    (rule 4.9) at the topic's type."""
+    pkg = tmp_path / "msgs" / "long_package_name_abcdefgh" / "msg"
+    pkg.mkdir(parents=True)
+    (pkg / "AnExtremelyLongTypeNameXYZ.msg").write_text("float64 x\n")
+    (pkg / "Holder.msg").write_text("long_package_name_abcdefgh/AnExtremelyLongTypeNameXYZ[] items\n")
+    text = BASE.replace("node: {name: walker, period_ms: 20}\n", "node: {name: walker, period_ms: 20}\nmsg_paths: [msgs]\n")
+    text = text.replace("  - {name: /cmd,", "  - {name: /h, direction: subscribe, type: long_package_name_abcdefgh/Holder, "
+                                           "queue_size: 1}\n  - {name: /cmd,")
+    text = text.replace('field: "poses[3].pose.position.x"', 'field: "items[0].x"').replace("topic: /path, field: \"items", "topic: /h, field: \"items")
+    name = "ros_seq_long_package_name_abcdefgh_AnExtremelyLongTypeNameXYZ_128"
+    assert one(tmp_path, text) == (*at(text, "long_package_name_abcdefgh/Holder"),
+                                   f"the C name '{name}' derived from message type {name} cannot be used: it is longer "
+                                   "than 63 characters (65)", "4.9")
