@@ -52,7 +52,10 @@ of strings (``ros_seq_string<M>_<N>``) or of messages
 by the element's own ``to_c`` (its strings and sequences capped in turn),
 every other element zeroed (``memset`` of ``N - len`` elements); published,
 the first ``min(len, N)`` elements each converted back; the same text
-once each.
+once each.  A proved model holding a struct of policy reject inside the
+elements of such a sequence is refused whatever the wrapper (rule 4.15
+refuses it: ``Environment.too_long`` tests every element the struct
+holds, received or not).
 
 With the glue and the wrapper's header (:func:`check_glue_externals`), the
 ROS functions the glue declares are declared by the header with the same C
@@ -157,6 +160,40 @@ def reject_checks(messages: dict[str, list[tuple[str, str]]], struct: str) -> li
                     go(sub, path + ".", depth + 1)
 
     go(struct, "", 0)
+    return out
+
+
+def rejects_inside_elements(messages: dict[str, list[tuple[str, str]]]) -> list[tuple[str, str]]:
+    """The structs of policy reject (``ros_rseq_...``, ``ros_rstring...``)
+    that the proved model holds inside the elements of a sequence of
+    strings or messages, each with that sequence: ``Environment.too_long``
+    tests them in every element the sequence's struct holds, received or
+    not, which no wrapper test of the received message can match (rule
+    4.15 refuses such a model)."""
+    out: list[tuple[str, str]] = []
+
+    def inside(name: str, seen: set[str]) -> set[str]:
+        found: set[str] = set()
+        for _fname, ftype in messages.get(name, []):
+            m = re.fullmatch(r"(?:array [1-9][0-9]* )?msg (\w+)", ftype)
+            if m is None or m.group(1) in seen:
+                continue
+            sub = m.group(1)
+            seen.add(sub)
+            if _REJECT_NAME.fullmatch(sub):
+                found.add(sub)
+            found |= inside(sub, seen)
+        return found
+
+    for name, fields in sorted(messages.items()):
+        if not name.startswith(("ros_seq_", "ros_rseq_")) or len(fields) != 3:
+            continue
+        m = re.fullmatch(r"array [1-9][0-9]* msg (\w+)", fields[2][1]) if fields[2][0] == "data" else None
+        if m is None:
+            continue
+        elem = m.group(1)
+        found = ({elem} if _REJECT_NAME.fullmatch(elem) else set()) | inside(elem, {elem})
+        out += [(name, r) for r in sorted(found)]
     return out
 
 
@@ -407,6 +444,10 @@ def check_wrapper(cpp: str, proved_text: str, *, wrapper_name: str) -> None:
         problems.append("  the wrapper registers topics outside the ros_subscribe_/ros_advertise_ functions")
     problems += _time_problems(cpp, len(re.findall(r"^void ros_subscribe_\w+\(", cpp, re.M)),
                                parse_model_text(proved_text).messages)
+    for seq, inner in rejects_inside_elements(parse_model_text(proved_text).messages):
+        problems.append(f"  the proved model holds {inner}, of policy reject, inside the elements of {seq}: "
+                        "Environment.too_long tests it in every element the struct holds, received or not, which "
+                        "the wrapper cannot (rule 4.15 refuses such a model)")
     problems += _string_problems(cpp, parse_model_text(proved_text).messages)
     problems += _seq_problems(cpp, parse_model_text(proved_text).messages)
     rates = _RATE.findall(cpp)

@@ -16,7 +16,7 @@ import pytest
 import pyrosgen.ros.wrapper as wrapper
 from pyrosgen.frontend.validate import load_model
 from pyrosgen.proof.modeltext import model_text
-from pyrosgen.verify.wrapper_check import check_wrapper
+from pyrosgen.verify.wrapper_check import WrapperMismatch, check_wrapper
 
 from .conftest import ROOT, assert_wrapper_refused
 
@@ -125,3 +125,16 @@ def reject(tmp_path_factory):
 def test_mutated_reject_test_is_refused(reject, name):
     cpp, text = reject
     assert_wrapper_refused(cpp, *REJECT_MUTATIONS[name], text)
+
+
+def test_a_proved_model_with_reject_inside_elements_is_refused(truncate):
+    """Defence in depth (the front end refuses such a model, rule 4.15): a
+    proved model whose array elements hold a struct of policy reject is
+    refused, whatever the wrapper."""
+    cpp, text = truncate
+    with pytest.raises(WrapperMismatch) as info:
+        check_wrapper(cpp, text.replace("ros_string4", "ros_rstring4"), wrapper_name="w.cpp")
+    assert any("ros_rstring4, of policy reject, inside the elements of ros_seq_geometry_msgs_PoseStamped_3" in ln
+               for ln in info.value.lines), info.value.lines
+    assert any("ros_rstring4, of policy reject, inside the elements of ros_seq_string4_3" in ln
+               for ln in info.value.lines), info.value.lines
