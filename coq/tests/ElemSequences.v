@@ -177,19 +177,10 @@ Proof. vm_compute. reflexivity. Qed.
 
 (** ** Mutants *)
 
-Definition fcheck (p : program) (n : nat) : bool :=
-  match run_trace 4000 p fctx n with
-  | Some t => run_okb follower fctx n t
-  | None => true
-  end.
+Definition fcheck : program -> nat -> bool := check_in follower fctx 4000.
 
 Lemma frefute: forall p n, fcheck p n = false -> ~ node_ddc follower p.
-Proof.
-  intros p n H D. unfold fcheck in H.
-  destruct (run_trace 4000 p fctx n) as [t|] eqn:R; [|discriminate].
-  destruct (D unit fctx n fctx_arrivals_wt fctx_controller_wt) as [_ All].
-  rewrite (run_ok_okb _ _ _ _ _ (All t (run_trace_sound _ fctx 4000 p n t R))) in H. discriminate.
-Qed.
+Proof. exact (refute_in follower fctx 4000 fctx_arrivals_wt fctx_controller_wt). Qed.
 
 (** The generated program passes (as T2 says it must). *)
 Example follower_passes: fcheck follower_prog 6 = true.

@@ -302,22 +302,32 @@ Proof. intros s u. apply mval_typecheck_iff. vm_compute. reflexivity. Qed.
 
 (** ** Refuting a mutant *)
 
-(** The check of a program's run of [n] cycles in [ctx] ([true] when the
-    interpreter runs out of fuel or the run is undefined: then nothing is
-    refuted). *)
-Definition check (p : program) (n : nat) : bool :=
-  match run_trace 2000 p ctx n with
-  | Some t => run_okb landshark ctx n t
+(** The check of a program's run of [n] cycles in [ctx] against the
+    model [m], with [fuel] steps of the interpreter ([true] when it runs
+    out of fuel or the run is undefined: then nothing is refuted). *)
+Definition check_in {CS} (m : node_model) (ctx : ros_context CS) (fuel : nat) (p : program) (n : nat) : bool :=
+  match run_trace fuel p ctx n with
+  | Some t => run_okb m ctx n t
   | None => true
   end.
 
-Lemma refute: forall p n, check p n = false -> ~ node_ddc landshark p.
+(** A program whose run fails the check does not satisfy T2, in any
+    context of well-typed arrivals and controller (every test node's
+    mutants are refuted through this lemma). *)
+Lemma refute_in {CS}:
+  forall m (ctx : ros_context CS) fuel, arrivals_wt m ctx -> controller_wt m ctx ->
+  forall p n, check_in m ctx fuel p n = false -> ~ node_ddc m p.
 Proof.
-  intros p n H D. unfold check in H.
-  destruct (run_trace 2000 p ctx n) as [t|] eqn:R; [|discriminate].
-  destruct (D unit ctx n ctx_arrivals_wt ctx_controller_wt) as [_ All].
-  rewrite (run_ok_okb _ _ _ _ _ (All t (run_trace_sound _ ctx 2000 p n t R))) in H. discriminate.
+  intros m ctx fuel AW CW p n H D. unfold check_in in H.
+  destruct (run_trace fuel p ctx n) as [t|] eqn:R; [|discriminate].
+  destruct (D CS ctx n AW CW) as [_ All].
+  rewrite (run_ok_okb _ _ _ _ _ (All t (run_trace_sound _ ctx fuel p n t R))) in H. discriminate.
 Qed.
+
+Definition check : program -> nat -> bool := check_in landshark ctx 2000.
+
+Lemma refute: forall p n, check p n = false -> ~ node_ddc landshark p.
+Proof. exact (refute_in landshark ctx 2000 ctx_arrivals_wt ctx_controller_wt). Qed.
 
 (** The generated program passes (as T2 says it must). *)
 Example p_passes: check landshark_prog 0 = true /\ check landshark_prog 1 = true /\ check landshark_prog 2 = true.

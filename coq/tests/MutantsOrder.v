@@ -77,19 +77,10 @@ Qed.
 Lemma ctx2_controller_wt: controller_wt landshark2 ctx2.
 Proof. intros s u. apply mval_typecheck_iff. vm_compute. reflexivity. Qed.
 
-Definition check2 (p : program) (n : nat) : bool :=
-  match run_trace 2000 p ctx2 n with
-  | Some t => run_okb landshark2 ctx2 n t
-  | None => true
-  end.
+Definition check2 : program -> nat -> bool := check_in landshark2 ctx2 2000.
 
 Lemma refute2: forall p n, check2 p n = false -> ~ node_ddc landshark2 p.
-Proof.
-  intros p n H D. unfold check2 in H.
-  destruct (run_trace 2000 p ctx2 n) as [t|] eqn:R; [|discriminate].
-  destruct (D unit ctx2 n ctx2_arrivals_wt ctx2_controller_wt) as [_ All].
-  rewrite (run_ok_okb _ _ _ _ _ (All t (run_trace_sound _ ctx2 2000 p n t R))) in H. discriminate.
-Qed.
+Proof. exact (refute_in landshark2 ctx2 2000 ctx2_arrivals_wt ctx2_controller_wt). Qed.
 
 (** The generated program passes (as T2 says it must). *)
 Example p2_passes: check2 landshark2_prog 0 = true /\ check2 landshark2_prog 1 = true

@@ -133,19 +133,10 @@ Proof. vm_compute. reflexivity. Qed.
 
 (** ** Mutants *)
 
-Definition scheck (p : program) (n : nat) : bool :=
-  match run_trace 4000 p sctx n with
-  | Some t => run_okb scanner sctx n t
-  | None => true
-  end.
+Definition scheck : program -> nat -> bool := check_in scanner sctx 4000.
 
 Lemma srefute: forall p n, scheck p n = false -> ~ node_ddc scanner p.
-Proof.
-  intros p n H D. unfold scheck in H.
-  destruct (run_trace 4000 p sctx n) as [t|] eqn:R; [|discriminate].
-  destruct (D unit sctx n sctx_arrivals_wt sctx_controller_wt) as [_ All].
-  rewrite (run_ok_okb _ _ _ _ _ (All t (run_trace_sound _ sctx 4000 p n t R))) in H. discriminate.
-Qed.
+Proof. exact (refute_in scanner sctx 4000 sctx_arrivals_wt sctx_controller_wt). Qed.
 
 (** The generated program passes (as T2 says it must). *)
 Example scanner_passes: scheck scanner_prog 6 = true.
@@ -481,19 +472,10 @@ Example rejector_run:
   end.
 Proof. vm_compute. reflexivity. Qed.
 
-Definition rcheck (p : program) (n : nat) : bool :=
-  match run_trace 4000 p rctx n with
-  | Some t => run_okb rejector rctx n t
-  | None => true
-  end.
+Definition rcheck : program -> nat -> bool := check_in rejector rctx 4000.
 
 Lemma rrefute: forall p n, rcheck p n = false -> ~ node_ddc rejector p.
-Proof.
-  intros p n H D. unfold rcheck in H.
-  destruct (run_trace 4000 p rctx n) as [t|] eqn:R; [|discriminate].
-  destruct (D unit rctx n rctx_arrivals_wt rctx_controller_wt) as [_ All].
-  rewrite (run_ok_okb _ _ _ _ _ (All t (run_trace_sound _ rctx 4000 p n t R))) in H. discriminate.
-Qed.
+Proof. exact (refute_in rejector rctx 4000 rctx_arrivals_wt rctx_controller_wt). Qed.
 
 (** The generated program passes (as T2 says it must). *)
 Example rejector_passes: rcheck rejector_prog 8 = true.
