@@ -674,14 +674,7 @@ class MsgRegistry:
                 + f" ({show(example)}) or its length "
                 + ("(derived: length)" if writes else "or whether it was truncated (derived: length, "
                    "derived: truncated)"))
-        n = self.capacity(cur.name, f.name)
-        if n is None:  # pragma: no cover - the front end carries what relations name
-            raise BoundedPathError(f"field path {show(text)}: {show(shown)} ({what}) is not carried")
-        if index >= n:
-            raise BoundedPathError(
-                f"field path {show(text)}: index {index} is beyond the maximum length of {show(shown)}: "
-                f"the node carries at most {n} of its elements (max_length, default {DEFAULT_MAX_LENGTH}); "
-                f"valid indices are 0..{n - 1}")
+        self._check_index(text, cur, f, index, shown, what, "elements")
         out += ["data", index]
         shown_i = f"{shown}[{index}]"
         if not string:
@@ -767,6 +760,14 @@ class MsgRegistry:
             raise BoundedPathError(
                 f"field path {show(text)}: {show(shown_i)} is {_prim_article(elem)} {elem}, it has no field {show(nxt)}"
             )
+        self._check_index(text, cur, f, index, shown, what, items)
+        return FieldPath((*out, "data", index), elem)
+
+    def _check_index(self, text: object, cur: _RawMsg, f: _RawField, index: int, shown: str, what: str,
+                     items: str) -> None:
+        """Refuse ``index`` of the carried field ``f`` of ``cur`` (``shown``
+        in the path ``text``, ``what`` it is, ``items`` what its elements
+        are called) unless it is below the field's maximum length."""
         n = self.capacity(cur.name, f.name)
         if n is None:  # pragma: no cover - the front end carries what relations name
             raise BoundedPathError(f"field path {show(text)}: {show(shown)} ({what}) is not carried")
@@ -776,7 +777,6 @@ class MsgRegistry:
                 f"the node carries at most {n} of its {items} (max_length, default {DEFAULT_MAX_LENGTH}); "
                 f"valid indices are 0..{n - 1}"
             )
-        return FieldPath((*out, "data", index), elem)
 
     def bounded_in_path(self, type_name: str, text: object) -> BoundedTarget | None:
         """The variable-length array or ``string`` field that field path
