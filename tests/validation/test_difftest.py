@@ -288,9 +288,13 @@ def test_random_schedules(sides, key):
         # and, whatever hypothesis drew, each freshness case on purpose
         for k in range(3):
             _check(s, _freshness_schedule(s, random.Random(k)), seen)
-    # the schedules did exercise something
-    assert seen["cycles"] > EXAMPLES_PER_MODEL and seen["messages"] > 5 * EXAMPLES_PER_MODEL
-    assert seen["empty"] > 0
+    # the schedules did exercise something: more than one cycle and two
+    # messages per schedule on average (what hypothesis draws varies with
+    # what it drew before in the process: from 543 to 1,750 messages in
+    # 100 schedules, the least for multi, in one run; 5 per schedule was
+    # too close)
+    assert seen["cycles"] > EXAMPLES_PER_MODEL and seen["messages"] > 2 * EXAMPLES_PER_MODEL, seen
+    assert seen["empty"] > 0, seen
     if key in TIMED_EXAMPLES:
         # every freshness case, several times
         cases = ["never", "received", "back", "saturated", "in range", "new", "not new"]
