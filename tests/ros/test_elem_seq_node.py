@@ -15,7 +15,10 @@ rospy driver sends paths of 0, 1, N-1, N, N+1 and 2N poses and joint
 states of as many names, with frame_ids and names of 0, 1, M-1, M, M+1
 and 2M bytes: every echo on the wire is, bit for bit, what T2 says the
 controller receives (``Environment.clamp``: the first min(len, N)
-elements, each with its strings capped at M, zeros past the lengths)."""
+elements, each with its strings capped at M, zeros past the lengths).
+The same node with ``policy: {poses: reject}`` keeps the previous path
+when one of N+1 or 2N poses arrives (``Environment.too_long``), while the
+JointState still arrives."""
 
 from __future__ import annotations
 
@@ -116,6 +119,70 @@ def test_paths_and_joint_states_on_the_wire(ros, elem_seq, tmp_path):
     # before the first messages: every input is 0
     first = rosutil.received(result, "/echo")[0]["leaves"]
     assert first["data"] == {"var": 21} and all(first[f"data[{i}]"] == d(dbits(0.0)) for i in range(21)), first
+    for c, length in enumerate(LENGTHS):
+        t0, t1 = result["steps"][3 * c + 1]["t1"] + SETTLE, result["steps"][3 * c + 2]["t1"]
+        want = {"layout.dim": {"var": 0}, "layout.data_offset": 0, "data": {"var": 21},
+                **{f"data[{i}]": d(dbits(float(v))) for i, v in enumerate(wants[c])}}
+        got = [r["leaves"] for r in rosutil.received(result, "/echo", t0, t1)]
+        assert len(got) >= 5, (length, len(got))
+        assert all(g == want for g in got), (length, got[-1], want)
+
+
+# --------------------------------------------------------------------------
+# Policy reject on the array of messages
+
+
+@pytest.fixture(scope="module")
+def elem_seq_reject(nodes_dir, tmp_path_factory):
+    """The same node with ``policy: {poses: reject}`` (``poses`` carried as
+    ``ros_rseq_geometry_msgs_PoseStamped_3``); ``TP`` then reads whether
+    pose 0's frame_id was truncated (the array's own flag would always be
+    0, and is refused)."""
+    text = MODEL.read_text()
+    swaps = [('max_length: {poses: 3, "poses[].header.frame_id": 4}}',
+              'max_length: {poses: 3, "poses[].header.frame_id": 4}, policy: {poses: reject}}'),
+             ("{topic: /path, field: poses, derived: truncated, input: TP}",
+              '{topic: /path, field: "poses[0].header.frame_id", derived: truncated, input: TP}')]
+    for old, new in swaps:
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    model = tmp_path_factory.mktemp("elem_seq_reject") / "elem_seq_reject.yaml"
+    model.write_text(text)
+    out = nodes_dir / "elem_seq_reject"
+    res = build(model, CONTROLLER, out)
+    assert "ros_rseq_geometry_msgs_PoseStamped_3" in (out / "elem_seq_types.h").read_text()
+    assert "input_relation path poses.data[0].header.frame_id.truncated TP" in res.generated.proved_model.splitlines()
+    return out / "bin" / "elem_seq"
+
+
+def test_policy_reject_keeps_the_previous_path(ros, elem_seq_reject, tmp_path):
+    """Paths of N+1 and 2N poses are not delivered: the controller keeps
+    the previous path's values (the JointState, not of policy reject,
+    still arrives), bit for bit what T2 says with ``Environment.too_long``."""
+    node = start_node(ros, elem_seq_reject, tmp_path / "node.log")
+    steps, wants = [], []
+    kept = None
+    for c, length in enumerate(LENGTHS):
+        path, joints, want = _case(c, length)
+        slen0 = STR_LENGTHS[c % len(STR_LENGTHS)]
+        want[1] = int(length > 0 and slen0 > M)          # TP: pose 0's frame_id truncated
+        if length > N:
+            want[:12] = kept                             # the path is dropped: the previous one stays
+        else:
+            kept = want[:12]
+        steps += [{"publish": {"topic": "/path", "values": path}},
+                  {"publish": {"topic": "/joints", "values": joints}},
+                  {"sleep": HOLD}]
+        wants.append(want)
+    # a delivered N+1 or 2N path would show: its own values differ from those kept
+    assert all(_case(c, n)[2][:12] != wants[c][:12] for c, n in enumerate(LENGTHS) if n > N)
+    plan = {"publishers": [{"topic": "/path", "type": "nav_msgs/Path", "queue_size": 10},
+                           {"topic": "/joints", "type": "sensor_msgs/JointState", "queue_size": 10}],
+            "subscribers": [{"topic": "/echo", "type": "std_msgs/Float64MultiArray", "record": "elements"}],
+            "wait_messages": True, "steps": steps, "linger": 0.2}
+    result = run_driver(ros, plan, tmp_path)
+    assert node.poll() is None, (tmp_path / "node.log").read_text()[-2000:]
+    assert len(result["steps"]) == len(steps)
     for c, length in enumerate(LENGTHS):
         t0, t1 = result["steps"][3 * c + 1]["t1"] + SETTLE, result["steps"][3 * c + 2]["t1"]
         want = {"layout.dim": {"var": 0}, "layout.data_offset": 0, "data": {"var": 21},
