@@ -74,7 +74,9 @@ def cmd_check(args: argparse.Namespace) -> int:
     seqs = [(owner, fname, b) for owner, fname, b in model.bounded_fields if b.is_seq]
     if seqs:
         ctrl += f"; {_plural(len(seqs), 'variable-length array')}: " + ", ".join(
-            f"{owner} {fname} ({b.seq_of[0]}[], at most {b.capacity}{', policy reject' if b.reject else ''})" for owner, fname, b in seqs)
+            f"{owner} {fname} ({b.seq_of[0]}[], at most {b.capacity}"
+            + (f" of at most {b.elem_string_capacity} bytes" if b.elem_string_capacity is not None else "")
+            + f"{', policy reject' if b.reject else ''})" for owner, fname, b in seqs)
     arrays = [(side, f) for side, io in (("input", model.controller.inputs), ("output", model.controller.outputs))
               for f in io.arrays]
     if arrays:

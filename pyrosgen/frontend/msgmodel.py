@@ -245,6 +245,15 @@ class MsgType:
         return self.fields[2].msg
 
     @property
+    def elem_string_capacity(self) -> int | None:
+        """The capacity in bytes of each string of a carried array of
+        strings (``M`` of ``ros_seq_string<M>_<N>``), else ``None``."""
+        if self.seq_of is None or self.seq_of[0] != "string" or self.elem_struct is None:
+            return None
+        m = re.fullmatch(r"ros_r?string(\d+)", self.elem_struct)
+        return int(m.group(1)) if m else None
+
+    @property
     def package(self) -> str | None:
         """The ROS package (``None`` for ``time``/``duration``)."""
         return self.name.split("/")[0] if "/" in self.name else None

@@ -201,7 +201,7 @@ def test_check_counts_the_arrays(tmp_path, capsys):
     assert cli.main(["check", str(write(tmp_path, BASE))]) == 0
     out = capsys.readouterr().out
     assert ("2 variable-length arrays: nav_msgs/Path poses (geometry_msgs/PoseStamped[], at most 4), "
-            "sensor_msgs/JointState name (string[], at most 6)") in out, out
+            "sensor_msgs/JointState name (string[], at most 6 of at most 32 bytes)") in out, out
 
 
 def test_published_elements_lengths_and_strings(tmp_path):
