@@ -16,6 +16,16 @@ ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = {
     "landshark": (ROOT / "examples/landshark/landshark_controller.yaml", ROOT / "examples/landshark/controller"),
     "multi": (ROOT / "examples/multi/multi_node.yaml", ROOT / "examples/multi/controller"),
+    # controller arrays (rule 4.15): real32_T Scan[1081]; uint8_T Name0[32], real_T Pos[6], ...
+    "scan_guard": (ROOT / "examples/scan_guard/scan_guard.yaml", ROOT / "examples/scan_guard/controller"),
+    "arm_named": (ROOT / "examples/arm_named/arm_named.yaml", ROOT / "examples/arm_named/controller"),
+}
+#: where init finds each example's period (None: nowhere)
+PERIODS = {
+    "landshark": (20, "period    20 ms, from a #define commented as the sample time, Controller.h:36"),
+    "multi": None,
+    "scan_guard": (50, "period    50 ms, from a sample time comment, ScanGuard.h:6: 0.05 s"),
+    "arm_named": (10, "period    10 ms, from a sample time comment, ArmNamed.h:6: 0.01 s"),
 }
 
 HEADER = """#include "rtwtypes.h"
@@ -58,9 +68,10 @@ def test_init_reads_the_example_controllers(capsys, tmp_path, key):
     want = yaml.safe_load(model_file.read_text())
     assert got["controller"] == want["controller"]  # names, field order, types
     assert list(got["controller"]["inputs"]["fields"]) == list(want["controller"]["inputs"]["fields"])
-    if key == "landshark":
-        assert got["node"]["period_ms"] == want["node"]["period_ms"] == 20
-        assert "period    20 ms, from a #define commented as the sample time, Controller.h:36" in text
+    if PERIODS[key] is not None:
+        period, said = PERIODS[key]
+        assert got["node"]["period_ms"] == want["node"]["period_ms"] == period
+        assert said in text, text
     else:
         assert got["node"]["period_ms"] is None and "period    not found" in text
     assert got["topics"] is None and got["relations"] == {"inputs": None, "outputs": None}

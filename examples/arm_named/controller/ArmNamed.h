@@ -3,7 +3,7 @@
  * style of Simulink Embedded Coder (a model whose inports are vectors: six
  * joint names of 32 bytes, six positions, six velocities, six targets).
  *
- * Sample time: 0.01 s
+ * Sample time: [0.01s, 0.0s]
  */
 #ifndef RTW_HEADER_ArmNamed_h_
 #define RTW_HEADER_ArmNamed_h_

@@ -3,7 +3,7 @@
  * the style of Simulink Embedded Coder (a model whose inport Scan is a
  * vector of 1081 single-precision ranges).
  *
- * Sample time: 0.05 s
+ * Sample time: [0.05s, 0.0s]
  */
 #ifndef RTW_HEADER_ScanGuard_h_
 #define RTW_HEADER_ScanGuard_h_
