@@ -7,7 +7,9 @@
    theorem is not in the library);
 3. checking: ``Print Assumptions`` must say "Closed under the global
    context" for every theorem of the file, and ``coqchk`` re-checks the
-   compiled file;
+   compiled file, in the background while step 4 runs (both only read the
+   compiled file; its verdict is awaited before anything is written, and
+   reported first when both fail);
 4. printing: the C texts and the AST dump are printed from ``the_program``
    through extraction (:meth:`pyrosgen.proof.coqdriver.CoqDriver.print_texts`),
    and the printed C is validated against the dump with pycparser
