@@ -37,6 +37,7 @@ one failed (or OUT is not an output folder), 2 when a tool is missing.
 
 from __future__ import annotations
 
+import contextlib
 import shutil
 import tempfile
 import time
@@ -158,6 +159,56 @@ def _check_certificate(folder: Path, rec: ProofRecord, files: dict[str, str], pr
     return Check("certificate", True, f"{name} is the one rendered from the proof and the manifest")
 
 
+@dataclass
+class _Reprint:
+    """The re-print check and, when it ran, the texts the proof printed."""
+
+    check: Check
+    text: str | None = None      #: the model text
+    glue: str | None = None      #: the glue's C
+    diagram: str | None = None   #: the diagram text (a diagram controller)
+
+
+def _reprint(drv: CoqDriver, folder: Path, rec: ProofRecord, module: str, lib: tuple[Path, str],
+             work: Path) -> _Reprint:
+    """Print the texts of the compiled ``module`` again and compare them
+    with the folder's; validate the C against the AST dump."""
+    printed = work / "printed"
+    printed.mkdir()
+    outs = tuple(printed / n for n in (rec.types_h, rec.glue_c, rec.sexp, rec.model_file))
+    if rec.controller:
+        outs += (printed / rec.controller["c"], printed / rec.controller["sexp"], printed / rec.controller["text"])
+    texts: dict[str, str | None] = {}
+    try:
+        proved = folder / rec.model_file
+        relations = sum(1 for line in proved.read_text(encoding="utf-8", errors="replace").splitlines()
+                        if line.startswith(("input_relation ", "output_relation "))) if proved.is_file() else 0
+        drv.print_texts(module, lib, outs, relations=relations)
+        differ = []
+        for p in outs:
+            mine = folder / p.name
+            if not mine.is_file() or mine.read_bytes() != p.read_bytes():
+                differ.append(f"  {p.name}: differs from what the proof prints")
+        from pyrosgen.verify.printer_validation import validate_glue
+
+        validate_glue(outs[1].read_text(encoding="utf-8"), outs[0].read_text(encoding="utf-8"),
+                      outs[2].read_text(encoding="utf-8"), glue_name=rec.glue_c, header_name=rec.types_h)
+        texts = dict(text=outs[3].read_text(encoding="utf-8"), glue=outs[1].read_text(encoding="utf-8"),
+                     diagram=outs[6].read_text(encoding="utf-8") if rec.controller else None)
+        if rec.controller:
+            from pyrosgen.verify.printer_validation import validate_program
+
+            validate_program(outs[4].read_text(encoding="utf-8"), outs[5].read_text(encoding="utf-8"),
+                             name=rec.controller["c"])
+        if differ:
+            return _Reprint(Check("re-print", False, f"{len(differ)} files are not the proof's", differ), **texts)
+        return _Reprint(Check("re-print", True, f"{len(outs)} files equal to the proof's; C = AST dump (pycparser)"),
+                        **texts)
+    except CoqError as exc:
+        return _Reprint(Check("re-print", False, getattr(exc, "summary", str(exc)), list(getattr(exc, "lines", ()))),
+                        **texts)
+
+
 def verify_folder(folder: str | Path, *, node: str | None = None, model: str | Path | None = None,
                   wp: bool = False, kernel: bool = False, driver: CoqDriver | None = None,
                   progress: Callable[[str], None] | None = None) -> VerifyReport:
@@ -204,64 +255,36 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
         lib = (coq_dir, "RosgenNode")
         module = f"RosgenNode.{Path(rec.node_v).stem}"
         begin(f"coqc and coqchk: {rec.node_v}")
-        compiled = False
+        coq_check: Check | None = None
+        chk = None
         try:
             shutil.copyfile(folder / rec.node_v, coq_dir / rec.node_v)
             res = drv.coqc(coq_dir / rec.node_v, lib)
             drv.check_assumptions(res.stdout, rec.theorems, node_file_names(rec.node).theorem_all)
-            drv.coqchk(module, lib, vm=not kernel)
-            compiled = True
-            how = " (kernel conversion, no bytecode machine)" if kernel else ""
-            checks.append(Check("coqc", True, f"{', '.join(rec.theorems)}: {CLOSED}; coqchk OK{how}"))
+            # coqchk re-checks the module while the texts are re-printed
+            # from it (both only read it); its verdict decides both checks
+            chk = drv.coqchk_start(module, lib, vm=not kernel)
         except OSError as exc:
-            checks.append(Check("coqc", False, f"cannot read {rec.node_v}: {exc.strerror or exc}"))
+            coq_check = Check("coqc", False, f"cannot read {rec.node_v}: {exc.strerror or exc}")
         except CoqError as exc:
-            checks.append(Check("coqc", False, getattr(exc, "summary", str(exc)),
-                                list(getattr(exc, "lines", ()))))
+            coq_check = Check("coqc", False, getattr(exc, "summary", str(exc)), list(getattr(exc, "lines", ())))
 
-        begin("re-printing the C, the AST dump and the model from the proof")
-        proved_text = None
-        proved_glue = None
-        proved_diagram = None
-        if not compiled:
-            checks.append(Check("re-print", False, "not run: the .v did not check"))
-        else:
-            printed = work / "printed"
-            printed.mkdir()
-            outs = tuple(printed / n for n in (rec.types_h, rec.glue_c, rec.sexp, rec.model_file))
-            if rec.controller:
-                outs += (printed / rec.controller["c"], printed / rec.controller["sexp"],
-                         printed / rec.controller["text"])
-            try:
-                proved = folder / rec.model_file
-                relations = sum(1 for line in proved.read_text(encoding="utf-8", errors="replace").splitlines()
-                                if line.startswith(("input_relation ", "output_relation "))) if proved.is_file() else 0
-                drv.print_texts(module, lib, outs, relations=relations)
-                differ = []
-                for p in outs:
-                    mine = folder / p.name
-                    if not mine.is_file() or mine.read_bytes() != p.read_bytes():
-                        differ.append(f"  {p.name}: differs from what the proof prints")
-                from pyrosgen.verify.printer_validation import validate_glue
-
-                validate_glue(outs[1].read_text(encoding="utf-8"), outs[0].read_text(encoding="utf-8"),
-                              outs[2].read_text(encoding="utf-8"), glue_name=rec.glue_c, header_name=rec.types_h)
-                proved_text = outs[3].read_text(encoding="utf-8")
-                proved_glue = outs[1].read_text(encoding="utf-8")
-                proved_diagram = outs[6].read_text(encoding="utf-8") if rec.controller else None
-                if rec.controller:
-                    from pyrosgen.verify.printer_validation import validate_program
-
-                    validate_program(outs[4].read_text(encoding="utf-8"), outs[5].read_text(encoding="utf-8"),
-                                     name=rec.controller["c"])
-                if differ:
-                    checks.append(Check("re-print", False, f"{len(differ)} files are not the proof's", differ))
-                else:
-                    checks.append(Check("re-print", True, f"{len(outs)} files equal to the proof's; "
-                                        "C = AST dump (pycparser)"))
-            except CoqError as exc:
-                checks.append(Check("re-print", False, getattr(exc, "summary", str(exc)),
-                                    list(getattr(exc, "lines", ()))))
+        with chk if chk is not None else contextlib.nullcontext():
+            begin("re-printing the C, the AST dump and the model from the proof")
+            if chk is None:
+                reprinted = _Reprint(Check("re-print", False, "not run: the .v did not check"))
+            else:
+                reprinted = _reprint(drv, folder, rec, module, lib, work)
+                try:
+                    chk.result()
+                    how = " (kernel conversion, no bytecode machine)" if kernel else ""
+                    coq_check = Check("coqc", True, f"{', '.join(rec.theorems)}: {CLOSED}; coqchk OK{how}")
+                except CoqError as exc:
+                    coq_check = Check("coqc", False, getattr(exc, "summary", str(exc)),
+                                      list(getattr(exc, "lines", ())))
+                    reprinted = _Reprint(Check("re-print", False, "not run: coqchk rejected the module"))
+        checks += [coq_check, reprinted.check]
+        proved_text, proved_glue, proved_diagram = reprinted.text, reprinted.glue, reprinted.diagram
 
         begin("certificate")
         checks.append(_check_certificate(folder, rec, files, proved_text, proved_glue, proved_diagram))

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from pyrosgen import cli
+from pyrosgen import cli, procs
 from pyrosgen.generate import generate
 from pyrosgen.proof.coqdriver import CoqDriver
 from pyrosgen.verify.recheck import VerifyFailed, verify_folder
@@ -169,13 +169,18 @@ def test_kernel_rechecks_without_the_bytecode_machine(folder, capsys, monkeypatc
     (`-bytecode-compiler yes`, as coqc ran the node's vm_compute);
     `verify --kernel` without it, and says so."""
     seen = []
-    orig = CoqDriver.run
+    orig, orig_start = CoqDriver.run, procs.start
 
     def spy(self, argv, *a, **kw):
         seen.append([str(x) for x in argv])
         return orig(self, argv, *a, **kw)
 
+    def spy_start(argv, *a, **kw):  # coqchk runs alongside the re-printing
+        seen.append([str(x) for x in argv])
+        return orig_start(argv, *a, **kw)
+
     monkeypatch.setattr(CoqDriver, "run", spy)
+    monkeypatch.setattr(procs, "start", spy_start)
     assert cli.main(["verify", str(folder), "--kernel", "-q"]) == 0
     out = capsys.readouterr().out
     assert f"{NODE}_ddc, {NODE}_wf: Closed under the global context; coqchk OK (kernel conversion" in out
@@ -186,3 +191,19 @@ def test_kernel_rechecks_without_the_bytecode_machine(folder, capsys, monkeypatc
     assert "kernel conversion" not in capsys.readouterr().out
     chk = [a for a in seen if Path(a[0]).name == "coqchk"]
     assert len(chk) == 1 and chk[0][chk[0].index("-bytecode-compiler") + 1] == "yes"
+
+
+def test_a_coqchk_rejection_fails_the_proof_and_the_re_print(copy, monkeypatch):
+    """coqchk runs while the texts are re-printed: when it rejects the
+    module, the coqc check fails with its messages and the re-print does
+    not count (it came from a module coqchk refused); a slow verdict is
+    waited for."""
+    monkeypatch.setattr(CoqDriver, "_coqchk_argv",
+                        lambda self, module, lib, vm: ["sh", "-c", "sleep 1; echo 'Error: bad module' >&2; exit 1"])
+    with pytest.raises(VerifyFailed) as e:
+        verify_folder(copy)
+    checks = {c.name: c for c in e.value.verify_report.checks}
+    assert not checks["coqc"].ok and "coqchk rejected" in checks["coqc"].summary
+    assert any("bad module" in ln for ln in checks["coqc"].details)
+    assert not checks["re-print"].ok and checks["re-print"].summary == "not run: coqchk rejected the module"
+    assert [c.name for c in e.value.verify_report.checks][:4] == ["hashes", "library", "coqc", "re-print"]
