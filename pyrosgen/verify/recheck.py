@@ -13,7 +13,8 @@ certificate.  The checks, from the folder's manifest
 3. **coqc**: the folder's ``.v`` is compiled afresh (in a temporary
    folder; the output folder is never written), every theorem of the
    manifest prints "Closed under the global context", and ``coqchk``
-   re-checks the compiled file;
+   re-checks the compiled file (while step 4 prints: a module it rejects
+   fails both checks);
 4. **re-print**: the C header, the glue, the AST dump and the model text
    are printed again from the freshly checked term and must equal the
    folder's files byte for byte; the printed C is validated against the
