@@ -352,17 +352,27 @@ def _seq_shape(name: str, fields: list[tuple[str, str]]) -> tuple[str, int] | No
     return (f"struct {elem}", n) if fields[2] == ("data", f"array {n} msg {elem}") else None
 
 
-def _seq_elems_to_c(struct: str, elem: str, n: int) -> str:
-    """The one accepted conversion of a received vector of strings or
-    messages into ``struct`` (``Environment.clamp``, ``clamp_bounded_elems``):
-    the first ``min(size, N)`` elements converted, the others zero."""
-    return (f"inline void to_c(const std::vector<{_elem_cpp(elem)}> &r, struct {struct} *c)\n{{\n"
+def _seq_to_c_text(struct: str, cpp_elem: str, n: int, fill: str) -> str:
+    """The accepted conversion of a received ``std::vector<cpp_elem>`` into
+    ``struct`` (``Environment.clamp``): ``len`` the size capped at ``n``,
+    ``truncated`` set when longer, then ``fill`` (the elements, then
+    zeros)."""
+    return (f"inline void to_c(const std::vector<{cpp_elem}> &r, struct {struct} *c)\n{{\n"
             f"    const std::size_t n = r.size();\n"
             f"    const std::size_t len = std::min<std::size_t>(n, {n});\n"
             f"    c->len = static_cast<unsigned int>(len);\n"
             f"    c->truncated = n > {n} ? 1 : 0;\n"
-            f"    for (std::size_t i = 0; i < len; ++i) to_c(r[i], &c->data[i]);\n"
-            f"    std::memset(c->data + len, 0, ({n} - len) * sizeof c->data[0]);\n}}\n")
+            f"{fill}}}\n")
+
+
+def _seq_elems_to_c(struct: str, elem: str, n: int) -> str:
+    """The one accepted conversion of a received vector of strings or
+    messages into ``struct`` (``clamp_bounded_elems``): the first
+    ``min(size, N)`` elements each converted by its own ``to_c``, the
+    others zero."""
+    return _seq_to_c_text(struct, _elem_cpp(elem), n,
+                          "    for (std::size_t i = 0; i < len; ++i) to_c(r[i], &c->data[i]);\n"
+                          f"    std::memset(c->data + len, 0, ({n} - len) * sizeof c->data[0]);\n")
 
 
 def _seq_elems_from_c(struct: str, elem: str, n: int) -> str:
@@ -377,13 +387,9 @@ def _seq_to_c(struct: str, prim: str, n: int) -> str:
     """The one accepted conversion of a received vector into ``struct``."""
     if prim.startswith("struct "):
         return _seq_elems_to_c(struct, prim[len("struct "):], n)
-    return (f"inline void to_c(const std::vector<{_CPP_ELEMENT[prim]}> &r, struct {struct} *c)\n{{\n"
-            f"    const std::size_t n = r.size();\n"
-            f"    const std::size_t len = std::min<std::size_t>(n, {n});\n"
-            f"    c->len = static_cast<unsigned int>(len);\n"
-            f"    c->truncated = n > {n} ? 1 : 0;\n"
-            f"    std::copy(r.begin(), r.begin() + len, c->data);\n"
-            f"    std::fill(c->data + len, c->data + {n}, 0);\n}}\n")
+    return _seq_to_c_text(struct, _CPP_ELEMENT[prim], n,
+                          "    std::copy(r.begin(), r.begin() + len, c->data);\n"
+                          f"    std::fill(c->data + len, c->data + {n}, 0);\n")
 
 
 def _seq_from_c(struct: str, prim: str, n: int) -> str:
@@ -427,6 +433,7 @@ def check_wrapper(cpp: str, proved_text: str, *, wrapper_name: str) -> None:
     """Raise :class:`WrapperMismatch` unless the wrapper source ``cpp``
     registers exactly the proved topics and sleeps with the proved period."""
     topics, period = proved_interface(proved_text)
+    messages = parse_model_text(proved_text).messages
     problems: list[str] = []
     want_sub = {(t.c_name, t.struct, t.name, t.queue) for t in topics if t.direction == "subscribe"}
     want_adv = {(t.c_name, t.name, t.queue) for t in topics if t.direction == "publish"}
@@ -443,13 +450,13 @@ def check_wrapper(cpp: str, proved_text: str, *, wrapper_name: str) -> None:
     if len(_ANY_REG.findall(cpp)) != len(got_sub) + len(got_adv):
         problems.append("  the wrapper registers topics outside the ros_subscribe_/ros_advertise_ functions")
     problems += _time_problems(cpp, len(re.findall(r"^void ros_subscribe_\w+\(", cpp, re.M)),
-                               parse_model_text(proved_text).messages)
-    for seq, inner in rejects_inside_elements(parse_model_text(proved_text).messages):
+                               messages)
+    for seq, inner in rejects_inside_elements(messages):
         problems.append(f"  the proved model holds {inner}, of policy reject, inside the elements of {seq}: "
                         "Environment.too_long tests it in every element the struct holds, received or not, which "
                         "the wrapper cannot (rule 4.15 refuses such a model)")
-    problems += _string_problems(cpp, parse_model_text(proved_text).messages)
-    problems += _seq_problems(cpp, parse_model_text(proved_text).messages)
+    problems += _string_problems(cpp, messages)
+    problems += _seq_problems(cpp, messages)
     rates = _RATE.findall(cpp)
     if len(rates) != 1:
         problems.append(f"  the wrapper creates {len(rates)} ros::Rate objects; expected one")

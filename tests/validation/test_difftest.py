@@ -143,7 +143,7 @@ def schedules(draw, dump: NodeDump, timeouts: tuple[int, ...] = ()) -> Schedule:
         msgs: list[Message] = []
         for _ in range(draw(st.integers(0, 3))):          # bursts
             topic, struct = draw(st.sampled_from(topics))
-            for _ in range(draw(st.integers(1, 7))):
+            for _ in range(draw(st.integers(1, 10))):   # a burst
                 if struct is None:
                     leaves = tuple(str(rnd.randint(-5, 5)) for _ in range(rnd.randint(0, 4)))
                 else:
@@ -288,12 +288,12 @@ def test_random_schedules(sides, key):
         # and, whatever hypothesis drew, each freshness case on purpose
         for k in range(3):
             _check(s, _freshness_schedule(s, random.Random(k)), seen)
-    # the schedules did exercise something: more than one cycle and two
+    # the schedules did exercise something: more than one cycle and five
     # messages per schedule on average (what hypothesis draws varies with
-    # what it drew before in the process: from 543 to 1,750 messages in
-    # 100 schedules, the least for multi, in one run; 5 per schedule was
-    # too close)
-    assert seen["cycles"] > EXAMPLES_PER_MODEL and seen["messages"] > 2 * EXAMPLES_PER_MODEL, seen
+    # what it drew before in the process: bursts of up to 7 messages gave
+    # multi 543 messages in 100 schedules in one run, too close to 500;
+    # bursts go up to 10)
+    assert seen["cycles"] > EXAMPLES_PER_MODEL and seen["messages"] > 5 * EXAMPLES_PER_MODEL, seen
     assert seen["empty"] > 0, seen
     if key in TIMED_EXAMPLES:
         # every freshness case, several times
