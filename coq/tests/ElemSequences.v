@@ -197,7 +197,7 @@ Fixpoint deep (h : expr -> expr) (e : expr) : expr :=
 
 (** (s1) the pose read one index off: pose 2's [x] for pose 1's (with
     two poses, pose 2 is zero and pose 1's [x] is 2.0) *)
-Definition m_pose_off : program := on_input_glue (map_exprs (deep shift_index)) follower_prog.
+Definition m_pose_off : program := on_function "path_callback" (map_exprs (deep shift_index)) follower_prog.
 Theorem m_pose_off_refuted: ~ node_ddc follower m_pose_off.
 Proof. apply (frefute _ 3). vm_compute. reflexivity. Qed.
 
@@ -208,7 +208,7 @@ Definition outer_len (e : expr) : expr :=
   | Efield (Efield (Eindex (Efield b "data" _) _ _) "frame" _) "len" t => Efield b "len" t
   | _ => e
   end.
-Definition m_outer_len : program := on_input_glue (map_exprs outer_len) follower_prog.
+Definition m_outer_len : program := on_function "path_callback" (map_exprs outer_len) follower_prog.
 Theorem m_outer_len_refuted: ~ node_ddc follower m_outer_len.
 Proof. apply (frefute _ 2). vm_compute. reflexivity. Qed.
 
@@ -220,6 +220,6 @@ Definition first_byte (e : expr) : expr :=
       Eindex (Efield (Efield (Eindex s (Econst_int 0 ti) ts) "frame" tf) "data" td) (Econst_int 0 tj) t
   | _ => e
   end.
-Definition m_first_byte : program := on_input_glue (map_exprs first_byte) follower_prog.
+Definition m_first_byte : program := on_function "path_callback" (map_exprs first_byte) follower_prog.
 Theorem m_first_byte_refuted: ~ node_ddc follower m_first_byte.
 Proof. apply (frefute _ 2). vm_compute. reflexivity. Qed.

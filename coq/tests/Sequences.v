@@ -5,7 +5,9 @@
     ([ros_seq_float32_4]), and feeds the controller [ranges[1]], the
     received length and whether the scan was truncated, through ordinary
     input relations on the leaves [ranges.data[1]], [ranges.len] and
-    [ranges.truncated].  Six scans arrive, of lengths 0, 1, 3, 4, 5 and 8
+    [ranges.truncated] (the element relation is direct, rule 4.16: the
+    callback writes it into [Controller_U]; [input_glue] copies the
+    other two from the topic's global).  Six scans arrive, of lengths 0, 1, 3, 4, 5 and 8
     (0, 1, N-1, N, N+1 and 2N), each carrying junk past its length; the
     interpreter gives the controller, cycle by cycle, what
     [Environment.clamp] says: the element when the scan has it and 0
@@ -142,10 +144,10 @@ Proof. exact (refute_in scanner sctx 4000 sctx_arrivals_wt sctx_controller_wt). 
 Example scanner_passes: scheck scanner_prog 6 = true.
 Proof. vm_compute. reflexivity. Qed.
 
-(** The body of [input_glue] changed by [g]. *)
-Definition on_input_glue (g : statement -> statement) (p : program) : program :=
+(** The body of the function [fname] changed by [g]. *)
+Definition on_function (fname : ident) (g : statement -> statement) (p : program) : program :=
   mkprogram (prog_types p)
-    (map (fun d : ident * globdef => if string_dec (fst d) "input_glue"
+    (map (fun d : ident * globdef => if string_dec (fst d) fname
                    then match snd d with
                         | Gfun (Internal f) =>
                             (fst d, Gfun (Internal (mkfunction (fn_return f) (fn_params f) (fn_vars f)
@@ -155,6 +157,9 @@ Definition on_input_glue (g : statement -> statement) (p : program) : program :=
                    else d) (prog_defs p))
     (prog_main p).
 
+(** The body of [input_glue] changed by [g]. *)
+Definition on_input_glue : (statement -> statement) -> program -> program := on_function "input_glue".
+
 Fixpoint map_exprs (h : expr -> expr) (s : statement) : statement :=
   match s with
   | Ssequence a b => Ssequence (map_exprs h a) (map_exprs h b)
@@ -163,13 +168,16 @@ Fixpoint map_exprs (h : expr -> expr) (s : statement) : statement :=
   | _ => s
   end.
 
-(** (q1) the element read one index off: [ranges.data[2]] for [ranges.data[1]] *)
+(** (q1) the element read one index off: [ranges.data[2]] for
+    [ranges.data[1]], in the callback, which copies the element relation
+    straight into [Controller_U] (rule 4.16: an array element of a topic
+    that is not timed) *)
 Definition shift_index (e : expr) : expr :=
   match e with
   | Eindex a (Econst_int 1 ti) t => Eindex a (Econst_int 2 ti) t
   | _ => e
   end.
-Definition m_index_off : program := on_input_glue (map_exprs shift_index) scanner_prog.
+Definition m_index_off : program := on_function "scan_callback" (map_exprs shift_index) scanner_prog.
 Theorem m_index_off_refuted: ~ node_ddc scanner m_index_off.
 Proof. apply (srefute _ 3). vm_compute. reflexivity. Qed.
 

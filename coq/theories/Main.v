@@ -46,11 +46,16 @@ Import ListNotations.
     globals hold values of their types, every run terminates, emits no
     event, leaves the ROS world unchanged, and ends with the global
     [c_msg] holding a value of its type that has, at every leaf that the
-    node reads ([NodeModel.read_paths]: the paths of the topic's input
-    relations and of a stamp copied from it), the leaf of [mv], and at
-    every other leaf what it had before ([DDC.reads_copied]), with the
-    topic's clock updated if it is timed and every other block
-    unchanged; and such a run exists in every environment. *)
+    glue keeps there ([NodeModel.read_paths]: the paths of the topic's
+    input relations that are not direct, and of a stamp copied from it),
+    the leaf of [mv], and at every other leaf what it had before
+    ([DDC.reads_copied]); with [Controller_U] holding a value of its type
+    that has, at the leaf of every direct input relation of the topic
+    (rule 4.16: an array element of a topic that is not timed), the
+    relation's leaf of [mv], and elsewhere what it had before
+    ([DDC.direct_copied]); with the topic's clock updated if it is timed
+    and every other block unchanged; and such a run exists in every
+    environment. *)
 Theorem generate_callback_ddc:
   forall m p, generate m = OK p ->
   forall tp, In tp (subscribed m) -> callback_ddc m p tp.
@@ -59,10 +64,14 @@ Proof. exact Glueproof.generate_callback_ddc. Qed.
 (** [input_glue] (the paper's Figure 12, for every model).  Hypothesis:
     [generate m = OK p].  Meaning ([DDC.input_glue_ddc]): [input_glue]
     terminates from any memory whose globals hold values of their types,
-    emits nothing, changes only [Controller_U], and leaves there a value
-    of the inputs' struct type in which every input field named by an
-    input relation holds the scalar found at the relation's path in the
-    global message of the relation's topic. *)
+    emits nothing, changes only [Controller_U] (and the [c_new] flags of
+    the timed topics), and leaves there a value of the inputs' struct
+    type in which every input field named by an input relation that is
+    not direct holds the scalar found at the relation's path in the
+    global message of the relation's topic (or its fallback if the topic
+    is stale), every derived input is exact, and the leaf of every
+    direct relation (rule 4.16), which the callbacks wrote, keeps its
+    value. *)
 Theorem generate_input_glue_ddc:
   forall m p, generate m = OK p -> input_glue_ddc m p.
 Proof. exact Glueproof.generate_input_glue_ddc. Qed.
@@ -274,14 +283,19 @@ Theorem loop_input_glue_then_step:
 Proof. exact Generatorproof.loop_input_glue_then_step. Qed.
 
 (** Preservation: no generated function other than [input_glue] assigns
-    (a part of) [Controller_U].  Hypotheses: [generate m = OK p]; [f] is
-    the internal function [id] of [p], [id] is not [input_glue]; [pl] is
-    a place that the body of [f] assigns. *)
+    (a part of) [Controller_U], except the callback of a topic that is not
+    timed, which assigns exactly the leaves of its direct input relations
+    (rule 4.16).  Hypotheses: [generate m = OK p]; [f] is the internal
+    function [id] of [p], [id] is not [input_glue]; [pl] is a place that
+    the body of [f] assigns. *)
 Theorem generate_inputs_written_only_by_input_glue:
   forall m p id f, generate m = OK p -> find_def p id = Some (Gfun (Internal f)) ->
   id <> input_glue_name ->
   forall pl, In pl (assigned_places (fn_body f)) ->
-  exists r path, pl = Some (r, path) /\ r <> Rvar (nm_in_var m).
+     (exists r path, pl = Some (r, path) /\ r <> Rvar (nm_in_var m))
+  \/ (exists tp ir, In tp (subscribed m) /\ is_timed m (tp_cname tp) = false
+                    /\ id = callback_name (tp_cname tp) /\ In ir (direct_of m (tp_cname tp))
+                    /\ pl = Some (Rvar (nm_in_var m), PField (ir_input ir) :: ir_elem ir)).
 Proof. exact Generatorproof.generate_inputs_written_only_by_input_glue. Qed.
 
 (** Preservation: no generated function assigns (a part of)
@@ -581,10 +595,12 @@ Proof. exact Generatorproof.generate_locals_fresh. Qed.
 (** For each subscribed topic [tp] (C name [c], message type [M]): [p]
     has the global [c_msg] of type [struct M] and the function
     [c_callback], whose body copies into [c_msg] the leaves of [*msg]
-    that the node reads ([read_leaves]: those named by [read_paths]), in
-    the order of [leaves], through temporaries of the leaves' types, and
-    then, if the topic is timed (rule 4.12), updates its clock
-    ([clock_stmts]: [c_time = ros_now(); c_new = 1; c_rcvd = 1;]). *)
+    that the glue keeps there ([read_leaves]: those named by
+    [read_paths]), in the order of [leaves], through temporaries of the
+    leaves' types, and then, if the topic is timed (rule 4.12), updates
+    its clock ([clock_stmts]: [c_time = ros_now(); c_new = 1; c_rcvd =
+    1;]), else copies the leaves of its direct input relations (rule
+    4.16: [direct_of]) into [Controller_U], in model order. *)
 Theorem generate_callback:
   forall m p tp, generate m = OK p -> In tp (subscribed m) ->
   let c := tp_cname tp in
@@ -598,15 +614,23 @@ Theorem generate_callback:
   /\ fn_body f = (let base := seq_of (map (leaf_copy (prog_types p) (Evar (msg_var c) (Tstruct M))
                                                                 (deref_param msg_param M))
                                         (read_leaves m tp)) in
-                  if is_timed m c then Ssequence base (clock_stmts c) else base)
+                  if is_timed m c then Ssequence base (clock_stmts c)
+                  else match direct_of m c with
+                       | [] => base
+                       | ds => Ssequence base (seq_of (map (direct_copy m (make_tables m) M) ds))
+                       end)
   /\ NoDup (map fst (fn_temps f))
   /\ (forall l, In l (read_leaves m tp) ->
         find_assoc (temp_name (snd l)) (fn_temps f) = Some (ctype_of_prim (snd l)))
+  /\ (is_timed m c = false -> forall ir, In ir (direct_of m c) ->
+        find_assoc (temp_name (inrel_prim (make_tables m) ir)) (fn_temps f)
+        = Some (ctype_of_prim (inrel_prim (make_tables m) ir)))
   /\ (is_timed m c = true -> find_assoc (temp_name Puint64) (fn_temps f) = Some (Tlong Unsigned)).
 Proof. exact Generatorproof.generate_callback. Qed.
 
-(** [input_glue] is the sequence of the copies of the input relations,
-    in model order ([input_base]), then, if some topic is timed (rule
+(** [input_glue] is the sequence of the copies of the input relations
+    that are not direct (rule 4.16: [glue_inrels]), in model order
+    ([input_base]), then, if some topic is timed (rule
     4.12), [timed_stmts]: [_now = ros_now();] (only if a fallback or an
     [age_ms] reads an age: [reads_age]), the fallbacks, the derived
     inputs, and the [c_new] flags cleared.  The temporaries [_now] and
@@ -622,7 +646,7 @@ Theorem generate_input_glue:
                  | _ :: _ => Ssequence (input_base m) (timed_stmts m (make_tables m))
                  end
   /\ NoDup (map fst (fn_temps f))
-  /\ (forall ir, In ir (nm_inrels m) ->
+  /\ (forall ir, In ir (glue_inrels m) ->
         find_assoc (temp_name (inrel_prim (make_tables m) ir)) (fn_temps f)
         = Some (ctype_of_prim (inrel_prim (make_tables m) ir)))
   /\ (timed m <> [] ->
@@ -753,8 +777,9 @@ Theorem generate_topic_externals:
 Proof. exact Generatorproof.generate_topic_externals. Qed.
 
 (** Which generated function assigns what: a callback assigns only its
-    topic's global message and, if the topic is timed, its clock;
-    [input_glue] only fields of [Controller_U] (or their elements) and
+    topic's global message and, if the topic is timed, its clock, else
+    the leaves of [Controller_U] of its direct input relations (rule
+    4.16); [input_glue] only fields of [Controller_U] (or their elements) and
     the [c_new] flags of the timed topics; [output_glue_c] only through
     its pointer parameter [command]; [loop] and [main] assign nothing. *)
 Theorem generate_assigned_places:
@@ -764,6 +789,8 @@ Theorem generate_assigned_places:
                       /\ pl = Some (Rvar (msg_var (tp_cname tp)), path))
   \/ (exists tp x, In tp (timed m) /\ id = callback_name (tp_cname tp)
                    /\ In x (clock_names tp) /\ pl = Some (Rvar x, []))
+  \/ (exists tp ir, In tp (subscribed m) /\ id = callback_name (tp_cname tp) /\ In ir (direct_of m (tp_cname tp))
+                    /\ pl = Some (Rvar (nm_in_var m), PField (ir_input ir) :: ir_elem ir))
   \/ (exists x path, id = input_glue_name /\ pl = Some (Rvar (nm_in_var m), PField x :: path))
   \/ (exists tp, In tp (timed m) /\ id = input_glue_name /\ pl = Some (Rvar (new_var (tp_cname tp)), []))
   \/ (exists tp path, In tp (published m) /\ id = output_glue_name (tp_cname tp)

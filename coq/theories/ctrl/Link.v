@@ -1207,7 +1207,7 @@ Proof.
   - apply in_map_iff in V. destruct V as (tp & E & _). inversion E; subst.
     split; [|intros ef targs tres E'; discriminate].
     intros f E' y ty I. inversion E'; subst. unfold callback_function in I.
-    destruct (is_timed m (tp_cname tp)); simpl in I; contradiction.
+    destruct (is_timed m (tp_cname tp)); [|destruct (direct_of m (tp_cname tp))]; simpl in I; contradiction.
   - simpl in V. destruct V as [V|[]]. inversion V; subst.
     split; [|intros ef targs tres E'; discriminate].
     intros f E' y ty I. inversion E'; subst. unfold input_glue_function in I.

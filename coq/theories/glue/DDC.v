@@ -203,14 +203,35 @@ Definition reads_copied (m : node_model) (tp : topic) (mv g0 g : mval) : Prop :=
     mval_get g (path_steps lp)
     = mval_get (if is_read m (tp_cname tp) lp then mv else g0) (path_steps lp).
 
+(** The value held by [Controller_U]. *)
+Definition global_inputs (m : node_model) (p : program) (mm : mem) : mval :=
+  match global_value p mm (nm_in_var m) with Some v => v | None => MVscalar Vundef end.
+
+(** The leaf of [Controller_U] that an input relation feeds: the input
+    field [In], or one element [Scan[i]] of an array input. *)
+Definition input_leaf (ir : inrel) : Values.path := Sfield (ir_input ir) :: path_steps (ir_elem ir).
+
+(** [u] is [u0] with the leaves of the direct input relations of topic
+    [tp] (rule 4.16) taken from [mv]: the leaf of each such relation holds
+    what [mv] holds at the relation's message leaf, and every path
+    disjoint from all these leaves holds what [u0] holds. *)
+Definition direct_copied (m : node_model) (tp : topic) (mv u0 u : mval) : Prop :=
+  (forall ir, In ir (direct_of m (tp_cname tp)) ->
+     mval_get u (input_leaf ir) = mval_get mv (path_steps (ir_path ir)))
+  /\ (forall lp, (forall ir, In ir (direct_of m (tp_cname tp)) -> path_disjoint (input_leaf ir) lp) ->
+        mval_get u lp = mval_get u0 lp).
+
 (** The callback of a subscribed topic [tp] (the paper's Figure 10): called
     with a pointer to a block holding a message [mv] of the topic's type
     (a block that is not a global, as [ros_spinOnce] provides), it copies
     into the topic's global [c_msg] the leaves of [mv] that the node
-    reads, and leaves the other leaves of [c_msg] as they were
-    ([reads_copied]); if the topic is timed, it records the time of the
-    call ([ros_now()]: the message's receipt time) and sets the flags
-    [c_new] and [c_rcvd]; it changes nothing else. *)
+    keeps there, and leaves the other leaves of [c_msg] as they were
+    ([reads_copied]); it writes the leaves of its direct input relations
+    (rule 4.16) into [Controller_U] and leaves the rest of
+    [Controller_U] as it was ([direct_copied]); if the topic is timed, it
+    records the time of the call ([ros_now()]: the message's receipt
+    time) and sets the flags [c_new] and [c_rcvd]; it changes nothing
+    else. *)
 Definition callback_ddc (m : node_model) (p : program) (tp : topic) : Prop :=
   exists f,
      find_funct (globalenv p) (callback_name (tp_cname tp)) = Some (Internal f)
@@ -220,11 +241,13 @@ Definition callback_ddc (m : node_model) (p : program) (tp : topic) : Prop :=
        get_block mm b = Some (Tstruct (tp_msg tp), mv) ->
        mval_has_type (prog_types p) (Tstruct (tp_msg tp)) mv ->
        quiet_call_at p (Internal f) [Vptr b []] mm
-         (fun now mm' => exists g,
+         (fun now mm' => exists g u,
              globals_changed p mm mm'
-               ((msg_var (tp_cname tp), g) :: clock_update m (tp_cname tp) now)
+               ((msg_var (tp_cname tp), g) :: (nm_in_var m, u) :: clock_update m (tp_cname tp) now)
           /\ mval_has_type (prog_types p) (Tstruct (tp_msg tp)) g
-          /\ reads_copied m tp mv (global_msg p mm (tp_cname tp)) g).
+          /\ reads_copied m tp mv (global_msg p mm (tp_cname tp)) g
+          /\ mval_has_type (prog_types p) (Tstruct (nm_in_struct m)) u
+          /\ direct_copied m tp mv (global_inputs m p mm) u).
 
 (** [input_glue] (the paper's Figure 12): from any memory where the globals
     hold values of their types, and the clock of every timed topic [c]
@@ -235,7 +258,9 @@ Definition callback_ddc (m : node_model) (p : program) (tp : topic) : Prop :=
     (or its fallback value if that topic is stale at the time [now] of
     the call: [fed_value]), and every derived input is exact at [now]
     ([derived_value]); then it clears the [c_new] flag of every timed
-    topic; and it changes nothing else. *)
+    topic; and it changes nothing else.  It does not copy the direct
+    input relations (rule 4.16), whose leaves the callbacks wrote: they
+    keep their values. *)
 Definition input_glue_ddc (m : node_model) (p : program) : Prop :=
   exists f,
      find_funct (globalenv p) input_glue_name = Some (Internal f)
@@ -247,14 +272,16 @@ Definition input_glue_ddc (m : node_model) (p : program) : Prop :=
             globals_changed p mm mm'
               ((nm_in_var m, u) :: map (fun tp => (new_var (tp_cname tp), MVscalar (Vint 0))) (timed m))
          /\ mval_has_type (prog_types p) (Tstruct (nm_in_struct m)) u
-         /\ (forall ir, In ir (nm_inrels m) ->
+         /\ (forall ir, In ir (glue_inrels m) ->
               exists g v,
                  global_value p mm (msg_var (ir_topic ir)) = Some g
               /\ mval_get g (path_steps (ir_path ir)) = Some (MVscalar v)
               /\ mval_get u (Sfield (ir_input ir) :: path_steps (ir_elem ir)) = Some (MVscalar (fed_value m ir v (snd (ck (ir_topic ir))) now)))
          /\ (forall dr, In dr (nm_drels m) ->
               mval_get u [Sfield (dr_input dr)]
-              = Some (MVscalar (derived_value (dr_kind dr) (fst (ck (dr_topic dr))) (snd (ck (dr_topic dr))) now)))).
+              = Some (MVscalar (derived_value (dr_kind dr) (fst (ck (dr_topic dr))) (snd (ck (dr_topic dr))) now)))
+         /\ (forall ir, In ir (nm_inrels m) -> is_direct m ir = true ->
+              mval_get u (input_leaf ir) = mval_get (global_inputs m p mm) (input_leaf ir))).
 
 (** The message that a published topic [tp] carries when the controller's
     outputs are [y], the ROS time is [now] and the subscribed topic with

@@ -23,8 +23,9 @@
     void Controller_initialize(void); void Controller_step(void);
     struct ExtU_Controller_T Controller_U; struct ExtY_Controller_T Controller_Y;
     struct M si_msg;                       per subscribed topic
-    void si_callback(struct M *msg) { ...copy the leaves of *msg that the node reads into si_msg... }
-    void input_glue(void) { ...one copy per input relation... }
+    void si_callback(struct M *msg) { ...copy the leaves of *msg that the node reads into si_msg,
+                                      or, for a direct relation (rule 4.16), into Controller_U... }
+    void input_glue(void) { ...one copy per input relation that is not direct... }
     void output_glue_pj(struct M *command) { ...zero *command, one copy per output relation... }
     void loop(void) { struct M pj_cmd; ...
       for (;;) { _ok = ros_ok(); if (_ok) ; else break; ros_spinOnce(); input_glue();
@@ -208,24 +209,6 @@ Definition clock_stmts (c : ident) : statement :=
           Sassign (new_expr c) (Econst_int 1 tflag);
           Sassign (rcvd_expr c) (Econst_int 1 tflag)].
 
-(** The leaves of topic [tp]'s messages that the node reads
-    ([read_paths]), in the order of [leaves]. *)
-Definition read_leaves (tp : topic) : list (path * prim) :=
-  filter (fun l => is_read m (tp_cname tp) (fst l)) (leaves (nm_msgs m) (tp_msg tp)).
-
-(** [void c_callback(struct M *msg)]: copy into [c_msg] the leaves of
-    [*msg] that the node reads; then, if the topic is timed, update its
-    clock. *)
-Definition callback_function (tp : topic) : function :=
-  let M := tp_msg tp in
-  let lv := read_leaves tp in
-  let body := seq_of (map (leaf_copy ce (Evar (msg_var (tp_cname tp)) (Tstruct M))
-                                       (deref_param msg_param M)) lv) in
-  if is_timed m (tp_cname tp)
-  then mkfunction Tvoid [(msg_param, tptr (Tstruct M))] [] (temps_of (Puint64 :: map snd lv))
-         (Ssequence body (clock_stmts (tp_cname tp)))
-  else mkfunction Tvoid [(msg_param, tptr (Tstruct M))] [] (temps_of (map snd lv)) body.
-
 (** ** Input glue (Figures 8, 14) *)
 
 (** Source and destination of the copy for an input relation: the leaf
@@ -241,6 +224,36 @@ Definition inrel_prim (ir : inrel) : prim := input_prim (ir_input ir) (ir_elem i
 
 Definition input_copy (ir : inrel) : statement :=
   copy (inrel_prim ir) (input_dst ir) (input_src ir).
+
+(** ** Callbacks (continued) *)
+
+(** The leaves of topic [tp]'s messages that the glue keeps in its
+    global [c_msg] ([read_paths]), in the order of [leaves]. *)
+Definition read_leaves (tp : topic) : list (path * prim) :=
+  filter (fun l => is_read m (tp_cname tp) (fst l)) (leaves (nm_msgs m) (tp_msg tp)).
+
+(** The copy of a direct input relation (rule 4.16), in the callback of
+    its topic: from the leaf [ir_path] of [*msg] into [Controller_U]. *)
+Definition direct_copy (M : ident) (ir : inrel) : statement :=
+  copy (inrel_prim ir) (input_dst ir) (path_expr ce (deref_param msg_param M) (ir_path ir)).
+
+(** [void c_callback(struct M *msg)]: copy into [c_msg] the leaves of
+    [*msg] that the glue keeps there; then, if the topic is timed, update
+    its clock, else copy the leaves of its direct input relations into
+    [Controller_U] (rule 4.16; nothing for a topic without any). *)
+Definition callback_function (tp : topic) : function :=
+  let M := tp_msg tp in
+  let lv := read_leaves tp in
+  let body := seq_of (map (leaf_copy ce (Evar (msg_var (tp_cname tp)) (Tstruct M))
+                                       (deref_param msg_param M)) lv) in
+  if is_timed m (tp_cname tp)
+  then mkfunction Tvoid [(msg_param, tptr (Tstruct M))] [] (temps_of (Puint64 :: map snd lv))
+         (Ssequence body (clock_stmts (tp_cname tp)))
+  else match direct_of m (tp_cname tp) with
+       | [] => mkfunction Tvoid [(msg_param, tptr (Tstruct M))] [] (temps_of (map snd lv)) body
+       | ds => mkfunction Tvoid [(msg_param, tptr (Tstruct M))] [] (temps_of (map snd lv ++ map inrel_prim ds))
+                 (Ssequence body (seq_of (map (direct_copy M) ds)))
+       end.
 
 (** *** Freshness (rule 4.12) *)
 
@@ -346,13 +359,14 @@ Definition timed_stmts : statement :=
 (** The temporaries of [input_glue] when some topic is timed. *)
 Definition timed_temps : list (ident * type) :=
   (if reads_age then [(now_temp, tulong); (age_temp, tulong)] else [])
-  ++ temps_of ((if reads_flag then [Pbool] else []) ++ map inrel_prim (nm_inrels m)).
+  ++ temps_of ((if reads_flag then [Pbool] else []) ++ map inrel_prim (glue_inrels m)).
 
-(** [void input_glue(void)]: one copy per input relation, in order; then,
-    if some topic is timed, the freshness. *)
+(** [void input_glue(void)]: one copy per input relation that is not
+    direct (rule 4.16), in order; then, if some topic is timed, the
+    freshness. *)
 Definition input_glue_function : function :=
-  let temps := temps_of (map inrel_prim (nm_inrels m)) in
-  let base := seq_of (map input_copy (nm_inrels m)) in
+  let temps := temps_of (map inrel_prim (glue_inrels m)) in
+  let base := seq_of (map input_copy (glue_inrels m)) in
   match timed m with
   | [] => mkfunction Tvoid [] [] temps base
   | _ :: _ => mkfunction Tvoid [] [] timed_temps (Ssequence base timed_stmts)

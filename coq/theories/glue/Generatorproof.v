@@ -335,8 +335,10 @@ Proof.
 Qed.
 
 (** Callbacks: for each subscribed topic, [c_callback] copies the leaves
-    of [*msg] that the node reads ([read_leaves]) into the global
-    [c_msg], in the order of [leaves]. *)
+    of [*msg] that the glue keeps ([read_leaves]) into the global
+    [c_msg], in the order of [leaves]; then, for a topic that is not
+    timed and has direct input relations (rule 4.16), it copies their
+    leaves into [Controller_U], in model order. *)
 Theorem generate_callback:
   forall m p tp, generate m = OK p -> In tp (subscribed m) ->
   let c := tp_cname tp in
@@ -350,24 +352,39 @@ Theorem generate_callback:
   /\ fn_body f = (let base := seq_of (map (leaf_copy (prog_types p) (Evar (msg_var c) (Tstruct M))
                                                                 (deref_param msg_param M))
                                         (read_leaves m tp)) in
-                  if is_timed m c then Ssequence base (clock_stmts c) else base)
+                  if is_timed m c then Ssequence base (clock_stmts c)
+                  else match direct_of m c with
+                       | [] => base
+                       | ds => Ssequence base (seq_of (map (direct_copy m (make_tables m) M) ds))
+                       end)
   /\ NoDup (map fst (fn_temps f))
   /\ (forall l, In l (read_leaves m tp) ->
         find_assoc (temp_name (snd l)) (fn_temps f) = Some (ctype_of_prim (snd l)))
+  /\ (is_timed m c = false -> forall ir, In ir (direct_of m c) ->
+        find_assoc (temp_name (inrel_prim (make_tables m) ir)) (fn_temps f)
+        = Some (ctype_of_prim (inrel_prim (make_tables m) ir)))
   /\ (is_timed m c = true -> find_assoc (temp_name Puint64) (fn_temps f) = Some (Tlong Unsigned)).
 Proof.
   intros m p tp H Hin; cbv zeta. rewrite (generate_types m p H). split.
   - apply (generate_find_def m p _ _ H). unfold build_defs; rewrite !in_app_iff.
     do 3 right; left. change (msg_var (tp_cname tp), Gvar (Tstruct (tp_msg tp))) with (msg_global tp). apply in_map; auto.
-  - exists (callback_function m tp); split; [|unfold callback_function; destruct (is_timed m (tp_cname tp)) eqn:T; simpl; repeat split].
-    + apply (generate_find_def m p _ _ H). unfold build_defs; rewrite !in_app_iff.
-      do 5 right; left. change (callback_name (tp_cname tp), Gfun (Internal (callback_function m tp)))
-        with (callback_def m tp). apply in_map; auto.
+  - exists (callback_function m (make_tables m) tp); split.
+    { apply (generate_find_def m p _ _ H). unfold build_defs; rewrite !in_app_iff.
+      do 5 right; left. change (callback_name (tp_cname tp), Gfun (Internal (callback_function m (make_tables m) tp)))
+        with (callback_def m (make_tables m) tp). apply in_map; auto. }
+    unfold callback_function; destruct (is_timed m (tp_cname tp)) eqn:T;
+      [|destruct (direct_of m (tp_cname tp)) as [|ir0 ds] eqn:D]; simpl; repeat split.
     + apply temps_of_nodup.
     + intros l Hl. apply temps_of_find. right. apply in_map; auto.
+    + intros E; discriminate.
     + intros _. apply (temps_of_find Puint64). left; auto.
     + apply temps_of_nodup.
     + intros l Hl. apply temps_of_find. apply in_map; auto.
+    + intros _ ir [].
+    + intros E; discriminate.
+    + apply temps_of_nodup.
+    + intros l Hl. apply temps_of_find. apply in_or_app; left; apply in_map; auto.
+    + intros _ ir Hir. apply temps_of_find. apply in_or_app; right. change (In (inrel_prim (make_tables m) ir) (map (inrel_prim (make_tables m)) (ir0 :: ds))). apply in_map; auto.
     + intros E; discriminate.
 Qed.
 
@@ -413,9 +430,9 @@ Qed.
 (** The copies of the relations, in order: [Controller_U.In_i =
     c_i_msg.path_i] through a temporary. *)
 Definition input_base (m : node_model) : statement :=
-  seq_of (copies (map (inrel_prim (make_tables m)) (nm_inrels m))
-                 (gen_list_controller_expr_input_glue m (nm_inrels m))
-                 (gen_list_global_expr_input_glue m (nm_inrels m))).
+  seq_of (copies (map (inrel_prim (make_tables m)) (glue_inrels m))
+                 (gen_list_controller_expr_input_glue m (glue_inrels m))
+                 (gen_list_global_expr_input_glue m (glue_inrels m))).
 
 (** The body of [input_glue]: the copies, then, if some topic is timed,
     the freshness (rule 4.12). *)
@@ -427,9 +444,9 @@ Lemma input_glue_body:
     | _ :: _ => Ssequence (input_base m) (timed_stmts m (make_tables m))
     end.
 Proof.
-  intros m. assert (E: seq_of (map (input_copy m (make_tables m)) (nm_inrels m)) = input_base m).
+  intros m. assert (E: seq_of (map (input_copy m (make_tables m)) (glue_inrels m)) = input_base m).
   { unfold input_base; f_equal. unfold gen_list_controller_expr_input_glue, gen_list_global_expr_input_glue.
-    induction (nm_inrels m) as [|ir l IH]; simpl; auto. rewrite IH; auto. }
+    induction (glue_inrels m) as [|ir l IH]; simpl; auto. rewrite IH; auto. }
   unfold input_glue_function; destruct (timed m); simpl; rewrite E; auto.
 Qed.
 
@@ -549,7 +566,8 @@ Proof.
   - eapply output_prim_tables; eauto.
 Qed.
 
-(** [input_glue]: the copies of the input relations, in order. *)
+(** [input_glue]: the copies of the input relations that are not direct
+    (rule 4.16), in order. *)
 Theorem generate_input_glue:
   forall m p, generate m = OK p ->
   exists f,
@@ -560,7 +578,7 @@ Theorem generate_input_glue:
                  | _ :: _ => Ssequence (input_base m) (timed_stmts m (make_tables m))
                  end
   /\ NoDup (map fst (fn_temps f))
-  /\ (forall ir, In ir (nm_inrels m) ->
+  /\ (forall ir, In ir (glue_inrels m) ->
         find_assoc (temp_name (inrel_prim (make_tables m) ir)) (fn_temps f)
         = Some (ctype_of_prim (inrel_prim (make_tables m) ir)))
   /\ (timed m <> [] ->
@@ -1004,11 +1022,21 @@ Proof.
       destruct (leaf_path_expr_typed m _ _ _ (deref_param msg_param (tp_msg tp)) R)
         as [T2 W2]; auto; [constructor|].
       apply valid_copy; auto; apply (Ht (pa, q) Hl). }
-    unfold callback_function. destruct (is_timed m (tp_cname tp)); cbn [fn_body fn_temps].
+    unfold callback_function. destruct (is_timed m (tp_cname tp));
+      [|destruct (direct_of m (tp_cname tp)) as [|ir0 ds] eqn:D]; cbn [fn_body fn_temps].
     + split; [apply BASE|apply valid_clock].
       * intros l Hl. apply temps_of_find. right; apply in_map; auto.
       * apply (temps_of_find Puint64). left; auto.
     + apply BASE. intros l Hl. apply temps_of_find. apply in_map; auto.
+    + split.
+      * apply BASE. intros l Hl. apply temps_of_find. apply in_or_app; left; apply in_map; auto.
+      * apply valid_assignments_seq. intros st Hst. rewrite <- D in Hst.
+        apply in_map_iff in Hst; destruct Hst as (ir & <- & Hir).
+        assert (Hir' := Hir). apply direct_of_In in Hir' as (Hin & _ & _).
+        destruct (input_copy_typed m W ir Hin) as (_ & _ & T3 & W3).
+        destruct (direct_src_typed m W tp ir) as (T4 & W4); auto.
+        { apply in_subscribed in Htp; tauto. }
+        apply valid_copy; auto. apply temps_of_find. apply in_or_app; right. rewrite <- D. apply in_map; auto.
   - (* input_glue *)
     simpl in F; destruct F as [E|[]]; inversion E; subst f; clear E.
     destruct (generate_input_glue m p H) as (f & Ff & _ & _ & _ & Fb & _ & Ft & Fn).
@@ -1020,7 +1048,7 @@ Proof.
     assert (BASE: valid_assignments (composites m) (fn_temps (input_glue_function m (make_tables m))) (input_base m)).
     { unfold input_base. apply valid_copies. intros i q d s E1 E2 E3.
       destruct (nth_error_map3 _ _ _ _ _ _ _ _ _ E1 E2 E3) as (ir & Hir & -> & -> & ->).
-      destruct (input_copy_typed m W ir Hir) as (? & ? & ? & ?).
+      destruct (input_copy_typed m W ir (incl_glue_inrels m ir Hir)) as (? & ? & ? & ?).
       repeat split; auto. }
     destruct (timed m) eqn:T; auto. split; auto.
     destruct (Fn ltac:(congruence)) as (N12 & N3). apply valid_timed; auto; intros R; apply N12; auto.
@@ -1102,7 +1130,9 @@ Proof.
 Qed.
 
 (** Which generated function assigns what: a callback assigns only its
-    topic's global message and, if the topic is timed, its clock;
+    topic's global message, and, if the topic is timed, its clock, else
+    the leaves of [Controller_U] of its direct input relations (rule
+    4.16);
     [input_glue] only fields of [Controller_U] and the [c_new] flags of
     the timed topics; [output_glue_c] only through its pointer parameter
     [command]; [loop] and [main] assign nothing. *)
@@ -1113,6 +1143,8 @@ Theorem generate_assigned_places:
                       /\ pl = Some (Rvar (msg_var (tp_cname tp)), path))
   \/ (exists tp x, In tp (timed m) /\ id = callback_name (tp_cname tp)
                    /\ In x (clock_names tp) /\ pl = Some (Rvar x, []))
+  \/ (exists tp ir, In tp (subscribed m) /\ id = callback_name (tp_cname tp) /\ In ir (direct_of m (tp_cname tp))
+                    /\ pl = Some (Rvar (nm_in_var m), PField (ir_input ir) :: ir_elem ir))
   \/ (exists x path, id = input_glue_name /\ pl = Some (Rvar (nm_in_var m), PField x :: path))
   \/ (exists tp, In tp (timed m) /\ id = input_glue_name /\ pl = Some (Rvar (new_var (tp_cname tp)), []))
   \/ (exists tp path, In tp (published m) /\ id = output_glue_name (tp_cname tp)
@@ -1143,7 +1175,16 @@ Proof.
       * right; left. assert (Ht: In tp (timed m)) by (apply filter_In; auto).
         simpl in Hpl. unfold clock_names.
         destruct Hpl as [<-|[<-|[<-|[]]]]; eexists tp, _; repeat split; simpl; eauto.
-    + left. destruct (BASE Hpl) as (pa & ->). exists tp, pa; auto.
+    + destruct (direct_of m (tp_cname tp)) as [|ir0 ds] eqn:D; cbn [fn_body] in Hpl.
+      * left. destruct (BASE Hpl) as (pa & ->). exists tp, pa; auto.
+      * cbn [assigned_places] in Hpl. apply in_app_iff in Hpl. destruct Hpl as [Hpl|Hpl].
+        -- left. destruct (BASE Hpl) as (pa & ->). exists tp, pa; auto.
+        -- right; right; left. rewrite assigned_places_seq in Hpl.
+           apply in_flat_map in Hpl; destruct Hpl as (st & Hst & Hpl).
+           rewrite <- D in Hst. apply in_map_iff in Hst; destruct Hst as (ir & <- & Hir).
+           simpl in Hpl; destruct Hpl as [<-|[]].
+           exists tp, ir; repeat split; auto.
+           unfold input_dst. apply expr_place_path_expr with (q := []); auto.
   - simpl in F; destruct F as [E|[]]; inversion E; subst; clear E.
     rewrite input_glue_body in Hpl.
     assert (BASE: In pl (assigned_places (input_base m)) -> exists x path, pl = Some (Rvar (nm_in_var m), PField x :: path)).
@@ -1152,28 +1193,28 @@ Proof.
       apply in_map_iff in Hd; destruct Hd as (ir & <- & _). exists (ir_input ir), (ir_elem ir).
       apply expr_place_path_expr with (q := []); auto. }
     destruct (timed m) as [|tp0 l] eqn:T.
-    + right; right; left. destruct (BASE Hpl) as (x & pa & ->). eauto.
+    + right; right; right; left. destruct (BASE Hpl) as (x & pa & ->). eauto.
     + rewrite <- T. cbn [assigned_places] in Hpl. apply in_app_iff in Hpl. destruct Hpl as [Hpl|Hpl].
-      * right; right; left. destruct (BASE Hpl) as (x & pa & ->). eauto.
+      * right; right; right; left. destruct (BASE Hpl) as (x & pa & ->). eauto.
       * unfold timed_stmts in Hpl. rewrite T, assigned_places_seq in Hpl.
         apply in_flat_map in Hpl. destruct Hpl as (st & Hst & Hpl).
         rewrite <- T in Hst. apply in_app_iff in Hst. destruct Hst as [Hst|Hst].
         { destruct (reads_age m); [destruct Hst as [<-|[]]; simpl in Hpl; tauto|contradiction]. }
         apply in_app_iff in Hst. destruct Hst as [Hst|Hst]; [|apply in_app_iff in Hst; destruct Hst as [Hst|Hst]].
-        -- right; right; left. apply in_map_iff in Hst. destruct Hst as (ir & <- & _).
+        -- right; right; right; left. apply in_map_iff in Hst. destruct Hst as (ir & <- & _).
            unfold fallback_stmt in Hpl.
            destruct (find_assoc (ir_input ir) (nm_fallbacks m)); [|simpl in Hpl; tauto].
            destruct (timeout_of m (ir_topic ir)); simpl in Hpl; [|tauto].
            destruct Hpl as [Hpl|[]]. subst pl. exists (ir_input ir), (ir_elem ir).
            split; auto. unfold input_dst. apply expr_place_path_expr with (q := []); auto.
-        -- right; right; left. apply in_map_iff in Hst. destruct Hst as (dr & <- & _).
+        -- right; right; right; left. apply in_map_iff in Hst. destruct Hst as (dr & <- & _).
            unfold derived_stmt in Hpl.
            unfold derived_dst, in_var_expr in Hpl. destruct (dr_kind dr); simpl in Hpl;
              repeat (destruct Hpl as [Hpl|Hpl]; [subst pl; eauto|]); contradiction.
-        -- right; right; right; left. apply in_map_iff in Hst. destruct Hst as (tp & <- & Htp).
+        -- right; right; right; right; left. apply in_map_iff in Hst. destruct Hst as (tp & <- & Htp).
            simpl in Hpl. destruct Hpl as [<-|[]]. eauto.
   - apply in_map_iff in F; destruct F as (tp & E & Htp); inversion E; subst; clear E.
-    right; right; right; right. rewrite output_glue_body in Hpl.
+    right; right; right; right; right. rewrite output_glue_body in Hpl.
     assert (BASE: forall pl, In pl (assigned_places (output_base m tp)) ->
                   exists path, pl = Some (Rderef command_param, path)).
     { clear Hpl. intros pl0 Hpl. unfold output_base in Hpl. simpl in Hpl. apply in_app_iff in Hpl.
@@ -1277,25 +1318,33 @@ Proof.
 Qed.
 
 (** Preservation: no generated function other than [input_glue] assigns
-    (a part of) [Controller_U]. *)
+    (a part of) [Controller_U], except the callback of a topic that is
+    not timed, which assigns exactly the leaves of its direct input
+    relations (rule 4.16). *)
 Theorem generate_inputs_written_only_by_input_glue:
   forall m p id f, generate m = OK p -> find_def p id = Some (Gfun (Internal f)) ->
   id <> input_glue_name ->
   forall pl, In pl (assigned_places (fn_body f)) ->
-  exists r path, pl = Some (r, path) /\ r <> Rvar (nm_in_var m).
+     (exists r path, pl = Some (r, path) /\ r <> Rvar (nm_in_var m))
+  \/ (exists tp ir, In tp (subscribed m) /\ is_timed m (tp_cname tp) = false
+                    /\ id = callback_name (tp_cname tp) /\ In ir (direct_of m (tp_cname tp))
+                    /\ pl = Some (Rvar (nm_in_var m), PField (ir_input ir) :: ir_elem ir)).
 Proof.
   intros m p id f H F Hid pl Hpl.
   assert (W: wf_facts m) by (apply wf_facts_intro, (generate_sound m p H)).
   destruct (wf_controller_vars_fresh m W) as (_ & NU & _).
   destruct (generate_assigned_places m p id f H F pl Hpl)
-    as [(tp & pa & Htp & _ & ->)|[(tp & x & Htp & _ & Hx & ->)|[(x & pa & E & _)|[(tp & Htp & E & _)|(tp & pa & _ & _ & ->)]]]].
-  - exists (Rvar (msg_var (tp_cname tp))), pa; split; auto.
+    as [(tp & pa & Htp & _ & ->)|[(tp & x & Htp & _ & Hx & ->)|[(tp & ir & Htp & Eid & Hir & ->)|[(x & pa & E & _)|[(tp & Htp & E & _)|(tp & pa & _ & _ & ->)]]]]].
+  - left. exists (Rvar (msg_var (tp_cname tp))), pa; split; auto.
     intros E; inversion E. apply NU; rewrite <- H1; apply msg_var_in_after; auto.
-  - exists (Rvar x), []; split; auto.
+  - left. exists (Rvar x), []; split; auto.
     intros E; inversion E. apply NU; rewrite <- H1; eapply clock_name_in_after; eauto.
+  - right. exists tp, ir. repeat split; auto.
+    apply direct_of_In in Hir as (_ & Et & D). unfold is_direct in D.
+    apply andb_true_iff in D as [_ D]. apply negb_true_iff in D. rewrite <- Et; exact D.
   - congruence.
   - congruence.
-  - exists (Rderef command_param), pa; split; auto; discriminate.
+  - left. exists (Rderef command_param), pa; split; auto; discriminate.
 Qed.
 
 (** The generated functions never assign (a part of) [Controller_Y]: only
@@ -1309,11 +1358,12 @@ Proof.
   assert (W: wf_facts m) by (apply wf_facts_intro, (generate_sound m p H)).
   destruct (wf_controller_vars_fresh m W) as (NUY & _ & NY).
   destruct (generate_assigned_places m p id f H F pl Hpl)
-    as [(tp & pa & Htp & _ & ->)|[(tp & x & Htp & _ & Hx & ->)|[(x & pa & _ & ->)|[(tp & Htp & _ & ->)|(tp & pa & _ & _ & ->)]]]].
+    as [(tp & pa & Htp & _ & ->)|[(tp & x & Htp & _ & Hx & ->)|[(tp & ir & Htp & _ & Hir & ->)|[(x & pa & _ & ->)|[(tp & Htp & _ & ->)|(tp & pa & _ & _ & ->)]]]]].
   - exists (Rvar (msg_var (tp_cname tp))), pa; split; auto.
     intros E; inversion E. apply NY; rewrite <- H1; apply msg_var_in_after; auto.
   - exists (Rvar x), []; split; auto.
     intros E; inversion E. apply NY; rewrite <- H1; eapply clock_name_in_after; eauto.
+  - exists (Rvar (nm_in_var m)), (PField (ir_input ir) :: ir_elem ir); split; auto. intros E; inversion E; auto.
   - exists (Rvar (nm_in_var m)), (PField x :: pa); split; auto. intros E; inversion E; auto.
   - exists (Rvar (new_var (tp_cname tp))), []; split; auto.
     intros E; inversion E. apply NY; rewrite <- H1; eapply clock_name_in_after; eauto. simpl; auto.
@@ -1401,7 +1451,11 @@ Proof.
       rewrite copy_takes_no_addr in T'; auto; discriminate. }
     unfold callback_function in T. destruct (is_timed m (tp_cname tp)); cbn [fn_body] in T.
     + cbn [stmt_takes_addr] in T. rewrite BASE in T. simpl in T. discriminate.
-    + congruence.
+    + destruct (direct_of m (tp_cname tp)) as [|ir0 ds] eqn:D; cbn [fn_body] in T; [congruence|].
+      cbn [stmt_takes_addr] in T. rewrite BASE, orb_false_l, <- D, stmt_takes_addr_seq in T.
+      apply existsb_exists in T.
+      destruct T as (st & Hst & T). apply in_map_iff in Hst; destruct Hst as (ir & <- & _).
+      unfold direct_copy, input_dst in T. rewrite copy_takes_no_addr in T; auto; discriminate.
   - exfalso. simpl in F; destruct F as [E|[]]; inversion E; subst; clear E.
     assert (BASE: stmt_takes_addr x (input_base m) = false).
     { unfold input_base. rewrite stmt_takes_addr_seq, copies_take_no_addr; auto.

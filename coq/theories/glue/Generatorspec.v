@@ -981,6 +981,22 @@ Proof.
   split; [apply typeof_path_expr; auto|]. eapply path_expr_wt; [constructor|]. exact TP.
 Qed.
 
+(** The source of the copy of a direct input relation of the topic [tp]
+    (rule 4.16), in its callback, is a well-typed place of the input's C
+    type. *)
+Lemma direct_src_typed:
+  forall tp ir, In tp (nm_topics m) -> In ir (direct_of m (tp_cname tp)) ->
+     typeof (path_expr (composites m) (deref_param msg_param (tp_msg tp)) (ir_path ir))
+     = ctype_of_prim (inrel_prim (make_tables m) ir)
+  /\ wt_place (composites m) (path_expr (composites m) (deref_param msg_param (tp_msg tp)) (ir_path ir)).
+Proof.
+  intros tp ir Htp Hd. apply direct_of_In in Hd. destruct Hd as (Hin & E & _).
+  destruct (wf_inrel m ir W Hin) as (tp' & t & q & F & S & I & Q & R).
+  rewrite E, (In_find_topic _ _ (wf_cnames_nodup m W) Htp) in F. inversion F; subst tp'.
+  unfold inrel_prim. rewrite (input_prim_tables m _ _ _ _ I Q).
+  apply (leaf_path_expr_typed (tp_msg tp) (ir_path ir) q); auto. constructor.
+Qed.
+
 (** Same for output relations, writing into the message of a published
     topic [tp]. *)
 Lemma output_copy_typed:

@@ -434,19 +434,20 @@ Lemma callback_body:
   /\ get_block mm' bg = Some (Tstruct M, g)
   /\ mval_has_type ce (Tstruct M) g
   /\ reads_copied m tp mv g0 g
-  /\ unchanged_except mm mm' bg.
+  /\ unchanged_except mm mm' bg
+  /\ find_assoc msg_param le' = Some (Vptr b []).
 Proof.
   intros CS ctx w le g0 Hle Gg Hg0.
   destruct (exec_copies ctx ge [] w ce _ snd (fun l => path_expr ce dstE (fst l))
               (fun l => path_expr ce srcE (fst l)) (fun l => path_steps (fst l)) sv
               le_ok callback_le_ok_set mm bg (Tstruct M) (read_leaves m tp) le mm g0)
-    as (le' & mm' & v' & X & _ & Fr & G' & Hv' & Set' & Keep'); auto.
+    as (le' & mm' & v' & X & Hle' & Fr & G' & Hv' & Set' & Keep'); auto.
   - split; auto.
   - intros l Hl. apply callback_item_ok, In_read_leaves; auto.
   - apply NoDup_map_filter_sub, gen_leaves_dp_nodup.
   - intros a1 a2 H1 H2. apply (gen_leaves_disjoint M); apply In_read_leaves; auto.
   - exists le', mm', v'. split; [exact X|]. split; [exact G'|]. split; [exact Hv'|].
-    split; [|apply frame_unchanged; auto].
+    split; [|split; [apply frame_unchanged; auto|exact Hle']].
     intros lp q R. assert (Hl: In (lp, q) (leaves msgs M)) by (apply leaves_spec; auto).
     destruct (is_read m c lp) eqn:Rd.
     + assert (Hr: In (lp, q) (read_leaves m tp)) by (apply filter_In; auto).
@@ -460,41 +461,6 @@ Proof.
 Qed.
 
 End CALLBACK.
-
-(** Every callback of a subscribed topic copies the leaves that the node
-    reads of the message it is given into the topic's global, updates the
-    topic's clock if it is timed, and changes nothing else. *)
-Lemma generate_callback_ddc_aux:
-  forall tp, In tp (subscribed m) -> callback_ddc m p tp.
-Proof.
-  intros tp Htp.
-  destruct (generate_callback m p tp GEN Htp)
-    as [Fv (f & Ff & Fret & Fpar & Fvars & Fbody & _ & _ & _)].
-  exists f. split; [apply gen_funct; auto|].
-  intros mm b mv GT NG Gb Hmv. rewrite gen_types in Hmv.
-  destruct (gen_var _ _ Fv) as [bg Vg].
-  destruct (GT _ _ _ Vg) as (g0 & Gg & Hg0). rewrite gen_types in Hg0.
-  assert (Nb: b <> bg) by (intros E; apply (NG _ _ _ Vg); auto).
-  set (le0 := set_assoc msg_param (Vptr b []) (create_undef_temps (fn_temps f))).
-  apply quiet_call_at_intro with (le := le0); auto.
-  - unfold function_entry. rewrite Fvars, Fpar. reflexivity.
-  - intros CS ctx w.
-    destruct (callback_body tp mm b bg mv Vg Gb Hmv Nb CS ctx w le0 g0) as (le' & mm1 & g & X & G' & Tg & RC & U); auto.
-    { unfold le0. apply find_assoc_set_same. }
-    assert (GM: global_msg p mm (tp_cname tp) = g0) by (unfold global_msg, global_value; rewrite Vg, Gg; auto).
-    assert (OG1: only_global_changed p mm mm1 (msg_var (tp_cname tp)) g)
-      by (exists bg, (Tstruct (tp_msg tp)); auto).
-    assert (GT1: globals_typed p mm1).
-    { eapply globals_typed_changed; eauto. intros b' ty V. rewrite Vg in V; inversion V; subst; auto. }
-    rewrite Fbody, gen_types. cbv zeta. unfold clock_update.
-    destruct (is_timed m (tp_cname tp)) eqn:T.
-    + assert (Ht: In tp (timed m)) by (apply filter_In; auto).
-      destruct (clock_run tp CS ctx w le' mm1 Ht GT1) as (le2 & mm2 & X2 & _ & GC).
-      exists le2, mm2. split.
-      * change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; eauto.
-      * exists g. rewrite GM. split; [econstructor; eauto|split; auto].
-    + exists le', mm1. split; auto. exists g. rewrite GM. split; [econstructor; eauto; constructor|split; auto].
-Qed.
 
 (** ** Input glue (Figure 12) *)
 
@@ -570,6 +536,34 @@ Proof.
   apply (ctrl_leaves_disjoint t1 _ _ q1 q2); auto.
   - apply (wf_inputs_ok m W (ir_input ir1, t1)). apply find_assoc_In. rewrite E; auto.
   - intros Ep. apply N. rewrite E, Ep. auto.
+Qed.
+
+Lemma NoDup_map_eq:
+  forall (A B : Type) (f : A -> B) l a b, NoDup (map f l) -> In a l -> In b l -> f a = f b -> a = b.
+Proof.
+  induction l as [|x l IH]; simpl; intros a b N Ha Hb E; [contradiction|].
+  inversion N as [|? ? Hn N']; subst.
+  destruct Ha as [<-|Ha], Hb as [<-|Hb]; auto.
+  - elim Hn. rewrite E. apply in_map; auto.
+  - elim Hn. rewrite <- E. apply in_map; auto.
+Qed.
+
+Lemma input_leaves_nodup: NoDup (map input_leaf (nm_inrels m)).
+Proof.
+  unfold input_leaf.
+  rewrite <- (map_map (fun ir => (ir_input ir, ir_elem ir)) (fun xp => Sfield (fst xp) :: path_steps (snd xp))).
+  apply NoDup_map_inj.
+  - intros [x1 p1] [x2 p2] E; inversion E as [[E1 E2]]. apply path_steps_inj in E2. subst; auto.
+  - apply wf_inrel_inputs_nodup; auto.
+Qed.
+
+(** The leaves of two different input relations are disjoint. *)
+Lemma input_leaves_distinct:
+  forall ir1 ir2, In ir1 (nm_inrels m) -> In ir2 (nm_inrels m) -> ir1 <> ir2 ->
+  path_disjoint (input_leaf ir1) (input_leaf ir2).
+Proof.
+  intros ir1 ir2 H1 H2 N. apply input_leaves_disjoint; auto.
+  intros E. apply N. apply (NoDup_map_eq _ _ input_leaf (nm_inrels m)); auto. apply input_leaves_nodup.
 Qed.
 
 Section INPUT.
@@ -649,46 +643,41 @@ Lemma input_body:
   exists le' mm' u,
      exec_stmt ctx ge [] le mm w
        (seq_of (map (fun ir => copy (inrel_prim (make_tables m) ir) (input_dst m ir) (input_src m (make_tables m) ir))
-                    (nm_inrels m))) [] le' mm' w Out_normal
+                    (glue_inrels m))) [] le' mm' w Out_normal
   /\ get_block mm' bu = Some (Tstruct (nm_in_struct m), u)
   /\ unchanged_except mm mm' bu
   /\ mval_has_type ce (Tstruct (nm_in_struct m)) u
-  /\ forall ir, In ir (nm_inrels m) ->
+  /\ (forall ir, In ir (glue_inrels m) ->
        exists g v, global_value p mm (msg_var (ir_topic ir)) = Some g
          /\ mval_get g (path_steps (ir_path ir)) = Some (MVscalar v)
-         /\ mval_get u (Sfield (ir_input ir) :: path_steps (ir_elem ir)) = Some (MVscalar v).
+         /\ mval_get u (Sfield (ir_input ir) :: path_steps (ir_elem ir)) = Some (MVscalar v))
+  /\ (forall ir, In ir (nm_inrels m) -> is_direct m ir = true ->
+       mval_get u (input_leaf ir) = mval_get u0 (input_leaf ir)).
 Proof.
   intros CS ctx w le u0 Gu Hu0.
   destruct (exec_copies ctx ge [] w ce _ (fun ir => inrel_prim (make_tables m) ir) (input_dst m) (input_src m (make_tables m))
-              (fun ir => Sfield (ir_input ir) :: path_steps (ir_elem ir)) sv (fun _ => True) (fun _ _ _ _ => I)
-              mm bu (Tstruct (nm_in_struct m)) (nm_inrels m) le mm u0)
-    as (le' & mm' & u & X & _ & Fr & G' & Hu & Set' & _); auto.
+              input_leaf sv (fun _ => True) (fun _ _ _ _ => I)
+              mm bu (Tstruct (nm_in_struct m)) (glue_inrels m) le mm u0)
+    as (le' & mm' & u & X & _ & Fr & G' & Hu & Set' & Keep'); auto.
   - split; auto.
-  - apply input_item_ok.
-  - rewrite <- (map_map (fun ir => (ir_input ir, ir_elem ir)) (fun xp => Sfield (fst xp) :: path_steps (snd xp))).
-    apply NoDup_map_inj.
-    + intros [x1 p1] [x2 p2] E; inversion E as [[E1 E2]]. apply path_steps_inj in E2. subst; auto.
-    + apply wf_inrel_inputs_nodup; auto.
-  - intros a1 a2 H1 H2 N. apply input_leaves_disjoint; auto.
-  - exists le', mm', u. repeat split; auto; try apply Fr.
-    intros ir Hir.
-    destruct (input_source ir Hir) as (tp & t & q & bg & g & x & _ & _ & _ & _ & _ & _ & _ & _ & _ & _ & _ & GV & Gx & _ & Sx).
-    exists g, x. repeat split; auto. rewrite Set'; auto. rewrite Sx; auto.
+  - intros ir Hir. apply input_item_ok, incl_glue_inrels; auto.
+  - apply NoDup_map_filter_sub, input_leaves_nodup.
+  - intros a1 a2 H1 H2 N. apply input_leaves_disjoint; auto; apply incl_glue_inrels; auto.
+  - exists le', mm', u. split; [exact X|]. split; [exact G'|]. split; [apply frame_unchanged; auto|].
+    split; [exact Hu|]. split.
+    + intros ir Hir.
+      destruct (input_source ir (incl_glue_inrels m ir Hir))
+        as (tp & t & q & bg & g & x & _ & _ & _ & _ & _ & _ & _ & _ & _ & _ & _ & GV & Gx & _ & Sx).
+      exists g, x. repeat split; auto. unfold input_leaf in Set'. rewrite Set'; auto. rewrite Sx; auto.
+    + intros ir Hir D. apply Keep'. intros a Ha. assert (Ha' := Ha). apply glue_inrels_In in Ha' as [Ha' Da].
+      apply input_leaves_distinct; auto. intros ->. congruence.
 Qed.
 
 End INPUT.
 
 (** *** Freshness (rule 4.12) *)
 
-Lemma NoDup_map_eq:
-  forall (A B : Type) (f : A -> B) l a b, NoDup (map f l) -> In a l -> In b l -> f a = f b -> a = b.
-Proof.
-  induction l as [|x l IH]; simpl; intros a b N Ha Hb E; [contradiction|].
-  inversion N as [|? ? Hn N']; subst.
-  destruct Ha as [<-|Ha], Hb as [<-|Hb]; auto.
-  - elim Hn. rewrite E. apply in_map; auto.
-  - elim Hn. rewrite <- E. apply in_map; auto.
-Qed.
+
 
 Lemma clock_range: forall t, (0 <= clock t <= max_ulong)%Z.
 Proof.
@@ -1148,6 +1137,22 @@ Proof.
     + simpl. econstructor; eauto.
 Qed.
 
+(** A direct input relation's topic is not timed, so its input has no
+    fallback. *)
+Lemma direct_not_timed:
+  forall ir, is_direct m ir = true -> is_timed m (ir_topic ir) = false.
+Proof.
+  intros ir D. unfold is_direct in D. apply andb_true_iff in D as [_ D]. apply negb_true_iff; auto.
+Qed.
+
+Lemma direct_no_fallback:
+  forall ir, In ir (nm_inrels m) -> is_direct m ir = true -> find_assoc (ir_input ir) (nm_fallbacks m) = None.
+Proof.
+  intros ir Hir D. destruct (find_assoc (ir_input ir) (nm_fallbacks m)) as [fv|] eqn:F; auto.
+  destruct (fallback_topic ir fv Hir F) as (tp & t & Ht & Ec & _).
+  generalize (gen_timed_is tp Ht). rewrite Ec, (direct_not_timed ir D). discriminate.
+Qed.
+
 Lemma generate_input_glue_ddc_aux: input_glue_ddc m p.
 Proof.
   destruct (generate_input_glue m p GEN) as (f & Ff & Fret & Fpar & Fvars & Fbody & _ & _ & Ftemps).
@@ -1160,7 +1165,8 @@ Proof.
   - unfold function_entry. rewrite Fvars, Fpar. reflexivity.
   - intros CS ctx w.
     destruct (input_body mm bu GT Vu CS ctx w (create_undef_temps (fn_temps f)) u0 Gu Hu0)
-      as (le1 & mm1 & u1 & X1 & G1 & U1 & Hu1 & Rel1).
+      as (le1 & mm1 & u1 & X1 & G1 & U1 & Hu1 & Rel1 & Dir1).
+    assert (GI: global_inputs m p mm = u0) by (unfold global_inputs, global_value; rewrite Vu, Gu; auto).
     assert (X1': exec_stmt ctx ge [] (create_undef_temps (fn_temps f)) mm w (input_base m) [] le1 mm1 w Out_normal).
     { unfold input_base, gen_list_controller_expr_input_glue, gen_list_global_expr_input_glue.
       rewrite copies_map. exact X1. }
@@ -1190,12 +1196,13 @@ Proof.
                      mval_get u [Sfield (ir_input ir)]
                      = if stale m (ir_topic ir) (snd (ck (ir_topic ir))) (w_time w) then Some (MVscalar fv)
                        else mval_get u1 [Sfield (ir_input ir)]) ->
-                  forall ir, In ir (nm_inrels m) ->
+                  forall ir, In ir (glue_inrels m) ->
                   exists g v, global_value p mm (msg_var (ir_topic ir)) = Some g
                     /\ mval_get g (path_steps (ir_path ir)) = Some (MVscalar v)
                     /\ mval_get u (Sfield (ir_input ir) :: path_steps (ir_elem ir))
                        = Some (MVscalar (fed_value m ir v (snd (ck (ir_topic ir))) (w_time w)))).
     { intros u KEEP SET ir Hir. destruct (Rel1 ir Hir) as (g & v & GV & Gg & Gu1).
+      apply incl_glue_inrels in Hir.
       exists g, v. repeat split; auto. unfold fed_value.
       destruct (find_assoc (ir_input ir) (nm_fallbacks m)) as [fv|] eqn:F.
       - destruct (wf_fallback m (ir_input ir) fv W (find_assoc_In _ _ _ _ F)) as (q & _ & _ & I & _).
@@ -1220,9 +1227,10 @@ Proof.
         rewrite TM in Ht; contradiction. }
       exists le1, mm1. split; auto.
       exists u1. split; [econstructor; [exact OG1|constructor]|].
-      rewrite gen_types. split; auto. split.
+      rewrite gen_types. split; auto. split; [|split].
       * apply FEDV; auto. intros ir _ fv F. rewrite NF in F. discriminate.
       * intros dr Hdr. rewrite NDR in Hdr. contradiction.
+      * intros ir Hir D. rewrite GI. apply Dir1; auto.
     + (* timed topics *)
       rewrite <- TM. rewrite <- TM in CK1, CK.
       assert (NE: timed m <> []) by congruence.
@@ -1279,9 +1287,9 @@ Proof.
           by (unfold L; rewrite map_app, !map_map; reflexivity).
         change (@nil event) with (@nil event ++ @nil event).
         eapply exec_seq_of_app; [exact X3|exact X4].
-      * exists u3. split; [econstructor; eauto|]. rewrite gen_types. split; auto. split.
-        -- apply FEDV.
-           ++ intros ir Hir F. apply Keep3. unfold L. rewrite map_app, !map_map, in_app_iff. cbn [item_field].
+      * assert (KEEP3: forall ir, In ir (nm_inrels m) -> find_assoc (ir_input ir) (nm_fallbacks m) = None ->
+                  mval_get u3 [Sfield (ir_input ir)] = mval_get u1 [Sfield (ir_input ir)]).
+        { intros ir Hir F. apply Keep3. unfold L. rewrite map_app, !map_map, in_app_iff. cbn [item_field].
               intros [Hx|Hx]; apply in_map_iff in Hx.
               ** destruct Hx as (ir' & E & Hir'). apply filter_In in Hir'. destruct Hir' as [Hir' HF].
                  unfold has_fallback in HF. rewrite E, F in HF. discriminate.
@@ -1291,7 +1299,10 @@ Proof.
                  apply (D (ir_input ir, ir_elem ir)).
                  --- apply (in_map (fun ir => (ir_input ir, ir_elem ir))); auto.
                  --- rewrite (scalar_input_elem ir _ Hir I), <- E.
-                     apply (in_map (fun dr => (dr_input dr, @nil pstep))); auto.
+                     apply (in_map (fun dr => (dr_input dr, @nil pstep))); auto. }
+        exists u3. split; [econstructor; eauto|]. rewrite gen_types. split; auto. split; [|split].
+        -- apply FEDV.
+           ++ exact KEEP3.
            ++ intros ir Hir fv F.
               assert (Ha: In (inl ir) L).
               { unfold L. apply in_app_iff. left. apply in_map. apply filter_In. split; auto.
@@ -1300,6 +1311,225 @@ Proof.
               destruct (stale m (ir_topic ir) (snd (ck (ir_topic ir))) (w_time w)); auto.
         -- intros dr Hdr. assert (Ha: In (inr dr) L) by (unfold L; apply in_app_iff; right; apply in_map; auto).
            generalize (Set3 _ Ha). cbn [item_val item_field]. intros ->. reflexivity.
+        -- intros ir Hir D. rewrite GI, <- (Dir1 ir Hir D). unfold input_leaf.
+           change (Sfield (ir_input ir) :: path_steps (ir_elem ir))
+             with ([Sfield (ir_input ir)] ++ path_steps (ir_elem ir)).
+           rewrite !mval_get_app, KEEP3; auto. apply direct_no_fallback; auto.
+Qed.
+
+
+(** ** Direct input relations (rule 4.16) *)
+
+Section DIRECT.
+
+Variable tp : topic.
+Hypothesis Htp : In tp (subscribed m).
+
+Variables (mm : mem) (b bu : block) (mv : mval).
+Hypothesis Vu : find_var ge (nm_in_var m) = Some (bu, Tstruct (nm_in_struct m)).
+Hypothesis Gb : get_block mm b = Some (Tstruct (tp_msg tp), mv).
+Hypothesis Hmv : mval_has_type ce (Tstruct (tp_msg tp)) mv.
+Hypothesis Nb : b <> bu.
+
+Let le_ok (le : temp_env) : Prop := find_assoc msg_param le = Some (Vptr b []).
+Let sv (ir : inrel) : val := scalar_at mv (path_steps (ir_path ir)).
+Let srcD (ir : inrel) : expr := path_expr ce (deref_param msg_param (tp_msg tp)) (ir_path ir).
+
+Lemma direct_le_ok_set: forall le q v, le_ok le -> le_ok (set_assoc (temp_name q) v le).
+Proof.
+  intros le q v H. unfold le_ok. rewrite find_assoc_set_other; auto.
+  intros E; apply (proj1 (temp_name_not_param q)); auto.
+Qed.
+
+(** The message leaf of a direct relation of [tp], in the message [mv]. *)
+Lemma direct_source:
+  forall ir, In ir (direct_of m (tp_cname tp)) ->
+  exists t q x,
+     In ir (nm_inrels m)
+  /\ find_assoc (ir_input ir) (nm_inputs m) = Some t
+  /\ ctrl_prim t (ir_elem ir) = Some q
+  /\ resolve msgs (FTmsg (tp_msg tp)) (ir_path ir) = Some (FTprim q)
+  /\ inrel_prim (make_tables m) ir = q
+  /\ mval_get mv (path_steps (ir_path ir)) = Some (MVscalar x)
+  /\ val_has_type x (ctype_of_prim q)
+  /\ sv ir = x.
+Proof.
+  intros ir Hd. apply direct_of_In in Hd as (Hir & Ec & _).
+  destruct (input_exprs m ir W Hir) as (tp' & t & q & F & _ & _ & I & Q & R & Pq & _ & _).
+  assert (Ht: In tp (nm_topics m)) by (apply in_subscribed in Htp; tauto).
+  rewrite Ec, (In_find_topic _ _ (wf_cnames_nodup m W) Ht) in F. inversion F; subst tp'.
+  destruct (leaf_typed m W _ _ _ mv R Hmv) as (x & Gx & Tx).
+  exists t, q, x. repeat split; auto. apply scalar_at_spec; auto.
+Qed.
+
+Lemma direct_item_ok:
+  forall ir, In ir (direct_of m (tp_cname tp)) ->
+  item_ok ge [] ce _ (inrel_prim (make_tables m)) (input_dst m) srcD input_leaf sv le_ok
+          mm bu (Tstruct (nm_in_struct m)) ir.
+Proof.
+  intros ir Hd.
+  destruct (direct_source ir Hd) as (t & q & x & Hir & I & Q & R & Pq & Gx & Tx & Sx).
+  assert (OKt: ctrl_ftype_ok t = true) by (apply (wf_inputs_ok m W (ir_input ir, t)); apply find_assoc_In; auto).
+  destruct (ctrl_leaf_resolve msgs (md_names msgs) t (ir_elem ir) q OKt Q) as [Ft Rt].
+  assert (FT := field_type_inputs m W _ _ I).
+  unfold item_ok, input_leaf. rewrite Pq, Sx. repeat split.
+  - intros le mm1 Hle [Fn Fo].
+    destruct (eval_leaf m W ge [] le mm1 (tp_msg tp) (ir_path ir) q
+                (deref_param msg_param (tp_msg tp)) b [] R) as (_ & _ & E); auto.
+    { apply eval_lvalue_deref_param; auto. }
+    unfold srcD. rewrite E. apply load_spec; [apply ctype_of_prim_scalar_type|].
+    unfold load_path. rewrite Fo by auto. rewrite Gb. auto.
+  - intros le mm1 _. unfold input_dst, in_var_expr. cbn [path_expr step_expr]. unfold step_type. cbn [typeof]. rewrite FT.
+    change (Sfield (ir_input ir) :: path_steps (ir_elem ir)) with ([Sfield (ir_input ir)] ++ path_steps (ir_elem ir)).
+    eapply (eval_lvalue_path m W); eauto.
+    change [Sfield (ir_input ir)] with ([] ++ [Sfield (ir_input ir)]).
+    eapply eval_lvalue_field; [reflexivity|]. eapply eval_lvalue_global_struct; eauto.
+  - unfold input_dst. rewrite typeof_path_expr with (t := ctype_of_prim q); auto.
+    apply (input_leaf_type m W _ _ _ _ I Q).
+  - auto.
+  - cbn [type_at]. rewrite type_step_field, FT.
+    rewrite (type_at_ctype m W); auto. rewrite Rt; auto.
+Qed.
+
+Lemma direct_body:
+  forall (CS : Type) (ctx : ros_context CS) (w : world CS) le u0,
+  le_ok le -> get_block mm bu = Some (Tstruct (nm_in_struct m), u0) ->
+  mval_has_type ce (Tstruct (nm_in_struct m)) u0 ->
+  exists le' mm' u,
+     exec_stmt ctx ge [] le mm w
+       (seq_of (map (direct_copy m (make_tables m) (tp_msg tp)) (direct_of m (tp_cname tp)))) [] le' mm' w Out_normal
+  /\ get_block mm' bu = Some (Tstruct (nm_in_struct m), u)
+  /\ mval_has_type ce (Tstruct (nm_in_struct m)) u
+  /\ direct_copied m tp mv u0 u
+  /\ unchanged_except mm mm' bu.
+Proof.
+  intros CS ctx w le u0 Hle Gu Hu0.
+  destruct (exec_copies ctx ge [] w ce _ (inrel_prim (make_tables m)) (input_dst m) srcD input_leaf sv
+              le_ok direct_le_ok_set mm bu (Tstruct (nm_in_struct m)) (direct_of m (tp_cname tp)) le mm u0)
+    as (le' & mm' & u & X & _ & Fr & G' & Hu & Set' & Keep'); auto.
+  - split; auto.
+  - apply direct_item_ok.
+  - apply NoDup_map_filter_sub, input_leaves_nodup.
+  - intros a1 a2 H1 H2 N. apply direct_of_In in H1 as (H1 & _). apply direct_of_In in H2 as (H2 & _).
+    apply input_leaves_disjoint; auto.
+  - exists le', mm', u. split; [exact X|]. split; [exact G'|]. split; [exact Hu|].
+    split; [|apply frame_unchanged; auto]. split; [|exact Keep'].
+    intros ir Hd. rewrite (Set' ir Hd).
+    destruct (direct_source ir Hd) as (_ & _ & x & _ & _ & _ & _ & _ & Gx & _ & Sx). rewrite Gx, Sx. reflexivity.
+Qed.
+
+End DIRECT.
+
+(** Before any message, the leaf of a direct relation in [Controller_U]
+    and the relation's leaf in the zero message agree (both zero). *)
+Lemma gen_zero_direct:
+  forall tp ir, In tp (subscribed m) -> In ir (direct_of m (tp_cname tp)) ->
+  mval_get (zero_mval ce (Tstruct (nm_in_struct m))) (input_leaf ir)
+  = mval_get (zero_mval ce (Tstruct (tp_msg tp))) (path_steps (ir_path ir)).
+Proof.
+  intros tp ir Htp Hd. apply direct_of_In in Hd as (Hir & Ec & _).
+  destruct (input_exprs m ir W Hir) as (tp' & t & q & F & _ & _ & I & Q & R & _ & _ & _).
+  assert (Ht: In tp (nm_topics m)) by (apply in_subscribed in Htp; tauto).
+  rewrite Ec, (In_find_topic _ _ (wf_cnames_nodup m W) Ht) in F. inversion F; subst tp'.
+  rewrite (gen_zero_leaf _ _ _ R).
+  assert (OKt: ctrl_ftype_ok t = true) by (apply (wf_inputs_ok m W (ir_input ir, t)); apply find_assoc_In; auto).
+  destruct (ctrl_leaf_resolve msgs (md_names msgs) t (ir_elem ir) q OKt Q) as [Ft Rt].
+  assert (FT := field_type_inputs m W _ _ I).
+  apply mval_get_zero; [apply gen_wf_composites| |].
+  - simpl. apply in_ident_spec. unfold composite_names, composites.
+    rewrite map_app, map_map. apply in_or_app; right; simpl; auto.
+  - unfold input_leaf. cbn [type_at]. rewrite type_step_field, FT.
+    rewrite (type_at_ctype m W); auto. rewrite Rt; auto.
+Qed.
+
+(** The leaf of an input relation in [Controller_U] has the C type of
+    the relation's primitive, and holds a scalar in any value of the
+    inputs' type. *)
+Lemma gen_input_leaf_type:
+  forall ir, In ir (nm_inrels m) ->
+  type_at ce (Tstruct (nm_in_struct m)) (input_leaf ir) = Some (ctype_of_prim (inrel_prim (make_tables m) ir)).
+Proof.
+  intros ir Hir.
+  destruct (input_exprs m ir W Hir) as (tp' & t & q & _ & _ & _ & I & Q & _ & Pq & _ & _).
+  assert (OKt: ctrl_ftype_ok t = true) by (apply (wf_inputs_ok m W (ir_input ir, t)); apply find_assoc_In; auto).
+  destruct (ctrl_leaf_resolve msgs (md_names msgs) t (ir_elem ir) q OKt Q) as [Ft Rt].
+  assert (FT := field_type_inputs m W _ _ I).
+  rewrite Pq. unfold input_leaf. cbn [type_at]. rewrite type_step_field, FT.
+  rewrite (type_at_ctype m W); auto. rewrite Rt; auto.
+Qed.
+
+Lemma gen_input_leaf_scalar:
+  forall ir u, In ir (nm_inrels m) -> mval_has_type ce (Tstruct (nm_in_struct m)) u ->
+  exists v, mval_get u (input_leaf ir) = Some (MVscalar v).
+Proof.
+  intros ir u Hir Hu.
+  destruct (mval_get_has_type _ _ _ _ _ Hu (gen_input_leaf_type ir Hir)) as [x [G Hx]].
+  inversion Hx; subst; eauto; destruct (inrel_prim (make_tables m) ir); discriminate.
+Qed.
+
+(** Every callback of a subscribed topic copies the leaves that the glue
+    keeps of the message it is given into the topic's global, updates
+    the topic's clock if it is timed, else writes the leaves of its
+    direct input relations into [Controller_U], and changes nothing
+    else. *)
+Lemma generate_callback_ddc_aux:
+  forall tp, In tp (subscribed m) -> callback_ddc m p tp.
+Proof.
+  intros tp Htp.
+  destruct (generate_callback m p tp GEN Htp)
+    as [Fv (f & Ff & Fret & Fpar & Fvars & Fbody & _ & _ & _ & _)].
+  exists f. split; [apply gen_funct; auto|].
+  intros mm b mv GT NG Gb Hmv. rewrite gen_types in Hmv.
+  destruct (gen_var _ _ Fv) as [bg Vg].
+  destruct (GT _ _ _ Vg) as (g0 & Gg & Hg0). rewrite gen_types in Hg0.
+  assert (Nb: b <> bg) by (intros E; apply (NG _ _ _ Vg); auto).
+  destruct (generate_externals m p GEN) as (_ & _ & _ & _ & _ & _ & Fu & _).
+  destruct (gen_var _ _ Fu) as [bu Vu].
+  destruct (GT _ _ _ Vu) as (u0 & Gu & Hu0). rewrite gen_types in Hu0.
+  assert (Nbu: b <> bu) by (intros E; apply (NG _ _ _ Vu); auto).
+  assert (Ngu: bg <> bu) by (eapply globalenv_vars_disjoint; eauto; apply (proj1 (gen_in_out_vars tp Htp))).
+  assert (GI: global_inputs m p mm = u0) by (unfold global_inputs, global_value; rewrite Vu, Gu; auto).
+  set (le0 := set_assoc msg_param (Vptr b []) (create_undef_temps (fn_temps f))).
+  apply quiet_call_at_intro with (le := le0); auto.
+  - unfold function_entry. rewrite Fvars, Fpar. reflexivity.
+  - intros CS ctx w.
+    destruct (callback_body tp mm b bg mv Vg Gb Hmv Nb CS ctx w le0 g0) as (le' & mm1 & g & X & G' & Tg & RC & U & Hle'); auto.
+    { unfold le0. apply find_assoc_set_same. }
+    assert (GM: global_msg p mm (tp_cname tp) = g0) by (unfold global_msg, global_value; rewrite Vg, Gg; auto).
+    assert (OG1: only_global_changed p mm mm1 (msg_var (tp_cname tp)) g)
+      by (exists bg, (Tstruct (tp_msg tp)); auto).
+    assert (GT1: globals_typed p mm1).
+    { eapply globals_typed_changed; eauto. intros b' ty V. rewrite Vg in V; inversion V; subst; auto. }
+    assert (Gu1: get_block mm1 bu = Some (Tstruct (nm_in_struct m), u0)) by (destruct U as [_ O]; rewrite O; auto).
+    assert (Gb1: get_block mm1 b = Some (Tstruct (tp_msg tp), mv)) by (destruct U as [_ O]; rewrite O; auto).
+    assert (ID: only_global_changed p mm1 mm1 (nm_in_var m) u0)
+      by (exists bu, (Tstruct (nm_in_struct m)); repeat split; auto).
+    assert (NOD: direct_copied m tp mv u0 u0 \/ direct_of m (tp_cname tp) <> []).
+    { destruct (direct_of m (tp_cname tp)) as [|ir0 ds] eqn:D; [left|right; discriminate].
+      split; auto. intros ir Hir. rewrite D in Hir. contradiction. }
+    rewrite Fbody, gen_types. cbv zeta. unfold clock_update. rewrite GM, GI.
+    destruct (is_timed m (tp_cname tp)) eqn:T.
+    + assert (Ht: In tp (timed m)) by (apply filter_In; auto).
+      destruct (clock_run tp CS ctx w le' mm1 Ht GT1) as (le2 & mm2 & X2 & _ & GC).
+      exists le2, mm2. split.
+      * change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; eauto.
+      * exists g, u0. split; [econstructor; eauto; econstructor; eauto|].
+        repeat split; auto. intros ir Hir. exfalso.
+        apply direct_of_In in Hir as (_ & Ec & D). generalize (direct_not_timed ir D).
+        rewrite Ec, T. discriminate.
+    + destruct (direct_of m (tp_cname tp)) as [|ir0 ds] eqn:D.
+      * destruct NOD as [NOD|NOD]; [|congruence].
+        exists le', mm1. split; auto. exists g, u0.
+        split; [econstructor; eauto; econstructor; eauto; constructor|]. repeat split; auto; apply NOD.
+      * destruct (direct_body tp Htp mm1 b bu mv Vu Gb1 Hmv Nbu CS ctx w le' u0 Hle' Gu1 Hu0)
+          as (le2 & mm2 & u & X2 & G2 & Hu & DC & U2).
+        rewrite D in X2.
+        exists le2, mm2. split.
+        -- change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; eauto.
+        -- exists g, u. split; [|repeat split; auto; apply DC].
+           apply globals_changed_cons with mm1; [exact OG1|].
+           apply globals_changed_cons with mm2; [|constructor].
+           exists bu, (Tstruct (nm_in_struct m)). split; [exact Vu|]. split; [exact G2|exact U2].
 Qed.
 
 (** ** Output glue *)

@@ -557,6 +557,7 @@ Proof.
     by (apply In_find_topic; [apply wf_cnames_nodup; auto|apply in_subscribed in Hs; tauto]).
   unfold read_paths in Hr. apply in_app_iff in Hr as [Hr|Hr].
   - apply in_map_iff in Hr as (ir & <- & Hir). apply filter_In in Hir as [Hir E]. apply ident_eqb_true in E.
+    apply incl_glue_inrels in Hir.
     destruct (input_exprs m ir W Hir) as (tp' & t & q & F' & _ & _ & _ & _ & R & _).
     rewrite E, FT in F'. inversion F'; subst. eauto.
   - apply in_flat_map in Hr as ([c [s0 sp]] & Hin & Hr). cbn [fst snd] in Hr.
@@ -577,7 +578,9 @@ Record loop_inv (k : nat) (nw : topic -> bool) (e : env) (mm : mem) : Prop := {
              /\ exists v, get_block mm b = Some (Tstruct (tp_msg tp), v)
                           /\ mval_shape v = undef_mval ce (Tstruct (tp_msg tp));
   li_clock: forall tp, In tp (timed m) -> clock_held p mm (tp_cname tp) (nw tp) (held_time tp k);
-  li_funs: forall x, In x (map fst (prog_defs p)) -> find_assoc x e = None
+  li_funs: forall x, In x (map fst (prog_defs p)) -> find_assoc x e = None;
+  li_direct: forall tp ir, In tp (subscribed m) -> In ir (direct_of m (tp_cname tp)) ->
+               mval_get (global_inputs m p mm) (input_leaf ir) = mval_get (held m ctx tp k) (path_steps (ir_path ir))
 }.
 
 Arguments li_wf {k nw e mm}.
@@ -586,6 +589,7 @@ Arguments li_msgs {k nw e mm}.
 Arguments li_cmds {k nw e mm}.
 Arguments li_clock {k nw e mm}.
 Arguments li_funs {k nw e mm}.
+Arguments li_direct {k nw e mm}.
 
 (** Replacing the value of a global that is not a topic's message by a
     value of its type keeps the invariant. *)
@@ -593,11 +597,14 @@ Lemma inv_change_global_gen:
   forall k nw nw' e mm mm' x v,
   loop_inv k nw e mm -> only_global_changed p mm mm' x v ->
   (forall tp, In tp (subscribed m) -> msg_var (tp_cname tp) <> x) ->
+  (x = nm_in_var m -> forall tp ir, In tp (subscribed m) -> In ir (direct_of m (tp_cname tp)) ->
+     mval_get v (input_leaf ir) = mval_get (global_inputs m p mm) (input_leaf ir)) ->
   (forall b ty, find_var ge x = Some (b, ty) -> mval_has_type ce ty v) ->
   (forall tp, In tp (timed m) -> clock_held p mm' (tp_cname tp) (nw' tp) (held_time tp k)) ->
   loop_inv k nw' e mm'.
 Proof.
-  intros k nw nw' e mm mm' x v I OG NM Tv CL.
+  intros k nw nw' e mm mm' x v I OG NM DIR Tv CL.
+  assert (OG' := OG).
   destruct OG as (bx & tx & Vx & Gx & [Nn No]).
   assert (Lx: get_block mm bx <> None) by (eapply global_var_block; [apply (li_globals I) | eauto]).
   constructor.
@@ -615,6 +622,12 @@ Proof.
     rewrite No; auto. intros E; subst b. apply (NG _ _ _ Vx); auto.
   - exact CL.
   - apply (li_funs I).
+  - intros tp ir Htp Hd. rewrite <- (li_direct I tp ir Htp Hd).
+    destruct (string_dec x (nm_in_var m)) as [Ex|NU].
+    + rewrite <- (DIR Ex tp ir Htp Hd). unfold global_inputs. rewrite <- Ex, (only_global_same _ _ _ _ OG'). reflexivity.
+    + unfold global_inputs.
+      rewrite (global_value_same mm mm' (nm_in_var m)); [reflexivity|]. intros by_ ty V. apply No. intros ->.
+      apply (globalenv_vars_disjoint p (nm_in_var m) x bx ty bx tx V Vx); auto.
 Qed.
 
 
@@ -623,11 +636,12 @@ Lemma inv_change_global:
   loop_inv k nw e mm -> only_global_changed p mm mm' x v ->
   (forall tp, In tp (subscribed m) -> msg_var (tp_cname tp) <> x) ->
   (forall tp y, In tp (timed m) -> In y (clock_names tp) -> y <> x) ->
+  x <> nm_in_var m ->
   (forall b ty, find_var ge x = Some (b, ty) -> mval_has_type ce ty v) ->
   loop_inv k nw e mm'.
 Proof.
-  intros k nw e mm mm' x v I OG NM NC Tv.
-  apply (inv_change_global_gen k nw nw e mm mm' x v I OG NM Tv).
+  intros k nw e mm mm' x v I OG NM NC NU Tv.
+  apply (inv_change_global_gen k nw nw e mm mm' x v I OG NM ltac:(intros E; congruence) Tv).
   intros tp Ht. apply clock_held_same with mm; [|apply (li_clock I tp Ht)].
   intros y Hy. eapply only_global_other; eauto.
 Qed.
@@ -653,6 +667,7 @@ Proof.
   assert (NM: forall tp, In tp (subscribed m) -> msg_var (tp_cname tp) <> new_var (tp_cname tp0)).
   { intros tp Htp. apply (msg_not_clock tp tp0); simpl; auto. }
   apply (inv_change_global_gen k nw _ e mm mm1 (new_var (tp_cname tp0)) (MVscalar (Vint 0)) I OG NM).
+  { intros E. exfalso. apply (proj1 (controller_not_clock tp0 _ Ht0 (or_intror (or_introl eq_refl)))); auto. }
   - intros b ty V. destruct (generate_clock_globals m p tp0 GEN Ht0) as (_ & Fn & _).
     destruct (gen_var m p GEN _ _ Fn) as [b' V']. rewrite V' in V. inversion V; subst.
     constructor; reflexivity.
@@ -703,6 +718,8 @@ Lemma deliver_run:
   mem_wf mm -> globals_typed p mm ->
   (forall tp, In tp (subscribed m) ->
      exists g, global_value p mm (msg_var (tp_cname tp)) = Some g /\ reads_agree tp g (G tp)) ->
+  (forall tp ir, In tp (subscribed m) -> In ir (direct_of m (tp_cname tp)) ->
+     mval_get (global_inputs m p mm) (input_leaf ir) = mval_get (G tp) (path_steps (ir_path ir))) ->
   (forall tp, In tp (timed m) -> clock_held p mm (tp_cname tp) (fst (C tp)) (snd (C tp))) ->
   (forall s a, In (s, a) D ->
      exists tp, In tp (subscribed m) /\ s = sub_of tp /\ mval_has_type ce (Tstruct (tp_msg tp)) (ar_msg a)) ->
@@ -713,18 +730,22 @@ Lemma deliver_run:
   /\ (forall tp, In tp (subscribed m) ->
         exists g, global_value p mm' (msg_var (tp_cname tp)) = Some g
         /\ reads_agree tp g (match last_delivered (sub_of tp) (accepted_in D) with Some a => converted m tp a | None => G tp end))
+  /\ (forall tp ir, In tp (subscribed m) -> In ir (direct_of m (tp_cname tp)) ->
+        mval_get (global_inputs m p mm') (input_leaf ir)
+        = mval_get (match last_delivered (sub_of tp) (accepted_in D) with Some a => converted m tp a | None => G tp end)
+                   (path_steps (ir_path ir)))
   /\ (forall tp, In tp (timed m) ->
         clock_held p mm' (tp_cname tp)
           (match last_delivered (sub_of tp) (accepted_in D) with Some _ => true | None => fst (C tp) end)
           (match last_delivered (sub_of tp) (accepted_in D) with Some a => Some (ar_time a) | None => snd (C tp) end))
   /\ (forall b, get_block mm b <> None -> not_global p b -> get_block mm' b = get_block mm b).
 Proof.
-  intros D; induction D as [|[s a] D IH]; intros w mm G C Wm GT HG HC HD.
+  intros D; induction D as [|[s a] D IH]; intros w mm G C Wm GT HG HU HC HD.
   - exists mm, w. split; [apply deliver_nil|]. split; [auto|]. split; [auto|]. split; [auto|].
-    split; [auto|]. split; [intros tp Ht; exact (HC tp Ht)|auto].
+    split; [auto|]. split; [auto|]. split; [intros tp Ht; exact (HC tp Ht)|auto].
   - destruct (HD s a (or_introl eq_refl)) as (tp' & Htp' & -> & Tmv0).
     destruct (accepted ge (sub_of tp') a) eqn:Acc.
-    2:{ destruct (IH w mm G C Wm GT HG HC) as (mm' & w' & X & R); [intros s0 a0 H0; apply HD; simpl; auto|].
+    2:{ destruct (IH w mm G C Wm GT HG HU HC) as (mm' & w' & X & R); [intros s0 a0 H0; apply HD; simpl; auto|].
         exists mm', w'. split; [apply deliver_rejected; auto|].
         unfold accepted_in; cbn [filter fst snd]; rewrite Acc. exact R. }
     assert (AD: accepted_in ((sub_of tp', a) :: D) = (sub_of tp', a) :: accepted_in D)
@@ -750,17 +771,25 @@ Proof.
     assert (W1: mem_wf m1) by (eapply mem_wf_alloc; eauto).
     destruct (Spec m1 bn mv GT1 Glob G1 ltac:(rewrite types_eq; auto) CS ctx (set_time w (ar_time a)))
       as [[t1 [m2 [w1 [v1 X1]]]] All].
-    destruct (All t1 m2 w1 v1 X1) as (-> & -> & -> & (g' & GC & Tg' & RC)).
-    rewrite types_eq in Tg'.
+    destruct (All t1 m2 w1 v1 X1) as (-> & -> & -> & (g' & u' & GC & Tg' & RC & Tu' & DC)).
+    rewrite types_eq in Tg', Tu'.
     cbn [w_time set_time] in GC.
-    set (l := (msg_var (tp_cname tp'), g') :: clock_update m (tp_cname tp') (ar_time a)) in GC.
+    set (l := (msg_var (tp_cname tp'), g') :: (nm_in_var m, u') :: clock_update m (tp_cname tp') (ar_time a)) in GC.
+    assert (NUm: msg_var (tp_cname tp') <> nm_in_var m) by apply (proj1 (gen_in_out_vars m p GEN tp' Htp')).
     assert (NDl: NoDup (map fst l)).
-    { unfold l, clock_update. destruct (is_timed m (tp_cname tp')); simpl; [|repeat constructor; auto].
+    { unfold l, clock_update. destruct (is_timed m (tp_cname tp')) eqn:T; simpl;
+        [|repeat constructor; simpl; intuition congruence].
+      assert (Ht: In tp' (timed m)) by (apply filter_In; auto).
       destruct (clock_names_distinct (tp_cname tp')) as (A1 & A2 & A3 & A4 & A5 & A6).
-      repeat constructor; simpl; intuition. }
+      destruct (controller_not_clock tp' _ Ht (or_introl eq_refl)) as [C1 _].
+      destruct (controller_not_clock tp' _ Ht (or_intror (or_introl eq_refl))) as [C2 _].
+      destruct (controller_not_clock tp' _ Ht (or_intror (or_intror (or_introl eq_refl)))) as [C3 _].
+      repeat constructor; simpl; intuition congruence. }
     assert (TL: forall x v, In (x, v) l -> forall b ty, find_var ge x = Some (b, ty) -> mval_has_type ce ty v).
-    { intros x v Hx b ty V. unfold l in Hx. destruct Hx as [E|Hx].
+    { intros x v Hx b ty V. unfold l in Hx. destruct Hx as [E|[E|Hx]].
       - inversion E; subst. destruct (msg_global tp' Htp') as [bg Vg]. rewrite Vg in V. inversion V; subst. auto.
+      - inversion E; subst. destruct (generate_externals m p GEN) as (_ & _ & _ & _ & _ & _ & Fu & _).
+        destruct (gen_var m p GEN _ _ Fu) as [bu' Vu']. rewrite Vu' in V. inversion V; subst. auto.
       - unfold clock_update in Hx. destruct (is_timed m (tp_cname tp')) eqn:T; [|contradiction].
         assert (Ht: In tp' (timed m)) by (apply filter_In; auto).
         destruct (generate_clock_globals m p tp' GEN Ht) as (Ft & Fn & Fr).
@@ -791,7 +820,9 @@ Proof.
       - destruct (HG tp Htp) as (g0 & G0 & A0). exists g0. split; [|exact A0]. revert G0.
         unfold l. simpl. destruct (string_dec (msg_var (tp_cname tp)) (msg_var (tp_cname tp'))) as [E'|N'].
         + exfalso. apply E. f_equal. apply msg_var_inj; auto.
-        + unfold clock_update. destruct (is_timed m (tp_cname tp')) eqn:T; simpl.
+        + destruct (string_dec (msg_var (tp_cname tp)) (nm_in_var m)) as [E3|_];
+            [elim (proj1 (gen_in_out_vars m p GEN tp Htp)); auto|].
+          unfold clock_update. destruct (is_timed m (tp_cname tp')) eqn:T; simpl.
           * assert (Ht: In tp' (timed m)) by (apply filter_In; auto).
             assert (NC: forall x, In x (clock_names tp') -> msg_var (tp_cname tp) <> x)
               by (intros x Hx; apply (msg_not_clock tp tp' x); auto).
@@ -806,6 +837,9 @@ Proof.
       - assert (tp' = tp) by (apply callback_inj; auto; [apply timed_subscribed; auto|inversion E; auto]).
         subst tp'. assert (T: is_timed m (tp_cname tp) = true) by (apply (gen_timed_is m); auto).
         destruct (clock_names_distinct (tp_cname tp)) as (A1 & A2 & A3 & A4 & A5 & A6).
+        destruct (controller_not_clock tp _ Ht (or_introl eq_refl)) as [C1 _].
+        destruct (controller_not_clock tp _ Ht (or_intror (or_introl eq_refl))) as [C2 _].
+        destruct (controller_not_clock tp _ Ht (or_intror (or_intror (or_introl eq_refl)))) as [C3 _].
         unfold clock_held. cbn [fst snd]. rewrite !GV3, !GV2. unfold l, clock_update. rewrite T. simpl.
         repeat split.
         + repeat (destruct (string_dec _ _); try congruence).
@@ -815,7 +849,8 @@ Proof.
         intros x Hx. rewrite GV3, GV2, GV1. unfold l. simpl.
         destruct (string_dec x (msg_var (tp_cname tp'))) as [Ex|Nx].
         + exfalso. apply (msg_not_clock tp' tp x); auto; congruence.
-        + unfold clock_update. destruct (is_timed m (tp_cname tp')) eqn:T; simpl; auto.
+        + destruct (string_dec x (nm_in_var m)) as [Ex2|_]; [exfalso; apply (proj1 (controller_not_clock tp x Ht Hx)); auto|].
+          unfold clock_update. destruct (is_timed m (tp_cname tp')) eqn:T; simpl; auto.
           assert (Ht': In tp' (timed m)) by (apply filter_In; auto).
           assert (NC: forall y, In y (clock_names tp') -> x <> y).
           { intros y Hy Exy. subst y. apply E. f_equal. apply (clock_name_topic tp' tp x); auto. }
@@ -824,13 +859,39 @@ Proof.
           destruct (string_dec _ (rcvd_var _)) as [E2|_];
             [elim (NC _ (or_intror (or_intror (or_introl eq_refl)))); auto|].
           auto. }
-    destruct (IH (set_time w (ar_time a)) m3 G1f C1f (mem_wf_free _ _ W2) GT3 HG3 HC3)
-      as (mm' & w' & X & NS & W' & GT' & HG' & HC' & Fr').
+    assert (HU3: forall tp ir, In tp (subscribed m) -> In ir (direct_of m (tp_cname tp)) ->
+              mval_get (global_inputs m p m3) (input_leaf ir) = mval_get (G1f tp) (path_steps (ir_path ir))).
+    { intros tp ir Htp Hd.
+      assert (GU3: global_inputs m p m3 = u').
+      { unfold global_inputs. rewrite GV3, GV2. unfold l. simpl.
+        destruct (string_dec (nm_in_var m) (msg_var (tp_cname tp'))) as [E|_]; [congruence|].
+        destruct (string_dec (nm_in_var m) (nm_in_var m)); [reflexivity|congruence]. }
+      rewrite GU3. unfold G1f. destruct DC as [DC1 DC2].
+      destruct (sub_eq (sub_of tp') (sub_of tp)) as [E|E].
+      - assert (tp' = tp) by (apply callback_inj; auto; inversion E; auto). subst tp'. apply DC1; auto.
+      - rewrite DC2.
+        + rewrite <- (HU tp ir Htp Hd). unfold global_inputs. rewrite GV1. reflexivity.
+        + intros ir' Hd'. apply (input_leaves_distinct m p GEN).
+          * apply direct_of_In in Hd'; tauto.
+          * apply direct_of_In in Hd; tauto.
+          * intros ->. apply direct_of_In in Hd' as (_ & E1 & _). apply direct_of_In in Hd as (_ & E2 & _).
+            apply E. f_equal.
+            apply (NoDup_map_inj_in _ _ tp_cname (nm_topics m)); auto.
+            -- apply wf_cnames_nodup; auto.
+            -- apply in_subscribed in Htp'; tauto.
+            -- apply in_subscribed in Htp; tauto.
+            -- congruence. }
+    destruct (IH (set_time w (ar_time a)) m3 G1f C1f (mem_wf_free _ _ W2) GT3 HG3 HU3 HC3)
+      as (mm' & w' & X & NS & W' & GT' & HG' & HU' & HC' & Fr').
     { intros s0 mv0 H0. apply HD; simpl; auto. }
-    exists mm', w'. refine (conj _ (conj NS (conj W' (conj GT' (conj _ (conj _ _)))))).
+    exists mm', w'. refine (conj _ (conj NS (conj W' (conj GT' (conj _ (conj _ (conj _ _))))))).
     + change (@nil event) with (@nil event ++ @nil event). econstructor; [exact Acc|cbn [sub_msgty sub_of]; rewrite Dv; exact AL|eauto..].
     + intros tp Htp. destruct (HG' tp Htp) as (g & Gg & Ag). exists g; split; [exact Gg|]. revert Ag.
       cbn [last_delivered]. unfold G1f.
+      destruct (last_delivered (sub_of tp) (accepted_in D)); auto.
+      destruct (sub_eq (sub_of tp') (sub_of tp)) as [E|]; auto.
+      assert (tp' = tp) by (apply callback_inj; auto; inversion E; auto). subst tp'. auto.
+    + intros tp ir Htp Hd. rewrite (HU' tp ir Htp Hd). cbn [last_delivered]. unfold G1f.
       destruct (last_delivered (sub_of tp) (accepted_in D)); auto.
       destruct (sub_eq (sub_of tp') (sub_of tp)) as [E|]; auto.
       assert (tp' = tp) by (apply callback_inj; auto; inversion E; auto). subst tp'. auto.
@@ -887,8 +948,8 @@ Proof.
   intros k r s e mm I.
   set (D := deliverable subs_of (ctx_arrivals ctx k)).
   destruct (deliver_run D (wld k r s) mm (fun tp => held m ctx tp k) (fun tp => (false, held_time tp k))
-              (li_wf I) (li_globals I) (li_msgs I) (li_clock I))
-    as (mm' & w' & X & NS & W' & GT' & HG' & HC' & Fr').
+              (li_wf I) (li_globals I) (li_msgs I) (li_direct I) (li_clock I))
+    as (mm' & w' & X & NS & W' & GT' & HG' & HU' & HC' & Fr').
   { intros s0 a H0. apply In_deliverable in H0. destruct H0 as (Hs & Ha & Et).
     unfold subs_of in Hs. apply in_map_iff in Hs. destruct Hs as (tp & <- & Htp).
     exists tp; repeat split; auto. eapply AWT; eauto. }
@@ -908,6 +969,7 @@ Proof.
       unfold arrived_at, arrived. cbn [held_time]. rewrite newest_time_step.
       destruct (last_on (tp_name tp) (received_on m tp (ctx_arrivals ctx k))); auto.
     + apply (li_funs I).
+    + intros tp ir Htp Hd. rewrite (HU' tp ir Htp Hd), LD by auto. simpl. rewrite newest_step. reflexivity.
 Qed.
 
 (** *** [input_glue], [Controller_step], output glue and publication *)
@@ -954,7 +1016,7 @@ Proof.
             clock_held p mm (tp_cname tp) (fst (clock_at k (tp_cname tp))) (snd (clock_at k (tp_cname tp)))).
   { intros tp Ht. rewrite clock_at_topic by (apply timed_subscribed; auto). apply (li_clock I tp Ht). }
   destruct (Spec mm (clock_at k) (li_globals I) CK CS ctx (wld (S k) r s)) as [[t [mm' [w' [v X]]]] All].
-  destruct (All _ _ _ _ X) as (-> & -> & -> & (u & GC & Tu & Rel & Der)).
+  destruct (All _ _ _ _ X) as (-> & -> & -> & (u & GC & Tu & Rel & Der & Dir)).
   rewrite types_eq in Tu.
   cbn [w_time wld] in Rel, Der.
   inversion GC as [|? mm1 ? ? ? ? OG GC']; subst.
@@ -964,7 +1026,17 @@ Proof.
     + eapply fun_not_var; eauto.
     + simpl. unfold type_of_function. rewrite Fpar, Fret. auto.
   - split; [auto|split].
-    + intros ir Hir. destruct (Rel ir Hir) as (g & v & GV & Gg & Gv).
+    + intros ir Hir. destruct (is_direct m ir) eqn:D.
+      { destruct (input_exprs m ir W Hir) as (tp & t & q & _ & Ec & Hs & _).
+        assert (Hd: In ir (direct_of m (tp_cname tp))) by (apply direct_of_In; auto).
+        destruct (gen_input_leaf_scalar m p GEN ir u Hir Tu) as (v & Gv).
+        exists tp, v. repeat split; auto.
+        - change (newest m ctx tp k) with (held m ctx tp (S k)).
+          rewrite <- (li_direct I tp ir Hs Hd), <- (Dir ir Hir D). exact Gv.
+        - unfold fed_value. rewrite (direct_no_fallback m p GEN ir Hir D).
+          destruct (stale _ _ _ _); exact Gv. }
+      assert (Hg: In ir (glue_inrels m)) by (apply glue_inrels_In; auto).
+      destruct (Rel ir Hg) as (g & v & GV & Gg & Gv).
       destruct (input_exprs m ir W Hir) as (tp & t & q & _ & Ec & Hs & _).
       exists tp, v. repeat split; auto.
       * rewrite <- Ec in GV. destruct (li_msgs I tp Hs) as (g' & Gg' & Ag). rewrite Gg' in GV. inversion GV; subst g'.
@@ -979,12 +1051,14 @@ Proof.
     + rewrite map_map. simpl. intros Hx. apply in_map_iff in Hx. destruct Hx as (tp & E & Ht).
       apply (proj1 (controller_not_clock tp _ Ht (or_intror (or_introl eq_refl)))). auto.
   - assert (I1: loop_inv (S k) (arrived_at k) e mm1).
-    { apply (inv_change_global (S k) (arrived_at k) e mm mm1 (nm_in_var m) u I OG).
+    { apply (inv_change_global_gen (S k) (arrived_at k) (arrived_at k) e mm mm1 (nm_in_var m) u I OG).
       + intros tp Htp E. apply (proj1 (gen_in_out_vars m p GEN tp Htp)); auto.
-      + intros tp y Ht Hy. apply (controller_not_clock tp y Ht Hy).
+      + intros _ tp ir Htp Hd. apply direct_of_In in Hd as (Hir & _ & D). apply Dir; auto.
       + intros b ty' V. destruct (generate_externals m p GEN) as (_ & _ & _ & _ & _ & _ & Fu & _).
         destruct (gen_var m p GEN _ _ Fu) as [bu' Vu'].
-        rewrite V in Vu'. inversion Vu'; subst. auto. }
+        rewrite V in Vu'. inversion Vu'; subst. auto.
+      + intros tp Ht. apply clock_held_same with mm; [|apply (li_clock I tp Ht)].
+        intros y Hy. eapply only_global_other; eauto. apply (proj1 (controller_not_clock tp y Ht Hy)). }
     generalize (inv_resets (S k) (timed m) (arrived_at k) e mm1 mm' (incl_refl _) I1 GC').
     apply loop_inv_ext. intros tp Ht.
     replace (existsb (fun t => ident_eqb (tp_cname t) (tp_cname tp)) (timed m)) with true; auto.
@@ -1037,6 +1111,7 @@ Proof.
       split; auto. intros b' N. unfold get_block, mm'; simpl. apply pgso; auto.
     + intros tp Htp E. apply (proj2 (gen_in_out_vars m p GEN tp Htp)); auto.
     + intros tp y' Ht Hy. apply (controller_not_clock tp y' Ht Hy).
+    + intros E. destruct (wf_controller_vars_fresh m W) as (NUY & _ & _). apply NUY; auto.
     + intros b ty V. rewrite Vy in V. inversion V; subst. auto.
 Qed.
 
@@ -1079,6 +1154,9 @@ Proof.
   - intros tp' Ht. apply clock_held_same with mm; [|apply (li_clock I tp' Ht)].
     intros y Hy. apply global_value_same. intros by_ ty V. apply O1. intros ->. apply (NG _ _ _ V); auto.
   - apply (li_funs I).
+  - intros tp' ir Htp' Hd. rewrite <- (li_direct I tp' ir Htp' Hd). unfold global_inputs.
+    rewrite (global_value_same mm mm1 (nm_in_var m)); [reflexivity|].
+    intros by_ ty V. apply O1. intros ->. apply (NG _ _ _ V); auto.
 Qed.
 
 (** The published message depends on the held messages only through
@@ -1336,6 +1414,10 @@ Proof.
     apply in_map_iff in Hv. destruct Hv as (tp & Ex & Htp).
     apply (generate_locals_fresh m p x GEN); auto.
     unfold local_names. rewrite !in_app_iff. right; right. subst x. apply in_map_iff; eauto.
+  - intros tp ir Htp Hd. destruct (generate_externals m p GEN) as (_ & _ & _ & _ & _ & _ & Fu & _).
+    destruct (gen_var m p GEN _ _ Fu) as [bu Vu]. destruct (GI _ _ _ Vu) as [Gu _].
+    unfold global_inputs, global_value. rewrite Vu, Gu. cbn [held].
+    exact (gen_zero_direct m p GEN tp ir Htp Hd).
 Qed.
 
 Lemma subs_run:

@@ -376,8 +376,42 @@ Qed.
     topic with C name [c]: those that its input relations name, and the
     [sec] and [nsec] of a stamp copied from [c] (rule 4.13).  The
     topic's callback copies these leaves of a message, and only these. *)
+(** A subscribed topic is timed (rule 4.12) when it has a timeout or a
+    derived input: the glue keeps its clock. *)
+Definition is_timed (m : node_model) (c : ident) : bool :=
+  existsb (fun ct => ident_eqb (fst ct) c) (nm_timeouts m)
+  || existsb (fun dr => ident_eqb (dr_topic dr) c) (nm_drels m).
+
+(** ** Direct input relations (rule 4.16) *)
+
+(** Whether a path goes through an array element ([ranges.data[5]]). *)
+Definition has_index (p : path) : bool :=
+  existsb (fun s => match s with PIndex _ => true | PField _ => false end) p.
+
+(** An input relation is direct when its message leaf is an array
+    element and its topic is not timed: the topic's callback then writes
+    the leaf straight into [Controller_U], and [input_glue] does not copy
+    it (one copy of a 1,081-element scan instead of two).  Any other
+    input relation goes through the topic's global [c_msg] and
+    [input_glue], as in the paper's Figures 10 and 12. *)
+Definition is_direct (m : node_model) (ir : inrel) : bool :=
+  has_index (ir_path ir) && negb (is_timed m (ir_topic ir)).
+
+(** The input relations that [input_glue] copies, in model order. *)
+Definition glue_inrels (m : node_model) : list inrel :=
+  filter (fun ir => negb (is_direct m ir)) (nm_inrels m).
+
+(** The direct input relations of the topic with C name [c], in model
+    order: what its callback writes into [Controller_U]. *)
+Definition direct_of (m : node_model) (c : ident) : list inrel :=
+  filter (fun ir => ident_eqb (ir_topic ir) c && is_direct m ir) (nm_inrels m).
+
+(** The leaves of the messages of the topic with C name [c] that the
+    glue keeps in the topic's global [c_msg]: those of its input
+    relations that are not direct, and the [sec] and [nsec] of a stamp
+    copied from it (rule 4.13). *)
 Definition read_paths (m : node_model) (c : ident) : list path :=
-  (map ir_path (filter (fun ir => ident_eqb (ir_topic ir) c) (nm_inrels m))
+  (map ir_path (filter (fun ir => ident_eqb (ir_topic ir) c) (glue_inrels m))
   ++ flat_map (fun sf => if ident_eqb (fst (snd sf)) c
                          then [(snd (snd sf) ++ [PField "sec"])%list; (snd (snd sf) ++ [PField "nsec"])%list]
                          else []) (nm_stamp_from m))%list.
@@ -392,11 +426,29 @@ Proof.
   - intros H. exists lp; split; auto. apply path_eqb_iff; auto.
 Qed.
 
-Lemma inrel_read: forall m ir, In ir (nm_inrels m) -> In (ir_path ir) (read_paths m (ir_topic ir)).
+Lemma inrel_read: forall m ir, In ir (glue_inrels m) -> In (ir_path ir) (read_paths m (ir_topic ir)).
 Proof.
   intros m ir H. unfold read_paths. apply in_or_app; left. apply in_map.
   apply filter_In; split; auto. apply ident_eqb_refl.
 Qed.
+
+Lemma glue_inrels_In:
+  forall m ir, In ir (glue_inrels m) <-> In ir (nm_inrels m) /\ is_direct m ir = false.
+Proof.
+  intros m ir. unfold glue_inrels. rewrite filter_In, negb_true_iff. tauto.
+Qed.
+
+Lemma direct_of_In:
+  forall m c ir, In ir (direct_of m c) <-> In ir (nm_inrels m) /\ ir_topic ir = c /\ is_direct m ir = true.
+Proof.
+  intros m c ir. unfold direct_of. rewrite filter_In, andb_true_iff.
+  split; intros (A & B & C); repeat split; auto.
+  - apply ident_eqb_true; auto.
+  - subst c. apply ident_eqb_refl.
+Qed.
+
+Lemma incl_glue_inrels: forall m, incl (glue_inrels m) (nm_inrels m).
+Proof. intros m ir H. apply glue_inrels_In in H. tauto. Qed.
 
 Lemma stamp_from_read:
   forall m t s sp, In (t, (s, sp)) (nm_stamp_from m) ->

@@ -124,11 +124,8 @@ End TABLES.
 
 (** ** Timed topics *)
 
-(** A subscribed topic is timed (rule 4.12) when it has a timeout or a
-    derived input: the glue keeps its clock. *)
-Definition is_timed (m : node_model) (c : ident) : bool :=
-  existsb (fun ct => ident_eqb (fst ct) c) (nm_timeouts m)
-  || existsb (fun dr => ident_eqb (dr_topic dr) c) (nm_drels m).
+(** [is_timed] (rule 4.12) is defined in [NodeModel], since the direct
+    input relations (rule 4.16) and [read_paths] depend on it. *)
 
 Definition timed (m : node_model) : list topic :=
   filter (fun tp => is_timed m (tp_cname tp)) (subscribed m).
