@@ -12,6 +12,7 @@ name carried scalar leaves, and all derived C names are distinct.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 from typing import NamedTuple
 
@@ -40,6 +41,7 @@ __all__ = [
     "OutputRelation",
     "StringConstant",
     "NodeModel",
+    "is_direct",
 ]
 
 SUBSCRIBE = "subscribe"
@@ -55,6 +57,22 @@ class Pos(NamedTuple):
 
 
 _NOPOS = Pos(0, 0)
+
+
+def is_direct(path: FieldPath | str, timed: bool) -> bool:
+    """Whether an input relation on message leaf ``path`` (a
+    :class:`FieldPath`, or a path as the model text prints it:
+    ``ranges.data[5]``) of a topic that is ``timed`` or not (rule 4.12) is
+    *direct* (rule 4.16, ``NodeModel.is_direct``): its topic is not timed
+    and its path has an index step (an element of a fixed-size array, of
+    a variable-length array or of a string: ``ranges.data[5]``,
+    ``pose.covariance[35]``, ``header.frame_id.data[3]``; not
+    ``ranges.len``, not ``twist.linear.x``).  The topic's callback writes
+    a direct relation's controller input straight from ``*msg``;
+    ``input_glue`` does not copy it.  The one definition of the rule in
+    Python: :meth:`NodeModel.is_direct` and the certificate's
+    (``ProvedModel.is_direct``) both call it."""
+    return not timed and "[" in str(path)
 
 
 #: The largest size of a controller array (rule 4.15; ``Wellformed``'s
@@ -612,16 +630,50 @@ class NodeModel:
         return leaf_paths(msg_name, {m.name: m for m in self.messages})
 
     def read_leaves(self, topic: Topic) -> tuple[FieldPath, ...]:
-        """The leaves of subscribed ``topic``'s messages that the node reads,
-        in the order of :meth:`leaf_paths`: those its input relations name
-        and the ``sec``/``nsec`` of a stamp copied from it (rule 4.13).
-        Its callback copies these and only these
-        (``Generator.read_leaves``, ``NodeModel.read_paths``)."""
-        read = {tuple(r.path.steps) for r in self.input_relations if r.topic.name == topic.name}
+        """The leaves of subscribed ``topic``'s messages that the node reads
+        through the topic's global ``<c>_msg``, in the order of
+        :meth:`leaf_paths`: those its non-direct input relations name
+        (:meth:`glue_relations`; a direct one, rule 4.16, is written by the
+        callback straight into the controller's inputs) and the
+        ``sec``/``nsec`` of a stamp copied from it (rule 4.13).  Its
+        callback copies these and only these into ``<c>_msg``
+        (``Generator.read_leaves``, ``NodeModel.read_paths``, which
+        exclude the direct relations)."""
+        read = {tuple(r.path.steps) for r in self.glue_relations if r.topic.name == topic.name}
         for _, (src, stamp) in self.stamp_from:
             if src == topic.c_name:
                 read |= {(*stamp, "sec"), (*stamp, "nsec")}
         return tuple(p for p in self.leaf_paths(topic.msg_type) if tuple(p.steps) in read)
+
+    def is_direct(self, r: InputRelation) -> bool:
+        """Whether input relation ``r`` is *direct* (rule 4.16,
+        ``NodeModel.is_direct``, :func:`is_direct`): its topic is not
+        timed (:attr:`timed_topics`) and its path has an index step.  The
+        topic's callback copies it from ``*msg`` into the controller's
+        inputs; ``input_glue`` does not, and its leaf is not copied into
+        the topic's global for it."""
+        return is_direct(r.path, r.topic.name in self._timed_names)
+
+    def direct_relations(self, topic: Topic | str) -> tuple[InputRelation, ...]:
+        """The direct input relations (rule 4.16) of subscribed ``topic``
+        (a Topic or its graph name), in model order: what its callback
+        copies into the controller's inputs after its copies into
+        ``<c>_msg`` (``NodeModel.direct_of``)."""
+        name = topic if isinstance(topic, str) else topic.name
+        return tuple(r for r in self.input_relations if r.topic.name == name and self.is_direct(r))
+
+    @property
+    def glue_relations(self) -> tuple[InputRelation, ...]:
+        """The input relations that are not direct (rule 4.16), in model
+        order: those ``input_glue`` copies from the topics' globals into
+        the controller's inputs (``NodeModel.glue_inrels``)."""
+        return tuple(r for r in self.input_relations if not self.is_direct(r))
+
+    @cached_property
+    def _timed_names(self) -> frozenset[str]:
+        """The graph names of :attr:`timed_topics` (computed once: every
+        relation asks)."""
+        return frozenset(t.name for t in self.timed_topics)
 
     @property
     def timed_topics(self) -> tuple[Topic, ...]:

@@ -19,7 +19,7 @@ import re
 from dataclasses import dataclass, field
 
 from pyrosgen.errors import DetailedFailure
-from pyrosgen.frontend.model import DERIVED_KINDS, NodeModel, TopicNames
+from pyrosgen.frontend.model import DERIVED_KINDS, NodeModel, TopicNames, is_direct
 from pyrosgen.frontend.msgmodel import MsgField, msg_c_name
 
 __all__ = [
@@ -218,6 +218,19 @@ class ProvedModel:
             if t.c_name == c_name:
                 return t
         raise MalformedModelText(f"the proved model has no topic {c_name!r}")
+
+    @property
+    def timed(self) -> frozenset[str]:
+        """The C names of the timed topics (rule 4.12): those with a
+        timeout or a derived input."""
+        return frozenset({c for c, _ in self.timeouts} | {c for c, _, _ in self.derived_inputs})
+
+    def is_direct(self, topic_c: str, path: str) -> bool:
+        """Whether the input relation on ``path`` of topic ``topic_c`` is
+        direct (rule 4.16, :func:`pyrosgen.frontend.model.is_direct`): its
+        callback writes it into the controller's inputs, ``input_glue``
+        does not."""
+        return is_direct(path, topic_c in self.timed)
 
     def input_type(self, target: str) -> str:
         """The type of controller input ``target`` as a relation names it

@@ -252,25 +252,31 @@ def contracts(model: NodeModel) -> list[Contract]:
     globs = [name for _, name in _globals(model)] + [b.var for b in _BOXES.values()]
     timed = {t.name for t in model.timed_topics}
     out: list[Contract] = []
+    u = model.controller.inputs
     for t in model.subscribed:
         sep = tuple(f"&{g}" for g in globs)
         read = model.read_leaves(t)
+        direct = model.direct_relations(t)
         ens = tuple(_same(p.prim, p.c_access(t.msg_var), f"\\old({p.c_access('msg', arrow=True)})")
                     for p in read)
+        # rule 4.16: the direct relations, from *msg into the controller's inputs
+        ens += tuple(_same(r.path.prim, f"{u.var_name}.{r.input_target}",
+                           f"\\old({r.path.c_access('msg', arrow=True)})") for r in direct)
         clock = ((f"{t.time_var} == \\old({CLOCK})", f"{t.new_var} == 1", f"{t.rcvd_var} == 1")
                  if t.name in timed else ())
         assigns = (*(p.c_access(t.msg_var) for p in read),
+                   *(f"{u.var_name}.{r.input_target}" for r in direct),
                    *((t.time_var, t.new_var, t.rcvd_var) if t.name in timed else ()))
+        valid = dict.fromkeys(p.c_access("msg", arrow=True) for p in (*read, *(r.path for r in direct)))
         out.append(Contract(
             name=t.callback,
             proto=f"void {t.callback}(struct {t.msg_struct} *msg)",
             requires=("\\valid_read(msg)", f"\\separated(msg, {', '.join(sep)})",
-                      *(f"\\valid_read(&{p.c_access('msg', arrow=True)})" for p in read)),
+                      *(f"\\valid_read(&{a})" for a in valid)),
             assigns=assigns or ("\\nothing",),
             ensures=ens + clock, pointer="msg", separated=sep))
-    u = model.controller.inputs
     ens, assigned = [], []
-    for r in model.input_relations:
+    for r in model.glue_relations:  # rule 4.16: the direct ones are the callbacks'
         dst = f"{u.var_name}.{r.input_target}"  # Controller_U.In1, Controller_U.Scan[540] (rule 4.15)
         assigned.append(dst)
         same = _same(r.path.prim, dst, f"\\old({r.path.c_access(r.topic.msg_var)})")

@@ -437,19 +437,38 @@ def _freshness(pm: ProvedModel, c_text: str) -> dict:
 
 def _relations(pm: ProvedModel, c_text: str) -> tuple[list[dict], list[dict]]:
     """The rows of the relation sections, from the proved model and the
-    printed C."""
+    printed C.  An input relation is copied by its topic's callback into
+    the topic's global (``cb_lines``), then by ``input_glue`` into the
+    controller's inputs (``lines``); a direct one (rule 4.16:
+    :meth:`ProvedModel.is_direct`) by its callback alone, from ``*msg``
+    straight into the controller's inputs (``cb_lines``; ``direct`` is
+    true, ``lines`` empty).  A direct relation whose callback does not
+    read its leaf of ``*msg``, or that ``input_glue`` copies too, is a
+    :class:`CertificateError`."""
     lines = _Copies(c_text.splitlines())
     spans = _function_spans(c_text)
+    glue = _span(spans, "input_glue")
     inputs = []
     for topic_c, path, fld in pm.input_relations:
         t = pm.topic(topic_c)
         cb = _span(spans, t.callback)
         dst = f"{pm.inputs_var}.{fld}"
-        inputs.append({
-            "src": f"{t.name} {path}", "dst": dst, "type": pm.input_type(fld),
-            "callback": t.callback, "cb_lines": _copy_lines(lines, cb, f"{t.msg_var}.{path}"),
-            "lines": _copy_lines(lines, _span(spans, "input_glue"), dst),
-        })
+        row = {"src": f"{t.name} {path}", "dst": dst, "type": pm.input_type(fld), "callback": t.callback,
+               "direct": pm.is_direct(topic_c, path)}
+        if row["direct"]:
+            row["cb_lines"] = _copy_lines(lines, cb, dst)
+            row["lines"] = []
+            src = row["cb_lines"][0][1]
+            if not (src.startswith("_t_") and src.endswith(f" = (*msg).{path};")):
+                raise CertificateError(f"certificate: the callback {t.callback} does not copy {dst} from "
+                                       f"(*msg).{path}", [f"  line {row['cb_lines'][0][0]}: {src}"])
+            if any(glue[0] < n <= glue[1] for n in lines.by_dst.get(dst, ())):
+                raise CertificateError(f"certificate: input_glue copies {dst}, a direct relation (rule 4.16) "
+                                       f"that only the callback {t.callback} writes")
+        else:
+            row["cb_lines"] = _copy_lines(lines, cb, f"{t.msg_var}.{path}")
+            row["lines"] = _copy_lines(lines, glue, dst)
+        inputs.append(row)
     outputs = []
     for fld, topic_c, path in pm.output_relations:
         t = pm.topic(topic_c)
