@@ -211,7 +211,7 @@ Definition m_no_last : program := on_function "scan_callback" drop_last_copy ech
 Theorem m_no_last_refuted: ~ node_ddc echo m_no_last.
 Proof. apply (erefute _ 4). vm_compute. reflexivity. Qed.
 
-(** (c3) the element relations copied by [input_glue] as well, from the
+(** (c5) the element relations copied by [input_glue] as well, from the
     topic's global (a generator that made them direct, rule 4.16, in the
     callback but forgot to leave them out of [input_glue]): the global
     no longer holds the elements, so [input_glue] overwrites what the
