@@ -224,8 +224,8 @@ Definition direct_copied (m : node_model) (tp : topic) (mv u0 u : mval) : Prop :
 (** The callback of a subscribed topic [tp] (the paper's Figure 10): called
     with a pointer to a block holding a message [mv] of the topic's type
     (a block that is not a global, as [ros_spinOnce] provides), it copies
-    into the topic's global [c_msg] the leaves of [mv] that the node
-    keeps there, and leaves the other leaves of [c_msg] as they were
+    into the topic's global [c_msg] the leaves of [mv] that the glue
+    keeps there ([read_paths]), and leaves the other leaves of [c_msg] as they were
     ([reads_copied]); it writes the leaves of its direct input relations
     (rule 4.16) into [Controller_U] and leaves the rest of
     [Controller_U] as it was ([direct_copied]); if the topic is timed, it
