@@ -248,13 +248,23 @@ def test_scalar_models_keep_mkinrel(tmp_path):
 
 
 def test_acsl_contracts_name_the_elements(tmp_path):
+    """The element relations are direct (rule 4.16: untimed topics): the
+    callbacks' contracts assign and state them, from ``*msg``; input_glue's
+    only the length."""
     m = load(tmp_path, BASE)
     cs = {c.name: c for c in contracts(m)}
     glue = cs["input_glue"]
-    assert "Controller_U.Scan[7]" in glue.assigns and "Controller_U.Pc[1]" in glue.assigns
+    assert glue.assigns == ("Controller_U.N",)
+    assert glue.ensures == ("Controller_U.N == \\old(scan_msg.ranges.len)",)
+    scan = cs["scan_callback"]
+    assert "Controller_U.Scan[7]" in scan.assigns and "Controller_U.Pc[1]" in scan.assigns
     assert ("{ rosgen_wp_f32 \\with .v = Controller_U.Scan[2] } == "
-            "{ rosgen_wp_f32 \\with .v = \\old(scan_msg.ranges.data[2]) }") in glue.ensures
-    assert "Controller_U.Frame[3] == \\old(scan_msg.header.frame_id.data[3])" in glue.ensures
+            "{ rosgen_wp_f32 \\with .v = \\old(msg->ranges.data[2]) }") in scan.ensures
+    assert ("{ rosgen_wp_f32 \\with .v = Controller_U.Pc[1] } == "
+            "{ rosgen_wp_f32 \\with .v = \\old(msg->ranges.data[0]) }") in scan.ensures
+    assert "Controller_U.Frame[3] == \\old(msg->header.frame_id.data[3])" in scan.ensures
+    assert "\\valid_read(&msg->header.frame_id.data[15])" in scan.requires
+    assert "Controller_U.Cov[35]" in cs["pose_callback"].assigns
     echo = cs["output_glue_echo"]
     assert ("{ rosgen_wp_f32 \\with .v = command->data.data[6] } == "
             "{ rosgen_wp_f32 \\with .v = \\old(Controller_Y.Echo[6]) }") in echo.ensures
