@@ -89,15 +89,18 @@ def _body(c: str, head: str) -> list[str]:
 def test_the_glue_copies_element_by_element(arrays):
     out, _ = arrays
     c = (out / f"{NODE}_glue.c").read_text()
+    # the elements are direct relations (rule 4.16: /scan is not timed):
+    # the callback copies them once, from *msg into ScanArr_U, after the
+    # length into scan_msg; input_glue copies only the length
+    lines = _body(c, "void scan_callback(struct sensor_msgs_LaserScan *msg)")
+    assert lines[2:] == ["unsigned int _t_uint;", "float _t_float;", "_t_uint = (*msg).ranges.len;",
+                         "scan_msg.ranges.len = _t_uint;",
+                         *(ln for i in range(N) for ln in (f"_t_float = (*msg).ranges.data[{i}];",
+                                                           f"ScanArr_U.Scan[{i}] = _t_float;")),
+                         "_t_float = (*msg).ranges.data[7];", "ScanArr_U.Last[0] = _t_float;",
+                         "_t_float = (*msg).ranges.data[6];", "ScanArr_U.Last[1] = _t_float;"]
     lines = _body(c, "void input_glue(void)")
-    for i in range(N):
-        k = lines.index(f"_t_float = scan_msg.ranges.data[{i}];")
-        assert lines[k + 1] == f"ScanArr_U.Scan[{i}] = _t_float;"
-    for i, j in ((7, 0), (6, 1)):
-        k = lines.index(f"ScanArr_U.Last[{j}] = _t_float;")
-        assert lines[k - 1] == f"_t_float = scan_msg.ranges.data[{i}];"
-    k = lines.index("ScanArr_U.NScan = _t_uint;")
-    assert lines[k - 1] == "_t_uint = scan_msg.ranges.len;"
+    assert lines[2:] == ["unsigned int _t_uint;", "_t_uint = scan_msg.ranges.len;", "ScanArr_U.NScan = _t_uint;"]
     lines = _body(c, "void output_glue_echo(struct std_msgs_Float32MultiArray *command)")
     for i in range(N):
         k = lines.index(f"_t_float = ScanArr_Y.Echo[{i}];")
@@ -165,7 +168,8 @@ def test_wp_proves_the_contracts(arrays, tmp_path):
     res = run_wp(model, out / f"{NODE}_glue.c", out / f"{NODE}_types.h", tmp_path / "wp")
     assert res.ok and res.proved == res.total
     cs = {c.name: c for c in contracts(model)}
-    assert "ScanArr_U.Scan[7]" in cs["input_glue"].assigns
+    assert "ScanArr_U.Scan[7]" in cs["scan_callback"].assigns    # rule 4.16
+    assert cs["input_glue"].assigns == ("ScanArr_U.NScan",)
     for c in cs.values():
         assert f"typed_{c.name}_ensures : Valid" in res.output, c.name
 

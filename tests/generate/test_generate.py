@@ -213,8 +213,12 @@ def test_structs_only_in_the_header(generated):
 def test_multi_glue_shape(generated):
     c = _files(generated, "multi")["c"].read_text()
     body = _function(c, "void input_glue(void)")
-    assert "_t_double = odom_msg.pose.covariance[35];" in body
-    assert body[body.index("_t_double = odom_msg.pose.covariance[35];") + 1] == "Fusion_U.YawVar = _t_double;"
+    # pose.covariance[35] of the untimed /odom is a direct relation (rule
+    # 4.16): its callback copies it into Fusion_U, input_glue does not
+    odom = _function(c, "void odom_callback(struct nav_msgs_Odometry *msg)")
+    assert odom[odom.index("_t_double = (*msg).pose.covariance[35];") + 1] == "Fusion_U.YawVar = _t_double;"
+    assert not any("covariance" in ln or ln.startswith("Fusion_U.YawVar") for ln in body)
+    assert "odom_msg.pose.covariance[35] = _t_double;" not in odom
     assert "_t_uchar = safety_estop_msg.engaged;" in body
     assert "_t_float = range_front_msg.range;" in body
     assert "_t_int = safety_estop_msg.hold_time.sec;" in body
@@ -350,7 +354,9 @@ def test_certificate_claims_match_the_files(generated, key):
         head = f"### `{r.topic.name} {r.path}` → `{uvar}.{r.input_field}` ({r.path.prim})"
         assert head in cert
         block = cert.split(head, 1)[1].split("###", 1)[0]
-        src = r.path.c_access(r.topic.msg_var)
+        # a direct relation (rule 4.16) is copied by its callback, from *msg
+        src = r.path.c_access("(*msg)" if model.is_direct(r) else r.topic.msg_var)
+        assert ("Written by the callback" in block) == model.is_direct(r)
         assert re.search(rf"\*/ (_t_\w+) = {re.escape(src)};\n/\* \S+ \*/ {re.escape(uvar)}\.{r.input_field} = \1;", block)
     for r in model.output_relations:
         head = f"### `{yvar}.{r.output_field}` → `{r.topic.name} {r.path}` ({r.path.prim})"
