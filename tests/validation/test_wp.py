@@ -45,14 +45,19 @@ def test_wp_proves_the_examples(generated, key, tmp_path):
     # every function contributes an ensures goal, an assigns goal per write, RTE goals per access
     for c in cs:
         assert f"typed_{c.name}_ensures : Valid" in res.output, c.name
-    # a callback assigns exactly the leaves the node reads, each ensured
-    # equal to the message's (the others keep their values: assigns)
+    # a callback assigns exactly the leaves the node reads through its
+    # global and the inputs of its direct relations (rule 4.16: multi's
+    # /odom pose.covariance[35]), each ensured equal to the message's (the
+    # others keep their values: assigns)
+    u = model.controller.inputs.var_name
+    assert sum(len(model.direct_relations(t)) for t in model.subscribed) == {"landshark": 0, "multi": 1}[key]
     for t in model.subscribed:
         c = next(c for c in cs if c.name == t.callback)
         read = model.read_leaves(t)
+        direct = model.direct_relations(t)
         assert 0 < len(read) < len(model.leaf_paths(t.msg_type))
-        assert c.assigns == tuple(p.c_access(t.msg_var) for p in read)
-        assert len(c.ensures) == len(read)
+        assert c.assigns == (*(p.c_access(t.msg_var) for p in read), *(f"{u}.{r.input_target}" for r in direct))
+        assert len(c.ensures) == len(read) + len(direct)
     for t in model.published:
         c = next(c for c in cs if c.name == t.output_glue)
         assert len(c.ensures) == len(model.leaf_paths(t.msg_type))
