@@ -3,7 +3,9 @@
 The picture follows the paper's Figures 4 and 9: each subscribed topic feeds
 its callback, which copies the message into a global message variable; the
 input glue copies the related fields into ``Controller_U`` (one edge per
-input relation, labelled with the message field path and its type);
+input relation, labelled with the message field path and its type; a
+direct relation, DESIGN.md rule 4.16, is drawn from the callback, which
+copies it straight into ``Controller_U``);
 ``<Controller>_step`` turns ``Controller_U`` into ``Controller_Y``; each
 ``output_glue_<c>`` copies ``Controller_Y`` fields into the message it
 publishes (one edge per output relation, labelled with the destination
@@ -130,6 +132,7 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
 
     subs = []
     var_of: dict[str, str] = {}
+    cb_of: dict[str, str] = {}
     for i, t in enumerate(model.subscribed):
         subs.append(
             {
@@ -146,6 +149,7 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
             }
         )
         var_of.setdefault(t.name, f"msg{i}")
+        cb_of.setdefault(t.name, f"cb{i}")
 
     pubs = []
     glue_of: dict[str, str] = {}
@@ -173,7 +177,10 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
         in_rels.append(
             {
                 "id": f"in_rel{i}",
-                "tail": var_of[r.topic.name],
+                # a direct relation (rule 4.16) is copied by the callback,
+                # from the message straight into the inputs; any other by
+                # input_glue, from the topic's global
+                "tail": cb_of[r.topic.name] if model.is_direct(r) else var_of[r.topic.name],
                 "head": u["id"],
                 "port": u_port[r.input_field],
                 # as the model writes it: ranges[540], ranges (length), a

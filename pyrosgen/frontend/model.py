@@ -72,7 +72,11 @@ def is_direct(path: FieldPath | str, timed: bool) -> bool:
     ``input_glue`` does not copy it.  The one definition of the rule in
     Python: :meth:`NodeModel.is_direct` and the certificate's
     (``ProvedModel.is_direct``) both call it."""
-    return not timed and "[" in str(path)
+    if isinstance(path, FieldPath):
+        indexed = any(isinstance(s, int) and not isinstance(s, bool) for s in path.steps)
+    else:  # the model text's path: C identifiers, dots and [i]
+        indexed = "[" in path
+    return not timed and indexed
 
 
 #: The largest size of a controller array (rule 4.15; ``Wellformed``'s

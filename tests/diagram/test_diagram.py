@@ -136,8 +136,11 @@ def test_multi_edges_follow_relations():
     got_in = sorted(
         (e["tail"], e["headport"].split(":")[0], e["label"]) for e in g.edges_with_id("in_rel")
     )
+    # a direct relation (rule 4.16) comes from the callback, any other from
+    # the topic's global
     want_in = sorted(
-        (f"msg{sub_index[r.topic.name]}", f"f{u_rows.index(r.input_field)}", f"{r.path} : {r.path.prim}")
+        (f"{'cb' if model.is_direct(r) else 'msg'}{sub_index[r.topic.name]}", f"f{u_rows.index(r.input_field)}",
+         f"{r.path} : {r.path.prim}")
         for r in model.input_relations
     )
     assert got_in == want_in and len(got_in) == 11
@@ -150,7 +153,23 @@ def test_multi_edges_follow_relations():
     )
     assert got_out == want_out and len(got_out) == 9
     assert ("f2", "og1", "pose.covariance[35] : float64") not in got_out
-    assert ("msg0", "f2", "pose.covariance[35] : float64") in got_in
+    assert ("cb0", "f2", "pose.covariance[35] : float64") in got_in
+    assert ("msg0", "f0", "pose.pose.position.x : float64") in got_in
+
+
+def test_direct_relations_come_from_the_callback():
+    """A direct relation (rule 4.16: an element of an untimed topic) is
+    drawn from its callback, which copies it into the inputs; the others
+    from the topic's global, which input_glue reads (a timed topic's
+    elements too)."""
+    model = load_model(Path(__file__).resolve().parents[1] / "generate" / "models" / "ok_direct.yaml")
+    g = parse_with_dot(render_dot(model))
+    got = sorted((e["tail"], e["label"]) for e in g.edges_with_id("in_rel"))
+    assert got == sorted([
+        ("cb0", "ranges : float32[4]"), ("msg0", "ranges (length) : uint32"),
+        ("msg1", "pose.pose.position.x : float64"), ("cb0", "ranges[1] : float32"),
+        ("cb1", "pose.covariance[3] : float64"), ("cb0", "header.frame_id[0] : uint8"),
+        ("msg2", "ranges[2] : float32"), ("msg2", "ranges (length) : uint32"), ("msg3", "ranges[1] : float32")])
 
 
 def test_dot_is_deterministic(tmp_path):
