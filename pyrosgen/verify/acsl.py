@@ -13,13 +13,20 @@ For each generated function (``pyrosgen/templates/wp_contracts.c.j2``):
   global (and, implied by ``\\valid_read(msg)``, the validity of each leaf
   ``&msg->f``: stated so that WP's simplifier discharges the memory-access
   goals of ``-wp-rte`` by itself instead of calling a prover); assigns
-  exactly the leaves of ``<c>_msg`` that the node reads
-  (:meth:`NodeModel.read_leaves`: those named by input relations, and the
-  ``sec``/``nsec`` of a stamp copied from the topic), so that every other
-  leaf keeps its value, and ensures each of these equals the same leaf of
-  ``\\old(*msg)``;
-- ``void input_glue(void)`` (Figure 12): assigns exactly the related fields
-  of ``Controller_U``; ensures each equals the related field of the related
+  exactly the leaves of ``<c>_msg`` that the node reads through it
+  (:meth:`NodeModel.read_leaves`: those named by input relations that are
+  not direct, and the ``sec``/``nsec`` of a stamp copied from the topic)
+  and the fields of ``Controller_U`` of the topic's direct input
+  relations (DESIGN.md rule 4.16, :meth:`NodeModel.direct_relations`:
+  array elements of an untimed topic, which the callback copies from
+  ``*msg`` straight into ``Controller_U``), so that every other leaf and
+  field keeps its value, and ensures each of these leaves equals the same
+  leaf of ``\\old(*msg)`` and each of these fields the related leaf of
+  ``\\old(*msg)`` (``\\valid_read`` stated for both);
+- ``void input_glue(void)`` (Figure 12): assigns exactly the fields of
+  ``Controller_U`` of the input relations that are not direct
+  (:attr:`NodeModel.glue_relations`; and the derived inputs and ``c_new``
+  flags below); ensures each equals the related field of the related
   topic's global;
 - ``void output_glue_<c>(struct M *command)``: requires ``\\valid(command)``
   and separation from every global; assigns exactly ``*command``; ensures
