@@ -203,15 +203,46 @@ def _zero(prim: str) -> str:
 
 #: The global whose value ``ros_now`` returns in the contracts (rule 4.12).
 CLOCK = "rosgen_wp_clock"
+#: The globals whose values ``ros_time_sec`` and ``ros_time_nsec`` return
+#: in the contracts (rule 4.13, ``stamp: now``).
+STAMP_SEC = "rosgen_wp_sec"
+STAMP_NSEC = "rosgen_wp_nsec"
 #: The largest ``unsigned long long``: the age of a topic without message.
 _NO_AGE = (1 << 64) - 1
 #: The largest age in ns whose milliseconds fit in a ``uint32``.
 _MAX_AGE = 4294967295999999
 
 
+def _stamps_now(model: NodeModel) -> bool:
+    """Whether a published topic is stamped with the cycle's time (rule
+    4.13, ``stamp: now``): the glue then calls ``ros_time_sec`` and
+    ``ros_time_nsec``."""
+    return any(t.stamped and t.stamp_from is None for t in model.published)
+
+
+def _stamp_values(model: NodeModel, t) -> dict[str, str]:
+    """The value of the ``sec`` and ``nsec`` leaves of published topic
+    ``t``'s stamp (rule 4.13), by leaf path, as ACSL terms over the state
+    before the output glue: ``\\old(rosgen_wp_sec)`` for ``stamp: now``, the
+    source topic's global ``\\old(<src>_msg.header.stamp.sec)`` for a stamp
+    copied from a subscribed topic (``DDC.published_value``); empty if
+    ``t`` is not stamped."""
+    stamp = dict(model.stamps).get(t.c_name)
+    if stamp is None:
+        return {}
+    src = dict(model.stamp_from).get(t.c_name)
+    path = ".".join(stamp)
+    if src is None:
+        return {f"{path}.sec": f"\\old({STAMP_SEC})", f"{path}.nsec": f"\\old({STAMP_NSEC})"}
+    src_c, src_path = src
+    base = f"{next(s for s in model.subscribed if s.c_name == src_c).msg_var}.{'.'.join(src_path)}"
+    return {f"{path}.{f}": f"\\old({base}.{f})" for f in ("sec", "nsec")}
+
+
 def _globals(model: NodeModel) -> list[tuple[str, str]]:
     """(declaration, name) of every global of the glue (and, with a timed
-    topic, of :data:`CLOCK`)."""
+    topic, of :data:`CLOCK`; with a topic stamped with the cycle's time,
+    of :data:`STAMP_SEC` and :data:`STAMP_NSEC`)."""
     c = model.controller
     out = [(f"struct {c.inputs.struct_name} {c.inputs.var_name}", c.inputs.var_name),
            (f"struct {c.outputs.struct_name} {c.outputs.var_name}", c.outputs.var_name)]
@@ -221,6 +252,8 @@ def _globals(model: NodeModel) -> list[tuple[str, str]]:
                 (f"unsigned char {t.rcvd_var}", t.rcvd_var)]
     if model.timed_topics:
         out.append((f"unsigned long long {CLOCK}", CLOCK))
+    if _stamps_now(model):
+        out += [(f"unsigned int {STAMP_SEC}", STAMP_SEC), (f"unsigned int {STAMP_NSEC}", STAMP_NSEC)]
     return out
 
 
@@ -313,12 +346,17 @@ def contracts(model: NodeModel) -> list[Contract]:
     for t in model.published:
         rels = {str(r.path): r for r in model.output_relations_of(t)}
         consts = _string_leaves(t)
+        stamp = _stamp_values(model, t)
         ens = []
         for p in model.leaf_paths(t.msg_type):
             leaf = p.c_access("command", arrow=True)
             r = rels.get(str(p))
-            ens.append(_same(p.prim, leaf, f"\\old({y.var_name}.{r.output_source})") if r is not None
-                       else _same(p.prim, leaf, consts.get(str(p), _zero(p.prim))))
+            if r is not None:
+                ens.append(_same(p.prim, leaf, f"\\old({y.var_name}.{r.output_source})"))
+            elif str(p) in stamp:
+                ens.append(_same(p.prim, leaf, stamp[str(p)]))
+            else:
+                ens.append(_same(p.prim, leaf, consts.get(str(p), _zero(p.prim))))
         sep = tuple(f"&{g}" for g in globs)
         out.append(Contract(
             name=t.output_glue,
@@ -336,7 +374,8 @@ def render_wrapper(model: NodeModel, glue_name: str, header_name: str,
     return render("wp_contracts.c.j2",
         template=WRAPPER_TEMPLATE, source=source_label(Path(model.source).name), header=header_name,
         glue=glue_name, externs=_globals(model), boxes=list(_BOXES.values()), functions=cs,
-        clock=CLOCK if model.timed_topics else None, constants=fallback_constants(model))
+        clock=CLOCK if model.timed_topics else None, constants=fallback_constants(model),
+        stamp=(STAMP_SEC, STAMP_NSEC) if _stamps_now(model) else None)
 
 
 # ---------------------------------------------------------------------------
