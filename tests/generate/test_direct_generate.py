@@ -10,10 +10,12 @@ stamp source keeps its stamp in its global.
 T2 is closed; the printed callbacks and ``input_glue`` are exactly the
 rule's; the certificate shows a direct relation's two lines in its
 callback and refuses a C whose direct copy reads another leaf or that
-``input_glue`` copies too; Frama-C WP proves the callbacks' and
-``input_glue``'s contracts and refuses glues with a direct copy one index
-off, a direct relation copied again by ``input_glue`` or its leaf still
-kept in the global; the Coq interpreter and the glue under gcc (and the
+``input_glue`` copies too; Frama-C WP proves the contracts of every
+function (the output glue's with the stamp copied from ``/scan``, rule
+4.13) and refuses glues with a direct copy one index off, a direct
+relation copied again by ``input_glue`` or its leaf still kept in the
+global (a stamp copied from another topic: tests/validation/test_wp.py);
+the Coq interpreter and the glue under gcc (and the
 sanitizers) print the same traces, in which the controller receives the
 newest message's elements, also in cycles without a message."""
 
@@ -155,9 +157,8 @@ def test_verify_accepts_the_folder(direct, capsys):
 
 def _wp(out, tmp_path, old: str | None = None, new: str | None = None):
     """WP on the glue (``old`` replaced by ``new``), with the contracts of
-    the callbacks and ``input_glue``.  (The output glue of a stamped
-    topic, rule 4.13, has no contract that WP proves: its contract says
-    nothing of the stamp.)"""
+    every function: the callbacks, ``input_glue`` and the output glue
+    (whose stamp, rule 4.13, is ``/scan``'s, kept in ``scan_msg``)."""
     model = load_model(MODEL)
     work = tmp_path / "wp"
     work.mkdir()
@@ -167,17 +168,22 @@ def _wp(out, tmp_path, old: str | None = None, new: str | None = None):
         text = text.replace(old, new)
     (work / f"{NODE}_glue.c").write_text(text)
     shutil.copyfile(out / f"{NODE}_types.h", work / f"{NODE}_types.h")
-    cs = [c for c in contracts(model) if not c.name.startswith("output_glue_")]
+    cs = contracts(model)
     wrapper = work / f"{NODE}_wp.c"
     wrapper.write_text(render_wrapper(model, f"{NODE}_glue.c", f"{NODE}_types.h", cs), encoding="ascii")
     return run_wp_file(wrapper, [contract_frame(c) for c in cs], timeout=5), cs
 
 
-def test_wp_proves_the_callbacks_and_input_glue(direct, tmp_path):
+def test_wp_proves_every_function(direct, tmp_path):
     out, _ = direct
     res, cs = _wp(out, tmp_path)
     assert res.ok and res.proved == res.total
-    assert [c.name for c in cs] == ["scan_callback", "pose_callback", "tscan_callback", "dscan_callback", "input_glue"]
+    assert [c.name for c in cs] == ["scan_callback", "pose_callback", "tscan_callback", "dscan_callback", "input_glue",
+                                    "output_glue_out"]
+    assert set(res.functions) == {c.name for c in cs}
+    og = cs[-1]
+    assert "command->header.stamp.sec == \\old(scan_msg.header.stamp.sec)" in og.ensures
+    assert "command->header.stamp.nsec == \\old(scan_msg.header.stamp.nsec)" in og.ensures
     for c in cs:
         assert f"typed_{c.name}_ensures : Valid" in res.output, c.name
         assert f"typed_{c.name}_assigns" in res.output, c.name

@@ -15,6 +15,12 @@
   simplifier reads float constants as real numbers, so ``-0.0`` and
   ``+0.0`` fallbacks are one to it: the sign of a zero fallback is checked
   bit for bit by the differential tests, ``fresh_constants``' ``-0.0``.)
+- the stamped nodes (rule 4.13: the stamped LandShark and the laser guard,
+  ``stamp: now``; the GPS-stamped LandShark, ``stamp: {from: ...}``) are
+  proved with the contract of their stamps (``ros_time_sec`` and
+  ``ros_time_nsec`` return globals' values; a copied stamp is the source
+  topic's global's), and glues whose stamp takes its ``sec`` from
+  ``ros_time_nsec``, stays zero, or is copied from another topic are not.
 """
 
 from __future__ import annotations
@@ -25,10 +31,11 @@ import shutil
 import pytest
 
 from pyrosgen import cli
+from pyrosgen.generate import generate
 from pyrosgen.verify.acsl import WPError, contracts, memory_hypotheses, run_wp
 from pyrosgen.frontend.validate import load_model
 
-from support.validation import EXAMPLES, LANDSHARK, TIMED_EXAMPLES
+from support.validation import EXAMPLES, LANDSHARK, REPO, TIMED_EXAMPLES, GeneratedNode
 
 
 @pytest.mark.parametrize("key", list(EXAMPLES))
@@ -229,3 +236,100 @@ def test_build_wp_writes_contracts_that_verify_rechecks(capsys, tmp_path):
     text = capsys.readouterr().out
     assert code == 1
     assert "  FAILED  wp" in text and "not the contracts of landshark_controller.yaml" in text, text
+
+
+# --------------------------------------------------------------------------
+# Stamps (rule 4.13): the output glue of a stamped topic writes the stamp
+
+#: Stamped models: key -> (model file, node name, (old, new) edits of its
+#: text).  The constant frame_id's capacity is cut from 128 bytes to 16
+#: (``max_length``, rule 4.15): the output glue then stores 24 bytes
+#: instead of 136 and WP proves it in seconds instead of minutes (the
+#: stamp's statements and contract are the same).
+STAMPED = {
+    "landshark_stamped": (REPO / "examples" / "landshark" / "landshark_stamped.yaml", "landshark_stamped",
+                          [("frame_id: base_link}", "frame_id: base_link, max_length: {header.frame_id: 16}}")]),
+    "landshark_gps_stamped": (REPO / "examples" / "landshark" / "landshark_gps_stamped.yaml",
+                              "landshark_gps_stamped", []),
+    "laser_guard": (REPO / "examples" / "laser_guard" / "laser_guard.yaml", "laser_guard",
+                    [("frame_id: base_link}", "frame_id: base_link, max_length: {header.frame_id: 16}}")]),
+}
+
+
+@pytest.fixture(scope="module")
+def stamped(tmp_path_factory) -> dict[str, GeneratedNode]:
+    """``pyrosgen generate`` on the stamped models of :data:`STAMPED`:
+    key -> GeneratedNode (its model file, edited, is ``<out>/../<key>.yaml``)."""
+    base = tmp_path_factory.mktemp("validation_generated_stamped")
+    out = {}
+    for key, (path, node, edits) in STAMPED.items():
+        text = path.read_text()
+        for old, new in edits:
+            assert text.count(old) == 1, (key, old)
+            text = text.replace(old, new)
+        model = base / f"{key}.yaml"
+        model.write_text(text)
+        out[key] = GeneratedNode(key, node, base / key, generate(model, base / key))
+    return out
+
+
+def _stamped_model(stamped, key):
+    return load_model(stamped[key].out.parent / f"{key}.yaml")
+
+
+@pytest.mark.parametrize("key", list(STAMPED))
+def test_wp_proves_the_stamped_nodes(stamped, key, tmp_path):
+    node = stamped[key]
+    model = _stamped_model(stamped, key)
+    res = run_wp(model, node.glue, node.header, tmp_path / "wp")
+    assert res.ok and res.proved == res.total
+    cs = {c.name: c for c in contracts(model)}
+    assert set(res.functions) == set(cs)
+    for c in cs.values():
+        assert f"typed_{c.name}_ensures : Valid" in res.output, c.name
+    # the stamp's leaves: the cycle's time (ros_time_sec/nsec return two
+    # globals the glue never writes), or the source topic's global's stamp
+    (t,) = model.published
+    c = cs[t.output_glue]
+    assert len(c.ensures) == len(model.leaf_paths(t.msg_type))
+    if t.stamp_from is None:
+        src = ("rosgen_wp_sec", "rosgen_wp_nsec")
+    else:
+        s = next(s for s in model.subscribed if s.name == t.stamp_from)
+        src = (f"{s.msg_var}.header.stamp.sec", f"{s.msg_var}.header.stamp.nsec")
+        # its callback keeps the stamp in its global
+        assert {"header.stamp.sec", "header.stamp.nsec"} <= {str(p) for p in model.read_leaves(s)}
+    assert f"command->header.stamp.sec == \\old({src[0]})" in c.ensures
+    assert f"command->header.stamp.nsec == \\old({src[1]})" in c.ensures
+    wrapper = res.wrapper.read_text()
+    now = t.stamp_from is None
+    for g in ("rosgen_wp_sec", "rosgen_wp_nsec"):
+        # declared, and stated separated from every pointer, only when the glue reads the time
+        assert (f"extern unsigned int {g};" in wrapper) == now
+        assert all((f"&{g}" in x.separated) == now for x in cs.values() if x.pointer)
+    assert ("ensures \\result == rosgen_wp_sec;\n*/\nunsigned int ros_time_sec(void);" in wrapper) == now
+    assert ("ensures \\result == rosgen_wp_nsec;\n*/\nunsigned int ros_time_nsec(void);" in wrapper) == now
+    hyps = memory_hypotheses(res.output)
+    assert {fn for fn, _ in hyps} == {c.name for c in cs.values() if c.pointer}
+
+
+@pytest.mark.parametrize("key,old,new", [
+    ("landshark_stamped", "_t_uint = ros_time_sec();", "_t_uint = ros_time_nsec();"),
+    ("laser_guard", "    _t_uint = ros_time_sec();\n    (*command).header.stamp.sec = _t_uint;\n"
+     "    _t_uint = ros_time_nsec();\n    (*command).header.stamp.nsec = _t_uint;\n", ""),
+    ("landshark_gps_stamped", "_t_uint = landshark_gps_velocity_msg.header.stamp.sec;",
+     "_t_uint = landshark_left_wheel_velocity_msg.header.stamp.sec;"),
+], ids=["sec-from-nsec", "stamp-left-zero", "stamp-from-another-topic"])
+def test_wp_fails_on_mutated_stamp(stamped, tmp_path, key, old, new):
+    node = stamped[key]
+    model = _stamped_model(stamped, key)
+    work = tmp_path / "wp"
+    work.mkdir()
+    glue = node.glue.read_text()
+    assert glue.count(old) == 1, old
+    (work / node.glue.name).write_text(glue.replace(old, new))
+    shutil.copyfile(node.header, work / node.header.name)
+    with pytest.raises(WPError) as info:
+        run_wp(model, work / node.glue.name, work / node.header.name, work, timeout=3)
+    msg = str(info.value)
+    assert "goals proved, not all" in msg and f"{model.published[0].output_glue}_ensures" in msg, msg
