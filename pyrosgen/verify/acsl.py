@@ -31,7 +31,9 @@ For each generated function (``pyrosgen/templates/wp_contracts.c.j2``):
 - ``void output_glue_<c>(struct M *command)``: requires ``\\valid(command)``
   and separation from every global; assigns exactly ``*command``; ensures
   every leaf named by an output relation equals the related field of
-  ``Controller_Y`` and every other leaf is zero.
+  ``Controller_Y``, the ``sec`` and ``nsec`` of a stamped topic's stamp
+  (rule 4.13, below) and the leaves of its constant strings (rule 4.14:
+  ``len`` and the bytes) their values, and every other leaf is zero.
 
 Timed topics (rule 4.12).  ``ros_now`` gets the contract ``assigns
 \\nothing; ensures \\result == rosgen_wp_clock;``: the time is the value of
@@ -51,6 +53,19 @@ global initialised with its exact (hexadecimal) C literal, which WP reads
 (constant globals' initialisers).  WP's simplifier reads float constants
 as real numbers, so to it a fallback ``-0.0`` is ``+0.0``: the sign of a
 zero fallback is left to the differential tests, which compare bits.
+
+Stamps (rule 4.13).  As for the clock, ``ros_time_sec`` and
+``ros_time_nsec`` get the contracts ``assigns \\nothing; ensures \\result
+== rosgen_wp_sec;`` and ``... == rosgen_wp_nsec;`` (two ``unsigned int``
+globals the glue never writes, declared, and stated separated from every
+pointer argument, only when a topic is stamped with ``stamp: now``).  The
+output glue of a topic with ``stamp: now`` ensures ``header.stamp.sec ==
+\\old(rosgen_wp_sec)`` and ``header.stamp.nsec == \\old(rosgen_wp_nsec)``;
+of one with ``stamp: {from: s}``, ``header.stamp.sec ==
+\\old(s_msg.header.stamp.sec)`` and the same for ``nsec``: the stamp of
+``s``'s global, which ``s``'s callback keeps (:meth:`NodeModel.read_leaves`).
+This is ``DDC.published_value``: the cycle's time, or the source
+message's stamp.
 
 Equality of leaves.  ACSL's ``==`` on floating-point values compares their
 *real* values (WP translates ``a == b`` to ``of_f64(a) = of_f64(b)``): it
