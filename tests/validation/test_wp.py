@@ -330,6 +330,8 @@ def test_wp_fails_on_mutated_stamp(stamped, tmp_path, key, old, new):
     (work / node.glue.name).write_text(glue.replace(old, new))
     shutil.copyfile(node.header, work / node.header.name)
     with pytest.raises(WPError) as info:
-        run_wp(model, work / node.glue.name, work / node.header.name, work, timeout=3)
+        # only the output glue: the mutant is there, and the other functions are proved above
+        run_wp(model, work / node.glue.name, work / node.header.name, work, timeout=3,
+               functions=(model.published[0].output_glue,))
     msg = str(info.value)
     assert "goals proved, not all" in msg and f"{model.published[0].output_glue}_ensures" in msg, msg
