@@ -566,6 +566,56 @@ Proof.
   intros E. apply N. apply (NoDup_map_eq _ _ input_leaf (nm_inrels m)); auto. apply input_leaves_nodup.
 Qed.
 
+(** The leaf of an input relation in [Controller_U] has the C type of
+    the relation's primitive, and holds a scalar in any value of the
+    inputs' type. *)
+Lemma gen_input_leaf_type:
+  forall ir, In ir (nm_inrels m) ->
+  type_at ce (Tstruct (nm_in_struct m)) (input_leaf ir) = Some (ctype_of_prim (inrel_prim (make_tables m) ir)).
+Proof.
+  intros ir Hir.
+  destruct (input_exprs m ir W Hir) as (tp' & t & q & _ & _ & _ & I & Q & _ & Pq & _ & _).
+  assert (OKt: ctrl_ftype_ok t = true) by (apply (wf_inputs_ok m W (ir_input ir, t)); apply find_assoc_In; auto).
+  destruct (ctrl_leaf_resolve msgs (md_names msgs) t (ir_elem ir) q OKt Q) as [Ft Rt].
+  assert (FT := field_type_inputs m W _ _ I).
+  rewrite Pq. unfold input_leaf. cbn [type_at]. rewrite type_step_field, FT.
+  rewrite (type_at_ctype m W); auto. rewrite Rt; auto.
+Qed.
+
+Lemma gen_input_leaf_scalar:
+  forall ir u, In ir (nm_inrels m) -> mval_has_type ce (Tstruct (nm_in_struct m)) u ->
+  exists v, mval_get u (input_leaf ir) = Some (MVscalar v).
+Proof.
+  intros ir u Hir Hu.
+  destruct (mval_get_has_type _ _ _ _ _ Hu (gen_input_leaf_type ir Hir)) as [x [G Hx]].
+  inversion Hx; subst; eauto; destruct (inrel_prim (make_tables m) ir); discriminate.
+Qed.
+
+(** The destination of the copy of an input relation: the relation's
+    leaf of [Controller_U], of the relation's primitive's C type. *)
+Lemma input_dst_place:
+  forall bu, find_var ge (nm_in_var m) = Some (bu, Tstruct (nm_in_struct m)) ->
+  forall ir, In ir (nm_inrels m) ->
+     (forall le mm1, eval_lvalue ge [] le mm1 (input_dst m ir) = Some (bu, input_leaf ir))
+  /\ typeof (input_dst m ir) = ctype_of_prim (inrel_prim (make_tables m) ir)
+  /\ type_at ce (Tstruct (nm_in_struct m)) (input_leaf ir) = Some (ctype_of_prim (inrel_prim (make_tables m) ir)).
+Proof.
+  intros bu Vu ir Hir.
+  destruct (input_exprs m ir W Hir) as (tp' & t & q & _ & _ & _ & I & Q & _ & Pq & _ & _).
+  assert (OKt: ctrl_ftype_ok t = true) by (apply (wf_inputs_ok m W (ir_input ir, t)); apply find_assoc_In; auto).
+  destruct (ctrl_leaf_resolve msgs (md_names msgs) t (ir_elem ir) q OKt Q) as [Ft Rt].
+  assert (FT := field_type_inputs m W _ _ I).
+  split; [|split; [|apply gen_input_leaf_type; auto]]; rewrite ?Pq.
+  - intros le mm1. unfold input_dst, in_var_expr, input_leaf. cbn [path_expr step_expr]. unfold step_type.
+    cbn [typeof]. rewrite FT.
+    change (Sfield (ir_input ir) :: path_steps (ir_elem ir)) with ([Sfield (ir_input ir)] ++ path_steps (ir_elem ir)).
+    eapply (eval_lvalue_path m W); eauto.
+    change [Sfield (ir_input ir)] with ([] ++ [Sfield (ir_input ir)]).
+    eapply eval_lvalue_field; [reflexivity|]. eapply eval_lvalue_global_struct; eauto.
+  - unfold input_dst. rewrite typeof_path_expr with (t := ctype_of_prim q); auto.
+    apply (input_leaf_type m W _ _ _ _ I Q).
+Qed.
+
 Section INPUT.
 
 Variables (mm : mem) (bu : block).
@@ -610,30 +660,18 @@ Qed.
 Lemma input_item_ok:
   forall ir, In ir (nm_inrels m) ->
   item_ok ge [] ce _ (fun ir => inrel_prim (make_tables m) ir) (input_dst m) (input_src m (make_tables m))
-          (fun ir => Sfield (ir_input ir) :: path_steps (ir_elem ir)) sv (fun _ => True) mm bu (Tstruct (nm_in_struct m)) ir.
+          input_leaf sv (fun _ => True) mm bu (Tstruct (nm_in_struct m)) ir.
 Proof.
   intros ir Hir.
   destruct (input_source ir Hir) as (tp & t & q & bg & g & x & Ec & Hs & I & Q & R & Pq & Es & Ed & Vg & Gg & Nbg & GV & Gx & Tx & Sx).
-  assert (OKt: ctrl_ftype_ok t = true) by (apply (wf_inputs_ok m W (ir_input ir, t)); apply find_assoc_In; auto).
-  destruct (ctrl_leaf_resolve msgs (md_names msgs) t (ir_elem ir) q OKt Q) as [Ft Rt].
-  assert (FT := field_type_inputs m W _ _ I).
-  unfold item_ok. rewrite Pq, Es, Ed, Sx. repeat split.
-  - intros le mm1 _ [Fn Fo].
-    destruct (eval_leaf m W ge [] le mm1 (tp_msg tp) (ir_path ir) q
-                (Evar (msg_var (ir_topic ir)) (Tstruct (tp_msg tp))) bg [] R) as (_ & _ & E); auto.
-    { eapply eval_lvalue_global_struct; eauto. }
-    rewrite E. apply load_spec; [apply ctype_of_prim_scalar_type|].
-    unfold load_path. rewrite Fo by auto. rewrite Gg. auto.
-  - intros le mm1 _. cbn [path_expr step_expr]. unfold step_type. cbn [typeof]. rewrite FT.
-    change (Sfield (ir_input ir) :: path_steps (ir_elem ir)) with ([Sfield (ir_input ir)] ++ path_steps (ir_elem ir)).
-    eapply (eval_lvalue_path m W); eauto.
-    change [Sfield (ir_input ir)] with ([] ++ [Sfield (ir_input ir)]).
-    eapply eval_lvalue_field; [reflexivity|]. eapply eval_lvalue_global_struct; eauto.
-  - rewrite typeof_path_expr with (t := ctype_of_prim q); auto.
-    apply (input_leaf_type m W _ _ _ _ I Q).
-  - auto.
-  - cbn [type_at]. rewrite type_step_field, FT.
-    rewrite (type_at_ctype m W); auto. rewrite Rt; auto.
+  destruct (input_dst_place bu Vu ir Hir) as (D1 & D2 & D3).
+  unfold item_ok. rewrite Pq in *. rewrite Sx. repeat split; auto.
+  intros le mm1 _ [Fn Fo]. rewrite Es.
+  destruct (eval_leaf m W ge [] le mm1 (tp_msg tp) (ir_path ir) q
+              (Evar (msg_var (ir_topic ir)) (Tstruct (tp_msg tp))) bg [] R) as (_ & _ & E); auto.
+  { eapply eval_lvalue_global_struct; eauto. }
+  rewrite E. apply load_spec; [apply ctype_of_prim_scalar_type|].
+  unfold load_path. rewrite Fo by auto. rewrite Gg. auto.
 Qed.
 
 Lemma input_body:
@@ -1369,26 +1407,14 @@ Lemma direct_item_ok:
 Proof.
   intros ir Hd.
   destruct (direct_source ir Hd) as (t & q & x & Hir & I & Q & R & Pq & Gx & Tx & Sx).
-  assert (OKt: ctrl_ftype_ok t = true) by (apply (wf_inputs_ok m W (ir_input ir, t)); apply find_assoc_In; auto).
-  destruct (ctrl_leaf_resolve msgs (md_names msgs) t (ir_elem ir) q OKt Q) as [Ft Rt].
-  assert (FT := field_type_inputs m W _ _ I).
-  unfold item_ok, input_leaf. rewrite Pq, Sx. repeat split.
-  - intros le mm1 Hle [Fn Fo].
-    destruct (eval_leaf m W ge [] le mm1 (tp_msg tp) (ir_path ir) q
-                (deref_param msg_param (tp_msg tp)) b [] R) as (_ & _ & E); auto.
-    { apply eval_lvalue_deref_param; auto. }
-    unfold srcD. rewrite E. apply load_spec; [apply ctype_of_prim_scalar_type|].
-    unfold load_path. rewrite Fo by auto. rewrite Gb. auto.
-  - intros le mm1 _. unfold input_dst, in_var_expr. cbn [path_expr step_expr]. unfold step_type. cbn [typeof]. rewrite FT.
-    change (Sfield (ir_input ir) :: path_steps (ir_elem ir)) with ([Sfield (ir_input ir)] ++ path_steps (ir_elem ir)).
-    eapply (eval_lvalue_path m W); eauto.
-    change [Sfield (ir_input ir)] with ([] ++ [Sfield (ir_input ir)]).
-    eapply eval_lvalue_field; [reflexivity|]. eapply eval_lvalue_global_struct; eauto.
-  - unfold input_dst. rewrite typeof_path_expr with (t := ctype_of_prim q); auto.
-    apply (input_leaf_type m W _ _ _ _ I Q).
-  - auto.
-  - cbn [type_at]. rewrite type_step_field, FT.
-    rewrite (type_at_ctype m W); auto. rewrite Rt; auto.
+  destruct (input_dst_place bu Vu ir Hir) as (D1 & D2 & D3).
+  unfold item_ok. rewrite Pq in *. rewrite Sx. repeat split; auto.
+  intros le mm1 Hle [Fn Fo].
+  destruct (eval_leaf m W ge [] le mm1 (tp_msg tp) (ir_path ir) q
+              (deref_param msg_param (tp_msg tp)) b [] R) as (_ & _ & E); auto.
+  { apply eval_lvalue_deref_param; auto. }
+  unfold srcD. rewrite E. apply load_spec; [apply ctype_of_prim_scalar_type|].
+  unfold load_path. rewrite Fo by auto. rewrite Gb. auto.
 Qed.
 
 Lemma direct_body:
@@ -1428,43 +1454,13 @@ Lemma gen_zero_direct:
   = mval_get (zero_mval ce (Tstruct (tp_msg tp))) (path_steps (ir_path ir)).
 Proof.
   intros tp ir Htp Hd. apply direct_of_In in Hd as (Hir & Ec & _).
-  destruct (input_exprs m ir W Hir) as (tp' & t & q & F & _ & _ & I & Q & R & _ & _ & _).
+  destruct (input_exprs m ir W Hir) as (tp' & t & q & F & _ & _ & I & Q & R & Pq & _ & _).
   assert (Ht: In tp (nm_topics m)) by (apply in_subscribed in Htp; tauto).
   rewrite Ec, (In_find_topic _ _ (wf_cnames_nodup m W) Ht) in F. inversion F; subst tp'.
-  rewrite (gen_zero_leaf _ _ _ R).
-  assert (OKt: ctrl_ftype_ok t = true) by (apply (wf_inputs_ok m W (ir_input ir, t)); apply find_assoc_In; auto).
-  destruct (ctrl_leaf_resolve msgs (md_names msgs) t (ir_elem ir) q OKt Q) as [Ft Rt].
-  assert (FT := field_type_inputs m W _ _ I).
-  apply mval_get_zero; [apply gen_wf_composites| |].
-  - simpl. apply in_ident_spec. unfold composite_names, composites.
-    rewrite map_app, map_map. apply in_or_app; right; simpl; auto.
-  - unfold input_leaf. cbn [type_at]. rewrite type_step_field, FT.
-    rewrite (type_at_ctype m W); auto. rewrite Rt; auto.
-Qed.
-
-(** The leaf of an input relation in [Controller_U] has the C type of
-    the relation's primitive, and holds a scalar in any value of the
-    inputs' type. *)
-Lemma gen_input_leaf_type:
-  forall ir, In ir (nm_inrels m) ->
-  type_at ce (Tstruct (nm_in_struct m)) (input_leaf ir) = Some (ctype_of_prim (inrel_prim (make_tables m) ir)).
-Proof.
-  intros ir Hir.
-  destruct (input_exprs m ir W Hir) as (tp' & t & q & _ & _ & _ & I & Q & _ & Pq & _ & _).
-  assert (OKt: ctrl_ftype_ok t = true) by (apply (wf_inputs_ok m W (ir_input ir, t)); apply find_assoc_In; auto).
-  destruct (ctrl_leaf_resolve msgs (md_names msgs) t (ir_elem ir) q OKt Q) as [Ft Rt].
-  assert (FT := field_type_inputs m W _ _ I).
-  rewrite Pq. unfold input_leaf. cbn [type_at]. rewrite type_step_field, FT.
-  rewrite (type_at_ctype m W); auto. rewrite Rt; auto.
-Qed.
-
-Lemma gen_input_leaf_scalar:
-  forall ir u, In ir (nm_inrels m) -> mval_has_type ce (Tstruct (nm_in_struct m)) u ->
-  exists v, mval_get u (input_leaf ir) = Some (MVscalar v).
-Proof.
-  intros ir u Hir Hu.
-  destruct (mval_get_has_type _ _ _ _ _ Hu (gen_input_leaf_type ir Hir)) as [x [G Hx]].
-  inversion Hx; subst; eauto; destruct (inrel_prim (make_tables m) ir); discriminate.
+  rewrite (gen_zero_leaf _ _ _ R), <- Pq.
+  apply mval_get_zero; [apply gen_wf_composites| |apply gen_input_leaf_type; auto].
+  simpl. apply in_ident_spec. unfold composite_names, composites.
+  rewrite map_app, map_map. apply in_or_app; right; simpl; auto.
 Qed.
 
 (** Every callback of a subscribed topic copies the leaves that the glue
