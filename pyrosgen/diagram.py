@@ -1,7 +1,8 @@
 """``pyrosgen diagram``: a picture of a node's data flow.
 
 The picture follows the paper's Figures 4 and 9: each subscribed topic feeds
-its callback, which copies the message into a global message variable; the
+its callback, which copies what the node reads of the message into a
+global message variable (the edge says how many fields); the
 input glue copies the related fields into ``Controller_U`` (one edge per
 input relation, labelled with the message field path and its type; a
 direct relation, DESIGN.md rule 4.16, is drawn from the callback, which
@@ -79,10 +80,13 @@ def dot_html(value: object) -> str:
     return html.escape(text, quote=True)
 
 
-def _leaf_count(model: NodeModel, msg_type: str) -> int | None:
-    """How many scalar fields a callback copies, ``None`` if unknown."""
+def _kept_count(model: NodeModel, topic) -> int | None:
+    """How many scalar fields the callback of subscribed ``topic`` copies
+    into the topic's global (:meth:`NodeModel.read_leaves`: those of its
+    relations that are not direct, rule 4.16, and of a stamp copied from
+    it), ``None`` if unknown."""
     try:
-        return len(model.leaf_paths(msg_type))
+        return len(model.read_leaves(topic))
     except (KeyError, ValueError):
         return None
 
@@ -145,7 +149,7 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
                 "callback": t.callback,
                 "var": t.msg_var,
                 "struct": t.msg_struct,
-                "nfields": _leaf_count(model, t.msg_type),
+                "nfields": _kept_count(model, t),
             }
         )
         var_of.setdefault(t.name, f"msg{i}")

@@ -120,8 +120,8 @@ def test_landshark_edges(landshark_graph):
         ("ctrl_u", "step"), ("step", "ctrl_y"), ("og0", "pub0"),
     }
     copies = {e["tail"]: e["label"] for e in g.edges_with_id("copy_")}
-    # TwistStamped carries header.seq, header.stamp.{sec,nsec}, twist.{linear,angular}.{x,y,z}.
-    assert copies == {"cb0": "9 fields", "cb1": "9 fields", "cb2": "9 fields"}
+    # each callback copies the one field the node reads (twist.linear.x), of the 9 TwistStamped carries
+    assert copies == {"cb0": "1 field", "cb1": "1 field", "cb2": "1 field"}
     publish = g.edges_with_id("publish_")
     assert [e["label"] for e in publish] == ["ros_publish_landshark_control_base_velocity"]
 
@@ -170,6 +170,12 @@ def test_direct_relations_come_from_the_callback():
         ("msg1", "pose.pose.position.x : float64"), ("cb0", "ranges[1] : float32"),
         ("cb1", "pose.covariance[3] : float64"), ("cb0", "header.frame_id[0] : uint8"),
         ("msg2", "ranges[2] : float32"), ("msg2", "ranges (length) : uint32"), ("msg3", "ranges[1] : float32")])
+    # what each callback keeps in its global (the msg<i> edges above): /scan its
+    # length and its stamp's sec and nsec (the output's source, rule 4.13),
+    # /pose position.x, the timed topic with a timeout ranges[2] and the
+    # length, the one with a derived input ranges[1]
+    copies = {e["tail"]: e["label"] for e in g.edges_with_id("copy_")}
+    assert copies == {"cb0": "3 fields", "cb1": "1 field", "cb2": "2 fields", "cb3": "1 field"}, copies
 
 
 def test_dot_is_deterministic(tmp_path):
