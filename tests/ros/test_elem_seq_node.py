@@ -100,6 +100,19 @@ def _case(c: int, length: int):
     return path, joints, out
 
 
+def _drive(ros, node, steps, tmp_path):
+    """Run the driver's ``steps`` (publishing on /path and /joints) with
+    /echo recorded; the node must still run and every step be done."""
+    plan = {"publishers": [{"topic": "/path", "type": "nav_msgs/Path", "queue_size": 10},
+                           {"topic": "/joints", "type": "sensor_msgs/JointState", "queue_size": 10}],
+            "subscribers": [{"topic": "/echo", "type": "std_msgs/Float64MultiArray", "record": "elements"}],
+            "wait_messages": True, "steps": steps, "linger": 0.2}
+    result = run_driver(ros, plan, tmp_path)
+    assert node.poll() is None, (tmp_path / "node.log").read_text()[-2000:]
+    assert len(result["steps"]) == len(steps)
+    return result
+
+
 def test_paths_and_joint_states_on_the_wire(ros, elem_seq, tmp_path):
     node = start_node(ros, elem_seq, tmp_path / "node.log")
     steps, wants = [], []
@@ -109,13 +122,7 @@ def test_paths_and_joint_states_on_the_wire(ros, elem_seq, tmp_path):
                   {"publish": {"topic": "/joints", "values": joints}},
                   {"sleep": HOLD}]
         wants.append(want)
-    plan = {"publishers": [{"topic": "/path", "type": "nav_msgs/Path", "queue_size": 10},
-                           {"topic": "/joints", "type": "sensor_msgs/JointState", "queue_size": 10}],
-            "subscribers": [{"topic": "/echo", "type": "std_msgs/Float64MultiArray", "record": "elements"}],
-            "wait_messages": True, "steps": steps, "linger": 0.2}
-    result = run_driver(ros, plan, tmp_path)
-    assert node.poll() is None, (tmp_path / "node.log").read_text()[-2000:]
-    assert len(result["steps"]) == len(steps)
+    result = _drive(ros, node, steps, tmp_path)
     # before the first messages: every input is 0
     first = rosutil.received(result, "/echo")[0]["leaves"]
     assert first["data"] == {"var": 21} and all(first[f"data[{i}]"] == d(dbits(0.0)) for i in range(21)), first
@@ -176,13 +183,7 @@ def test_policy_reject_keeps_the_previous_path(ros, elem_seq_reject, tmp_path):
         wants.append(want)
     # a delivered N+1 or 2N path would show: its own values differ from those kept
     assert all(_case(c, n)[2][:12] != wants[c][:12] for c, n in enumerate(LENGTHS) if n > N)
-    plan = {"publishers": [{"topic": "/path", "type": "nav_msgs/Path", "queue_size": 10},
-                           {"topic": "/joints", "type": "sensor_msgs/JointState", "queue_size": 10}],
-            "subscribers": [{"topic": "/echo", "type": "std_msgs/Float64MultiArray", "record": "elements"}],
-            "wait_messages": True, "steps": steps, "linger": 0.2}
-    result = run_driver(ros, plan, tmp_path)
-    assert node.poll() is None, (tmp_path / "node.log").read_text()[-2000:]
-    assert len(result["steps"]) == len(steps)
+    result = _drive(ros, node, steps, tmp_path)
     for c, length in enumerate(LENGTHS):
         t0, t1 = result["steps"][3 * c + 1]["t1"] + SETTLE, result["steps"][3 * c + 2]["t1"]
         want = {"layout.dim": {"var": 0}, "layout.data_offset": 0, "data": {"var": 21},

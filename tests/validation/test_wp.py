@@ -136,6 +136,22 @@ LS = "landshark_left_wheel_velocity_msg"
 RS = "landshark_right_wheel_velocity_msg"
 
 
+def _wp_refuses(model, node, tmp_path, old: str, new: str, failing: str, functions=None) -> None:
+    """WP on ``node``'s glue with ``old`` replaced by ``new`` (once) fails,
+    and names the goal ``failing`` among those not proved; only the
+    contracts of ``functions`` are tried if given."""
+    work = tmp_path / "wp"
+    work.mkdir()
+    glue = node.glue.read_text()
+    assert glue.count(old) == 1, old
+    (work / node.glue.name).write_text(glue.replace(old, new))
+    shutil.copyfile(node.header, work / node.header.name)
+    with pytest.raises(WPError) as info:
+        run_wp(model, work / node.glue.name, work / node.header.name, work, timeout=3, functions=functions)
+    msg = str(info.value)
+    assert "goals proved, not all" in msg and failing in msg, msg
+
+
 @pytest.mark.parametrize("name,old,new,failing", [
     ("swapped sources",
      f"    _t_double = {LS}.twist.linear.x;\n    Controller_U.In1 = _t_double;\n"
@@ -153,17 +169,7 @@ RS = "landshark_right_wheel_velocity_msg"
      f"    _t_double = (*msg).twist.linear.x + 0x0p+0;\n    {LS}", "left_wheel_velocity_callback_ensures"),
 ], ids=["swapped-sources", "missing-zeroing", "neighbour-leaf", "unread-leaf-written", "plus-zero"])
 def test_wp_fails_on_mutated_glue(generated, tmp_path, name, old, new, failing):
-    node = generated["landshark"]
-    work = tmp_path / "wp"
-    work.mkdir()
-    glue = node.glue.read_text()
-    assert glue.count(old) == 1, name
-    (work / node.glue.name).write_text(glue.replace(old, new))
-    shutil.copyfile(node.header, work / node.header.name)
-    with pytest.raises(WPError) as info:
-        run_wp(load_model(LANDSHARK), work / node.glue.name, work / node.header.name, work, timeout=3)
-    msg = str(info.value)
-    assert "goals proved, not all" in msg and failing in msg, msg
+    _wp_refuses(load_model(LANDSHARK), generated["landshark"], tmp_path, old, new, failing)
 
 
 def test_generate_wp_failure_is_exit_2(monkeypatch, capsys, tmp_path):
@@ -321,17 +327,7 @@ def test_wp_proves_the_stamped_nodes(stamped, key, tmp_path):
      "_t_uint = landshark_left_wheel_velocity_msg.header.stamp.sec;"),
 ], ids=["sec-from-nsec", "stamp-left-zero", "stamp-from-another-topic"])
 def test_wp_fails_on_mutated_stamp(stamped, tmp_path, key, old, new):
-    node = stamped[key]
     model = _stamped_model(stamped, key)
-    work = tmp_path / "wp"
-    work.mkdir()
-    glue = node.glue.read_text()
-    assert glue.count(old) == 1, old
-    (work / node.glue.name).write_text(glue.replace(old, new))
-    shutil.copyfile(node.header, work / node.header.name)
-    with pytest.raises(WPError) as info:
-        # only the output glue: the mutant is there, and the other functions are proved above
-        run_wp(model, work / node.glue.name, work / node.header.name, work, timeout=3,
-               functions=(model.published[0].output_glue,))
-    msg = str(info.value)
-    assert "goals proved, not all" in msg and f"{model.published[0].output_glue}_ensures" in msg, msg
+    og = model.published[0].output_glue
+    # only the output glue: the mutant is there, and the other functions are proved above
+    _wp_refuses(model, stamped[key], tmp_path, old, new, f"{og}_ensures", functions=(og,))
