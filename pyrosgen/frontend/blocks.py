@@ -321,6 +321,12 @@ class _DiagramChecker:
                 self.err(item.key_node(k), f"{what}: {_a(kind)} block has no key {show(k)}"
                          f"{did_you_mean(k, allowed)}; its keys are {_list(allowed)}")
                 b.broken = True
+        for k in item.keys():
+            if isinstance(item.get(k), YBad):
+                # refused by the YAML reader (a number spelling of rule
+                # 4.1, a tag, ...), which reported it: the block is not
+                # checked further, and no diagram is built
+                b.broken = True
         for k in required:
             if item.get(k) is None:
                 self.err(item.owner_pos, f"{what}: missing key {show(k)} ({_a(kind)} block needs "
