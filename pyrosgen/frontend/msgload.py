@@ -1171,6 +1171,13 @@ def parse_path(text: object, *, extended: bool = False) -> list[tuple[str, int |
                 f"field path {show(text)} is malformed: expected field names, each "
                 f"optionally followed by [INDEX], separated by '.'{hint}"
             )
+        zeros = [x for x in indices if len(x) > 1 and x.startswith("0")]
+        if zeros:
+            # rule 4.1: C reads 010 as octal 8, a reader of the model as 10
+            raise PathError(
+                f"field path {show(text)}: index [{zeros[0]}] has a leading zero (C reads 010 as octal 8); "
+                f"write the index in plain decimal, [{int(zeros[0])}]"
+            )
         first = indices[0] if indices else None
         out.append(_Step(m.group(1), int(first) if first else None,
                          tuple(int(x) for x in indices[1:]), first == ""))

@@ -91,3 +91,47 @@ def test_block_parameters_in_plain_decimal_pass(capsys, tmp_path, in_subsystem):
         m.write_text(_diagram_model(_BLOCKS[kind, param], in_subsystem).replace("@", "0.5"))
         code, out = _run(capsys, ["check", str(m)])
         assert code == 0, (kind, param, out)
+
+
+# --------------------------------------------------------------------------
+# Rule 4.6: a field path's index with a leading zero (C reads 010 as 8; it
+# was read as element 10).
+
+_SCAN = """\
+node: {name: n, period_ms: 20}
+controller:
+  name: Controller
+  inputs: {name: Controller_U, fields: {R: float32}}
+  outputs: {name: Controller_Y, fields: {Out1: float64}}
+topics:
+  - {name: /scan, direction: subscribe, type: sensor_msgs/LaserScan, queue_size: 1, max_length: {ranges: 16}}
+  - {name: /out, direction: publish, type: std_msgs/Float64, queue_size: 1}
+relations:
+  inputs:
+    - {topic: /scan, field: "ranges[@]", input: R}
+  outputs:
+    - {output: Out1, topic: /out, field: data}
+"""
+
+
+@pytest.mark.parametrize("index", ["010", "00", "07"])
+def test_field_path_index_with_leading_zero_is_refused(capsys, tmp_path, index):
+    m = tmp_path / "m.yaml"
+    m.write_text(_SCAN.replace("@", index))
+    code, out = _run(capsys, ["check", str(m)])
+    assert code == 1, out
+    [diag] = out.splitlines()
+    assert diag.startswith(f"{m}:11:29: error: relations.inputs[0].field: field path 'ranges[{index}]': "
+                           f"index [{index}] has a leading zero (C reads 010 as octal 8); write the index "
+                           f"in plain decimal, [{int(index)}]")
+    assert diag.endswith("[rule 4.6]")
+
+
+@pytest.mark.parametrize("index", ["10", "0", "7"])
+def test_field_path_index_in_plain_decimal_is_read(tmp_path, index):
+    from pyrosgen import load_model
+
+    m = tmp_path / "m.yaml"
+    m.write_text(_SCAN.replace("@", index))
+    [rel] = load_model(m).input_relations
+    assert rel.path.steps == ("ranges", "data", int(index))
