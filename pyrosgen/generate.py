@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import stat
 import tempfile
 import time
 from collections.abc import Callable
@@ -42,7 +43,7 @@ from pathlib import Path
 from pyrosgen.files import locked_folder, move
 from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
 from pyrosgen.proof.coqmodel import EmitError, node_file_names, render_node_file
-from pyrosgen.errors import ToolFailure, UserError
+from pyrosgen.errors import ToolFailure, UserError, show
 from pyrosgen.proof.modeltext import compare_model_texts, model_text
 from pyrosgen.verify.certificate import ProofRecord, sha256_file, tool_versions, write_certificate
 from pyrosgen.frontend.model import NodeModel
@@ -85,6 +86,15 @@ class GenerateResult:
         return [p for p, w in self.files if w]
 
 
+def _check_out_dir(out_dir: str | Path) -> Path:
+    """``out_dir`` as a path, refused when it is empty (``-o ""``, which
+    ``Path`` would read as the current folder)."""
+    if str(out_dir) == "" or not str(out_dir).strip():
+        raise OutputDirError(f"the output folder {show(str(out_dir))} is empty; give a folder name "
+                             "(-o . for the current folder)")
+    return Path(out_dir)
+
+
 def _existing_ancestor(p: Path) -> Path:
     p = p.absolute()
     while not p.exists():
@@ -93,10 +103,39 @@ def _existing_ancestor(p: Path) -> Path:
 
 
 def _same_content(path: Path, data: bytes) -> bool:
+    """Whether ``path``, a regular file (never followed if a link), holds
+    ``data``; its size is compared first, so a large file is not read."""
     try:
-        return path.is_file() and path.read_bytes() == data
+        st = os.lstat(path)
+        if not stat.S_ISREG(st.st_mode) or st.st_size != len(data):
+            return False
+        return path.read_bytes() == data
     except OSError:
         return False
+
+
+def _check_targets(staged: list[tuple[Path, str]], out_dir: Path) -> None:
+    """Refuse (exit 1) an output file's name taken by anything but a
+    regular file: a link (to /dev/zero, a FIFO, a file elsewhere) is never
+    followed, read or replaced, and nor is a folder or a device."""
+    for _, name in staged:
+        target = out_dir / name
+        try:
+            st = os.lstat(target)
+        except FileNotFoundError:
+            continue
+        except OSError as exc:
+            raise OutputDirError(f"{target}: cannot be examined: {exc.strerror or exc}") from None
+        if stat.S_ISLNK(st.st_mode):
+            what = "a symbolic link"
+        elif stat.S_ISDIR(st.st_mode):
+            what = "a folder"
+        elif not stat.S_ISREG(st.st_mode):
+            what = "a special file (a device, FIFO or socket)"
+        else:
+            continue
+        raise OutputDirError(f"{target}: is {what}; pyrosgen writes its output files only as regular files "
+                             "and does not follow or replace it: remove it, or choose another output folder")
 
 
 def _install(staged: list[tuple[Path, str]], out_dir: Path, on_wait=None) -> list[tuple[Path, bool]]:
@@ -110,6 +149,7 @@ def _install(staged: list[tuple[Path, str]], out_dir: Path, on_wait=None) -> lis
     # one run at a time installs into a folder (concurrent runs would mix
     # their files: a .v of one next to the certificate of the other)
     with locked_folder(out_dir, on_wait):
+        _check_targets(staged, out_dir)
         return _install_files(staged, out_dir, created)
 
 
@@ -165,6 +205,7 @@ def generate(
     """
     say = progress or (lambda _line: None)
     t_start = time.monotonic()
+    _check_out_dir(out_dir)
     say(f"[1/{STEPS}] front end: reading {model_path}")
     model = load_model(model_path)
     return generate_model(
@@ -234,7 +275,7 @@ def generate_model(
     say = progress or (lambda _line: None)
     times: dict[str, float] = {}
     t_start = _t_start if _t_start is not None else time.monotonic()
-    out_dir = Path(out_dir)
+    out_dir = _check_out_dir(out_dir)
 
     # 1. front end (continued): output folder, tools, library, the .v
     if out_dir.exists() and not out_dir.is_dir():

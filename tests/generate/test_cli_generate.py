@@ -6,6 +6,8 @@ from __future__ import annotations
 import os
 import shutil
 import stat
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -239,6 +241,61 @@ def test_keep_work(capsys, tmp_path):
     assert len(kept) == 1 and f"work directory kept: {kept[0]}" in err
     assert (kept[0] / "coq" / f"{NODE}.vo").is_file()
     shutil.rmtree(kept[0])
+
+
+@pytest.mark.parametrize("empty", ["", " "])
+def test_empty_output_folder_exit_1(capsys, tmp_path, monkeypatch, empty):
+    """``-o ""`` was read as the current folder (exit 0, files written
+    there); it is refused, and nothing is written."""
+    monkeypatch.chdir(tmp_path)
+    code, out, err = run(capsys, "generate", LANDSHARK, "-o", empty)
+    assert code == 1, err
+    assert f"the output folder '{empty}' is empty; give a folder name (-o . for the current folder)" in err
+    assert "Traceback" not in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def _make_link_to_zero(p: Path) -> None:
+    p.symlink_to("/dev/zero")
+
+
+def _make_dangling_link(p: Path) -> None:
+    p.symlink_to(p.parent / "nowhere")
+
+
+def _make_fifo(p: Path) -> None:
+    os.mkfifo(p)
+
+
+def _make_folder(p: Path) -> None:
+    p.mkdir()
+
+
+@pytest.mark.parametrize("make, what", [
+    (_make_link_to_zero, "a symbolic link"),
+    (_make_dangling_link, "a symbolic link"),
+    (_make_fifo, "a special file (a device, FIFO or socket)"),
+    (_make_folder, "a folder"),
+], ids=["link-to-dev-zero", "dangling-link", "fifo", "folder"])
+def test_output_name_taken_by_a_link_or_special_file_exit_1(tmp_path, outdir, make, what):
+    """A link to /dev/zero named like an output file made generate copy
+    without end (the old file is backed up before it is replaced); it is
+    refused without being followed, read or replaced, and nothing is
+    written.  In a subprocess with a timeout, so that a regression fails
+    instead of hanging the suite."""
+    require_library()
+    target = outdir / f"{NODE}.v"
+    make(target)
+    before = sorted(p.name for p in outdir.iterdir())
+    res = subprocess.run([sys.executable, "-m", "pyrosgen", "generate", str(LANDSHARK), "-o", str(outdir), "-q"],
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 1, res.stderr
+    assert (f"{target}: is {what}; pyrosgen writes its output files only as regular files and does not "
+            "follow or replace it: remove it, or choose another output folder") in res.stderr
+    assert "Traceback" not in res.stderr
+    assert sorted(p.name for p in outdir.iterdir()) == before
+    assert os.path.islink(target) == (what == "a symbolic link")
+    assert _no_work_dirs(tmp_path)
 
 
 def test_usage_errors(capsys):
