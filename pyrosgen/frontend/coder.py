@@ -47,6 +47,18 @@ MAX_ARRAY = 65536
 #: Minimal standard headers used instead of the system's.
 FAKE_LIBC = Path(__file__).resolve().parent / "fake_libc"
 
+#: Largest source file init reads (a header or a .c of Embedded Coder is
+#: far smaller; a larger one is refused rather than read whole).
+MAX_SOURCE_SIZE = 16 * 1024 * 1024
+
+#: Longest sample time text read (``0.05``, ``5.0E-2``) and largest
+#: exponent: ``1e999999999`` would take minutes to convert exactly.
+_MAX_TIME_TEXT = 32
+_MAX_TIME_EXPONENT = 20
+
+#: The period range of rule 4.2 (milliseconds).
+_MAX_PERIOD_MS = 3_600_000
+
 #: Typedef names of Embedded Coder with a fixed meaning (checked before the
 #: C type they stand for: ``boolean_T`` is an ``unsigned char``).
 CODER_TYPES = {
@@ -117,6 +129,33 @@ class CoderInterface:
     notes: list[str] = field(default_factory=list)
 
 
+def _read_source(path: Path) -> str:
+    """The text of the source file ``path``, refused (a user error) when it
+    is larger than :data:`MAX_SOURCE_SIZE` (a sparse 20 GB file was read
+    whole, MemoryError) or not a regular file."""
+    import os
+    import stat
+
+    try:
+        st = os.stat(path)
+    except OSError as exc:
+        raise CoderError(f"{path}: cannot be read: {exc.strerror or exc}") from None
+    if not stat.S_ISREG(st.st_mode):
+        raise CoderError(f"{path}: is not a regular file")
+    if st.st_size > MAX_SOURCE_SIZE:
+        raise CoderError(f"{path}: is {st.st_size:,} bytes; init reads source files of at most "
+                         f"{MAX_SOURCE_SIZE // (1024 * 1024)} MiB (move it out of the controller folder)")
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_SOURCE_SIZE + 1)
+    except OSError as exc:
+        raise CoderError(f"{path}: cannot be read: {exc.strerror or exc}") from None
+    if len(data) > MAX_SOURCE_SIZE:
+        raise CoderError(f"{path}: is larger than {MAX_SOURCE_SIZE // (1024 * 1024)} MiB; init reads source "
+                         "files of at most that size")
+    return data.decode("utf-8", errors="replace")
+
+
 def _preprocess(header: Path, folder: Path) -> str:
     argv = ["cpp", "-nostdinc", "-undef", "-D__STDC_VERSION__=201112L",
             "-I", str(FAKE_LIBC), "-I", str(header.parent), "-I", str(folder), str(header)]
@@ -142,6 +181,10 @@ def _map_field(decl, typedefs: dict, raw_text: str) -> CoderField:
     written = _type_text(decl.type)
     comment = _comment(raw_text, name)
     prim, size, why = _map_type(decl.type, typedefs, written)
+    if decl.bitsize is not None:
+        # uint32_T A : 3; the layout of bitfields is the compiler's
+        prim, size, why = None, None, (f"a bitfield of {_type_text(decl.bitsize)} bits: its layout is "
+                                       "the compiler's; the glue carries whole fields")
     return CoderField(name, where, prim, written, comment, why, size)
 
 
@@ -254,20 +297,27 @@ def _find_period(folder: Path, files: list[Path]) -> tuple[int | None, str, list
     notes = []
     for pattern, what in _PERIOD_PATTERNS:
         for f in files:
-            try:
-                text = f.read_text(encoding="utf-8", errors="replace")
-            except OSError:
-                continue
+            text = _read_source(f)
             m = pattern.search(text)
             if not m:
                 continue
+            line = text.count("\n", 0, m.start()) + 1
+            where = f"{f.name}:{line}"
+            exponent = re.search(r"[eE]([+-]?[0-9]+)$", m.group(1))
+            if len(m.group(1)) > _MAX_TIME_TEXT or (exponent and abs(int(exponent.group(1))) > _MAX_TIME_EXPONENT):
+                notes.append(f"{where}: sample time {m.group(1)[:_MAX_TIME_TEXT]}{'...' if len(m.group(1)) > _MAX_TIME_TEXT else ''} s "
+                             "is not a number init reads (too long, or its exponent is beyond "
+                             f"+/-{_MAX_TIME_EXPONENT}); period_ms left for you to set")
+                return None, "", notes
             try:
                 seconds = Fraction(m.group(1))
             except (ValueError, ZeroDivisionError):
                 continue
             ms = seconds * 1000
-            line = text.count("\n", 0, m.start()) + 1
-            where = f"{f.name}:{line}"
+            if ms > _MAX_PERIOD_MS:
+                notes.append(f"{where}: sample time {m.group(1)} s is longer than {_MAX_PERIOD_MS:,} ms, the "
+                             "longest period (rule 4.2); period_ms left for you to set")
+                return None, "", notes
             if ms <= 0 or ms.denominator != 1:
                 notes.append(f"{where}: sample time {m.group(1)} s is not a whole number of milliseconds; "
                              "period_ms left for you to set")
@@ -293,10 +343,7 @@ def read_controller(folder: str | Path, name: str | None = None) -> CoderInterfa
     headers = sorted(p for p in folder.rglob("*.h") if p.is_file())
     candidates: list[tuple[str, Path]] = []
     for h in headers:
-        try:
-            text = h.read_text(encoding="utf-8", errors="replace")
-        except OSError:
-            continue
+        text = _read_source(h)
         for m in re.finditer(r"\bExtU_(\w+)_T\s*;", text):
             if re.search(rf"\bExtY_{re.escape(m.group(1))}_T\s*;", text):
                 candidates.append((m.group(1), h))
@@ -310,7 +357,7 @@ def read_controller(folder: str | Path, name: str | None = None) -> CoderInterfa
     if len(models) > 1:
         raise CoderError(f"{folder}: several models ({', '.join(models)}); choose one with --name")
     model, header = candidates[0]
-    raw = header.read_text(encoding="utf-8", errors="replace")
+    raw = _read_source(header)
     text = _preprocess(header, folder)
     try:
         ast = c_parser.CParser().parse(text, filename=str(header))
@@ -357,6 +404,15 @@ def _yaml_comment(text: str) -> str:
     return "".join(ch if ch.isprintable() and ch.isascii() else "?" for ch in text)
 
 
+def _yaml_name(name: str) -> str:
+    """A C name as a YAML plain scalar, quoted when YAML 1.1 would read it
+    as something else than this text (``null``, ``on``, ``yes``, ``True``
+    are a null and booleans)."""
+    import yaml
+
+    return name if yaml.safe_load(name) == name else f"'{name}'"
+
+
 def skeleton(iface: CoderInterface, folder: Path, node_name: str | None = None) -> str:
     """The text of the node model skeleton."""
     m = iface.model
@@ -377,15 +433,15 @@ def skeleton(iface: CoderInterface, folder: Path, node_name: str | None = None) 
     else:
         out.append("  period_ms:    # the sample time was not found in the controller folder: "
                    "set the period in milliseconds")
-    out += ["controller:", f"  name: {m}", "  inputs:", f"    name: {m}_U", "    fields:"]
-    width = max(len(f.name) for f in iface.inputs + iface.outputs) + 1
+    out += ["controller:", f"  name: {_yaml_name(m)}", "  inputs:", f"    name: {m}_U", "    fields:"]
+    width = max(len(_yaml_name(f.name)) for f in iface.inputs + iface.outputs) + 1
     twidth = max(8, *(len(f.type_text) for f in iface.inputs + iface.outputs))
     for f in iface.inputs:
-        out.append(f"      {f.name + ':':<{width}} {f.type_text:<{twidth}}  # {_yaml_comment(f.c_type)}"
+        out.append(f"      {_yaml_name(f.name) + ':':<{width}} {f.type_text:<{twidth}}  # {_yaml_comment(f.c_type)}"
                    + (f": {_yaml_comment(f.comment)}" if f.comment else ""))
     out += ["  outputs:", f"    name: {m}_Y", "    fields:"]
     for f in iface.outputs:
-        out.append(f"      {f.name + ':':<{width}} {f.type_text:<{twidth}}  # {_yaml_comment(f.c_type)}"
+        out.append(f"      {_yaml_name(f.name) + ':':<{width}} {f.type_text:<{twidth}}  # {_yaml_comment(f.c_type)}"
                    + (f": {_yaml_comment(f.comment)}" if f.comment else ""))
     first_out = iface.outputs[0]
     arrays = [f for f in iface.inputs + iface.outputs if f.size is not None]
@@ -411,17 +467,17 @@ def _input_placeholder(f: CoderField) -> str:
     scalar field, an array (rule 4.15) from a whole array of as many
     elements, or element by element."""
     if f.size is None:
-        return f"    # - {{topic: /sensor, field: twist.linear.x, input: {f.name}}}"
+        return f"    # - {{topic: /sensor, field: twist.linear.x, input: {_yaml_name(f.name)}}}"
     field = "header.frame_id" if f.prim == "uint8" else "ranges"
     what = "a string of at most" if f.prim == "uint8" else "a whole array of"
-    return (f"    # - {{topic: /scan, field: {field}, input: {f.name}}}    # {f.type_text}: {what} "
+    return (f"    # - {{topic: /scan, field: {field}, input: {_yaml_name(f.name)}}}    # {f.type_text}: {what} "
             f"{f.size} {f.prim} (max_length {f.size}), or element by element: input: \"{f.name}[0]\"")
 
 
 def _output_placeholder(f: CoderField) -> str:
     """A commented relation writing controller output ``f`` into a field."""
     if f.size is None:
-        return f"    # - {{output: {f.name}, topic: /command, field: twist.linear.x}}"
-    return (f"    # - {{output: {f.name}, topic: /command, field: data}}    # {f.type_text}: into a whole array "
+        return f"    # - {{output: {_yaml_name(f.name)}, topic: /command, field: twist.linear.x}}"
+    return (f"    # - {{output: {_yaml_name(f.name)}, topic: /command, field: data}}    # {f.type_text}: into a whole array "
             f"of {f.size} {f.prim} (max_length {f.size}; its length from a uint32 output, derived: length), "
             f"or element by element: output: \"{f.name}[0]\"")
