@@ -10,6 +10,7 @@ any, :class:`pyrosgen.errors.InvalidNodeModel` is raised with all of them.
 from __future__ import annotations
 
 import re
+import unicodedata
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -1497,6 +1498,22 @@ def check_max_length(ck: _Checker, decls: list[_TopicDecl], registry: MsgRegistr
             _one_value_per_field(ck, rule, seen, it, it.n, "maximum")
 
 
+#: The Unicode categories a constant string may not hold (rule 4.14), and
+#: how a message names them: controls (C0, DEL, C1 such as U+0085 and
+#: U+009B), invisible format characters (U+202E reverses the text shown
+#: after it, U+FEFF), surrogates, private-use and unassigned code points
+#: (U+FFFE), line and paragraph separators (U+2028, U+2029).
+_NOT_PRINTABLE = {
+    "Cc": "control character",
+    "Cf": "invisible format character",
+    "Cs": "surrogate",
+    "Co": "private-use character",
+    "Cn": "unassigned code point",
+    "Zl": "line separator",
+    "Zp": "paragraph separator",
+}
+
+
 def _string_value(node: YNode, capacity: int = STRING_CAPACITY) -> tuple[str | None, str | None]:
     """The constant written at ``node`` and why it is not one: a YAML
     string of printable text, at most ``capacity`` bytes in UTF-8 (the
@@ -1517,8 +1534,9 @@ def _string_value(node: YNode, capacity: int = STRING_CAPACITY) -> tuple[str | N
         return None, (f"is not valid Unicode text: it holds the lone surrogate U+{ord(value[exc.start]):04X} "
                       f"(character {exc.start + 1})")
     for i, ch in enumerate(value):
-        if ord(ch) < 0x20 or ord(ch) == 0x7F:
-            return None, (f"contains the control character U+{ord(ch):04X} (character {i + 1}); "
+        kind = _NOT_PRINTABLE.get(unicodedata.category(ch))
+        if kind is not None:
+            return None, (f"contains the {kind} U+{ord(ch):04X} (character {i + 1}); "
                           "a constant string holds printable text")
     if len(data) > capacity:
         extra = "" if capacity == STRING_CAPACITY else " (its field's max_length)"

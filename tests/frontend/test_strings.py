@@ -123,6 +123,10 @@ def test_empty_non_ascii_and_longest_constants(tmp_path):
     assert m.strings[0][2] == b""
     m = load(tmp_path, with_const("frame_id: 'bäse ☃'"))
     assert m.strings[0][2] == "bäse ☃".encode()
+    # letters, symbols, marks and spaces of any script are printable (rule
+    # 4.14 refuses categories Cc, Cf, Cs, Co, Cn, Zl, Zp only)
+    m = load(tmp_path, with_const('frame_id: "ロボット 😀\\u00a0e\\u0301"'))
+    assert m.strings[0][2] == "ロボット 😀\u00a0e\u0301".encode()
     longest = "é" * 64  # 128 bytes
     m = load(tmp_path, with_const(f"frame_id: '{longest}'"))
     assert len(m.strings[0][2]) == 128
@@ -327,6 +331,29 @@ def test_value_must_be_a_string(tmp_path, value, got):
     ('"\\e"', ": the string contains the control character U+001B (character 1); a constant string holds "
               "printable text"),
     ('"a\\ud800"', " is not valid Unicode text: it holds the lone surrogate U+D800 (character 2)"),
+    # issue 30: C1 controls, invisible format characters (a bidi override,
+    # a byte-order mark, a zero-width space), line and paragraph
+    # separators, private-use and unassigned code points (rule 4.14)
+    ('"a\\x85"', ": the string contains the control character U+0085 (character 2); a constant string holds "
+                 "printable text"),
+    ('"\\u009b"', ": the string contains the control character U+009B (character 1); a constant string holds "
+                  "printable text"),
+    ('"base\\u202elink"', ": the string contains the invisible format character U+202E (character 5); a "
+                          "constant string holds printable text"),
+    ('"\\ufeffbase"', ": the string contains the invisible format character U+FEFF (character 1); a constant "
+                      "string holds printable text"),
+    ('"a\\u200bb"', ": the string contains the invisible format character U+200B (character 2); a constant "
+                    "string holds printable text"),
+    ('"a\\u2028b"', ": the string contains the line separator U+2028 (character 2); a constant string holds "
+                    "printable text"),
+    ('"a\\u2029b"', ": the string contains the paragraph separator U+2029 (character 2); a constant string "
+                    "holds printable text"),
+    ('"a\\ufffe"', ": the string contains the unassigned code point U+FFFE (character 2); a constant string "
+                   "holds printable text"),
+    ('"\\uffff"', ": the string contains the unassigned code point U+FFFF (character 1); a constant string "
+                  "holds printable text"),
+    ('"\\ue000"', ": the string contains the private-use character U+E000 (character 1); a constant string "
+                  "holds printable text"),
 ])
 def test_value_is_printable_text_of_at_most_128_bytes(tmp_path, value, problem):
     text = with_const(f"frame_id: {value}")
@@ -424,9 +451,13 @@ def test_a_field_is_named_once(tmp_path):
     _fleet(tmp_path)
     text = CONVOY.replace("STRINGS", 'strings: {"legs[1].label": a, "legs[01].label": b}')
     line, col = at(text, '"legs[01].label"')
-    assert one(tmp_path, text)[:3] == (line, col, "topics[1].strings['legs[01].label']: field 'legs[1].label' of "
-                                       "topic '/convoy_out' already has a constant (topics[1].strings"
-                                       f"['legs[1].label'], line {line})")
+    # legs[01] was read as legs[1] and so found a second constant of that
+    # field; an index with a leading zero is now refused (rule 4.6: C
+    # reads 010 as 8), before any comparison
+    assert one(tmp_path, text)[:3] == (line, col, "topics[1].strings['legs[01].label']: field path "
+                                       "'legs[01].label': index [01] has a leading zero (C reads 010 as octal 8); "
+                                       "write the index in plain decimal, [1] (topic '/convoy_out', "
+                                       "fleet_msgs/Convoy)")
 
 
 def test_strings_is_a_mapping(tmp_path):
