@@ -13,6 +13,15 @@ publishes (one edge per output relation, labelled with the destination
 field path and its type).  Clusters separate the ROS side, the generated
 glue (the part the Coq proofs are about) and the controller.
 
+Timing (DESIGN.md rules 4.12, 4.13) is drawn too: a subscribed topic shows
+its ``timeout_ms`` and ``on_timeout``; an input relation from a topic with
+a timeout says what its input gets while the topic is stale (its fallback,
+or ``hold``); a derived input (``is_new``, ``received``, ``age_ms``) is a
+dashed edge from the topic's callback, which records each receipt, to the
+input it feeds; a published topic shows its ``header.stamp`` (``now``, or
+the stamp of a subscribed topic's newest message, then also a dashed edge
+from that topic's global to the output glue that copies it).
+
 The DOT text comes from ``templates/diagram.dot.j2``; Graphviz's ``dot``
 turns it into SVG, PNG or PDF.  Every text from the model reaches the DOT
 text through :func:`dot_html`, whatever the front end already checked, and
@@ -37,7 +46,7 @@ from typing import Any
 
 from pyrosgen.errors import ToolFailure, UserError, escape, show
 from pyrosgen.render import render
-from pyrosgen.frontend.model import NodeModel
+from pyrosgen.frontend.model import DERIVED_PRIMS, NodeModel
 
 __all__ = [
     "FORMATS",
@@ -111,6 +120,22 @@ def _rows(relations) -> list[tuple[Any, int]]:
     return [(r, n) for r, n in out]
 
 
+def _stale(r) -> str | None:
+    """What input relation ``r`` gives its input while its topic is stale
+    (rule 4.12): its fallback's text, ``hold``, or ``None`` when its topic
+    has no timeout."""
+    if r.topic.timeout_ms is None:
+        return None
+    return "hold" if r.fallback is None else (r.fallback.text or str(r.fallback.n))
+
+
+def _stamp(t) -> str | None:
+    """The ``header.stamp`` of published topic ``t`` (rule 4.13)."""
+    if not t.stamped:
+        return None
+    return "now (the cycle's ROS time)" if t.stamp_from is None else f"from {t.stamp_from}"
+
+
 def _label(text: str, index: int | None, row) -> str:
     """An edge's field: ``ranges``, ``ranges[540]``, and the element of a
     controller array a relation names (rule 4.15): ``ranges[540] (element 0)``."""
@@ -150,6 +175,9 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
                 "var": t.msg_var,
                 "struct": t.msg_struct,
                 "nfields": _kept_count(model, t),
+                # rule 4.12: None without a timeout
+                "timeout_ms": t.timeout_ms,
+                "on_timeout": t.on_timeout,
             }
         )
         var_of.setdefault(t.name, f"msg{i}")
@@ -170,9 +198,18 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
                 "publish": t.publish_fn,
                 # constant strings (rule 4.14), shown on the topic
                 "strings": [{"path": c.path_text, "value": c.value} for c in t.strings],
+                # rule 4.13: None when not stamped
+                "stamp": _stamp(t),
             }
         )
         glue_of.setdefault(t.name, f"og{i}")
+    # a stamp copied from a subscribed topic: from its global (where its
+    # callback keeps the stamp) to the output glue that copies it
+    stamp_edges = [
+        {"id": f"stamp{k}", "tail": var_of[t.stamp_from], "head": glue_of[t.name]}
+        for k, t in enumerate(t for t in model.published if t.stamped and t.stamp_from is not None)
+        if t.stamp_from in var_of
+    ]
 
     in_rels = []
     for i, (r, n) in enumerate(_rows(model.input_relations)):
@@ -191,6 +228,24 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
                 # whole array (ranges), an element of a controller array
                 "path": _label(r.row[0] if r.row else r.field_text, r.input_index, r.row),
                 "prim": f"{r.path.prim}[{n}]" if r.row else r.path.prim,
+                "stale": _stale(r),
+            }
+        )
+    # derived inputs (rule 4.12): facts about a topic's messages, which its
+    # callback records (receipt time, flags) and input_glue turns into the
+    # input's value
+    derived = []
+    for i, r in enumerate(model.derived_relations):
+        if r.topic.name not in cb_of or r.input_field not in u_port:
+            raise ValueError(f"derived input {i} names an unknown topic or input field")
+        derived.append(
+            {
+                "id": f"derived{i}",
+                "tail": cb_of[r.topic.name],
+                "head": u["id"],
+                "port": u_port[r.input_field],
+                "kind": r.kind,
+                "prim": DERIVED_PRIMS[r.kind],
             }
         )
     out_rels = []
@@ -216,7 +271,9 @@ def diagram_context(model: NodeModel) -> dict[str, Any]:
         "ctrl": {"step_id": "step", "step": ctrl.step_fn, "u": u, "y": y},
         "pubs": pubs,
         "in_rels": in_rels,
+        "derived": derived,
         "out_rels": out_rels,
+        "stamp_edges": stamp_edges,
     }
 
 

@@ -169,7 +169,8 @@ def test_direct_relations_come_from_the_callback():
         ("cb0", "ranges : float32[4]"), ("msg0", "ranges (length) : uint32"),
         ("msg1", "pose.pose.position.x : float64"), ("cb0", "ranges[1] : float32"),
         ("cb1", "pose.covariance[3] : float64"), ("cb0", "header.frame_id[0] : uint8"),
-        ("msg2", "ranges[2] : float32"), ("msg2", "ranges (length) : uint32"), ("msg3", "ranges[1] : float32")])
+        ("msg2", "ranges[2] : float32 stale: zero"), ("msg2", "ranges (length) : uint32 stale: zero"),
+        ("msg3", "ranges[1] : float32")])
     # what each callback keeps in its global (the msg<i> edges above): /scan its
     # length and its stamp's sec and nsec (the output's source, rule 4.13),
     # /pose position.x, the timed topic with a timeout ranges[2] and the
