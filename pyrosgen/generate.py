@@ -165,7 +165,12 @@ def _install_files(staged: list[tuple[Path, str]], out_dir: Path, created: bool)
             backup = None
             if target.exists():
                 backup = src.with_name(src.name + ".old")
-                shutil.copy2(target, backup)
+                try:
+                    # a second name for the old file, not a copy of its
+                    # bytes (it may be large)
+                    os.link(target, backup)
+                except OSError:
+                    shutil.copy2(target, backup)   # another file system
             move(src, target)
             done.append((target, backup))
             result.append((target, True))

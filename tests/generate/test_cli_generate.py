@@ -298,6 +298,39 @@ def test_output_name_taken_by_a_link_or_special_file_exit_1(tmp_path, outdir, ma
     assert _no_work_dirs(tmp_path)
 
 
+_INSTALL_OVER_A_LARGE_FILE = """
+import resource, sys
+from pathlib import Path
+resource.setrlimit(resource.RLIMIT_AS, (1 << 30, 1 << 30))   # 1 GiB: the old file is 4 GiB
+from pyrosgen.generate import _install
+out, stage = Path(sys.argv[1]), Path(sys.argv[2])
+[(target, rewritten)] = _install([(stage / "new.v", "node.v")], out)
+print(target.name, rewritten)
+"""
+
+
+def test_large_old_output_is_replaced_without_being_read(tmp_path):
+    """An old output file is compared by size first and backed up by a
+    hard link: a (sparse) 4 GiB file named like an output was read whole
+    and copied before being replaced.  In a subprocess whose address space
+    is limited to 1 GiB, so that reading it fails at once."""
+    out, stage = tmp_path / "out", tmp_path / "stage"
+    out.mkdir()
+    stage.mkdir()
+    with open(out / "node.v", "wb") as fh:
+        fh.truncate(4 << 30)
+    (stage / "new.v").write_text("(* new *)\n")
+    old_inode = os.stat(out / "node.v").st_ino
+    res = subprocess.run([sys.executable, "-c", _INSTALL_OVER_A_LARGE_FILE, str(out), str(stage)],
+                         capture_output=True, text=True, timeout=120, cwd=Path(__file__).resolve().parents[2])
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert res.stdout.split() == ["node.v", "True"]
+    assert (out / "node.v").read_text() == "(* new *)\n"
+    # the backup kept for an undo is the old file under a second name, not
+    # a copy of its 4 GiB
+    assert os.stat(stage / "new.v.old").st_ino == old_inode
+
+
 def test_usage_errors(capsys):
     code, out, err = run(capsys, "generate", LANDSHARK)
     assert code == 1 and "-o" in err
