@@ -273,7 +273,7 @@ def cmd_init(args: argparse.Namespace) -> int:
         raise UserError(f"{out}: exists and is not a regular file")
     if not out.parent.is_dir():
         raise UserError(f"{out.parent}: the folder of the output file does not exist")
-    iface = read_controller(args.controller, args.name)
+    iface = read_controller(args.controller, args.name, tuple(args.include or ()))
     text = skeleton(iface, Path(args.controller), args.node)
     fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".tmp", dir=str(out.parent))
     try:
@@ -343,7 +343,8 @@ writes DIR/<node>.v, <node>_types.h, <node>_glue.c, <node>.sexp, <node>.model,
 only if the node's DDC theorem was checked and is closed under the global context.""",
     "init": """examples:
   pyrosgen init --controller examples/landshark/controller -o my_node.yaml
-  pyrosgen init --controller codegen/Robot_ert_rtw --name Robot -o robot.yaml""",
+  pyrosgen init --controller codegen/Robot_ert_rtw --name Robot -o robot.yaml
+  pyrosgen init --controller codegen/Robot_ert_rtw --include ../slprj/ert/_sharedutils -o robot.yaml""",
     "verify": """examples:
   pyrosgen verify build/landshark                       # hashes, coqc/coqchk, re-printed C, wrapper
   pyrosgen verify build/landshark --model examples/landshark/landshark_controller.yaml --wp
@@ -481,6 +482,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", metavar="MODEL.yaml", required=True, help="the model file to write")
     p.add_argument("--name", metavar="MODEL", help="the Simulink model, when DIR holds several")
     p.add_argument("--node", metavar="NAME", help="the node's name (default: <model>_node)")
+    p.add_argument("--include", action="append", metavar="DIR",
+                   help="an include folder for the controller's headers (relative to its folder, or absolute; "
+                        "as for build; its subfolders holding headers, e.g. slprj/ert/_sharedutils, are searched "
+                        "without it)")
     p.add_argument("--force", action="store_true", help="overwrite MODEL.yaml if it exists")
     p.set_defaults(func=cmd_init)
 

@@ -144,3 +144,72 @@ def test_init_then_build_gives_the_same_node(landshark_build, tmp_path):
                 mine = out / NODE / rel / f.relative_to(example_out / NODE / rel)
                 assert mine.read_bytes() == f.read_bytes(), f
     assert (out / f"{NODE}.model").read_bytes() == (example_out / f"{NODE}.model").read_bytes()
+
+
+#: A folder in the shape Embedded Coder writes (see tests/support/ert):
+#: Rover.h/.c, Rover_private.h, Rover_types.h, ert_main.c with
+#: ``int_T main(int_T argc, const char *argv[])``, rtwtypes.h and rt_*
+#: utilities in slprj/ert/_sharedutils/, the referenced model Wheel in
+#: slprj/ert/Wheel/.
+ERT = LANDSHARK.parents[2] / "tests" / "support" / "ert" / "Rover_ert_rtw"
+
+
+def _rover_model(tmp_path: Path, ctl: Path) -> Path:
+    """pyrosgen init on ``ctl``, the LandShark topics and relations filled in."""
+    import yaml
+
+    model = tmp_path / "rover.yaml"
+    run = pyrosgen("init", "--controller", ctl, "-o", model)
+    assert run.returncode == 0, run.stderr
+    assert "period    20 ms, from the rate of rt_OneStep, ert_main.c:50" in run.stdout
+    skeleton = yaml.safe_load(model.read_text())
+    example = yaml.safe_load(LANDSHARK.read_text())
+    skeleton["topics"], skeleton["relations"] = example["topics"], example["relations"]
+    model.write_text(yaml.safe_dump(skeleton, sort_keys=False))
+    return model
+
+
+def test_embedded_coder_folder_init_then_build(tmp_path):
+    """An Embedded Coder folder goes through init and build unchanged:
+    ert_main.c (int_T main) left out with a note, the shared utilities and
+    the referenced model compiled and linked, the period agreeing with
+    ert_main.c's (no note)."""
+    ctl = tmp_path / "Rover_ert_rtw"
+    shutil.copytree(ERT, ctl)
+    before = {p: p.read_bytes() for p in ctl.rglob("*") if p.is_file()}
+    model = _rover_model(tmp_path, ctl)
+    out = tmp_path / "out"
+    run = pyrosgen("build", model, "--controller", ctl, "-o", out, "-q")
+    assert run.returncode == 0, run.stderr
+    assert f"note: {ctl / 'ert_main.c'}: left out of the build: defines main" in run.stderr
+    assert "generated for" not in run.stderr
+    objs = {p.name for p in (out / "obj").iterdir()}
+    assert {"controller_Rover.o", "controller_slprj__ert__Wheel__Wheel.o",
+            "controller_slprj__ert___sharedutils__rt_minsector.o",
+            "controller_slprj__ert___sharedutils__rt_nonfinite.o"} <= objs
+    assert not any("ert_main" in o for o in objs)
+    syms = subprocess.run(["nm", str(out / "bin" / "rover_node")], capture_output=True, text=True).stdout
+    assert " T Wheel\n" in syms and " T rt_minsector\n" in syms and " T Rover_step\n" in syms
+    assert {p: p.read_bytes() for p in ctl.rglob("*") if p.is_file()} == before
+    # a period that differs from the controller's base rate is noted
+    text = model.read_text().replace("period_ms: 20", "period_ms: 10")
+    assert text != model.read_text()
+    model.write_text(text)
+    run = pyrosgen("build", model, "--controller", ctl, "-o", tmp_path / "out10", "-q")
+    assert run.returncode == 0, run.stderr
+    assert ("note: the node steps the controller every 10 ms (period_ms), but it was generated for 20 ms "
+            "(the rate of rt_OneStep, ert_main.c:50: 0.02 s)") in run.stderr
+
+
+def test_main_not_recognised_is_named_with_the_fix(tmp_path):
+    """A main the parser cannot see (defined in assembly): the link error
+    names the file and says what to do."""
+    d = _folder(tmp_path)
+    (d / "asm_main.c").write_text('__asm__(".globl main\\n.type main, @function\\nmain:\\n  xorl %eax, %eax\\n  ret\\n");\n')
+    run = pyrosgen("build", LANDSHARK, "--controller", d, "-o", tmp_path / "out", "-q")
+    assert run.returncode == 1, run.stderr
+    first = run.stderr.splitlines()[0]
+    assert f"{d / 'asm_main.c'}: error: the controller defines main, and so does the node" in first, run.stderr
+    assert "move that main out of the controller folder" in first
+    assert "multiple definition of `main'" in run.stderr
+    assert not (tmp_path / "out").exists()
