@@ -314,6 +314,42 @@ def cmd_library(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def version_text() -> str:
+    """``pyrosgen X.Y.Z (ROSGen library <first 16 hex digits of its SHA-256>)``:
+    the library identity a certificate records (``pyrosgen library`` shows
+    it whole), computed from the library's sources, without building it."""
+    from pyrosgen import __version__, resources
+    from pyrosgen.proof.coqdriver import COQLIB_ENV, CoqDriver
+
+    try:
+        env = os.environ.get(COQLIB_ENV)
+        theories = env if env else resources.coq_dir() / "theories"
+        digest = CoqDriver(theories).library_digest()[:16]
+    except OSError as exc:
+        digest = f"unreadable: {exc.strerror or exc}"
+    return f"pyrosgen {__version__} (ROSGen library {digest})"
+
+
+class _Version(argparse.Action):
+    """``--version``: print :func:`version_text` and exit 0."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, help=None):
+        super().__init__(option_strings=option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(version_text())
+        parser.exit(0)
+
+
+def cmd_completion(args: argparse.Namespace) -> int:
+    """``pyrosgen completion``: print the bash completion script (see
+    :mod:`pyrosgen.completion`)."""
+    from pyrosgen.completion import bash_script
+
+    sys.stdout.write(bash_script(build_parser()))
+    return EXIT_OK
+
+
 _EXAMPLES = {
     "pyrosgen": """examples:
   pyrosgen check examples/landshark/landshark_controller.yaml
@@ -351,6 +387,9 @@ only if the node's DDC theorem was checked and is closed under the global contex
 
 exit codes: 0 every check holds, 1 a check failed (each is named) or not an
 output folder, 2 a tool is missing.""",
+    "completion": """examples:
+  source <(pyrosgen completion)                        # this shell
+  pyrosgen completion > ~/.local/share/bash-completion/completions/pyrosgen   # every new shell""",
     "build": """examples:
   pyrosgen build examples/landshark/landshark_controller.yaml \\
       --controller examples/landshark/controller -o build/landshark
@@ -368,6 +407,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("-v", "--verbose", action="store_true",
                         help="show every external command (coqc, coqchk, ocamlopt, gcc, ...) as it runs")
+    parser.add_argument("--version", action=_Version,
+                        help="show pyrosgen's version and its ROSGen library's identity, and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
 
@@ -495,6 +536,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--path", action="store_true", help="print only the folder (for coqc -R FOLDER ROSGen)")
     p.set_defaults(func=cmd_library)
+
+    p = sub.add_parser(
+        "completion", help="print the bash completion script",
+        epilog=_EXAMPLES["completion"], formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="Print a bash completion script generated from pyrosgen's options "
+                    "(make deps installs it into .venv/share/bash-completion/completions/pyrosgen).",
+    )
+    p.set_defaults(func=cmd_completion)
     return parser
 
 
