@@ -82,6 +82,11 @@ def cmd_check(args: argparse.Namespace) -> int:
     if arrays:
         ctrl += f"; {_plural(len(arrays), 'controller array')}: " + ", ".join(
             f"{side} {f.name} ({f.type_text})" for side, f in arrays)
+    from pyrosgen.frontend.msgdeb import missing_headers
+
+    for m in missing_headers(model):
+        # the model is valid; building it needs the headers
+        _print_err(f"{args.model}:{m.pos.line}:{m.pos.col}: note: {m.message()} (pyrosgen build needs it)")
     print(
         f"{args.model}: ok: node {model.name}, {_plural(len(model.topics), 'topic')}, "
         f"{_plural(len(model.input_relations), 'input relation')}{_rows(model.input_relations)}, "

@@ -67,7 +67,7 @@ from pyrosgen.verify.certificate import certificate_files, write_certificate
 from pyrosgen.verify.wrapper_check import check_glue_externals, check_wrapper
 from pyrosgen.generate import GenerateResult, OutputDirError, generate_model
 from pyrosgen.proof.coqmodel import node_file_names
-from pyrosgen.frontend import csource
+from pyrosgen.frontend import csource, msgdeb
 from pyrosgen.frontend.coder import find_period
 from pyrosgen.frontend.csource import C_SUFFIXES, CXX_SUFFIXES, HEADER_SUFFIXES
 from pyrosgen.frontend.model import NodeModel
@@ -507,6 +507,14 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
                          "pyrosgen generates its C; --controller is for a controller written in C")
     if not diagram and controller_dir is None:
         raise BuildError("--controller DIR is required: the model's controller is not a block diagram")
+    missing = msgdeb.missing_headers(model)
+    if missing:
+        # refused before proving: the wrapper could not be compiled
+        raise BuildToolError(
+            f"{model.source}: the C++ headers of {len(missing)} message type{'s' if len(missing) > 1 else ''} "
+            "of the model are not installed", [
+                f"{model.source}:{m.pos.line}:{m.pos.col}: error: {m.message()}" if m.pos.line else
+                f"{model.source}: error: {m.message()}" for m in missing])
     ctl = find_controller(model, controller_dir, [
         Path(i) if Path(i).is_absolute() else Path(controller_dir, i).absolute() for i in opts.includes
     ]) if not diagram else None
