@@ -212,10 +212,6 @@ _MAIN_WORD = re.compile(r"\bmain\b")
 def defines_main(source: Path, includes: Sequence[Path] = ()) -> bool:
     """Whether the source ``source`` defines ``main`` (see the module
     documentation); ``includes`` is the folder's include path."""
-    try:
-        raw = source.read_text(encoding="utf-8", errors="replace")
-    except OSError:
-        return False
     includes = list(includes) or [source.parent]
     text = None
     for system in (False, True):
@@ -226,7 +222,10 @@ def defines_main(source: Path, includes: Sequence[Path] = ()) -> bool:
             continue
     if text is None:
         # the source cannot be preprocessed: read it as written
-        return _scan_defines_main(raw)
+        try:
+            return _scan_defines_main(source.read_text(encoding="utf-8", errors="replace"))
+        except OSError:
+            return False
     if not _MAIN_WORD.search(text):
         return False
     if source.suffix in C_SUFFIXES:

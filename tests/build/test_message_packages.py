@@ -4,6 +4,8 @@ whose C++ headers ``make deps`` installs."""
 
 from __future__ import annotations
 
+import subprocess
+
 import yaml
 
 from pyrosgen.frontend.msgdeb import DEBIAN_DEV
@@ -25,5 +27,10 @@ def test_one_node_uses_every_standard_message_package(tmp_path):
     text = (out / "all_packages_ros.cpp").read_text()
     for t in topics:
         assert f"#include <{t['type']}.h>" in text, t["type"]
+    # the catkin package configures (package.xml lists each package once)
+    r = subprocess.run(["cmake", "-S", str(out / "all_packages"), "-B", str(tmp_path / "cmake"),
+                        "-DPYTHON_EXECUTABLE=/usr/bin/python3"],
+                       capture_output=True, text=True, stdin=subprocess.DEVNULL, timeout=300)
+    assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
     run = pyrosgen("check", MODEL)
     assert run.returncode == 0 and "note:" not in run.stderr, run.stderr
