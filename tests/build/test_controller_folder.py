@@ -7,6 +7,7 @@ file at fault."""
 
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -146,51 +147,87 @@ def test_init_then_build_gives_the_same_node(landshark_build, tmp_path):
     assert (out / f"{NODE}.model").read_bytes() == (example_out / f"{NODE}.model").read_bytes()
 
 
-#: A folder in the shape Embedded Coder writes (see tests/support/ert):
-#: Rover.h/.c, Rover_private.h, Rover_types.h, ert_main.c with
-#: ``int_T main(int_T argc, const char *argv[])``, rtwtypes.h and rt_*
-#: utilities in slprj/ert/_sharedutils/, the referenced model Wheel in
-#: slprj/ert/Wheel/.
-ERT = LANDSHARK.parents[2] / "tests" / "support" / "ert" / "Rover_ert_rtw"
+#: Folders in the shapes Embedded Coder writes (tests/support/ert), each with
+#: <model>.h/.c, <model>_private.h, <model>_types.h and ert_main.c defining
+#: ``int_T main(int_T argc, const char *argv[])``: Rover with rtwtypes.h and
+#: rt_* utilities in slprj/ert/_sharedutils/ and the referenced model Wheel in
+#: slprj/ert/Wheel/; Robot flat, as for a model that references none
+#: (rtwtypes.h, rt_nonfinite, rtGetInf, <model>_data.c with its parameters,
+#: a controller array, ``int_T`` and ``main`` on two lines).
+ERT_DIR = LANDSHARK.parents[2] / "tests" / "support" / "ert"
+ERT = ERT_DIR / "Rover_ert_rtw"
+
+ROBOT_TOPICS = [
+    {"name": "/scan", "direction": "subscribe", "type": "sensor_msgs/LaserScan", "queue_size": 1,
+     "max_length": {"ranges": 4}},
+    {"name": "/enable", "direction": "subscribe", "type": "std_msgs/Bool", "queue_size": 1},
+    {"name": "/cmd_vel", "direction": "publish", "type": "geometry_msgs/Twist", "queue_size": 1},
+    {"name": "/mode", "direction": "publish", "type": "std_msgs/UInt8", "queue_size": 1},
+]
+ROBOT_RELATIONS = {
+    "inputs": [{"topic": "/scan", "field": "ranges", "input": "Sectors"},
+               {"topic": "/enable", "field": "data", "input": "Enable"}],
+    "outputs": [{"output": "Speed", "topic": "/cmd_vel", "field": "linear.x"},
+                {"output": "Mode", "topic": "/mode", "field": "data"}],
+}
+#: folder -> (node, period line of init, objects compiled, symbols linked)
+ERT_FOLDERS = {
+    "Rover_ert_rtw": ("rover_node", "period    20 ms, from the rate of rt_OneStep, ert_main.c:50",
+                      {"controller_Rover.o", "controller_slprj__ert__Wheel__Wheel.o",
+                       "controller_slprj__ert___sharedutils__rt_minsector.o",
+                       "controller_slprj__ert___sharedutils__rt_nonfinite.o"},
+                      ("Wheel", "rt_minsector", "Rover_step")),
+    "Robot_ert_rtw": ("robot_node", "period    50 ms, from the rate of rt_OneStep, ert_main.c:64",
+                      {"controller_Robot.o", "controller_Robot_data.o", "controller_rtGetInf.o",
+                       "controller_rt_nonfinite.o"},
+                      ("Robot_P", "rtGetInfF", "Robot_step")),
+}
 
 
-def _rover_model(tmp_path: Path, ctl: Path) -> Path:
-    """pyrosgen init on ``ctl``, the LandShark topics and relations filled in."""
+def _ert_model(tmp_path: Path, ctl: Path, said: str) -> Path:
+    """pyrosgen init on ``ctl``, the topics and relations filled in
+    (Rover: LandShark's)."""
     import yaml
 
-    model = tmp_path / "rover.yaml"
+    model = tmp_path / f"{ctl.name}.yaml"
     run = pyrosgen("init", "--controller", ctl, "-o", model)
     assert run.returncode == 0, run.stderr
-    assert "period    20 ms, from the rate of rt_OneStep, ert_main.c:50" in run.stdout
+    assert said in run.stdout, run.stdout
     skeleton = yaml.safe_load(model.read_text())
-    example = yaml.safe_load(LANDSHARK.read_text())
-    skeleton["topics"], skeleton["relations"] = example["topics"], example["relations"]
+    if skeleton["controller"]["name"] == "Rover":
+        example = yaml.safe_load(LANDSHARK.read_text())
+        skeleton["topics"], skeleton["relations"] = example["topics"], example["relations"]
+    else:
+        skeleton["topics"], skeleton["relations"] = ROBOT_TOPICS, ROBOT_RELATIONS
     model.write_text(yaml.safe_dump(skeleton, sort_keys=False))
     return model
 
 
-def test_embedded_coder_folder_init_then_build(tmp_path):
+@pytest.mark.parametrize("folder", list(ERT_FOLDERS))
+def test_embedded_coder_folder_init_then_build(tmp_path, folder):
     """An Embedded Coder folder goes through init and build unchanged:
-    ert_main.c (int_T main) left out with a note, the shared utilities and
-    the referenced model compiled and linked, the period agreeing with
-    ert_main.c's (no note)."""
-    ctl = tmp_path / "Rover_ert_rtw"
-    shutil.copytree(ERT, ctl)
+    ert_main.c (int_T main) left out with a note, the shared utilities,
+    the parameters and the referenced model compiled and linked, the
+    period agreeing with ert_main.c's (no note)."""
+    node, said, want_objs, want_syms = ERT_FOLDERS[folder]
+    ctl = tmp_path / folder
+    shutil.copytree(ERT_DIR / folder, ctl)
     before = {p: p.read_bytes() for p in ctl.rglob("*") if p.is_file()}
-    model = _rover_model(tmp_path, ctl)
+    model = _ert_model(tmp_path, ctl, said)
     out = tmp_path / "out"
     run = pyrosgen("build", model, "--controller", ctl, "-o", out, "-q")
     assert run.returncode == 0, run.stderr
     assert f"note: {ctl / 'ert_main.c'}: left out of the build: defines main" in run.stderr
     assert "generated for" not in run.stderr
     objs = {p.name for p in (out / "obj").iterdir()}
-    assert {"controller_Rover.o", "controller_slprj__ert__Wheel__Wheel.o",
-            "controller_slprj__ert___sharedutils__rt_minsector.o",
-            "controller_slprj__ert___sharedutils__rt_nonfinite.o"} <= objs
+    assert want_objs <= objs, objs
     assert not any("ert_main" in o for o in objs)
-    syms = subprocess.run(["nm", str(out / "bin" / "rover_node")], capture_output=True, text=True).stdout
-    assert " T Wheel\n" in syms and " T rt_minsector\n" in syms and " T Rover_step\n" in syms
+    syms = subprocess.run(["nm", str(out / "bin" / node)], capture_output=True, text=True).stdout
+    for sym in want_syms:
+        assert re.search(rf" [TDB] {sym}\n", syms), sym
     assert {p: p.read_bytes() for p in ctl.rglob("*") if p.is_file()} == before
+    if folder != "Rover_ert_rtw":
+        return
     # a period that differs from the controller's base rate is noted
     text = model.read_text().replace("period_ms: 20", "period_ms: 10")
     assert text != model.read_text()

@@ -192,21 +192,34 @@ def test_refusals(capsys, tmp_path):
 ERT = ROOT / "tests" / "support" / "ert" / "Rover_ert_rtw"
 
 
-def test_init_reads_an_embedded_coder_folder(capsys, tmp_path):
+ERT_FOLDERS = {
+    "Rover_ert_rtw": ({"name": "Rover",
+                       "inputs": {"name": "Rover_U", "fields": {"In1": "float64", "In2": "float64", "In3": "float64"}},
+                       "outputs": {"name": "Rover_Y", "fields": {"Out1": "float64"}}},
+                      {"name": "rover_node", "period_ms": 20},
+                      "period    20 ms, from the rate of rt_OneStep, ert_main.c:50: 0.02 s"),
+    # flat, as for a model that references none; a controller array; parameters in Robot_data.c
+    "Robot_ert_rtw": ({"name": "Robot",
+                       "inputs": {"name": "Robot_U", "fields": {"Sectors": "float32[4]", "Enable": "bool"}},
+                       "outputs": {"name": "Robot_Y", "fields": {"Speed": "float64", "Mode": "uint8"}}},
+                      {"name": "robot_node", "period_ms": 50},
+                      "period    50 ms, from the rate of rt_OneStep, ert_main.c:64: 0.05 s"),
+}
+
+
+@pytest.mark.parametrize("folder", list(ERT_FOLDERS))
+def test_init_reads_an_embedded_coder_folder(capsys, tmp_path, folder):
     """The shared headers in slprj/ert/_sharedutils and the referenced
     model's in slprj/ert/Wheel are on the include path; the period is
     ert_main.c's (which build leaves out)."""
-    out = tmp_path / "rover.yaml"
-    code, text, err = run(capsys, "init", "--controller", ERT, "-o", out)
+    controller, node, said = ERT_FOLDERS[folder]
+    out = tmp_path / "model.yaml"
+    code, text, err = run(capsys, "init", "--controller", ERT.parent / folder, "-o", out)
     assert code == 0, err
     got = yaml.safe_load(out.read_text())
-    assert got["controller"] == {
-        "name": "Rover",
-        "inputs": {"name": "Rover_U", "fields": {"In1": "float64", "In2": "float64", "In3": "float64"}},
-        "outputs": {"name": "Rover_Y", "fields": {"Out1": "float64"}},
-    }
-    assert got["node"] == {"name": "rover_node", "period_ms": 20}
-    assert "period    20 ms, from the rate of rt_OneStep, ert_main.c:50: 0.02 s" in text
+    assert got["controller"] == controller
+    assert got["node"] == node
+    assert said in text
 
 
 def test_init_include_folders(capsys, tmp_path):
