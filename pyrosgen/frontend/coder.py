@@ -247,12 +247,7 @@ _PERIOD_PATTERNS = [
 ]
 
 
-def find_period(folder: Path, files: list[Path]) -> tuple[int | None, str, list[str]]:
-    """``(period_ms, where, notes)``: the controller's base rate from the
-    first of ``files`` (sources or headers, compiled or not) that states
-    it, the patterns tried in the order of :data:`_PERIOD_PATTERNS`;
-    ``None`` when none does or it is not whole milliseconds (a note says
-    so)."""
+def _find_period(folder: Path, files: list[Path]) -> tuple[int | None, str, list[str]]:
     notes = []
     for pattern, what in _PERIOD_PATTERNS:
         for f in files:
@@ -276,6 +271,15 @@ def find_period(folder: Path, files: list[Path]) -> tuple[int | None, str, list[
                 return None, "", notes
             return int(ms), f"{what}, {where}: {m.group(1)} s", notes
     return None, "", notes
+
+
+def find_period(folder: Path, files: list[Path]) -> tuple[int | None, str, list[str]]:
+    """``(period_ms, where, notes)``: the controller's base rate from the
+    first of ``files`` (sources or headers, compiled or not: ``build``
+    asks too, ``ert_main.c`` included) that states it, the patterns tried
+    in the order of :data:`_PERIOD_PATTERNS`; ``None`` when none does or
+    it is not whole milliseconds (a note says so)."""
+    return _find_period(folder, files)
 
 
 def read_controller(folder: str | Path, name: str | None = None,
@@ -363,7 +367,7 @@ def read_controller(folder: str | Path, name: str | None = None,
         raise CoderError(f"{header}: the controller's interface cannot be carried as it is "
                          f"({len(problems)} problems)", problems)
     # every source, compiled or not: ert_main.c, which build leaves out, has the base rate
-    period, period_source, notes = find_period(folder, [header] + [p for p in files if p != header])
+    period, period_source, notes = _find_period(folder, [header] + [p for p in files if p != header])
     return CoderInterface(model, header, sides["inputs"], sides["outputs"], functions, period, period_source, notes)
 
 
