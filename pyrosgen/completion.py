@@ -101,6 +101,8 @@ def bash_script(parser: argparse.ArgumentParser) -> str:
         "    local cur prev cmd i",
         '    cur="${COMP_WORDS[COMP_CWORD]}"',
         '    prev="${COMP_WORDS[COMP_CWORD-1]}"',
+        "    # --option=VALUE: bash splits the word at '='",
+        '    if [[ "$cur" == "=" ]]; then cur=""; elif [[ "$prev" == "=" ]]; then prev="${COMP_WORDS[COMP_CWORD-2]}"; fi',
         '    cmd=""',
         "    for ((i = 1; i < COMP_CWORD; i++)); do",
         '        case "${COMP_WORDS[i]}" in',

@@ -98,6 +98,11 @@ def test_completes_options_and_values(script, tmp_path):
     assert complete(script, ["pyrosgen", "build", "m.yaml", "--controller", "ctl"], cwd=tmp_path) == ["ctl_a", "ctl_b"]
     assert complete(script, ["pyrosgen", "check", "ctl"], cwd=tmp_path) == ["ctl_a", "ctl_b", "ctl_model.yaml"]
     assert complete(script, ["pyrosgen", "build", "m.yaml", "--cflags", ""], cwd=tmp_path) == []
+    # --option=VALUE, as bash splits it
+    assert complete(script, ["pyrosgen", "diagram", "m.yaml", "--format", "=", "s"]) == ["svg"]
+    assert complete(script, ["pyrosgen", "diagram", "m.yaml", "--format", "="]) == ["dot", "pdf", "png", "svg"]
+    assert complete(script, ["pyrosgen", "build", "m.yaml", "--controller", "=", "ctl_"], cwd=tmp_path) == \
+        ["ctl_a", "ctl_b"]
 
 
 def test_make_deps_installs_the_script(tmp_path):
