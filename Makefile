@@ -11,8 +11,15 @@ PYTEST_ARGS ?=
 
 all: test
 
-## deps: Debian packages (only the missing ones) and the virtual environment
-deps: apt venv
+## deps: Debian packages (only the missing ones), the virtual environment and
+## the bash completion script (README "Installing": how to enable it)
+COMPLETION := $(VENV)/share/bash-completion/completions/pyrosgen
+deps: apt venv $(COMPLETION)
+
+# generated from the command line's argument parser (pyrosgen/completion.py)
+$(COMPLETION): pyrosgen/cli.py pyrosgen/completion.py $(VENV)/.installed
+	@mkdir -p $(dir $@)
+	@$(PY) -m pyrosgen completion > $@.tmp && mv $@.tmp $@
 
 apt:
 	@scripts/deps.sh

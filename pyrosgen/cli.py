@@ -82,6 +82,11 @@ def cmd_check(args: argparse.Namespace) -> int:
     if arrays:
         ctrl += f"; {_plural(len(arrays), 'controller array')}: " + ", ".join(
             f"{side} {f.name} ({f.type_text})" for side, f in arrays)
+    from pyrosgen.frontend.msgdeb import missing_headers
+
+    for m in missing_headers(model):
+        # the model is valid; building it needs the headers
+        _print_err(f"{args.model}:{m.pos.line}:{m.pos.col}: note: {m.message()} (pyrosgen build needs it)")
     print(
         f"{args.model}: ok: node {model.name}, {_plural(len(model.topics), 'topic')}, "
         f"{_plural(len(model.input_relations), 'input relation')}{_rows(model.input_relations)}, "
@@ -273,7 +278,7 @@ def cmd_init(args: argparse.Namespace) -> int:
         raise UserError(f"{out}: exists and is not a regular file")
     if not out.parent.is_dir():
         raise UserError(f"{out.parent}: the folder of the output file does not exist")
-    iface = read_controller(args.controller, args.name)
+    iface = read_controller(args.controller, args.name, tuple(args.include or ()))
     text = skeleton(iface, Path(args.controller), args.node)
     fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".tmp", dir=str(out.parent))
     try:
@@ -314,6 +319,42 @@ def cmd_library(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def version_text() -> str:
+    """``pyrosgen X.Y.Z (ROSGen library <first 16 hex digits of its SHA-256>)``:
+    the library identity a certificate records (``pyrosgen library`` shows
+    it whole), computed from the library's sources, without building it."""
+    from pyrosgen import __version__, resources
+    from pyrosgen.proof.coqdriver import COQLIB_ENV, CoqDriver
+
+    try:
+        env = os.environ.get(COQLIB_ENV)
+        theories = env if env else resources.coq_dir() / "theories"
+        digest = CoqDriver(theories).library_digest()[:16]
+    except OSError as exc:
+        digest = f"unreadable: {exc.strerror or exc}"
+    return f"pyrosgen {__version__} (ROSGen library {digest})"
+
+
+class _Version(argparse.Action):
+    """``--version``: print :func:`version_text` and exit 0."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, help=None):
+        super().__init__(option_strings=option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(version_text())
+        parser.exit(0)
+
+
+def cmd_completion(args: argparse.Namespace) -> int:
+    """``pyrosgen completion``: print the bash completion script (see
+    :mod:`pyrosgen.completion`)."""
+    from pyrosgen.completion import bash_script
+
+    sys.stdout.write(bash_script(build_parser()))
+    return EXIT_OK
+
+
 _EXAMPLES = {
     "pyrosgen": """examples:
   pyrosgen check examples/landshark/landshark_controller.yaml
@@ -343,13 +384,17 @@ writes DIR/<node>.v, <node>_types.h, <node>_glue.c, <node>.sexp, <node>.model,
 only if the node's DDC theorem was checked and is closed under the global context.""",
     "init": """examples:
   pyrosgen init --controller examples/landshark/controller -o my_node.yaml
-  pyrosgen init --controller codegen/Robot_ert_rtw --name Robot -o robot.yaml""",
+  pyrosgen init --controller codegen/Robot_ert_rtw --name Robot -o robot.yaml
+  pyrosgen init --controller codegen/Robot_ert_rtw --include ../slprj/ert/_sharedutils -o robot.yaml""",
     "verify": """examples:
   pyrosgen verify build/landshark                       # hashes, coqc/coqchk, re-printed C, wrapper
   pyrosgen verify build/landshark --model examples/landshark/landshark_controller.yaml --wp
 
 exit codes: 0 every check holds, 1 a check failed (each is named) or not an
 output folder, 2 a tool is missing.""",
+    "completion": """examples:
+  source <(pyrosgen completion)                        # this shell
+  pyrosgen completion > ~/.local/share/bash-completion/completions/pyrosgen   # every new shell""",
     "build": """examples:
   pyrosgen build examples/landshark/landshark_controller.yaml \\
       --controller examples/landshark/controller -o build/landshark
@@ -367,6 +412,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("-v", "--verbose", action="store_true",
                         help="show every external command (coqc, coqchk, ocamlopt, gcc, ...) as it runs")
+    parser.add_argument("--version", action=_Version,
+                        help="show pyrosgen's version and its ROSGen library's identity, and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
 
@@ -481,6 +528,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", metavar="MODEL.yaml", required=True, help="the model file to write")
     p.add_argument("--name", metavar="MODEL", help="the Simulink model, when DIR holds several")
     p.add_argument("--node", metavar="NAME", help="the node's name (default: <model>_node)")
+    p.add_argument("--include", action="append", metavar="DIR",
+                   help="an include folder for the controller's headers (relative to its folder, or absolute; "
+                        "as for build; its subfolders holding headers, e.g. slprj/ert/_sharedutils, are searched "
+                        "without it)")
     p.add_argument("--force", action="store_true", help="overwrite MODEL.yaml if it exists")
     p.set_defaults(func=cmd_init)
 
@@ -490,6 +541,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--path", action="store_true", help="print only the folder (for coqc -R FOLDER ROSGen)")
     p.set_defaults(func=cmd_library)
+
+    p = sub.add_parser(
+        "completion", help="print the bash completion script",
+        epilog=_EXAMPLES["completion"], formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="Print a bash completion script generated from pyrosgen's options "
+                    "(make deps installs it into .venv/share/bash-completion/completions/pyrosgen).",
+    )
+    p.set_defaults(func=cmd_completion)
     return parser
 
 

@@ -12,7 +12,13 @@ PKGS=(
   libroscpp-dev python3-rosmaster python3-rospy python3-roslib python3-rosgraph catkin
   # the tools a user watches a node with: rostopic, rosnode, roslaunch, rosrun
   python3-rostopic python3-rosnode python3-roslaunch rosbash
+  # the C++ headers of every standard message package the front end knows
+  # (pyrosgen/frontend/msgdeb.py: DEBIAN_DEV, one for each)
   libstd-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libsensor-msgs-dev
+  libactionlib-msgs-dev libdiagnostic-msgs-dev libshape-msgs-dev libstereo-msgs-dev
+  libtrajectory-msgs-dev libvisualization-msgs-dev libros-rosgraph-msgs-dev
+  libactionlib-dev libdynamic-reconfigure-config-init-mutex-dev libbond-dev libroscpp-msg-dev
+  # their Python modules, for rostopic and rospy
   python3-std-msgs python3-geometry-msgs python3-nav-msgs python3-sensor-msgs
   # C++ classes for custom .msg types (msg_paths)
   python3-gencpp python3-genmsg ros-std-msgs ros-geometry-msgs ros-nav-msgs ros-sensor-msgs

@@ -5,10 +5,13 @@ Embedded Coder writes the controller's interface into ``<Model>.h``: the
 structs ``ExtU_<Model>_T`` (root inports) and ``ExtY_<Model>_T`` (root
 outports), the globals ``<Model>_U`` and ``<Model>_Y``, and the functions
 ``<Model>_initialize`` and ``<Model>_step``.  This module reads them with a
-real C parser: each header of ``DIR`` is run through the C preprocessor
-(``cpp``, with ``DIR`` on the include path and the minimal standard headers
-of ``fake_libc/``, so that the system's headers and their extensions never
-reach the parser), then parsed by pycparser; typedefs are resolved
+real C parser: the header is run through the C preprocessor (``cpp``,
+with the include path that ``pyrosgen build`` uses: ``DIR``, each of its
+subfolders holding a header, such as Embedded Coder's
+``slprj/ert/_sharedutils/``, then each ``--include`` folder; and the minimal
+standard headers of ``fake_libc/``, so that the system's headers and their
+extensions never reach the parser; :mod:`pyrosgen.frontend.csource`),
+then parsed by pycparser; typedefs are resolved
 (``real_T`` -> ``double``) and each field's type is mapped to a ROS
 primitive (rule 4.3), or to a one-dimensional array of one
 (``real32_T Scan[1081];`` is ``float32[1081]``, of 1 to 65,536 elements,
@@ -17,7 +20,9 @@ structs, ``creal_T``, pointers, ``char``) are reported with their field and
 the reason, and the model is not written.
 
 The period comes from the generated code's sample time where it can be
-found: ``ert_main.c``'s "with period 0.02 seconds", a "Sample time: [0.02s,
+found, in any source or header of the folder, compiled or not:
+``ert_main.c``'s "with period 0.02 seconds" (``build`` leaves
+``ert_main.c`` out, as it defines ``main``, but init reads it), a "Sample time: [0.02s,
 0.0s]" comment, a "Fixed-step size: 0.02" comment, or a ``#define`` whose
 comment says "sample time".  Otherwise the skeleton says so and leaves the
 period to the user.
@@ -31,21 +36,20 @@ filled in.
 from __future__ import annotations
 
 import re
-import subprocess
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
 
-from pyrosgen import procs
 from pyrosgen.errors import UserError, escape
+from pyrosgen.frontend import csource
 
-__all__ = ["CoderError", "CoderInterface", "read_controller", "skeleton", "FAKE_LIBC"]
+__all__ = ["CoderError", "CoderInterface", "read_controller", "find_period", "skeleton", "FAKE_LIBC"]
 
 #: The largest controller array (rule 4.15).
 MAX_ARRAY = 65536
 
 #: Minimal standard headers used instead of the system's.
-FAKE_LIBC = Path(__file__).resolve().parent / "fake_libc"
+FAKE_LIBC = csource.FAKE_LIBC
 
 #: Largest source file init reads (a header or a .c of Embedded Coder is
 #: far smaller; a larger one is refused rather than read whole).
@@ -156,18 +160,11 @@ def _read_source(path: Path) -> str:
     return data.decode("utf-8", errors="replace")
 
 
-def _preprocess(header: Path, folder: Path) -> str:
-    argv = ["cpp", "-nostdinc", "-undef", "-D__STDC_VERSION__=201112L",
-            "-I", str(FAKE_LIBC), "-I", str(header.parent), "-I", str(folder), str(header)]
+def _preprocess(header: Path, includes: list[Path]) -> str:
     try:
-        r = procs.run(argv, timeout=60)
-    except OSError as exc:
-        raise CoderError(f"cannot run the C preprocessor cpp: {exc.strerror or exc} (install gcc)") from None
-    except subprocess.TimeoutExpired:
-        raise CoderError(f"{header}: the C preprocessor did not finish within 60 s") from None
-    if r.returncode != 0:
-        raise CoderError(f"{header}: error: the C preprocessor failed", r.stderr.strip().splitlines()[:10])
-    return r.stdout
+        return csource.preprocess(header, includes)
+    except csource.PreprocessorError as exc:
+        raise CoderError(str(exc), exc.lines) from None
 
 
 def _comment(text: str, name: str) -> str:
@@ -326,10 +323,24 @@ def _find_period(folder: Path, files: list[Path]) -> tuple[int | None, str, list
     return None, "", notes
 
 
-def read_controller(folder: str | Path, name: str | None = None) -> CoderInterface:
+def find_period(folder: Path, files: list[Path]) -> tuple[int | None, str, list[str]]:
+    """``(period_ms, where, notes)``: the controller's base rate from the
+    first of ``files`` (sources or headers, compiled or not: ``build``
+    asks too, ``ert_main.c`` included) that states it, the patterns tried
+    in the order of :data:`_PERIOD_PATTERNS`; ``None`` when none does or
+    it is not whole milliseconds (a note says so)."""
+    return _find_period(folder, files)
+
+
+def read_controller(folder: str | Path, name: str | None = None,
+                    includes: list[str | Path] | tuple[str | Path, ...] = ()) -> CoderInterface:
     """Read the Embedded Coder interface of the controller in ``folder``
     (the model ``name``, or the only one whose header defines
-    ``ExtU_<Model>_T`` and ``ExtY_<Model>_T``)."""
+    ``ExtU_<Model>_T`` and ``ExtY_<Model>_T``).  The folder is searched as
+    ``pyrosgen build`` searches it (:mod:`pyrosgen.frontend.csource`): its
+    subfolders too (``slprj/ert/_sharedutils``), every folder holding a
+    header on the include path, then ``includes`` (``--include``: relative
+    to ``folder``, or absolute)."""
     from pycparser import c_ast, c_parser
 
     try:
@@ -340,7 +351,14 @@ def read_controller(folder: str | Path, name: str | None = None) -> CoderInterfa
     folder = Path(folder)
     if not folder.is_dir():
         raise CoderError(f"{folder}: the controller folder does not exist or is not a folder")
-    headers = sorted(p for p in folder.rglob("*.h") if p.is_file())
+    files = csource.controller_files(folder)
+    headers = [p for p in files if p.suffix == ".h"]
+    search = csource.include_dirs(folder, files)
+    for inc in includes:
+        d = Path(inc) if Path(inc).is_absolute() else folder / inc
+        if not d.is_dir():
+            raise CoderError(f"--include {inc}: {d} is not a folder")
+        search.append(d)
     candidates: list[tuple[str, Path]] = []
     for h in headers:
         text = _read_source(h)
@@ -358,7 +376,7 @@ def read_controller(folder: str | Path, name: str | None = None) -> CoderInterfa
         raise CoderError(f"{folder}: several models ({', '.join(models)}); choose one with --name")
     model, header = candidates[0]
     raw = _read_source(header)
-    text = _preprocess(header, folder)
+    text = _preprocess(header, [header.parent, *(d for d in search if d != header.parent)])
     try:
         ast = c_parser.CParser().parse(text, filename=str(header))
     except ParseError as exc:
@@ -395,8 +413,8 @@ def read_controller(folder: str | Path, name: str | None = None) -> CoderInterfa
     if problems:
         raise CoderError(f"{header}: the controller's interface cannot be carried as it is "
                          f"({len(problems)} problems)", problems)
-    sources = sorted(p for p in folder.rglob("*") if p.suffix in (".c", ".cpp", ".h") and p.is_file())
-    period, period_source, notes = _find_period(folder, [header] + [p for p in sources if p != header])
+    # every source, compiled or not: ert_main.c, which build leaves out, has the base rate
+    period, period_source, notes = _find_period(folder, [header] + [p for p in files if p != header])
     return CoderInterface(model, header, sides["inputs"], sides["outputs"], functions, period, period_source, notes)
 
 

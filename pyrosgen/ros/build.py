@@ -67,6 +67,9 @@ from pyrosgen.verify.certificate import certificate_files, write_certificate
 from pyrosgen.verify.wrapper_check import check_glue_externals, check_wrapper
 from pyrosgen.generate import GenerateResult, OutputDirError, generate_model
 from pyrosgen.proof.coqmodel import node_file_names
+from pyrosgen.frontend import csource, msgdeb
+from pyrosgen.frontend.coder import find_period
+from pyrosgen.frontend.csource import C_SUFFIXES, CXX_SUFFIXES, HEADER_SUFFIXES
 from pyrosgen.frontend.model import NodeModel
 from pyrosgen.frontend.validate import load_model
 
@@ -209,15 +212,10 @@ class ControllerDir:
         return p.relative_to(self.path).as_posix()
 
 
-#: Suffixes of the controller's sources and headers.
-C_SUFFIXES = (".c",)
-CXX_SUFFIXES = (".cpp", ".cc", ".cxx")
-HEADER_SUFFIXES = (".h", ".hpp", ".hh")
 #: C standards a controller may be compiled with (``--std``).
 C_STANDARDS = ("c89", "c90", "c99", "c11", "c17", "c18", "gnu89", "gnu99", "gnu11", "gnu17", "gnu18")
 #: What a user flag may contain (it reaches argv and CMakeLists.txt).
 _FLAG = re.compile(r"^[A-Za-z0-9_=+,./:@%-]+$")
-_MAIN = re.compile(r"(?:^|[;}\s])(?:int|void)\s+main\s*\(")
 
 
 @dataclass(frozen=True)
@@ -245,27 +243,23 @@ class ControllerOptions:
                                      "CMakeLists.txt)")
 
 
-def _strip_comments(text: str) -> str:
-    text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
-    text = re.sub(r"//[^\n]*", " ", text)
-    return re.sub(r'"(?:\\.|[^"\\\n])*"', '""', text)
-
-
-def defines_main(p: Path) -> bool:
+def defines_main(p: Path, includes: Sequence[Path] = ()) -> bool:
     """Whether the source ``p`` defines ``main`` (Embedded Coder's
-    ``ert_main.c``, a test harness)."""
-    try:
-        return bool(_MAIN.search(_strip_comments(p.read_text(encoding="utf-8", errors="replace"))))
-    except OSError:
-        return False
+    ``ert_main.c``, a test harness), found by the preprocessor and a C
+    parser (:func:`pyrosgen.frontend.csource.defines_main`)."""
+    return csource.defines_main(p, includes)
 
 
-def find_controller(model: NodeModel, directory: str | Path) -> ControllerDir:
+def find_controller(model: NodeModel, directory: str | Path,
+                    user_includes: Sequence[Path] = ()) -> ControllerDir:
     """Check the controller folder: it holds ``<Controller>.h`` (at its top)
     and at least one source; its sources (``.c``, ``.cpp``) and headers are
-    found in its subfolders too (hidden folders excepted); sources that
-    define ``main`` (``ert_main.c``) are left out; file and folder names are
-    plain (they go into CMakeLists.txt)."""
+    found in its subfolders too (hidden folders excepted,
+    :func:`pyrosgen.frontend.csource.controller_files`); sources that
+    define ``main`` (``ert_main.c``), found by parsing each source
+    preprocessed with the folder's include path and ``user_includes``
+    (``--include``), are left out; file and folder names are plain (they
+    go into CMakeLists.txt)."""
     d = Path(directory)
     if not d.is_dir():
         raise BuildError(f"{d}: controller folder not found")
@@ -276,27 +270,25 @@ def find_controller(model: NodeModel, directory: str | Path) -> ControllerDir:
             f"is {model.controller.name}: {model.controller.step_fn}() and "
             f"{model.controller.inputs.var_name}/{model.controller.outputs.var_name} "
             f"must be declared in {header.name})")
-    wanted = C_SUFFIXES + CXX_SUFFIXES + HEADER_SUFFIXES
-    files = sorted(p for p in d.rglob("*")
-                   if p.suffix in wanted and p.is_file()
-                   and not any(part.startswith(".") for part in p.relative_to(d).parts))
+    files = csource.controller_files(d)
     for p in files:
         for part in p.relative_to(d).parts:
             if not _FILE_NAME.match(part):
                 raise BuildError(f"{p}: unsupported file or folder name in the controller folder "
                                  "(letters, digits, '_', '.', '-' only)")
+    includes = csource.include_dirs(d, files)
+    search = [*includes, *(user_includes or ())]
     left_out, sources = [], []
     for p in files:
         if p.suffix in HEADER_SUFFIXES:
             continue
-        if defines_main(p):
+        if defines_main(p, search):
             left_out.append((p, "defines main (the node has its own)"))
         else:
             sources.append(p)
     if not sources:
         raise BuildError(f"{d}: no .c or .cpp file in the controller folder (the controller must define "
                          f"{model.controller.initialize_fn}() and {model.controller.step_fn}())")
-    includes = [d] + sorted({p.parent for p in files if p.suffix in HEADER_SUFFIXES and p.parent != d})
     return ControllerDir(d, header, tuple(sources), tuple(files), tuple(includes), tuple(left_out))
 
 
@@ -515,7 +507,17 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
                          "pyrosgen generates its C; --controller is for a controller written in C")
     if not diagram and controller_dir is None:
         raise BuildError("--controller DIR is required: the model's controller is not a block diagram")
-    ctl = find_controller(model, controller_dir) if not diagram else None
+    missing = msgdeb.missing_headers(model)
+    if missing:
+        # refused before proving: the wrapper could not be compiled
+        raise BuildToolError(
+            f"{model.source}: the C++ headers of {len(missing)} message type{'s' if len(missing) > 1 else ''} "
+            "of the model are not installed", [
+                f"{model.source}:{m.pos.line}:{m.pos.col}: error: {m.message()}" if m.pos.line else
+                f"{model.source}: error: {m.message()}" for m in missing])
+    ctl = find_controller(model, controller_dir, [
+        Path(i) if Path(i).is_absolute() else Path(controller_dir, i).absolute() for i in opts.includes
+    ]) if not diagram else None
     cc, cxx = _tool("CC", "gcc"), _tool("CXX", "g++")
     names = ros.wrapper_files(model)
     node = model.name
@@ -533,6 +535,11 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
     steps: list[tuple[str, bool]] = []
     def controller_setup(ctl: ControllerDir) -> tuple[list[str], list[str], list[str]]:
         warnings = [f"pyrosgen: note: {p}: left out of the build: {why}" for p, why in ctl.left_out]
+        # the base rate the controller was generated for, as init reads it (ert_main.c too)
+        rate, where, _ = find_period(ctl.path, [ctl.header, *(p for p in ctl.files if p != ctl.header)])
+        if rate is not None and rate != model.period_ms:
+            warnings.append(f"pyrosgen: note: the node steps the controller every {model.period_ms} ms "
+                            f"(period_ms), but it was generated for {rate} ms ({where})")
         user_includes = [str(Path(i) if Path(i).is_absolute() else (ctl.path / i).absolute()) for i in opts.includes]
         ctl_includes = [a for inc in ctl.include_dirs for a in ("-I", str(inc.absolute()))] + \
             [a for inc in user_includes for a in ("-I", inc)]
@@ -689,6 +696,14 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
                 # library missing) is the user's too: name the source at fault
                 at_fault = [src for src in ctl.sources
                             if "controller_" + ctl.rel(src).replace("/", "__").rsplit(".", 1)[0] + ".o" in msg]
+                if "multiple definition of `main'" in msg:
+                    where = ", ".join(str(p) for p in at_fault) or str(ctl.path)
+                    raise ControllerError(
+                        f"{where}: error: the controller defines main, and so does the node (exit status "
+                        f"{r.returncode}); pyrosgen leaves out a source that defines main, but did not "
+                        "recognise this definition: move that main out of the controller folder (a file "
+                        "of its own outside it, or under #ifndef PYROSGEN_NODE with --cflags=-DPYROSGEN_NODE)",
+                        msg.splitlines())
                 if at_fault or "cannot find -l" in msg:
                     where = ", ".join(str(p) for p in at_fault) or str(ctl.path)
                     raise ControllerError(f"{where}: error: the controller does not link (exit status "

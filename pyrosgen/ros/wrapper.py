@@ -301,8 +301,9 @@ def render_catkin(model: NodeModel, include_dirs: list[str],
         if not _CMAKE_WORD.match(w):
             raise ValueError(f"refusing to print {w!r} in CMakeLists.txt")
     custom = custom_message_packages(model)
+    # roscpp (whose own messages, roscpp/Logger, a node may use) is a dependency already
     msg_pkgs = sorted({m.package for m in model.messages
-                       if not m.is_pseudo and m.package not in custom})
+                       if not m.is_pseudo and m.package not in custom} - {"roscpp"})
     for p in [*msg_pkgs, *custom]:
         _check_ident(p)
     package = catkin_package_name(model)

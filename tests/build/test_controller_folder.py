@@ -7,6 +7,7 @@ file at fault."""
 
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -144,3 +145,108 @@ def test_init_then_build_gives_the_same_node(landshark_build, tmp_path):
                 mine = out / NODE / rel / f.relative_to(example_out / NODE / rel)
                 assert mine.read_bytes() == f.read_bytes(), f
     assert (out / f"{NODE}.model").read_bytes() == (example_out / f"{NODE}.model").read_bytes()
+
+
+#: Folders in the shapes Embedded Coder writes (tests/support/ert), each with
+#: <model>.h/.c, <model>_private.h, <model>_types.h and ert_main.c defining
+#: ``int_T main(int_T argc, const char *argv[])``: Rover with rtwtypes.h and
+#: rt_* utilities in slprj/ert/_sharedutils/ and the referenced model Wheel in
+#: slprj/ert/Wheel/; Robot flat, as for a model that references none
+#: (rtwtypes.h, rt_nonfinite, rtGetInf, <model>_data.c with its parameters,
+#: a controller array, ``int_T`` and ``main`` on two lines).
+ERT_DIR = LANDSHARK.parents[2] / "tests" / "support" / "ert"
+ERT = ERT_DIR / "Rover_ert_rtw"
+
+ROBOT_TOPICS = [
+    {"name": "/scan", "direction": "subscribe", "type": "sensor_msgs/LaserScan", "queue_size": 1,
+     "max_length": {"ranges": 4}},
+    {"name": "/enable", "direction": "subscribe", "type": "std_msgs/Bool", "queue_size": 1},
+    {"name": "/cmd_vel", "direction": "publish", "type": "geometry_msgs/Twist", "queue_size": 1},
+    {"name": "/mode", "direction": "publish", "type": "std_msgs/UInt8", "queue_size": 1},
+]
+ROBOT_RELATIONS = {
+    "inputs": [{"topic": "/scan", "field": "ranges", "input": "Sectors"},
+               {"topic": "/enable", "field": "data", "input": "Enable"}],
+    "outputs": [{"output": "Speed", "topic": "/cmd_vel", "field": "linear.x"},
+                {"output": "Mode", "topic": "/mode", "field": "data"}],
+}
+#: folder -> (node, period line of init, objects compiled, symbols linked)
+ERT_FOLDERS = {
+    "Rover_ert_rtw": ("rover_node", "period    20 ms, from the rate of rt_OneStep, ert_main.c:50",
+                      {"controller_Rover.o", "controller_slprj__ert__Wheel__Wheel.o",
+                       "controller_slprj__ert___sharedutils__rt_minsector.o",
+                       "controller_slprj__ert___sharedutils__rt_nonfinite.o"},
+                      ("Wheel", "rt_minsector", "Rover_step")),
+    "Robot_ert_rtw": ("robot_node", "period    50 ms, from the rate of rt_OneStep, ert_main.c:64",
+                      {"controller_Robot.o", "controller_Robot_data.o", "controller_rtGetInf.o",
+                       "controller_rt_nonfinite.o"},
+                      ("Robot_P", "rtGetInfF", "Robot_step")),
+}
+
+
+def _ert_model(tmp_path: Path, ctl: Path, said: str) -> Path:
+    """pyrosgen init on ``ctl``, the topics and relations filled in
+    (Rover: LandShark's)."""
+    import yaml
+
+    model = tmp_path / f"{ctl.name}.yaml"
+    run = pyrosgen("init", "--controller", ctl, "-o", model)
+    assert run.returncode == 0, run.stderr
+    assert said in run.stdout, run.stdout
+    skeleton = yaml.safe_load(model.read_text())
+    if skeleton["controller"]["name"] == "Rover":
+        example = yaml.safe_load(LANDSHARK.read_text())
+        skeleton["topics"], skeleton["relations"] = example["topics"], example["relations"]
+    else:
+        skeleton["topics"], skeleton["relations"] = ROBOT_TOPICS, ROBOT_RELATIONS
+    model.write_text(yaml.safe_dump(skeleton, sort_keys=False))
+    return model
+
+
+@pytest.mark.parametrize("folder", list(ERT_FOLDERS))
+def test_embedded_coder_folder_init_then_build(tmp_path, folder):
+    """An Embedded Coder folder goes through init and build unchanged:
+    ert_main.c (int_T main) left out with a note, the shared utilities,
+    the parameters and the referenced model compiled and linked, the
+    period agreeing with ert_main.c's (no note)."""
+    node, said, want_objs, want_syms = ERT_FOLDERS[folder]
+    ctl = tmp_path / folder
+    shutil.copytree(ERT_DIR / folder, ctl)
+    before = {p: p.read_bytes() for p in ctl.rglob("*") if p.is_file()}
+    model = _ert_model(tmp_path, ctl, said)
+    out = tmp_path / "out"
+    run = pyrosgen("build", model, "--controller", ctl, "-o", out, "-q")
+    assert run.returncode == 0, run.stderr
+    assert f"note: {ctl / 'ert_main.c'}: left out of the build: defines main" in run.stderr
+    assert "generated for" not in run.stderr
+    objs = {p.name for p in (out / "obj").iterdir()}
+    assert want_objs <= objs, objs
+    assert not any("ert_main" in o for o in objs)
+    syms = subprocess.run(["nm", str(out / "bin" / node)], capture_output=True, text=True).stdout
+    for sym in want_syms:
+        assert re.search(rf" [TDB] {sym}\n", syms), sym
+    assert {p: p.read_bytes() for p in ctl.rglob("*") if p.is_file()} == before
+    if folder != "Rover_ert_rtw":
+        return
+    # a period that differs from the controller's base rate is noted
+    text = model.read_text().replace("period_ms: 20", "period_ms: 10")
+    assert text != model.read_text()
+    model.write_text(text)
+    run = pyrosgen("build", model, "--controller", ctl, "-o", tmp_path / "out10", "-q")
+    assert run.returncode == 0, run.stderr
+    assert ("note: the node steps the controller every 10 ms (period_ms), but it was generated for 20 ms "
+            "(the rate of rt_OneStep, ert_main.c:50: 0.02 s)") in run.stderr
+
+
+def test_main_not_recognised_is_named_with_the_fix(tmp_path):
+    """A main the parser cannot see (defined in assembly): the link error
+    names the file and says what to do."""
+    d = _folder(tmp_path)
+    (d / "asm_main.c").write_text('__asm__(".globl main\\n.type main, @function\\nmain:\\n  xorl %eax, %eax\\n  ret\\n");\n')
+    run = pyrosgen("build", LANDSHARK, "--controller", d, "-o", tmp_path / "out", "-q")
+    assert run.returncode == 1, run.stderr
+    first = run.stderr.splitlines()[0]
+    assert f"{d / 'asm_main.c'}: error: the controller defines main, and so does the node" in first, run.stderr
+    assert "move that main out of the controller folder" in first
+    assert "multiple definition of `main'" in run.stderr
+    assert not (tmp_path / "out").exists()

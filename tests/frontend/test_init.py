@@ -180,3 +180,129 @@ def test_refusals(capsys, tmp_path):
     assert code == 1 and "Other.h" in err and "Traceback" not in err
     assert run(capsys, "init", "--controller", d, "-o", tmp_path / "no" / "m.yaml")[0] == 1
     assert not (tmp_path / "e.yaml").exists() and not (tmp_path / "g.yaml").exists()
+
+
+# -- Embedded Coder folders as Embedded Coder writes them -------------------------
+
+#: A folder in the shape Embedded Coder writes (tests/support/ert): Rover.h,
+#: Rover.c, Rover_private.h, Rover_types.h, ert_main.c with
+#: ``int_T main(int_T argc, const char *argv[])``, shared utilities (rtwtypes.h,
+#: rt_nonfinite, rt_minsector) in slprj/ert/_sharedutils/ and the referenced
+#: model Wheel in slprj/ert/Wheel/.
+ERT = ROOT / "tests" / "support" / "ert" / "Rover_ert_rtw"
+
+
+ERT_FOLDERS = {
+    "Rover_ert_rtw": ({"name": "Rover",
+                       "inputs": {"name": "Rover_U", "fields": {"In1": "float64", "In2": "float64", "In3": "float64"}},
+                       "outputs": {"name": "Rover_Y", "fields": {"Out1": "float64"}}},
+                      {"name": "rover_node", "period_ms": 20},
+                      "period    20 ms, from the rate of rt_OneStep, ert_main.c:50: 0.02 s"),
+    # flat, as for a model that references none; a controller array; parameters in Robot_data.c
+    "Robot_ert_rtw": ({"name": "Robot",
+                       "inputs": {"name": "Robot_U", "fields": {"Sectors": "float32[4]", "Enable": "bool"}},
+                       "outputs": {"name": "Robot_Y", "fields": {"Speed": "float64", "Mode": "uint8"}}},
+                      {"name": "robot_node", "period_ms": 50},
+                      "period    50 ms, from the rate of rt_OneStep, ert_main.c:64: 0.05 s"),
+}
+
+
+@pytest.mark.parametrize("folder", list(ERT_FOLDERS))
+def test_init_reads_an_embedded_coder_folder(capsys, tmp_path, folder):
+    """The shared headers in slprj/ert/_sharedutils and the referenced
+    model's in slprj/ert/Wheel are on the include path; the period is
+    ert_main.c's (which build leaves out)."""
+    controller, node, said = ERT_FOLDERS[folder]
+    out = tmp_path / "model.yaml"
+    code, text, err = run(capsys, "init", "--controller", ERT.parent / folder, "-o", out)
+    assert code == 0, err
+    got = yaml.safe_load(out.read_text())
+    assert got["controller"] == controller
+    assert got["node"] == node
+    assert said in text
+
+
+def test_init_include_folders(capsys, tmp_path):
+    """Shared headers outside the folder: a clear error naming the missing
+    header without --include, the skeleton with it (relative to the folder,
+    or absolute)."""
+    codegen = tmp_path / "codegen"
+    shutil.copytree(ERT, codegen / "Rover_ert_rtw")
+    (codegen / "Rover_ert_rtw" / "slprj").rename(codegen / "slprj")
+    d = codegen / "Rover_ert_rtw"
+    out = tmp_path / "rover.yaml"
+    code, _, err = run(capsys, "init", "--controller", d, "-o", out)
+    assert code == 1 and "Rover.h: error: the C preprocessor failed" in err
+    assert "rtwtypes.h: No such file or directory" in err and "Traceback" not in err
+    assert not out.exists()
+    shared = codegen / "slprj" / "ert" / "_sharedutils"
+    code, _, err = run(capsys, "init", "--controller", d, "-o", out,
+                       "--include", "../slprj/ert/_sharedutils", "--include", codegen / "slprj" / "ert" / "Wheel")
+    assert code == 0, err
+    assert yaml.safe_load(out.read_text())["controller"]["name"] == "Rover"
+    code, _, err = run(capsys, "init", "--controller", d, "-o", tmp_path / "x.yaml",
+                       "--include", shared / "rtwtypes.h")
+    assert code == 1 and "is not a folder" in err and not (tmp_path / "x.yaml").exists()
+
+
+def test_preprocessor_reports_no_redefinition(monkeypatch, tmp_path):
+    """init runs the preprocessor in C11 (``__STDC_VERSION__`` 201112L) by
+    ``-std``, with nothing on stderr (no "redefined" warning)."""
+    from pyrosgen import procs
+    from pyrosgen.frontend import csource
+
+    seen = []
+    real = procs.run
+
+    def spy(argv, **kw):
+        r = real(argv, **kw)
+        seen.append((argv, r.stderr))
+        return r
+
+    monkeypatch.setattr(procs, "run", spy)
+    h = tmp_path / "h.h"
+    h.write_text("#if __STDC_VERSION__ != 201112L\n#error not C11\n#endif\nint c11;\n")
+    assert "int c11;" in csource.preprocess(h, [tmp_path])
+    assert seen and all(not err.strip() for _, err in seen), seen
+    assert not any(a.startswith("-D__STDC_VERSION__") for argv, _ in seen for a in argv)
+
+
+MAIN_FORMS = {
+    "ert_main.c": ('#include <stdio.h>\n#include "rtwtypes.h"\n'
+                   "int_T main(int_T argc, const char *argv[])\n{\n  (void)(argc);\n  return 0;\n}\n"),
+    "void.c": "int main(void) { return 0; }\n",
+    "kr.c": "int main(argc, argv)\n  int argc;\n  char **argv;\n{\n  return 0;\n}\n",
+    "implicit_int.c": "main() { return 0; }\n",
+    "macro.c": "#define ENTRY main\n#define DEFINE(f) int f(void)\nDEFINE(ENTRY) { return 0; }\n",
+    "pasted.c": "#define CAT(a, b) a##b\nint CAT(ma, in)(void) { return 0; }\n",
+    "comments.c": "int\n/* the */ main /* entry */ (\n  void // none\n  )\n/* body */ {\n  return 0;\n}\n",
+    "attribute.c": "int main(void) __attribute__((used));\nint __attribute__((used)) main(void) { return 0; }\n",
+    "system_headers.c": "#include <signal.h>\n#include <time.h>\nint main(void) { struct timespec t; (void)t; return 0; }\n",
+    "missing_header.c": '#include "nowhere.h"\nint main(void) { return 0; }\n',
+    "harness.cpp": "#include <vector>\nint main(int, char **) { std::vector<int> v; return 0; }\n",
+    "extern_c.cpp": 'extern "C" {\nint main(int argc, char **argv) { return 0; }\n}\n',
+}
+NOT_MAIN = {
+    "prototype.c": "int main(void);\nint f(void) { return main(); }\n",
+    "comment.c": "/* int main(void) { return 0; } */\n// int main(void) {\nint f(void) { return 0; }\n",
+    "string.c": 'const char *s = "int main(void) { return 0; }";\n',
+    "member.c": "struct s { int (*main)(void); };\nint g(struct s *p) { return p->main(); }\n",
+    "domain.c": "int domain(void) { return 0; }\nint main_loop(void) { return 0; }\n",
+    "disabled.c": "#if 0\nint main(void) { return 0; }\n#endif\nint f(void) { return 0; }\n",
+    "namespace.cpp": "namespace app { int main() { return 1; } }\nint f() { return 0; }\n",
+    "method.cpp": "struct App { int main() { return 1; } };\n",
+}
+
+
+@pytest.mark.parametrize("name", list(MAIN_FORMS) + list(NOT_MAIN))
+def test_defines_main_by_parsing(tmp_path, name):
+    """A source defines main whatever its form (parsed after the
+    preprocessor; a token scan when pycparser cannot parse it); a main
+    only declared, called, commented out, in a string, a member or
+    disabled by #if is not a definition."""
+    from pyrosgen.frontend.csource import defines_main
+
+    shutil.copyfile(ERT / "slprj" / "ert" / "_sharedutils" / "rtwtypes.h", tmp_path / "rtwtypes.h")
+    src = tmp_path / name
+    src.write_text(MAIN_FORMS.get(name) or NOT_MAIN[name])
+    assert defines_main(src, [tmp_path]) is (name in MAIN_FORMS)
