@@ -39,6 +39,8 @@ one failed (or OUT is not an output folder), 2 when a tool is missing.
 from __future__ import annotations
 
 import contextlib
+import hashlib
+import re
 import shutil
 import tempfile
 import time
@@ -50,7 +52,9 @@ from pyrosgen.errors import PyrosgenError, UserError
 from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
 from pyrosgen.proof.coqmodel import node_file_names
 from pyrosgen.proof.modeltext import ModelMismatch, compare_model_texts, model_text
-from pyrosgen.verify.certificate import ProofRecord, certificate_files, read_manifest, sha256_file
+from pyrosgen.verify.certificate import (MANIFEST_MAX_BYTES, ManifestError, ProofRecord, certificate_files,
+                                         read_manifest)
+from pyrosgen.verify.folder import UnsafeFile, check_name, read_file, read_text
 
 __all__ = ["Check", "VerifyReport", "NotAnOutputFolder", "VerifyFailed", "verify_folder", "find_manifest"]
 
@@ -94,6 +98,8 @@ def find_manifest(folder: Path, node: str | None = None) -> Path:
     if not folder.is_dir():
         raise NotAnOutputFolder(f"{folder}: not a directory")
     if node is not None:
+        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", node):
+            raise NotAnOutputFolder(f"--node {node!r}: not a node name (a C identifier)")
         p = folder / certificate_files(node)[1]
         if not p.is_file():
             raise NotAnOutputFolder(f"{folder}: no manifest {p.name} (is {node!r} the node's name?)")
@@ -108,23 +114,41 @@ def find_manifest(folder: Path, node: str | None = None) -> Path:
     return found[0]
 
 
+def _inside(work: Path, name: str) -> Path:
+    """``work/name`` for a name checked by :func:`folder.check_name`,
+    asserted to stay inside ``work`` (nothing verify writes leaves its
+    temporary folder)."""
+    p = work / check_name(name)
+    if not p.resolve().is_relative_to(work.resolve()):
+        raise UnsafeFile(f"{name}: leaves the temporary folder")  # pragma: no cover - check_name prevents it
+    return p
+
+
+def _digest(folder: Path, name: str) -> str | None:
+    """The SHA-256 of the folder's file ``name`` read through
+    :func:`folder.read_file` (``None`` if it is missing)."""
+    try:
+        return hashlib.sha256(read_file(folder, name)).hexdigest()
+    except FileNotFoundError:
+        return None
+
+
 def _check_hashes(folder: Path, rec: ProofRecord, files: dict[str, str]) -> Check:
     bad = []
     for name, digest in sorted(files.items()):
-        p = folder / name
-        if Path(name).is_absolute() or ".." in Path(name).parts:
-            bad.append(f"  {name}: not a file of the folder")
-        elif not p.is_file():
+        have = _digest(folder, name)
+        if have is None:
             bad.append(f"  {name}: missing")
-        elif sha256_file(p) != digest:
-            bad.append(f"  {name}: SHA-256 {sha256_file(p)}, recorded {digest}")
-    sums = folder / certificate_files(rec.node)[2]
+        elif have != digest:
+            bad.append(f"  {name}: SHA-256 {have}, recorded {digest}")
+    sums = certificate_files(rec.node)[2]
     try:
-        listed = dict(reversed(line.split("  ", 1)) for line in sums.read_text(encoding="utf-8").splitlines())
-    except (OSError, ValueError, UnicodeDecodeError):
+        lines = read_text(folder, sums, limit=MANIFEST_MAX_BYTES, what="digest file").splitlines()
+        listed = dict(reversed(line.split("  ", 1)) for line in lines)
+    except (FileNotFoundError, ValueError):
         listed = None
     if listed != files:
-        bad.append(f"  {sums.name}: does not list the manifest's files and digests")
+        bad.append(f"  {sums}: does not list the manifest's files and digests")
     for needed in (rec.node_v, rec.types_h, rec.glue_c, rec.sexp, rec.model_file):
         if needed not in files:
             bad.append(f"  {needed}: not covered by the manifest")
@@ -146,11 +170,11 @@ def _check_certificate(folder: Path, rec: ProofRecord, files: dict[str, str], pr
     try:
         want = render_certificate(rec, proved_text, proved_glue, sorted(files.items()),
                                   proved_diagram.rstrip("\n") if proved_diagram is not None else None)
-        have = (folder / name).read_text(encoding="utf-8")
+        have = read_text(folder, name, what="certificate")
     except CertificateError as exc:
         return Check("certificate", False, exc.summary, list(exc.lines))
-    except (OSError, UnicodeDecodeError) as exc:
-        return Check("certificate", False, f"cannot read {name}: {getattr(exc, 'strerror', None) or exc}")
+    except FileNotFoundError:
+        return Check("certificate", False, f"cannot read {name}: missing")
     if have != want:
         a, b = have.splitlines(), want.splitlines()
         k = next((i for i in range(min(len(a), len(b))) if a[i] != b[i]), min(len(a), len(b)))
@@ -176,20 +200,27 @@ def _reprint(drv: CoqDriver, folder: Path, rec: ProofRecord, module: str, lib: t
     with the folder's; validate the C against the AST dump."""
     printed = work / "printed"
     printed.mkdir()
-    outs = tuple(printed / n for n in (rec.types_h, rec.glue_c, rec.sexp, rec.model_file))
+    names = [rec.types_h, rec.glue_c, rec.sexp, rec.model_file]
     if rec.controller:
-        outs += (printed / rec.controller["c"], printed / rec.controller["sexp"], printed / rec.controller["text"])
+        names += [rec.controller["c"], rec.controller["sexp"], rec.controller["text"]]
+    outs = tuple(_inside(printed, n) for n in names)
     texts: dict[str, str | None] = {}
     try:
-        proved = folder / rec.model_file
-        relations = sum(1 for line in proved.read_text(encoding="utf-8", errors="replace").splitlines()
-                        if line.startswith(("input_relation ", "output_relation "))) if proved.is_file() else 0
+        try:
+            proved = read_file(folder, rec.model_file).decode("utf-8", errors="replace")
+        except FileNotFoundError:
+            proved = ""
+        relations = sum(1 for line in proved.splitlines()
+                        if line.startswith(("input_relation ", "output_relation ")))
         drv.print_texts(module, lib, outs, relations=relations)
         differ = []
-        for p in outs:
-            mine = folder / p.name
-            if not mine.is_file() or mine.read_bytes() != p.read_bytes():
-                differ.append(f"  {p.name}: differs from what the proof prints")
+        for n, p in zip(names, outs):
+            try:
+                same = read_file(folder, n) == p.read_bytes()
+            except FileNotFoundError:
+                same = False
+            if not same:
+                differ.append(f"  {n}: differs from what the proof prints")
         from pyrosgen.verify.printer_validation import validate_glue
 
         validate_glue(outs[1].read_text(encoding="utf-8"), outs[0].read_text(encoding="utf-8"),
@@ -222,8 +253,8 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
     mpath = find_manifest(folder, node)
     try:
         rec, files = read_manifest(mpath)
-    except (OSError, ValueError, UnicodeDecodeError) as exc:
-        raise NotAnOutputFolder(f"{mpath}: unreadable manifest: {exc}") from None
+    except ManifestError as exc:
+        raise NotAnOutputFolder(f"{folder}: unreadable manifest: {exc}") from None
     report = VerifyReport(folder, rec.node)
     checks = report.checks
     total = 5 + (model is not None) + (wp is True) + any(n.endswith("_ros.cpp") for n in files)
@@ -259,14 +290,15 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
         coq_check: Check | None = None
         chk = None
         try:
-            shutil.copyfile(folder / rec.node_v, coq_dir / rec.node_v)
-            res = drv.coqc(coq_dir / rec.node_v, lib)
+            vpath = _inside(coq_dir, rec.node_v)
+            vpath.write_bytes(read_file(folder, rec.node_v))
+            res = drv.coqc(vpath, lib)
             drv.check_assumptions(res.stdout, rec.theorems, node_file_names(rec.node).theorem_all)
             # coqchk re-checks the module while the texts are re-printed
             # from it (both only read it); its verdict decides both checks
             chk = drv.coqchk_start(module, lib, vm=not kernel)
-        except OSError as exc:
-            coq_check = Check("coqc", False, f"cannot read {rec.node_v}: {exc.strerror or exc}")
+        except FileNotFoundError:
+            coq_check = Check("coqc", False, f"cannot read {rec.node_v}: missing")
         except CoqError as exc:
             coq_check = Check("coqc", False, getattr(exc, "summary", str(exc)), list(getattr(exc, "lines", ())))
 
@@ -318,21 +350,20 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
             begin(f"wrapper: {wrapper}")
             from pyrosgen.verify.wrapper_check import WrapperMismatch, check_glue_externals, check_wrapper
 
-            text = proved_text if proved_text is not None else (folder / rec.model_file).read_text(encoding="utf-8")
             header = wrapper[: -len(".cpp")] + ".h"
             try:
-                check_wrapper((folder / wrapper).read_text(encoding="utf-8"), text, wrapper_name=wrapper)
+                text = proved_text if proved_text is not None else read_text(folder, rec.model_file)
+                check_wrapper(read_text(folder, wrapper), text, wrapper_name=wrapper)
                 if header in files:
                     # the ROS functions the glue calls, with the glue's C types
-                    check_glue_externals((folder / rec.glue_c).read_text(encoding="utf-8"),
-                                         (folder / header).read_text(encoding="utf-8"),
+                    check_glue_externals(read_text(folder, rec.glue_c), read_text(folder, header),
                                          glue_name=rec.glue_c, header_name=header)
                 checks.append(Check("wrapper", True, "registers, sleeps and tells the time as the proved model says"
                                     + (", and declares the glue's ROS functions with its types" if header in files else "")))
             except WrapperMismatch as exc:
                 checks.append(Check("wrapper", False, exc.summary, list(exc.lines)))
-            except OSError as exc:
-                checks.append(Check("wrapper", False, f"cannot read {wrapper}: {exc.strerror or exc}"))
+            except FileNotFoundError as exc:
+                checks.append(Check("wrapper", False, f"cannot read {exc}"))
 
         if wp:
             begin("Frama-C WP")
@@ -344,7 +375,8 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
                 wdir = work / "wp"
                 wdir.mkdir()
                 for n in (rec.wp["contracts"], rec.glue_c, rec.types_h):
-                    shutil.copyfile(folder / n, wdir / n)
+                    # by checked names only, into the temporary folder
+                    _inside(wdir, n).write_bytes(read_file(folder, n))
                 frames = [(f[0], f[1], tuple(f[2])) for f in rec.wp.get("functions", [])]
                 problems = []
                 if loaded is not None:
@@ -352,13 +384,13 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
                     from pyrosgen.verify.acsl import contract_frame, contracts, render_wrapper
 
                     cs = contracts(loaded)
-                    if (folder / rec.wp["contracts"]).read_text(encoding="utf-8") != render_wrapper(
+                    if read_text(folder, rec.wp["contracts"]) != render_wrapper(
                             loaded, rec.glue_c, rec.types_h, cs):
                         problems.append(f"  {rec.wp['contracts']}: not the contracts of {Path(model).name}")
                     if frames != [contract_frame(c) for c in cs]:
                         problems.append(f"  the manifest's WP functions are not those of {Path(model).name}")
                 try:
-                    r = run_wp_file(wdir / rec.wp["contracts"], frames)
+                    r = run_wp_file(_inside(wdir, rec.wp["contracts"]), frames)
                     if problems:
                         checks.append(Check("wp", False, r.summary(), problems))
                     else:
