@@ -239,6 +239,17 @@ def _print_checks(report) -> None:
             print(f"          {line.strip()}")
 
 
+def _positive_seconds(text: str) -> float:
+    """``--timeout``'s value: a positive number of seconds."""
+    try:
+        v = float(text)
+    except ValueError:
+        v = float("nan")
+    if not (0 < v < 1e7):
+        raise argparse.ArgumentTypeError(f"{text!r}: not a positive number of seconds")
+    return v
+
+
 def cmd_verify(args: argparse.Namespace) -> int:
     """``pyrosgen verify OUT``: re-check an output folder on its own (see
     :mod:`pyrosgen.verify.recheck`)."""
@@ -247,7 +258,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
     try:
         with _stopped_by_signals():
             report = verify_folder(args.folder, node=args.node, model=args.model, wp=args.wp,
-                                   kernel=args.kernel, progress=_progress(args))
+                                   kernel=args.kernel, progress=_progress(args), timeout=args.timeout)
     except VerifyFailed as exc:
         print(f"pyrosgen: {exc.verify_report.folder} does NOT verify (node {exc.verify_report.node})")
         _print_checks(exc.verify_report)
@@ -462,6 +473,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--kernel", action="store_true",
                    help="coqchk re-checks the node's vm_compute steps in its own conversion, not in Coq's "
                         "bytecode machine (independent of it; slower for large models)")
+    p.add_argument("--timeout", metavar="SECONDS", type=_positive_seconds, default=600.0,
+                   help="stop each tool run (coqc, coqchk, the OCaml compiler, the printer) after SECONDS "
+                        "and fail its check (default 600)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     p.set_defaults(func=cmd_verify)
 

@@ -56,7 +56,12 @@ from pyrosgen.verify.certificate import (MANIFEST_MAX_BYTES, ManifestError, Proo
                                          read_manifest)
 from pyrosgen.verify.folder import UnsafeFile, check_name, read_file, read_text
 
-__all__ = ["Check", "VerifyReport", "NotAnOutputFolder", "VerifyFailed", "verify_folder", "find_manifest"]
+#: The default limit of each tool run of ``verify`` (``--timeout``), in
+#: seconds: LandShark's coqc takes 2 s, the largest model of BENCHMARKS.md
+#: (two controller arrays of 8,192 elements) about 30 s.
+DEFAULT_TIMEOUT = 600.0
+
+__all__ = ["DEFAULT_TIMEOUT", "Check", "VerifyReport", "NotAnOutputFolder", "VerifyFailed", "verify_folder", "find_manifest"]
 
 
 class NotAnOutputFolder(UserError):
@@ -184,6 +189,85 @@ def _check_certificate(folder: Path, rec: ProofRecord, files: dict[str, str], pr
     return Check("certificate", True, f"{name} is the one rendered from the proof and the manifest")
 
 
+class _NotRun(Exception):
+    """A check that is not run (its reason)."""
+
+
+#: What the statements of :func:`_statements` need.
+_CONFIRM_IMPORTS = ("From Coq Require Import String List ZArith.\n"
+                    "From ROSGen Require Import Errors Syntax NodeModel Wellformed Generator.\n"
+                    "From ROSGen Require DDC Loopproof.\n")
+_CONFIRM_IMPORTS_CTRL = "From ROSGen Require Diagram Endtoend Link.\n"
+
+
+def _statements(rec: ProofRecord) -> list[tuple[str, str]]:
+    """Each theorem of the node with its statement in
+    ``coq/templates/node.v.j2``, for :meth:`CoqDriver.confirm_theorems`:
+    ``generate_ok`` (the printed program is ``generate model``), T2, T4
+    and, for a diagram, its well-formedness, T2 with the diagram and T8.
+    The names are the node's (:func:`node_file_names`), not the
+    manifest's."""
+    names = node_file_names(rec.node)
+    m = f"RosgenNode.{rec.node}"
+    out = [("generate_ok", f"Generator.generate {m}.model = OK {m}.the_program")]
+    if rec.ddc:
+        out.append((names.theorem_ddc, f"DDC.node_ddc {m}.model {m}.the_program"))
+    out.append((names.theorem_wf, f"Wellformed.wf {m}.model = true"))
+    if rec.controller:
+        d = f"{m}.Ctrl.the_diagram"
+        out += [(f"Ctrl.{names.theorem_ctrl_wf}", f"Diagram.dg_wf {d} = true"),
+                (f"Ctrl.{names.theorem_e2e}", f"Endtoend.diagram_node_ok {m}.model {m}.the_program {d}"),
+                (f"Ctrl.{names.theorem_linked}", f"Link.linked_node_ok {m}.model {m}.the_program {d}")]
+    return out
+
+
+def _check_vfile(folder: Path, rec: ProofRecord, drv: CoqDriver, model: str | Path | None) -> tuple[Check, str | None]:
+    """The folder's ``.v`` is the template's, with only its literal bodies
+    free (:func:`vfile.check_structure`), and with ``model`` the one
+    ``generate`` renders from it, byte for byte; its text if so (what
+    coqc compiles: nothing compiles a ``.v`` refused here)."""
+    from pyrosgen.verify.vfile import VFileError, check_rendering, check_structure
+
+    try:
+        text = read_text(folder, rec.node_v, what=".v")
+    except FileNotFoundError:
+        return Check("v-file", False, f"cannot read {rec.node_v}: missing"), None
+    except UnsafeFile as exc:
+        if "UTF-8" not in str(exc):
+            raise
+        return Check("v-file", False, f"{rec.node_v} is not the template's .v", [f"  {exc}"]), None
+    ddc = drv.ddc_available()
+    if rec.ddc != ddc:
+        return Check("v-file", False, f"the manifest says ddc={str(rec.ddc).lower()}, but the library "
+                     f"{'has' if ddc else 'has not'} the node DDC theorem"), None
+    try:
+        n = check_structure(text, rec.node_v, rec.node, ddc_available=ddc, diagram=rec.controller is not None)
+    except VFileError as exc:
+        return Check("v-file", False, exc.summary, list(exc.lines)), None
+    if model is None:
+        return Check("v-file", True, f"the template's .v of node {rec.node} ({n} tokens), "
+                                     "literals only in its model"), text
+    from pyrosgen.frontend.validate import load_model
+    from pyrosgen.proof.coqmodel import render_node_file
+
+    try:
+        loaded = load_model(model)
+        diagram = ""
+        if loaded.controller.diagram is not None:
+            from pyrosgen.proof.coqdiagram import emit_diagram
+
+            diagram = emit_diagram(loaded)
+        # line 1 names the model file generate read: the manifest's record of it
+        rendered = render_node_file(loaded, ddc_available=ddc, source=rec.source_name, diagram=diagram)
+        check_rendering(text, rec.node_v, str(model), rendered)
+    except VFileError as exc:
+        return Check("v-file", False, exc.summary, list(exc.lines)), None
+    except PyrosgenError as exc:
+        return Check("v-file", False, f"not compared with {Path(model).name}: "
+                     f"{getattr(exc, 'summary', str(exc).splitlines()[0])}"), None
+    return Check("v-file", True, f"the .v that generate renders from {Path(model).name}, byte for byte"), text
+
+
 @dataclass
 class _Reprint:
     """The re-print check and, when it ran, the texts the proof printed."""
@@ -243,10 +327,13 @@ def _reprint(drv: CoqDriver, folder: Path, rec: ProofRecord, module: str, lib: t
 
 def verify_folder(folder: str | Path, *, node: str | None = None, model: str | Path | None = None,
                   wp: bool = False, kernel: bool = False, driver: CoqDriver | None = None,
-                  progress: Callable[[str], None] | None = None) -> VerifyReport:
+                  progress: Callable[[str], None] | None = None,
+                  timeout: float = DEFAULT_TIMEOUT) -> VerifyReport:
     """Run the checks of the module documentation on ``folder``; raise
     :class:`VerifyFailed` unless all hold (the report is its
-    ``verify_report``)."""
+    ``verify_report``).  Every tool run (coqc, coqchk, the OCaml compiler,
+    the extracted printer) is stopped after ``timeout`` seconds, and its
+    check fails ("did not finish within N s")."""
     say = progress or (lambda _line: None)
     folder = Path(folder)
     t0 = time.monotonic()
@@ -257,7 +344,7 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
         raise NotAnOutputFolder(f"{folder}: unreadable manifest: {exc}") from None
     report = VerifyReport(folder, rec.node)
     checks = report.checks
-    total = 5 + (model is not None) + (wp is True) + any(n.endswith("_ros.cpp") for n in files)
+    total = 6 + (model is not None) + (wp is True) + any(n.endswith("_ros.cpp") for n in files)
     step = 0
 
     def begin(what: str) -> None:
@@ -268,7 +355,9 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
     begin("hashes")
     checks.append(_check_hashes(folder, rec, files))
 
-    drv = driver or CoqDriver()
+    drv = driver or CoqDriver(timeout=timeout)
+    if drv.timeout is None:
+        drv.timeout = timeout
     drv.check_tools()
     drv.check_library()
     begin("library identity")
@@ -286,17 +375,27 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
         coq_dir.mkdir()
         lib = (coq_dir, "RosgenNode")
         module = f"RosgenNode.{Path(rec.node_v).stem}"
+        begin(f"the .v against the template: {rec.node_v}")
+        vcheck, vtext = _check_vfile(folder, rec, drv, model)
+        checks.append(vcheck)
         begin(f"coqc and coqchk: {rec.node_v}")
         coq_check: Check | None = None
         chk = None
         try:
+            if vtext is None:
+                raise _NotRun(f"not run: {rec.node_v} is not the template's .v")
             vpath = _inside(coq_dir, rec.node_v)
-            vpath.write_bytes(read_file(folder, rec.node_v))
+            vpath.write_text(vtext, encoding="ascii")
             res = drv.coqc(vpath, lib)
             drv.check_assumptions(res.stdout, rec.theorems, node_file_names(rec.node).theorem_all)
+            # Coq confirms the theorems' statements and that they use no axiom
+            drv.confirm_theorems(module, lib, _statements(rec), work / "confirm",
+                                 imports=_CONFIRM_IMPORTS + (_CONFIRM_IMPORTS_CTRL if rec.controller else ""))
             # coqchk re-checks the module while the texts are re-printed
             # from it (both only read it); its verdict decides both checks
             chk = drv.coqchk_start(module, lib, vm=not kernel)
+        except _NotRun as exc:
+            coq_check = Check("coqc", False, str(exc))
         except FileNotFoundError:
             coq_check = Check("coqc", False, f"cannot read {rec.node_v}: missing")
         except CoqError as exc:
@@ -311,7 +410,8 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
                 try:
                     chk.result()
                     how = " (kernel conversion, no bytecode machine)" if kernel else ""
-                    coq_check = Check("coqc", True, f"{', '.join(rec.theorems)}: {CLOSED}; coqchk OK{how}")
+                    coq_check = Check("coqc", True, f"{', '.join(rec.theorems)}: {CLOSED}; statements confirmed "
+                                      f"by Coq; coqchk OK, no axiom{how}")
                 except CoqError as exc:
                     coq_check = Check("coqc", False, getattr(exc, "summary", str(exc)),
                                       list(getattr(exc, "lines", ())))
