@@ -459,8 +459,10 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=_EXAMPLES["verify"], formatter_class=argparse.RawDescriptionHelpFormatter,
         help="re-check an output folder on its own",
         description=(
-            "Re-check an output folder of generate or build: the recorded hashes, the "
-            "library identity, coqc and coqchk of the .v, the C re-printed from the proof "
+            "Re-check an output folder of generate or build, read as hostile input: the "
+            "recorded hashes, the library identity, the .v against the template before "
+            "anything compiles it, coqc and coqchk of the .v with its theorems' statements "
+            "and assumptions confirmed by Coq, the C re-printed from the proof "
             "and compared with the files, the wrapper against the proved model; with "
             "--model, the proved model against a model file; with --wp, Frama-C WP. "
             "The folder is not written."

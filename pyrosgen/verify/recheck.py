@@ -2,7 +2,12 @@
 
 For a reviewer who receives an output folder of ``pyrosgen generate`` or
 ``build`` and trusts neither the machine that produced it nor its
-certificate.  The checks, from the folder's manifest
+certificate.  The folder is hostile input: every file is read through
+:func:`pyrosgen.verify.folder.read_file` (a plain relative name, a regular
+file, no link on the way, bounded size), the manifest is validated field
+by field (:func:`pyrosgen.verify.certificate.read_manifest`), everything
+verify writes is in its temporary folder under names it checked, and every
+tool runs with a timeout.  The checks, from the folder's manifest
 (``<node>.manifest.json``, :mod:`pyrosgen.verify.certificate`):
 
 1. **hashes**: every file the manifest covers is present and has its
@@ -10,23 +15,29 @@ certificate.  The checks, from the folder's manifest
 2. **library**: the installed ROSGen library has the recorded identity
    (its sources' digest), since the ``.v`` recomputes ``generate model``
    against the library when it is checked;
-3. **coqc**: the folder's ``.v`` is compiled afresh (in a temporary
-   folder; the output folder is never written), every theorem of the
-   manifest prints "Closed under the global context", and ``coqchk``
-   re-checks the compiled file (while step 4 prints: a module it rejects
-   fails both checks);
-4. **re-print**: the C header, the glue, the AST dump and the model text
+3. **v-file**: the ``.v`` is the template's with only literal bodies free
+   (:mod:`pyrosgen.verify.vfile`), and with ``--model`` the one ``generate``
+   renders from that model, byte for byte; nothing compiles a ``.v``
+   refused here;
+4. **coqc**: the folder's ``.v`` is compiled afresh (in a temporary
+   folder; the output folder is never written), every theorem prints
+   "Closed under the global context", Coq confirms each theorem's
+   statement and that their conjunction is closed
+   (:meth:`CoqDriver.confirm_theorems`), and ``coqchk`` re-checks the
+   compiled file and lists no axiom (while step 5 prints: a module it
+   rejects fails both checks);
+5. **re-print**: the C header, the glue, the AST dump and the model text
    are printed again from the freshly checked term and must equal the
    folder's files byte for byte; the printed C is validated against the
    dump (pycparser);
-5. **certificate**: the folder's certificate is the one rendered from the
+6. **certificate**: the folder's certificate is the one rendered from the
    texts the proof printed and the manifest (its relations' and
    constants' C lines are in the printed C, its digests the recorded ones);
-6. **model** (with ``--model MODEL.yaml``): the model text Coq printed is
+7. **model** (with ``--model MODEL.yaml``): the model text Coq printed is
    the front end's reading of that file;
-7. **wrapper** (a ``build`` folder): the C++ wrapper registers exactly the
+8. **wrapper** (a ``build`` folder): the C++ wrapper registers exactly the
    proved topics, types and queue sizes and sleeps with the proved period;
-8. **WP** (with ``--wp``): Frama-C WP proves the folder's ACSL contracts
+9. **WP** (with ``--wp``): Frama-C WP proves the folder's ACSL contracts
    file on the folder's C, every goal; with ``--model`` too, the contracts
    file must be the one generated from that model (without it, only its
    digest vouches that the contracts were not weakened).
