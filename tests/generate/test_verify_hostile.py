@@ -136,6 +136,53 @@ def test_axiom_forgery_is_refused_by_coq_itself(copy, monkeypatch):
     assert any("cheat : False" in line for line in coqc.details), coqc.details
 
 
+#: Issue 29's other-model forgery: the theorems and the printed program are
+#: about the user's model plus one output relation, while [model] (whose
+#: text the model check compares with the YAML) is left as the user's.
+MODEL2 = ("\n\nDefinition model2 : node_model := mknode_model (nm_name model) (nm_period_ms model) (nm_ctrl model)"
+          " (nm_in_var model) (nm_in_struct model) (nm_inputs model) (nm_out_var model) (nm_out_struct model)"
+          " (nm_outputs model) (nm_msgs model) (nm_topics model) (nm_inrels model)"
+          ' (nm_outrels model ++ [mkoutrel "Out1" "landshark_control_base_velocity"'
+          ' [PField "twist"; PField "angular"; PField "z"]]) (nm_timeouts model) (nm_fallbacks model)'
+          " (nm_drels model) (nm_stamps model) (nm_stamp_from model) (nm_strings model).\n")
+
+
+def _other_model_forgery(d: Path) -> None:
+    v = d / V
+    text = v.read_text()
+    end = text.index("  |}.\n", text.index("Definition model : node_model")) + len("  |}.")
+    text = text[:end] + MODEL2 + text[end:]
+    for old, new in [("Generator.generate model.", "Generator.generate model2."),
+                     ("Wellformed.wf_check model = OK tt", "Wellformed.wf_check model2 = OK tt"),
+                     ("Generator.generate model = OK the_program", "Generator.generate model2 = OK the_program"),
+                     ("Wellformed.wf model = true", "Wellformed.wf model2 = true"),
+                     ("generate_sound model the_program", "generate_sound model2 the_program"),
+                     ("DDC.node_ddc model the_program", "DDC.node_ddc model2 the_program"),
+                     ("generate_node_ddc model the_program", "generate_node_ddc model2 the_program")]:
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    v.write_text(text)
+    _rehash(d)
+
+
+def test_other_model_forgery_is_refused(copy, monkeypatch):
+    """The .v proves DDC of the user's model plus one output relation: the
+    template check refuses the extra definition; with that check switched
+    off, the .v compiles, but Coq does not confirm the statements (T2 and
+    generate_ok are not about [model])."""
+    _other_model_forgery(copy)
+    line = _line_of(copy, "Definition model2")
+    code, out = _verify(copy, "--model", str(LANDSHARK))
+    assert code == 1, out
+    assert f"{V}:{line}:12: error: ident 'model2' where the template has ident 'program_result'" in out, out
+    monkeypatch.setattr(vfile, "check_structure", lambda *a, **kw: 0)
+    with pytest.raises(VerifyFailed) as e:
+        verify_folder(copy)
+    coqc = next(c for c in e.value.verify_report.checks if c.name == "coqc")
+    assert coqc.summary == "Coq does not confirm the theorems' statements", coqc
+    assert any("generate_ok" in ln or "model2" in ln or "confirm_0" in ln for ln in coqc.details), coqc.details
+
+
 def test_coq_confirms_statements_and_refuses_an_axiom(folder, tmp_path):
     """CoqDriver.confirm_theorems on the compiled real node: its
     statements are confirmed; a statement it does not prove (DDC of a
