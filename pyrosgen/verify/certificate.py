@@ -605,7 +605,7 @@ def read_manifest(path: Path) -> tuple[ProofRecord, dict[str, str]]:
         data = json.loads(text)
     except (ValueError, RecursionError) as exc:
         raise ManifestError(f"{name}: not JSON: {exc}") from None
-    if not isinstance(data, dict) or data.get("format") != MANIFEST_FORMAT:
+    if not isinstance(data, dict) or type(data.get("format")) is not int or data["format"] != MANIFEST_FORMAT:
         raise ManifestError(f"{name}: not a pyrosgen manifest of format {MANIFEST_FORMAT}")
 
     def bad(field_: str, what: str) -> ManifestError:

@@ -399,6 +399,35 @@ def test_malformed_manifests_are_exit_1(copy, what, edit, message):
     assert "unreadable manifest" in out and message in out, out
 
 
+def test_every_field_of_the_wrong_type_is_a_manifest_error(folder, tmp_path):
+    """Each field of a real manifest (and of its nested objects) replaced
+    by a value of each JSON type: read_manifest accepts it or raises
+    ManifestError naming the field, never anything else."""
+    from pyrosgen.verify.certificate import ManifestError, read_manifest
+
+    good = _manifest(folder)
+    values = [None, 0, -1, 1.5, True, "", "x", "../x", "/x", [], [[]], ["a", "b"], {}, {"a": 1}, "a" * 5000]
+    paths = [(k,) for k in good] + [(k, j) for k in ("files", "wp", "controller") if isinstance(good.get(k), dict)
+                                    for j in good[k]] + [("tools", 0), ("theorems", 0)]
+    p = tmp_path / MANIFEST
+    tried = refused = 0
+    for path in paths:
+        for v in values:
+            data = json.loads(json.dumps(good))
+            target = data
+            for key in path[:-1]:
+                target = target[key]
+            target[path[-1]] = v
+            p.write_text(json.dumps(data))
+            tried += 1
+            try:
+                read_manifest(p)
+            except ManifestError as exc:
+                refused += 1
+                assert repr(path[0])[1:-1] in str(exc) or "format" in str(exc) or "files" in str(exc), (path, v, exc)
+    assert tried > 200 and refused > tried * 0.8, (tried, refused)
+
+
 def test_a_manifest_nested_10000_deep_is_exit_1(copy):
     (copy / MANIFEST).write_text('{"format": 1, "files": ' + "[" * 10000 + "]" * 10000 + "}")
     code, out = _verify(copy, timeout=60)
