@@ -72,7 +72,8 @@ from pyrosgen.verify.folder import UnsafeFile, check_name, read_file, read_text
 #: (two controller arrays of 8,192 elements) about 30 s.
 DEFAULT_TIMEOUT = 600.0
 
-__all__ = ["DEFAULT_TIMEOUT", "Check", "VerifyReport", "NotAnOutputFolder", "VerifyFailed", "verify_folder", "find_manifest"]
+__all__ = ["DEFAULT_TIMEOUT", "Check", "VerifyReport", "NotAnOutputFolder", "VerifyFailed", "verify_folder",
+           "find_manifest"]
 
 
 class NotAnOutputFolder(UserError):
@@ -344,7 +345,19 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
     :class:`VerifyFailed` unless all hold (the report is its
     ``verify_report``).  Every tool run (coqc, coqchk, the OCaml compiler,
     the extracted printer) is stopped after ``timeout`` seconds, and its
-    check fails ("did not finish within N s")."""
+    check fails ("did not finish within N s").  A file of the folder that
+    is not a plain regular file of it (a link, a FIFO, a device, too
+    large: :mod:`pyrosgen.verify.folder`) stops the run at once with
+    :class:`UnsafeFile` naming it (exit 1)."""
+    try:
+        return _verify_folder(Path(folder), node=node, model=model, wp=wp, kernel=kernel, driver=driver,
+                              progress=progress, timeout=timeout)
+    except UnsafeFile as exc:
+        raise UnsafeFile(f"{folder}: refusing the folder: {exc}") from None
+
+
+def _verify_folder(folder: Path, *, node: str | None, model: str | Path | None, wp: bool, kernel: bool,
+                   driver: CoqDriver | None, progress: Callable[[str], None] | None, timeout: float) -> VerifyReport:
     say = progress or (lambda _line: None)
     folder = Path(folder)
     t0 = time.monotonic()
