@@ -45,7 +45,7 @@ import jinja2
 from pyrosgen.errors import UserError
 
 __all__ = ["VFileError", "Token", "tokens", "skeleton", "check_structure", "check_rendering",
-           "LITERAL_IDENTS", "LITERAL_PUNCT"]
+           "LITERAL_IDENTS", "LITERAL_PUNCT", "MAX_PLAIN_NUMERAL", "MAX_ZRANGE"]
 
 #: The identifiers the literal bodies may use: the constructors, record
 #: fields and functions the emitter writes (coqmodel.py, coqdiagram.py,
@@ -66,6 +66,16 @@ LITERAL_IDENTS = frozenset("""
 
 #: The punctuation the literal bodies may use.
 LITERAL_PUNCT = frozenset(["[", "]", "(", ")", ";", ",", "++", "%", "=>", ":=", "{|", "|}", "-"])
+
+#: The largest numeral without ``%Z`` in a literal body: the front end's
+#: bounds on what the emitter writes so (a period of at most 3,600,000 ms;
+#: queue sizes, array lengths and indices are smaller); the integers of
+#: constants, timeouts and string bytes carry ``%Z``.  And the largest
+#: ``zrange n``: a controller array's 65,536 elements.  A hostile ``.v``
+#: cannot ask for an array of 10^12 elements (with ``--model`` nothing but
+#: the rendering of the model passes anyway).
+MAX_PLAIN_NUMERAL = 3_600_000
+MAX_ZRANGE = 65_536
 
 #: Multi-character punctuation the lexer reads as one token (longest first).
 _MULTI = (":=", "=>", "++", "{|", "|}", "->", "<-", "<->", "/\\", "\\/", "|-", "::", "..", "<>", "<=", ">=",
@@ -228,6 +238,15 @@ def check_structure(text: str, name: str, node: str, *, ddc_available: bool, dia
                         or (t.kind == "punct" and t.text in LITERAL_PUNCT)):
                     raise refuse(t, f"{t.show()} in the body of {where}, where only literals are allowed "
                                     "(the constructors pyrosgen writes, strings, numerals)")
+                if t.kind == "num":
+                    after_zrange = k > 0 and have[k - 1].text == "zrange"
+                    typed = k + 1 < len(have) and have[k + 1].text == "%" or (
+                        k + 2 < len(have) and have[k + 1].text == ")" and have[k + 2].text == "%")
+                    bound = MAX_ZRANGE if after_zrange else None if typed else MAX_PLAIN_NUMERAL
+                    value = int(t.text, 16) if t.text[:2] in ("0x", "0X") else int(t.text)
+                    if bound is not None and value > bound:
+                        raise refuse(t, f"the numeral {t.text} in the body of {where}: more than "
+                                        f"{bound:,}, the largest that pyrosgen writes there")
                 k += 1
                 count += 1
             if count == 0:

@@ -313,6 +313,30 @@ def test_only_literals_in_the_model(copy, text, what):
         assert f"{what} in the body of model, where only literals are allowed" in out, out
 
 
+@pytest.mark.parametrize("old,new,message", [
+    ("nm_period_ms := 20;", "nm_period_ms := 1000000000000;", "the numeral 1000000000000 in the body of model"),
+    ('("x", FTprim Pfloat64)', '("x", FTarray (FTprim Pfloat64) 1000000000000)', "the numeral 1000000000000"),
+])
+def test_literal_sizes_are_bounded(copy, old, new, message):
+    """Without --model, a model of the template's shape cannot ask Coq
+    for an array of 10^12 elements (memory): sizes are bounded by what
+    the emitter writes."""
+    _edit_v(copy, old, new)
+    line = _line_of(copy, new)
+    code, out = _verify(copy, timeout=120)
+    assert code == 1, out
+    assert f"{V}:{line}:" in out and message in out, out
+
+
+def test_zrange_is_bounded():
+    text = vfile.skeleton(NODE, ddc_available=True, diagram=False)
+    body = '{| nm_inrels := (map (fun i => mkinrel_at "t" ([PField "a"] ++ [PIndex i]) "In1" [PIndex i]) (zrange %d))%%list |}'
+    ok = text.replace("PYROSGEN_FREE_MESSAGES", "[]").replace("PYROSGEN_FREE_MODEL", body % 65536)
+    assert vfile.check_structure(ok, V, NODE, ddc_available=True, diagram=False)
+    with pytest.raises(vfile.VFileError, match="the numeral 65537 in the body of model: more than 65,536"):
+        vfile.check_structure(ok.replace("zrange 65536", "zrange 65537"), V, NODE, ddc_available=True, diagram=False)
+
+
 def test_every_model_renders_a_v_of_the_template():
     """The structural check accepts what generate writes, for every model
     the front end and Coq accept (no coqc: the rendering only)."""
