@@ -244,6 +244,17 @@ def _print_checks(report) -> None:
             print(f"          {line.strip()}")
 
 
+def _positive_seconds(text: str) -> float:
+    """``--timeout``'s value: a positive number of seconds."""
+    try:
+        v = float(text)
+    except ValueError:
+        v = float("nan")
+    if not (0 < v < 1e7):
+        raise argparse.ArgumentTypeError(f"{text!r}: not a positive number of seconds")
+    return v
+
+
 def cmd_verify(args: argparse.Namespace) -> int:
     """``pyrosgen verify OUT``: re-check an output folder on its own (see
     :mod:`pyrosgen.verify.recheck`)."""
@@ -252,7 +263,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
     try:
         with _stopped_by_signals():
             report = verify_folder(args.folder, node=args.node, model=args.model, wp=args.wp,
-                                   kernel=args.kernel, progress=_progress(args))
+                                   kernel=args.kernel, progress=_progress(args), timeout=args.timeout)
     except VerifyFailed as exc:
         print(f"pyrosgen: {exc.verify_report.folder} does NOT verify (node {exc.verify_report.node})")
         _print_checks(exc.verify_report)
@@ -495,8 +506,10 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=_EXAMPLES["verify"], formatter_class=argparse.RawDescriptionHelpFormatter,
         help="re-check an output folder on its own",
         description=(
-            "Re-check an output folder of generate or build: the recorded hashes, the "
-            "library identity, coqc and coqchk of the .v, the C re-printed from the proof "
+            "Re-check an output folder of generate or build, read as hostile input: the "
+            "recorded hashes, the library identity, the .v against the template before "
+            "anything compiles it, coqc and coqchk of the .v with its theorems' statements "
+            "and assumptions confirmed by Coq, the C re-printed from the proof "
             "and compared with the files, the wrapper against the proved model; with "
             "--model, the proved model against a model file; with --wp, Frama-C WP. "
             "The folder is not written."
@@ -509,6 +522,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--kernel", action="store_true",
                    help="coqchk re-checks the node's vm_compute steps in its own conversion, not in Coq's "
                         "bytecode machine (independent of it; slower for large models)")
+    p.add_argument("--timeout", metavar="SECONDS", type=_positive_seconds, default=600.0,
+                   help="stop each tool run (coqc, coqchk, the OCaml compiler, the printer) after SECONDS "
+                        "and fail its check (default 600)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     p.set_defaults(func=cmd_verify)
 

@@ -52,6 +52,8 @@ __all__ = [
     "COQLIB_ENV",
     "CLOSED",
     "coq_messages",
+    "parse_assumptions",
+    "coqchk_summary_problems",
 ]
 
 #: The ROSGen library's sources and compiled files: ``coq/theories`` of a
@@ -63,6 +65,9 @@ DEFAULT_THEORIES = resources.coq_theories(build=False)
 COQLIB_ENV = "PYROSGEN_COQLIB"
 #: What ``Print Assumptions`` prints for a theorem that uses no axiom.
 CLOSED = "Closed under the global context"
+#: The logical prefix of Coq's standard library, whose axioms ``coqchk -o``
+#: lists because the library loads them (:func:`coqchk_summary_problems`).
+STDLIB_PREFIX = "Coq."
 #: Logical name of the library.
 LIBRARY = "ROSGen"
 
@@ -138,6 +143,86 @@ class CoqcResult:
     def output(self) -> str:
         """stdout then stderr."""
         return self.stdout + ("\n" if self.stdout and not self.stdout.endswith("\n") else "") + self.stderr
+
+
+#: The sections of ``Print Assumptions`` other than "Axioms:" (each one
+#: means the theorem is not closed).
+_ASSUMPTION_SECTIONS = re.compile(
+    r"^(Section Variables:|Axioms:|Opaque constants:|Transparent constants:|"
+    r"Constants \(and their types\) that rely on|.*assumed to be (?:positive|guarded)|"
+    r".*relying on type-in-type|.*type-in-type)")
+
+
+def parse_assumptions(output: str) -> tuple[int, list[str], list[str]]:
+    """What ``Print Assumptions`` printed in ``output``: the number of
+    whole lines "Closed under the global context", the axioms listed under
+    "Axioms:" (one line each, their types left out), and the headers of
+    any other section."""
+    closed, axioms, sections = 0, [], []
+    lines = output.splitlines()
+    i = 0
+    while i < len(lines):
+        line = lines[i]
+        if line.strip() == CLOSED and line == line.rstrip() and not line.startswith(" "):
+            closed += 1
+        elif line.strip() == "Axioms:":
+            i += 1
+            while i < len(lines) and lines[i].strip() and lines[i].strip() != CLOSED \
+                    and not _ASSUMPTION_SECTIONS.match(lines[i]):
+                if not lines[i].startswith(" "):
+                    axioms.append(_one_line(lines[i]))
+                i += 1
+            continue
+        elif _ASSUMPTION_SECTIONS.match(line):
+            sections.append(_one_line(line))
+        i += 1
+    return closed, axioms, sections
+
+
+def coqchk_summary_problems(output: str) -> list[str]:
+    """What ``coqchk -o``'s context summary lists that a closed module may
+    not have: an axiom outside Coq's standard library, a constant relying
+    on type-in-type or unsafe (co)fixpoints, an inductive whose positivity
+    is assumed, an impredicative Set (nothing when there is no summary:
+    the exit status alone decides, as before ``-o``).
+
+    The summary lists the axioms of the whole environment ``coqchk``
+    loaded, not those a theorem uses: the ROSGen library loads parts of the
+    standard library that declare axioms (``Coq.Reals``, ``Coq.Logic``,
+    ``Coq.ssr``: 30 for LandShark), which no theorem of a node uses
+    (``Print Assumptions``, parsed by :func:`parse_assumptions`, says so);
+    an axiom of any other name (the node's module, the ROSGen library) is
+    refused."""
+    lines = output.splitlines()
+    try:
+        start = next(i for i, ln in enumerate(lines) if ln.strip() == "CONTEXT SUMMARY")
+    except StopIteration:
+        return []
+    out: list[str] = []
+    head, items = None, []
+
+    def close() -> None:
+        if head is None:
+            return
+        title, rest = head
+        if title == "Theory":
+            if rest != "Set is predicative":
+                out.append(f"  {title}: {_one_line(rest)}")
+        elif rest != "<none>" or items:
+            listed = items or [rest]
+            if title == "Axioms":
+                listed = [x for x in listed if not x.startswith(STDLIB_PREFIX)]
+            out.extend(f"  {title}: {_one_line(x)}" for x in listed)
+
+    for ln in lines[start + 1:]:
+        m = re.match(r"^\* ([^:]+):\s*(.*)$", ln)
+        if m:
+            close()
+            head, items = (m.group(1).strip(), m.group(2).strip()), []
+        elif head is not None and ln.strip() and not set(ln.strip()) <= {"="}:
+            items.append(ln.strip())
+    close()
+    return out
 
 
 def _one_line(text: str) -> str:
@@ -436,33 +521,75 @@ class CoqDriver:
         """Require one "Closed under the global context" per theorem whose
         assumptions the file printed (``Print Assumptions``, in order), or,
         when the file printed those of their ``conjunction`` (one
-        traversal of the library for all), one for it."""
-        closed = output.count(CLOSED)
-        if closed != (1 if conjunction else len(theorems)):
-            axioms = []
-            lines = output.splitlines()
-            for i, line in enumerate(lines):
-                if line.strip() == "Axioms:":
-                    for ax in lines[i + 1 :]:
-                        if not ax.strip() or ax.strip() == CLOSED:
-                            break
-                        if not ax.startswith(" "):
-                            axioms.append("  " + _one_line(ax))
+        traversal of the library for all), one for it; and no "Axioms:"
+        (nor any other section of ``Print Assumptions``: section
+        variables, type-in-type, unsafe fixpoints, assumed positivity).
+        The output is parsed line by line: "Closed under the global
+        context" counts only as a whole line, as Coq prints it (not inside
+        a printed string)."""
+        closed, axioms, sections = parse_assumptions(output)
+        want = 1 if conjunction else len(theorems)
+        if closed != want or axioms or sections:
             what = (f"the theorems {', '.join(theorems)} (their conjunction {conjunction}) depend"
-                    if conjunction else f"{len(theorems) - closed} of the theorems {', '.join(theorems)} depend")
-            raise CoqError(f"{what} on axioms (Print Assumptions did not say \"{CLOSED}\")", axioms)
+                    if conjunction else f"{max(len(theorems) - closed, 1)} of the theorems {', '.join(theorems)} depend")
+            raise CoqError(f"{what} on axioms (Print Assumptions did not say \"{CLOSED}\")",
+                           [f"  {a}" for a in axioms] + [f"  {x}" for x in sections])
+
+    def confirm_theorems(self, module: str, lib: tuple[Path, str], statements: Sequence[tuple[str, str]],
+                         work: Path, *, imports: str = "") -> CoqcResult:
+        """Coq itself confirms what a compiled per-node ``module`` proves:
+        a file of pyrosgen's own (``Confirm.v`` in ``work``, a folder of
+        its own) ``Require``s the module and defines, for each ``(name,
+        statement)``, a constant of type ``statement`` equal to
+        ``module.name`` (a type error unless the theorem proves exactly
+        that), then prints the assumptions of their conjunction, which
+        must be exactly "Closed under the global context" (the module's
+        own output is not replayed by ``Require``: all this file prints is
+        its own).  ``imports``: ``Require`` lines for the statements."""
+        work.mkdir(exist_ok=True)
+        defs, names = [], []
+        for k, (thm, stmt) in enumerate(statements):
+            defs.append(f"Definition confirm_{k} : {stmt} := {module}.{thm}.")
+            names.append(f"confirm_{k}")
+        conj = names[-1]
+        for x in reversed(names[:-1]):
+            conj = f"(conj {x} {conj})"
+        (work / "Confirm.v").write_text(
+            "(* Generated by pyrosgen verify (coqdriver.py): the theorems of the\n"
+            f"   checked module {module} have the template's statements. *)\n"
+            f"{imports}Require {module}.\n" + "\n".join(defs) + "\n"
+            f"Definition confirm_all := {conj}.\n"
+            "Print Assumptions confirm_all.\n", encoding="ascii")
+        argv = [self.tool("coqc"), "-q", *self.load_path([lib, (work, "RosgenConfirm")]), "Confirm.v"]
+        res = self.run(argv, work)
+        if not res.ok:
+            raise CoqError("Coq does not confirm the theorems' statements",
+                           coq_messages(res.output) or [_one_line(res.output)])
+        closed, axioms, sections = parse_assumptions(res.stdout)
+        rest = [ln for ln in res.stdout.splitlines() if ln.strip() and ln.strip() != CLOSED]
+        if closed != 1 or axioms or sections or rest:
+            raise CoqError(f"Print Assumptions of the theorems is not \"{CLOSED}\"",
+                           [f"  axiom {a}" for a in axioms] + [f"  {_one_line(x)}" for x in (sections or rest)][:20])
+        return res
 
     def _coqchk_argv(self, module: str, lib: tuple[Path, str], vm: bool) -> list[str]:
-        return [self.tool("coqchk"), "-silent", *(["-bytecode-compiler", "yes"] if vm else []),
+        return [self.tool("coqchk"), "-silent", "-o", *(["-bytecode-compiler", "yes"] if vm else []),
                 *self.load_path([lib]), "-norec", module]
 
     @staticmethod
     def _coqchk_verdict(module: str, res: CoqcResult) -> CoqcResult:
+        """``coqchk``'s exit status, then its context summary (``-o``):
+        ``coqchk`` accepts a module that uses an axiom, and lists it there,
+        so any axiom listed (or any constant relying on type-in-type,
+        unsafe fixpoints or assumed positivity) is a rejection too."""
         if not res.ok:
             raise CoqError(
                 f"coqchk rejected {module} (exit status {res.returncode})",
                 coq_messages(res.output) or [_one_line(res.output)],
             )
+        problems = coqchk_summary_problems(res.output)
+        if problems:
+            raise CoqError(f"coqchk: {module} is not closed under the global context", problems)
         return res
 
     def coqchk(self, module: str, lib: tuple[Path, str], *, vm: bool = True) -> CoqcResult:

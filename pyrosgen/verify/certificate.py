@@ -26,6 +26,7 @@ shown through :func:`md_code`, never raw.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import re
@@ -35,13 +36,14 @@ import subprocess
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-from pyrosgen.errors import DetailedFailure
+from pyrosgen.errors import DetailedFailure, UserError
 from pyrosgen.proof.modeltext import ProvedModel, parse_model_text
 from pyrosgen.render import render, source_label
 
 __all__ = [
     "MANIFEST_FORMAT", "ProofRecord", "certificate_files", "sha256_file", "tool_versions",
     "md_code", "render_certificate", "write_certificate", "read_manifest", "CertificateError",
+    "ManifestError", "MANIFEST_MAX_BYTES",
 ]
 
 #: Version of the manifest's format.
@@ -538,19 +540,167 @@ def write_certificate(rec: ProofRecord, folder: Path, files: list[str]) -> list[
     return [cert_name, manifest_name, sums_name]
 
 
+#: The largest manifest ``verify`` reads (4 MiB: a node with two controller
+#: arrays of 8,192 elements has one of a few KB).
+MANIFEST_MAX_BYTES = 4 << 20
+#: The deepest nesting of arrays and objects in a manifest (a real one has 4).
+MANIFEST_MAX_DEPTH = 8
+
+_HEX64 = re.compile(r"[0-9a-f]{64}")
+_NODE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+_THEOREM = re.compile(r"(?:Ctrl\.)?[A-Za-z_][A-Za-z0-9_]*")
+
+
+class ManifestError(UserError, ValueError):
+    """A manifest that is not one ``write_certificate`` writes (exit 1):
+    its message names the field that is wrong."""
+
+
+def _json_depth(text: str) -> int:
+    """The deepest nesting of ``[`` and ``{`` in the JSON ``text``,
+    outside its strings (computed without recursion, before any parse)."""
+    depth = deepest = 0
+    in_str = esc = False
+    for ch in text:
+        if in_str:
+            if esc:
+                esc = False
+            elif ch == "\\":
+                esc = True
+            elif ch == '"':
+                in_str = False
+        elif ch == '"':
+            in_str = True
+        elif ch in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif ch in "]}":
+            depth -= 1
+    return deepest
+
+
 def read_manifest(path: Path) -> tuple[ProofRecord, dict[str, str]]:
     """The record and the file digests of a manifest written by
-    :func:`write_certificate`; ``ValueError`` if it is not one."""
-    data = json.loads(path.read_text(encoding="utf-8"))
-    if not isinstance(data, dict) or data.get("format") != MANIFEST_FORMAT:
-        raise ValueError(f"{path.name}: not a pyrosgen manifest of format {MANIFEST_FORMAT}")
-    files = data.pop("files")
-    data.pop("format")
-    tools = data.pop("tools", [])
-    if not isinstance(files, dict) or not all(isinstance(k, str) and isinstance(v, str) for k, v in files.items()):
-        raise ValueError(f"{path.name}: malformed file table")
+    :func:`write_certificate`, read as hostile input (through
+    :func:`pyrosgen.verify.folder.read_text`: a regular file of at most
+    :data:`MANIFEST_MAX_BYTES`, no link); every field's type and shape is
+    checked (the node a C identifier, every file name a plain relative name
+    and the one the node's name gives, digests 64 hex digits, the theorems
+    those of the node): :class:`ManifestError` (exit 1) names what is
+    wrong."""
+    from pyrosgen.proof.coqmodel import node_file_names
+    from pyrosgen.verify.folder import UnsafeFile, check_name, read_text
+
+    path = Path(path)
+    name = path.name
     try:
-        rec = ProofRecord(**data, tools=[tuple(t) for t in tools])
-    except TypeError as exc:
-        raise ValueError(f"{path.name}: {exc}") from None
+        text = read_text(path.parent, name, limit=MANIFEST_MAX_BYTES, what="manifest")
+    except FileNotFoundError:
+        raise ManifestError(f"{path}: missing") from None
+    except UnsafeFile as exc:
+        raise ManifestError(f"{path.parent}/{exc}") from None
+    if _json_depth(text) > MANIFEST_MAX_DEPTH:
+        raise ManifestError(f"{name}: nested more than {MANIFEST_MAX_DEPTH} deep: not a pyrosgen manifest")
+    try:
+        data = json.loads(text)
+    except (ValueError, RecursionError) as exc:
+        raise ManifestError(f"{name}: not JSON: {exc}") from None
+    if not isinstance(data, dict) or type(data.get("format")) is not int or data["format"] != MANIFEST_FORMAT:
+        raise ManifestError(f"{name}: not a pyrosgen manifest of format {MANIFEST_FORMAT}")
+
+    def bad(field_: str, what: str) -> ManifestError:
+        return ManifestError(f"{name}: field {field_!r}: {what}")
+
+    def get(key: str, typ: type | tuple[type, ...], what: str):
+        if key not in data:
+            raise bad(key, "missing")
+        v = data[key]
+        if not isinstance(v, typ) or (typ is int and isinstance(v, bool)):
+            raise bad(key, f"{type(v).__name__}, not {what}")
+        return v
+
+    def short(key: str, v: object, limit: int = 4096) -> None:
+        if isinstance(v, str) and len(v) > limit:
+            raise bad(key, f"a string of {len(v)} characters, more than {limit}")
+
+    known = {f.name for f in dataclasses.fields(ProofRecord)} | {"format", "files"}
+    extra = sorted(set(data) - known)
+    if extra:
+        raise bad(extra[0], "not a field of a pyrosgen manifest")
+    node = get("node", str, "a string")
+    if not _NODE.fullmatch(node) or len(node) > 200:
+        raise bad("node", f"{node[:80]!r} is not a C identifier")
+    names = node_file_names(node)
+    derived = {"node_v": names.v_file, "types_h": names.types_header, "glue_c": names.glue_c,
+               "sexp": names.sexp, "model_file": f"{node}.model"}
+    for key, want in derived.items():
+        v = get(key, str, "a file name")
+        try:
+            check_name(v, f"field {key!r}:")
+        except UnsafeFile as exc:
+            raise ManifestError(f"{name}: {exc}") from None
+        if v != want:
+            raise bad(key, f"{v!r}, not the node's file {want!r}")
+    ddc = get("ddc", bool, "true or false")
+    theorems = get("theorems", list, "a list of theorem names")
+    for key in ("theorem", "assumptions", "pyrosgen_version", "source_name"):
+        short(key, get(key, str, "a string"), 1 << 16)
+    for key in ("library_sha256", "source_sha256"):
+        v = get(key, str, "a SHA-256")
+        if not _HEX64.fullmatch(v) and not (key == "source_sha256" and v == ""):
+            raise bad(key, f"{v[:80]!r} is not 64 hexadecimal digits")
+    controller = data.get("controller")
+    if controller is not None:
+        if not isinstance(controller, dict):
+            raise bad("controller", f"{type(controller).__name__}, not an object or null")
+        want_ctrl = {"c": names.controller_c, "sexp": names.controller_sexp, "text": names.controller_text,
+                     "wf": f"Ctrl.{names.theorem_ctrl_wf}", "e2e": f"Ctrl.{names.theorem_e2e}",
+                     "linked": f"Ctrl.{names.theorem_linked}"}
+        if controller != want_ctrl:
+            k = next((k for k in sorted(set(controller) | set(want_ctrl))
+                      if controller.get(k) != want_ctrl.get(k)), "?")
+            got = controller.get(k)
+            raise bad(f"controller.{k}", f"{str(got)[:80]!r}, not the node's {want_ctrl.get(k)!r}")
+    want_thms = ([names.theorem_ddc] if ddc else []) + [names.theorem_wf] + (
+        [controller["wf"], controller["e2e"], controller["linked"]] if controller else [])
+    if theorems != want_thms:
+        raise bad("theorems", f"{str(theorems)[:200]}, not the node's theorems {want_thms}")
+    if data["theorem"] != want_thms[0]:
+        raise bad("theorem", f"{data['theorem'][:80]!r}, not the node's main theorem {want_thms[0]!r}")
+    wp = data.get("wp")
+    if wp is not None:
+        if not isinstance(wp, dict) or set(wp) - {"proved", "total", "prover", "contracts", "functions"}:
+            raise bad("wp", "not an object of proved, total, prover, contracts, functions")
+        if wp.get("contracts") != f"{node}_wp.c":
+            c = wp.get("contracts")
+            try:
+                check_name(c, "field 'wp.contracts':")
+            except UnsafeFile as exc:
+                raise ManifestError(f"{name}: {exc}") from None
+            raise bad("wp.contracts", f"{str(c)[:80]!r}, not the node's contracts file {node}_wp.c")
+        for k in ("proved", "total"):
+            if not isinstance(wp.get(k), int) or isinstance(wp.get(k), bool):
+                raise bad(f"wp.{k}", "not an integer")
+        if not isinstance(wp.get("prover"), str):
+            raise bad("wp.prover", "not a string")
+        fs = wp.get("functions", [])
+        if not isinstance(fs, list) or not all(
+                isinstance(f, list) and len(f) == 3 and isinstance(f[0], str) and (f[1] is None or isinstance(f[1], str))
+                and isinstance(f[2], list) and all(isinstance(s, str) for s in f[2]) for f in fs):
+            raise bad("wp.functions", "not a list of [name, pointer, [separated]]")
+    tools = data.get("tools", [])
+    if not isinstance(tools, list) or not all(
+            isinstance(t, list) and len(t) == 2 and all(isinstance(s, str) and len(s) < 4096 for s in t)
+            for t in tools):
+        raise bad("tools", "not a list of [tool, version] pairs of strings")
+    files = get("files", dict, "an object of file names and digests")
+    for fname, digest in files.items():
+        try:
+            check_name(fname, "field 'files':")
+        except UnsafeFile as exc:
+            raise ManifestError(f"{name}: {exc}") from None
+        if not isinstance(digest, str) or not _HEX64.fullmatch(digest):
+            raise bad(f"files.{fname}", f"{str(digest)[:80]!r} is not 64 hexadecimal digits")
+    data = {k: v for k, v in data.items() if k not in ("format", "files", "tools")}
+    rec = ProofRecord(**data, tools=[tuple(t) for t in tools])
     return rec, files

@@ -2,7 +2,12 @@
 
 For a reviewer who receives an output folder of ``pyrosgen generate`` or
 ``build`` and trusts neither the machine that produced it nor its
-certificate.  The checks, from the folder's manifest
+certificate.  The folder is hostile input: every file is read through
+:func:`pyrosgen.verify.folder.read_file` (a plain relative name, a regular
+file, no link on the way, bounded size), the manifest is validated field
+by field (:func:`pyrosgen.verify.certificate.read_manifest`), everything
+verify writes is in its temporary folder under names it checked, and every
+tool runs with a timeout.  The checks, from the folder's manifest
 (``<node>.manifest.json``, :mod:`pyrosgen.verify.certificate`):
 
 1. **hashes**: every file the manifest covers is present and has its
@@ -10,23 +15,29 @@ certificate.  The checks, from the folder's manifest
 2. **library**: the installed ROSGen library has the recorded identity
    (its sources' digest), since the ``.v`` recomputes ``generate model``
    against the library when it is checked;
-3. **coqc**: the folder's ``.v`` is compiled afresh (in a temporary
-   folder; the output folder is never written), every theorem of the
-   manifest prints "Closed under the global context", and ``coqchk``
-   re-checks the compiled file (while step 4 prints: a module it rejects
-   fails both checks);
-4. **re-print**: the C header, the glue, the AST dump and the model text
+3. **v-file**: the ``.v`` is the template's with only literal bodies free
+   (:mod:`pyrosgen.verify.vfile`), and with ``--model`` the one ``generate``
+   renders from that model, byte for byte; nothing compiles a ``.v``
+   refused here;
+4. **coqc**: the folder's ``.v`` is compiled afresh (in a temporary
+   folder; the output folder is never written), every theorem prints
+   "Closed under the global context", Coq confirms each theorem's
+   statement and that their conjunction is closed
+   (:meth:`CoqDriver.confirm_theorems`), and ``coqchk`` re-checks the
+   compiled file and lists no axiom (while step 5 prints: a module it
+   rejects fails both checks);
+5. **re-print**: the C header, the glue, the AST dump and the model text
    are printed again from the freshly checked term and must equal the
    folder's files byte for byte; the printed C is validated against the
    dump (pycparser);
-5. **certificate**: the folder's certificate is the one rendered from the
+6. **certificate**: the folder's certificate is the one rendered from the
    texts the proof printed and the manifest (its relations' and
    constants' C lines are in the printed C, its digests the recorded ones);
-6. **model** (with ``--model MODEL.yaml``): the model text Coq printed is
+7. **model** (with ``--model MODEL.yaml``): the model text Coq printed is
    the front end's reading of that file;
-7. **wrapper** (a ``build`` folder): the C++ wrapper registers exactly the
+8. **wrapper** (a ``build`` folder): the C++ wrapper registers exactly the
    proved topics, types and queue sizes and sleeps with the proved period;
-8. **WP** (with ``--wp``): Frama-C WP proves the folder's ACSL contracts
+9. **WP** (with ``--wp``): Frama-C WP proves the folder's ACSL contracts
    file on the folder's C, every goal; with ``--model`` too, the contracts
    file must be the one generated from that model (without it, only its
    digest vouches that the contracts were not weakened).
@@ -39,6 +50,8 @@ one failed (or OUT is not an output folder), 2 when a tool is missing.
 from __future__ import annotations
 
 import contextlib
+import hashlib
+import re
 import shutil
 import tempfile
 import time
@@ -50,9 +63,17 @@ from pyrosgen.errors import PyrosgenError, UserError
 from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
 from pyrosgen.proof.coqmodel import node_file_names
 from pyrosgen.proof.modeltext import ModelMismatch, compare_model_texts, model_text
-from pyrosgen.verify.certificate import ProofRecord, certificate_files, read_manifest, sha256_file
+from pyrosgen.verify.certificate import (MANIFEST_MAX_BYTES, ManifestError, ProofRecord, certificate_files,
+                                         read_manifest)
+from pyrosgen.verify.folder import UnsafeFile, check_name, read_file, read_text
 
-__all__ = ["Check", "VerifyReport", "NotAnOutputFolder", "VerifyFailed", "verify_folder", "find_manifest"]
+#: The default limit of each tool run of ``verify`` (``--timeout``), in
+#: seconds: LandShark's coqc takes 2 s, the largest model of BENCHMARKS.md
+#: (two controller arrays of 8,192 elements) about 30 s.
+DEFAULT_TIMEOUT = 600.0
+
+__all__ = ["DEFAULT_TIMEOUT", "Check", "VerifyReport", "NotAnOutputFolder", "VerifyFailed", "verify_folder",
+           "find_manifest"]
 
 
 class NotAnOutputFolder(UserError):
@@ -94,6 +115,8 @@ def find_manifest(folder: Path, node: str | None = None) -> Path:
     if not folder.is_dir():
         raise NotAnOutputFolder(f"{folder}: not a directory")
     if node is not None:
+        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", node):
+            raise NotAnOutputFolder(f"--node {node!r}: not a node name (a C identifier)")
         p = folder / certificate_files(node)[1]
         if not p.is_file():
             raise NotAnOutputFolder(f"{folder}: no manifest {p.name} (is {node!r} the node's name?)")
@@ -108,23 +131,41 @@ def find_manifest(folder: Path, node: str | None = None) -> Path:
     return found[0]
 
 
+def _inside(work: Path, name: str) -> Path:
+    """``work/name`` for a name checked by :func:`folder.check_name`,
+    asserted to stay inside ``work`` (nothing verify writes leaves its
+    temporary folder)."""
+    p = work / check_name(name)
+    if not p.resolve().is_relative_to(work.resolve()):
+        raise UnsafeFile(f"{name}: leaves the temporary folder")  # pragma: no cover - check_name prevents it
+    return p
+
+
+def _digest(folder: Path, name: str) -> str | None:
+    """The SHA-256 of the folder's file ``name`` read through
+    :func:`folder.read_file` (``None`` if it is missing)."""
+    try:
+        return hashlib.sha256(read_file(folder, name)).hexdigest()
+    except FileNotFoundError:
+        return None
+
+
 def _check_hashes(folder: Path, rec: ProofRecord, files: dict[str, str]) -> Check:
     bad = []
     for name, digest in sorted(files.items()):
-        p = folder / name
-        if Path(name).is_absolute() or ".." in Path(name).parts:
-            bad.append(f"  {name}: not a file of the folder")
-        elif not p.is_file():
+        have = _digest(folder, name)
+        if have is None:
             bad.append(f"  {name}: missing")
-        elif sha256_file(p) != digest:
-            bad.append(f"  {name}: SHA-256 {sha256_file(p)}, recorded {digest}")
-    sums = folder / certificate_files(rec.node)[2]
+        elif have != digest:
+            bad.append(f"  {name}: SHA-256 {have}, recorded {digest}")
+    sums = certificate_files(rec.node)[2]
     try:
-        listed = dict(reversed(line.split("  ", 1)) for line in sums.read_text(encoding="utf-8").splitlines())
-    except (OSError, ValueError, UnicodeDecodeError):
+        lines = read_text(folder, sums, limit=MANIFEST_MAX_BYTES, what="digest file").splitlines()
+        listed = dict(reversed(line.split("  ", 1)) for line in lines)
+    except (FileNotFoundError, ValueError):
         listed = None
     if listed != files:
-        bad.append(f"  {sums.name}: does not list the manifest's files and digests")
+        bad.append(f"  {sums}: does not list the manifest's files and digests")
     for needed in (rec.node_v, rec.types_h, rec.glue_c, rec.sexp, rec.model_file):
         if needed not in files:
             bad.append(f"  {needed}: not covered by the manifest")
@@ -146,11 +187,11 @@ def _check_certificate(folder: Path, rec: ProofRecord, files: dict[str, str], pr
     try:
         want = render_certificate(rec, proved_text, proved_glue, sorted(files.items()),
                                   proved_diagram.rstrip("\n") if proved_diagram is not None else None)
-        have = (folder / name).read_text(encoding="utf-8")
+        have = read_text(folder, name, what="certificate")
     except CertificateError as exc:
         return Check("certificate", False, exc.summary, list(exc.lines))
-    except (OSError, UnicodeDecodeError) as exc:
-        return Check("certificate", False, f"cannot read {name}: {getattr(exc, 'strerror', None) or exc}")
+    except FileNotFoundError:
+        return Check("certificate", False, f"cannot read {name}: missing")
     if have != want:
         a, b = have.splitlines(), want.splitlines()
         k = next((i for i in range(min(len(a), len(b))) if a[i] != b[i]), min(len(a), len(b)))
@@ -158,6 +199,85 @@ def _check_certificate(folder: Path, rec: ProofRecord, files: dict[str, str], pr
             f"  line {k + 1}: the folder's {a[k] if k < len(a) else '(nothing)'!r}",
             f"  line {k + 1}: rendered   {b[k] if k < len(b) else '(nothing)'!r}"])
     return Check("certificate", True, f"{name} is the one rendered from the proof and the manifest")
+
+
+class _NotRun(Exception):
+    """A check that is not run (its reason)."""
+
+
+#: What the statements of :func:`_statements` need.
+_CONFIRM_IMPORTS = ("From Coq Require Import String List ZArith.\n"
+                    "From ROSGen Require Import Errors Syntax NodeModel Wellformed Generator.\n"
+                    "From ROSGen Require DDC Loopproof.\n")
+_CONFIRM_IMPORTS_CTRL = "From ROSGen Require Diagram Endtoend Link.\n"
+
+
+def _statements(rec: ProofRecord) -> list[tuple[str, str]]:
+    """Each theorem of the node with its statement in
+    ``coq/templates/node.v.j2``, for :meth:`CoqDriver.confirm_theorems`:
+    ``generate_ok`` (the printed program is ``generate model``), T2, T4
+    and, for a diagram, its well-formedness, T2 with the diagram and T8.
+    The names are the node's (:func:`node_file_names`), not the
+    manifest's."""
+    names = node_file_names(rec.node)
+    m = f"RosgenNode.{rec.node}"
+    out = [("generate_ok", f"Generator.generate {m}.model = OK {m}.the_program")]
+    if rec.ddc:
+        out.append((names.theorem_ddc, f"DDC.node_ddc {m}.model {m}.the_program"))
+    out.append((names.theorem_wf, f"Wellformed.wf {m}.model = true"))
+    if rec.controller:
+        d = f"{m}.Ctrl.the_diagram"
+        out += [(f"Ctrl.{names.theorem_ctrl_wf}", f"Diagram.dg_wf {d} = true"),
+                (f"Ctrl.{names.theorem_e2e}", f"Endtoend.diagram_node_ok {m}.model {m}.the_program {d}"),
+                (f"Ctrl.{names.theorem_linked}", f"Link.linked_node_ok {m}.model {m}.the_program {d}")]
+    return out
+
+
+def _check_vfile(folder: Path, rec: ProofRecord, drv: CoqDriver, model: str | Path | None) -> tuple[Check, str | None]:
+    """The folder's ``.v`` is the template's, with only its literal bodies
+    free (:func:`vfile.check_structure`), and with ``model`` the one
+    ``generate`` renders from it, byte for byte; its text if so (what
+    coqc compiles: nothing compiles a ``.v`` refused here)."""
+    from pyrosgen.verify.vfile import VFileError, check_rendering, check_structure
+
+    try:
+        text = read_text(folder, rec.node_v, what=".v")
+    except FileNotFoundError:
+        return Check("v-file", False, f"cannot read {rec.node_v}: missing"), None
+    except UnsafeFile as exc:
+        if "UTF-8" not in str(exc):
+            raise
+        return Check("v-file", False, f"{rec.node_v} is not the template's .v", [f"  {exc}"]), None
+    ddc = drv.ddc_available()
+    if rec.ddc != ddc:
+        return Check("v-file", False, f"the manifest says ddc={str(rec.ddc).lower()}, but the library "
+                     f"{'has' if ddc else 'has not'} the node DDC theorem"), None
+    try:
+        n = check_structure(text, rec.node_v, rec.node, ddc_available=ddc, diagram=rec.controller is not None)
+    except VFileError as exc:
+        return Check("v-file", False, exc.summary, list(exc.lines)), None
+    if model is None:
+        return Check("v-file", True, f"the template's .v of node {rec.node} ({n} tokens), "
+                                     "literals only in its model"), text
+    from pyrosgen.frontend.validate import load_model
+    from pyrosgen.proof.coqmodel import render_node_file
+
+    try:
+        loaded = load_model(model)
+        diagram = ""
+        if loaded.controller.diagram is not None:
+            from pyrosgen.proof.coqdiagram import emit_diagram
+
+            diagram = emit_diagram(loaded)
+        # line 1 names the model file generate read: the manifest's record of it
+        rendered = render_node_file(loaded, ddc_available=ddc, source=rec.source_name, diagram=diagram)
+        check_rendering(text, rec.node_v, str(model), rendered)
+    except VFileError as exc:
+        return Check("v-file", False, exc.summary, list(exc.lines)), None
+    except PyrosgenError as exc:
+        return Check("v-file", False, f"not compared with {Path(model).name}: "
+                     f"{getattr(exc, 'summary', str(exc).splitlines()[0])}"), None
+    return Check("v-file", True, f"the .v that generate renders from {Path(model).name}, byte for byte"), text
 
 
 @dataclass
@@ -176,20 +296,27 @@ def _reprint(drv: CoqDriver, folder: Path, rec: ProofRecord, module: str, lib: t
     with the folder's; validate the C against the AST dump."""
     printed = work / "printed"
     printed.mkdir()
-    outs = tuple(printed / n for n in (rec.types_h, rec.glue_c, rec.sexp, rec.model_file))
+    names = [rec.types_h, rec.glue_c, rec.sexp, rec.model_file]
     if rec.controller:
-        outs += (printed / rec.controller["c"], printed / rec.controller["sexp"], printed / rec.controller["text"])
+        names += [rec.controller["c"], rec.controller["sexp"], rec.controller["text"]]
+    outs = tuple(_inside(printed, n) for n in names)
     texts: dict[str, str | None] = {}
     try:
-        proved = folder / rec.model_file
-        relations = sum(1 for line in proved.read_text(encoding="utf-8", errors="replace").splitlines()
-                        if line.startswith(("input_relation ", "output_relation "))) if proved.is_file() else 0
+        try:
+            proved = read_file(folder, rec.model_file).decode("utf-8", errors="replace")
+        except FileNotFoundError:
+            proved = ""
+        relations = sum(1 for line in proved.splitlines()
+                        if line.startswith(("input_relation ", "output_relation ")))
         drv.print_texts(module, lib, outs, relations=relations)
         differ = []
-        for p in outs:
-            mine = folder / p.name
-            if not mine.is_file() or mine.read_bytes() != p.read_bytes():
-                differ.append(f"  {p.name}: differs from what the proof prints")
+        for n, p in zip(names, outs):
+            try:
+                same = read_file(folder, n) == p.read_bytes()
+            except FileNotFoundError:
+                same = False
+            if not same:
+                differ.append(f"  {n}: differs from what the proof prints")
         from pyrosgen.verify.printer_validation import validate_glue
 
         validate_glue(outs[1].read_text(encoding="utf-8"), outs[0].read_text(encoding="utf-8"),
@@ -212,21 +339,36 @@ def _reprint(drv: CoqDriver, folder: Path, rec: ProofRecord, module: str, lib: t
 
 def verify_folder(folder: str | Path, *, node: str | None = None, model: str | Path | None = None,
                   wp: bool = False, kernel: bool = False, driver: CoqDriver | None = None,
-                  progress: Callable[[str], None] | None = None) -> VerifyReport:
+                  progress: Callable[[str], None] | None = None,
+                  timeout: float = DEFAULT_TIMEOUT) -> VerifyReport:
     """Run the checks of the module documentation on ``folder``; raise
     :class:`VerifyFailed` unless all hold (the report is its
-    ``verify_report``)."""
+    ``verify_report``).  Every tool run (coqc, coqchk, the OCaml compiler,
+    the extracted printer) is stopped after ``timeout`` seconds, and its
+    check fails ("did not finish within N s").  A file of the folder that
+    is not a plain regular file of it (a link, a FIFO, a device, too
+    large: :mod:`pyrosgen.verify.folder`) stops the run at once with
+    :class:`UnsafeFile` naming it (exit 1)."""
+    try:
+        return _verify_folder(Path(folder), node=node, model=model, wp=wp, kernel=kernel, driver=driver,
+                              progress=progress, timeout=timeout)
+    except UnsafeFile as exc:
+        raise UnsafeFile(f"{folder}: refusing the folder: {exc}") from None
+
+
+def _verify_folder(folder: Path, *, node: str | None, model: str | Path | None, wp: bool, kernel: bool,
+                   driver: CoqDriver | None, progress: Callable[[str], None] | None, timeout: float) -> VerifyReport:
     say = progress or (lambda _line: None)
     folder = Path(folder)
     t0 = time.monotonic()
     mpath = find_manifest(folder, node)
     try:
         rec, files = read_manifest(mpath)
-    except (OSError, ValueError, UnicodeDecodeError) as exc:
-        raise NotAnOutputFolder(f"{mpath}: unreadable manifest: {exc}") from None
+    except ManifestError as exc:
+        raise NotAnOutputFolder(f"{folder}: unreadable manifest: {exc}") from None
     report = VerifyReport(folder, rec.node)
     checks = report.checks
-    total = 5 + (model is not None) + (wp is True) + any(n.endswith("_ros.cpp") for n in files)
+    total = 6 + (model is not None) + (wp is True) + any(n.endswith("_ros.cpp") for n in files)
     step = 0
 
     def begin(what: str) -> None:
@@ -237,7 +379,9 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
     begin("hashes")
     checks.append(_check_hashes(folder, rec, files))
 
-    drv = driver or CoqDriver()
+    drv = driver or CoqDriver(timeout=timeout)
+    if drv.timeout is None:
+        drv.timeout = timeout
     drv.check_tools()
     drv.check_library()
     begin("library identity")
@@ -255,31 +399,52 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
         coq_dir.mkdir()
         lib = (coq_dir, "RosgenNode")
         module = f"RosgenNode.{Path(rec.node_v).stem}"
+        begin(f"the .v against the template: {rec.node_v}")
+        vcheck, vtext = _check_vfile(folder, rec, drv, model)
+        checks.append(vcheck)
         begin(f"coqc and coqchk: {rec.node_v}")
         coq_check: Check | None = None
         chk = None
         try:
-            shutil.copyfile(folder / rec.node_v, coq_dir / rec.node_v)
-            res = drv.coqc(coq_dir / rec.node_v, lib)
+            if vtext is None:
+                raise _NotRun(f"not run: {rec.node_v} is not the template's .v")
+            vpath = _inside(coq_dir, rec.node_v)
+            vpath.write_text(vtext, encoding="ascii")
+            res = drv.coqc(vpath, lib)
             drv.check_assumptions(res.stdout, rec.theorems, node_file_names(rec.node).theorem_all)
             # coqchk re-checks the module while the texts are re-printed
             # from it (both only read it); its verdict decides both checks
             chk = drv.coqchk_start(module, lib, vm=not kernel)
-        except OSError as exc:
-            coq_check = Check("coqc", False, f"cannot read {rec.node_v}: {exc.strerror or exc}")
+        except _NotRun as exc:
+            coq_check = Check("coqc", False, str(exc))
+        except FileNotFoundError:
+            coq_check = Check("coqc", False, f"cannot read {rec.node_v}: missing")
         except CoqError as exc:
             coq_check = Check("coqc", False, getattr(exc, "summary", str(exc)), list(getattr(exc, "lines", ())))
 
         with chk if chk is not None else contextlib.nullcontext():
             begin("re-printing the C, the AST dump and the model from the proof")
-            if chk is None:
+            confirmed: CoqError | None = None
+            if chk is not None:
+                # Coq confirms the theorems' statements and that they use
+                # no axiom (while coqchk runs: both only read the module)
+                try:
+                    drv.confirm_theorems(module, lib, _statements(rec), work / "confirm", imports=_CONFIRM_IMPORTS
+                                         + (_CONFIRM_IMPORTS_CTRL if rec.controller else ""))
+                except CoqError as exc:
+                    confirmed = exc
+            if confirmed is not None:
+                coq_check = Check("coqc", False, confirmed.summary, list(confirmed.lines))
+                reprinted = _Reprint(Check("re-print", False, "not run: Coq does not confirm the theorems"))
+            elif chk is None:
                 reprinted = _Reprint(Check("re-print", False, "not run: the .v did not check"))
             else:
                 reprinted = _reprint(drv, folder, rec, module, lib, work)
                 try:
                     chk.result()
                     how = " (kernel conversion, no bytecode machine)" if kernel else ""
-                    coq_check = Check("coqc", True, f"{', '.join(rec.theorems)}: {CLOSED}; coqchk OK{how}")
+                    coq_check = Check("coqc", True, f"{', '.join(rec.theorems)}: {CLOSED}; statements confirmed "
+                                      f"by Coq; coqchk OK, no axiom{how}")
                 except CoqError as exc:
                     coq_check = Check("coqc", False, getattr(exc, "summary", str(exc)),
                                       list(getattr(exc, "lines", ())))
@@ -318,21 +483,20 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
             begin(f"wrapper: {wrapper}")
             from pyrosgen.verify.wrapper_check import WrapperMismatch, check_glue_externals, check_wrapper
 
-            text = proved_text if proved_text is not None else (folder / rec.model_file).read_text(encoding="utf-8")
             header = wrapper[: -len(".cpp")] + ".h"
             try:
-                check_wrapper((folder / wrapper).read_text(encoding="utf-8"), text, wrapper_name=wrapper)
+                text = proved_text if proved_text is not None else read_text(folder, rec.model_file)
+                check_wrapper(read_text(folder, wrapper), text, wrapper_name=wrapper)
                 if header in files:
                     # the ROS functions the glue calls, with the glue's C types
-                    check_glue_externals((folder / rec.glue_c).read_text(encoding="utf-8"),
-                                         (folder / header).read_text(encoding="utf-8"),
+                    check_glue_externals(read_text(folder, rec.glue_c), read_text(folder, header),
                                          glue_name=rec.glue_c, header_name=header)
                 checks.append(Check("wrapper", True, "registers, sleeps and tells the time as the proved model says"
                                     + (", and declares the glue's ROS functions with its types" if header in files else "")))
             except WrapperMismatch as exc:
                 checks.append(Check("wrapper", False, exc.summary, list(exc.lines)))
-            except OSError as exc:
-                checks.append(Check("wrapper", False, f"cannot read {wrapper}: {exc.strerror or exc}"))
+            except FileNotFoundError as exc:
+                checks.append(Check("wrapper", False, f"cannot read {exc}"))
 
         if wp:
             begin("Frama-C WP")
@@ -344,7 +508,8 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
                 wdir = work / "wp"
                 wdir.mkdir()
                 for n in (rec.wp["contracts"], rec.glue_c, rec.types_h):
-                    shutil.copyfile(folder / n, wdir / n)
+                    # by checked names only, into the temporary folder
+                    _inside(wdir, n).write_bytes(read_file(folder, n))
                 frames = [(f[0], f[1], tuple(f[2])) for f in rec.wp.get("functions", [])]
                 problems = []
                 if loaded is not None:
@@ -352,13 +517,13 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
                     from pyrosgen.verify.acsl import contract_frame, contracts, render_wrapper
 
                     cs = contracts(loaded)
-                    if (folder / rec.wp["contracts"]).read_text(encoding="utf-8") != render_wrapper(
+                    if read_text(folder, rec.wp["contracts"]) != render_wrapper(
                             loaded, rec.glue_c, rec.types_h, cs):
                         problems.append(f"  {rec.wp['contracts']}: not the contracts of {Path(model).name}")
                     if frames != [contract_frame(c) for c in cs]:
                         problems.append(f"  the manifest's WP functions are not those of {Path(model).name}")
                 try:
-                    r = run_wp_file(wdir / rec.wp["contracts"], frames)
+                    r = run_wp_file(_inside(wdir, rec.wp["contracts"]), frames)
                     if problems:
                         checks.append(Check("wp", False, r.summary(), problems))
                     else:

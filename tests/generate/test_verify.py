@@ -61,9 +61,11 @@ def test_a_fresh_folder_verifies(folder, capsys):
     code = cli.main(["verify", str(folder), "--model", str(LANDSHARK), "-q"])
     out = capsys.readouterr().out
     assert code == 0, out
-    for name in ("hashes", "library", "coqc", "re-print", "certificate", "model"):
+    for name in ("hashes", "library", "v-file", "coqc", "re-print", "certificate", "model"):
         assert f"  ok      {name:<10}" in out, out
-    assert f"{NODE}_ddc, {NODE}_wf: Closed under the global context; coqchk OK" in out
+    assert "the .v that generate renders from landshark_controller.yaml, byte for byte" in out
+    assert (f"{NODE}_ddc, {NODE}_wf: Closed under the global context; statements confirmed by Coq; "
+            "coqchk OK, no axiom") in out
     assert "FAILED" not in out
     assert _snapshot(folder) == before  # nothing written
 
@@ -94,18 +96,22 @@ def test_rehashed_edit_is_still_refused(copy):
 
 
 def test_swapped_model_in_the_v_is_refused(copy):
-    """The .v edited to swap two relations and the C re-printed to match
-    (a consistent forgery of the proof and the C): coqc accepts it, but the
-    model is not the user's (--model)."""
+    """The .v edited to swap two relations (only literals change, so it
+    has the template's structure): without --model coqc accepts it and the
+    re-print refuses the glue; with --model the .v is not the one generate
+    renders from the model, and nothing compiles it."""
     v = copy / f"{NODE}.v"
     text = v.read_text()
     a, b = "mkinrel \"landshark_left_wheel_velocity\"", "mkinrel \"landshark_right_wheel_velocity\""
     assert a in text and b in text, "the emitter's relation syntax changed; update the test"
     v.write_text(text.replace(a, "@A").replace(b, a).replace("@A", b))
+    failed = _failed(copy)
+    assert {"hashes", "re-print"} <= set(failed)
+    assert "coqc" not in failed and "v-file" not in failed
     failed = _failed(copy, model=LANDSHARK)
-    assert {"hashes", "re-print", "model"} <= set(failed)
-    assert "coqc" not in failed
-    assert any("In1" in line for line in failed["model"])
+    assert {"hashes", "v-file", "coqc"} <= set(failed)
+    line = text[:text.index(a)].count("\n") + 1
+    assert any(f"{NODE}.v:{line}:" in ln and "the folder's" in ln for ln in failed["v-file"]), failed["v-file"]
 
 
 def test_missing_file_and_broken_v(copy):
@@ -183,7 +189,7 @@ def test_kernel_rechecks_without_the_bytecode_machine(folder, capsys, monkeypatc
     monkeypatch.setattr(procs, "start", spy_start)
     assert cli.main(["verify", str(folder), "--kernel", "-q"]) == 0
     out = capsys.readouterr().out
-    assert f"{NODE}_ddc, {NODE}_wf: Closed under the global context; coqchk OK (kernel conversion" in out
+    assert f"{NODE}_ddc, {NODE}_wf: Closed under the global context; statements confirmed by Coq; coqchk OK, no axiom (kernel conversion" in out
     chk = [a for a in seen if Path(a[0]).name == "coqchk"]
     assert len(chk) == 1 and "-bytecode-compiler" not in chk[0]
     seen.clear()
@@ -206,4 +212,4 @@ def test_a_coqchk_rejection_fails_the_proof_and_the_re_print(copy, monkeypatch):
     assert not checks["coqc"].ok and "coqchk rejected" in checks["coqc"].summary
     assert any("bad module" in ln for ln in checks["coqc"].details)
     assert not checks["re-print"].ok and checks["re-print"].summary == "not run: coqchk rejected the module"
-    assert [c.name for c in e.value.verify_report.checks][:4] == ["hashes", "library", "coqc", "re-print"]
+    assert [c.name for c in e.value.verify_report.checks][:5] == ["hashes", "library", "v-file", "coqc", "re-print"]
