@@ -125,6 +125,27 @@ Qed.
 
 End SEQ.
 
+(** ** The specification's constants are the generator's *)
+
+(** [DDC] states its constants itself (it does not load [Generator]);
+    these are the equalities the proofs use. *)
+
+(** The largest [unsigned long long] of the specification ([2^64 - 1]) is
+    the generator's [max_ulong]. *)
+Lemma ulong_max_agrees: DDC.ulong_max = max_ulong.
+Proof. reflexivity. Qed.
+
+(** The largest [unsigned int] of the specification ([2^32 - 1]) is the
+    generator's [max_uint], where it saturates [age_ms]. *)
+Lemma uint_max_agrees: DDC.uint_max = max_uint.
+Proof. reflexivity. Qed.
+
+(** The specification's timeout in nanoseconds is the generator's
+    timeout in milliseconds ([Wellformed.timeout_of]) times [10^6]. *)
+Lemma timeout_ns_agrees:
+  forall m c, timeout_ns m c = option_map (fun t => t * 1000000)%Z (timeout_of m c).
+Proof. intros m c. unfold timeout_ns, timeout_of. destruct (find_assoc c (nm_timeouts m)); reflexivity. Qed.
+
 (** ** The generated program *)
 
 Section GENERATED.
@@ -725,7 +746,7 @@ Qed.
 
 Lemma age_ns_range: forall rcv now, (0 <= age_ns rcv now <= max_ulong)%Z.
 Proof.
-  intros [t|] now; simpl; [|unfold max_ulong; lia].
+  intros [t|] now; simpl; [|rewrite ulong_max_agrees; unfold max_ulong; lia].
   generalize (clock_range t) (clock_range now). intros.
   destruct (Z.leb_spec (clock t) (clock now)); lia.
 Qed.
@@ -985,8 +1006,8 @@ Lemma stale_age:
   forall c t rcv, timeout_of m c = Some t -> (0 < t * 1000000 < max_ulong)%Z ->
   stale m c rcv now = (t * 1000000 <? age_ns rcv now)%Z.
 Proof.
-  intros c t [r|] T R; unfold stale; rewrite T; auto.
-  simpl. symmetry. apply Z.ltb_lt. unfold max_ulong in *. lia.
+  intros c t [r|] T R; unfold stale; rewrite timeout_ns_agrees, T; auto.
+  simpl. symmetry. apply Z.ltb_lt. rewrite ulong_max_agrees. unfold max_ulong in *. lia.
 Qed.
 
 Lemma fallback_run:
@@ -1037,7 +1058,7 @@ Proof.
   intros dr Hdr le mm u Hle Fr G Hu.
   destruct (drel_topic dr Hdr) as (tp & Ht & Ec & Pq).
   destruct (wf_drel m dr W Hdr) as (tp' & _ & _ & I).
-  unfold item_stmt, item_val, item_field, derived_stmt, derived_value.
+  unfold item_stmt, item_val, item_field, derived_stmt, derived_value. rewrite uint_max_agrees.
   assert (FR: forall mm' u', fr mm' -> get_block mm' bu = Some (UT, u') -> mval_has_type ce UT u' ->
             forall v, mval_set u [Sfield (dr_input dr)] (MVscalar v) = Some u' ->
             mval_get u' [Sfield (dr_input dr)] = Some (MVscalar v)
