@@ -29,8 +29,8 @@
     is not loaded): the constants of the specification (the largest
     [unsigned int] and [unsigned long long], the timeout in nanoseconds
     from the model's milliseconds) are stated here, and the proofs show
-    that the generator's agree with them ([Glueproof.uint_max_agrees],
-    [Glueproof.ulong_max_agrees], [Glueproof.timeout_ns_agrees]). *)
+    that the generator's agree with them ([Gluefacts.uint_max_agrees],
+    [Gluefacts.ulong_max_agrees], [Gluefacts.timeout_ns_agrees]). *)
 
 From Coq Require Import String List ZArith Bool Lia.
 From ROSGen Require Import Errors Syntax Values Memory Environment Semantics NodeModel.
