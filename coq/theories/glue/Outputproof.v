@@ -522,7 +522,7 @@ Proof.
       { intros o Ho Eo. destruct (wf_outrel m o W Ho) as (tp' & t & q & Ft & _ & _ & _ & R).
         rewrite Eo, FT in Ft. inversion Ft; subst tp'. eauto. }
       destruct (topic_stamp m (tp_cname tp)) as [sp|] eqn:ST.
-      + destruct (stamp_run tp Htp mm b GT NG CS ctx w le' mm' mv sp Hle' ST ltac:(intros b' Nb; destruct U1 as [_ U2']; auto) G' Tm)
+      + destruct (stamp_run tp Htp mm b GT NG CS ctx w le' mm' mv sp Hle' ST ltac:(intros b' Nb; destruct U1; auto) G' Tm)
           as (le2 & mm2 & v2 & X2 & Hle2 & G2 & H2 & N2 & O2 & STV & Keep).
         destruct (wf_stamp m tp sp W Htp ST) as (Rs & Rn & NO).
         assert (DJ: forall lp q, resolve msgs (FTmsg (tp_msg tp)) lp = Some (FTprim q) ->
