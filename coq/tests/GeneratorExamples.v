@@ -6,7 +6,7 @@
     culprit.  Every [Example] is checked by [vm_compute]. *)
 
 From Coq Require Import String List ZArith.
-From ROSGen Require Import Errors Syntax NodeModel Wellformed Generator Generatorspec Generatorproof.
+From ROSGen Require Import Errors Syntax NodeModel Wellformed Generator Generatorspec Generatorproof Assignproof.
 From ROSGenTests Require Import LandShark.
 Import ListNotations.
 Local Open Scope string_scope.

@@ -807,7 +807,7 @@ Proof.
   - (* spinOnce *)
     assert (DA: forall s a, In (s, a) (spin_messages ctx w) -> msg_ok (sub_msgty s) /\ rmv (ar_msg a) = ar_msg a).
     { intros s a Hin. unfold spin_messages in Hin.
-      destruct (Loopproof.In_deliverable _ _ _ _ Hin) as (Hs & Ha & Ht).
+      destruct (Loopfacts.In_deliverable _ _ _ _ Hin) as (Hs & Ha & Ht).
       destruct (H4 s Hs) as [MO AP]. split; auto. eapply AP; eauto. }
     destruct (H0 DA mL H2 H3 H4) as (mL1 & D1 & R1 & C1 & S1).
     exists mL1. rewrite LFD_ext by reflexivity. refine (conj _ (conj _ (conj _ _))); auto.

@@ -10,7 +10,7 @@
     stated in [Glueproof]. *)
 
 From Coq Require Import String List ZArith Bool Lia.
-From ROSGen Require Import Errors Maps Syntax Values Operators Memory Environment Semantics NodeModel Wellformed Generator Generatorspec Generatorproof.
+From ROSGen Require Import Errors Maps Syntax Values Operators Memory Environment Semantics NodeModel Wellformed Generator Generatorspec Generatorproof Assignproof.
 From ROSGen Require Import DDC Copyproof.
 From ROSGen Require Import Gluefacts.
 Import ListNotations.
