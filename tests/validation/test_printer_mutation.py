@@ -11,7 +11,8 @@ recompiled: it loads against the mutated ``Printer.vo`` only because it
 does not depend on it), and generates a diagram node whose controller
 compares with ``<`` (``tests/validation/models/ctrl_all_blocks.yaml``)
 against the copy (``PYROSGEN_COQLIB``).  ``generate`` must exit 2, name
-the disagreement, and write nothing.  The same run against the unmutated
+the disagreement, and write nothing.  (That ``Dump.v`` loads nothing but
+``Syntax`` is ``tests/coq/test_layout.py``.)  The same run against the unmutated
 copy succeeds, so the refusal is the mutation's.
 """
 
@@ -65,16 +66,6 @@ def mutated_library(tmp_path_factory):
     printer.write_text(text.replace(token, '| Olt => "<=" |'))
     _rebuild(theories)
     return theories
-
-
-def test_dump_does_not_load_printer():
-    """Dump.v imports nothing that loads Printer (the independence the
-    mutation below relies on)."""
-    deps = subprocess.run(["coqdep", "-R", "theories", "ROSGen", "theories/clight/Dump.v"],
-                          cwd=LIB, capture_output=True, text=True, check=True).stdout
-    assert "Syntax.vo" in deps
-    for name in ("Printer", "ModelText", "DiagramText"):
-        assert f"{name}.vo" not in deps, deps
 
 
 def test_consistent_printer_error_is_refused(mutated_library, tmp_path):
