@@ -16,7 +16,7 @@
 # FILE.v is compiled (a copy, in a temporary directory) with coqc against
 # the ROSGen library (coq/theories, which must have been built:
 # `make -C coq`) plus the given -R/-Q load paths.  Then
-# Printer.print_program / Printer.print_sexp applied to the_externs and
+# Printer.print_program / Dump.print_sexp applied to the_externs and
 # the_program are extracted to OCaml (ExtrOcamlNativeString: Coq strings
 # become OCaml strings), compiled with ocamlopt together with a small
 # driver (driver.ml, written below), and run: this writes PREFIX.c and
@@ -100,7 +100,7 @@ cat > "$work/Extract.v" <<COQ
    $module.the_program. *)
 From Coq Require Import String List.
 From Coq Require Import extraction.ExtrOcamlBasic extraction.ExtrOcamlNativeString.
-From ROSGen Require Import Syntax Printer NodeModel ModelText.
+From ROSGen Require Import Syntax Printer Dump NodeModel ModelText.
 Require $module.
 
 (* [the_externs] if the module defines it, [nil] otherwise. *)
@@ -141,7 +141,7 @@ phase "extraction"
 cat > driver.ml <<'OCAML'
 (* Driver of the fast printing path (see print_program.sh).
 
-   [Job] is the OCaml extraction of ROSGen.Printer applied to one program:
+   [Job] is the OCaml extraction of ROSGen.Printer and ROSGen.Dump applied to one program:
    [Job.job_c ()] is [print_program the_externs the_program],
    [Job.job_sexp ()] is [print_sexp the_externs the_program] and
    [Job.job_model ()] is [Some (print_model model)] (or [None] if the file

@@ -29,6 +29,9 @@ From ROSGen Require Import FloatBits Errors Syntax Values Memory Environment Sem
   NodeModel Wellformed Generator Generatorspec DDC Loopproof.
 From ROSGenTests Require Import LandShark Mutants Sequences GeneratorExamples.
 Import ListNotations.
+(* The interpreter's fuel, 6000, is a large [nat]: its numeral is read as
+   [Nat.of_num_uint] applied to its digits, as intended. *)
+Local Set Warnings "-abstract-large-number".
 Local Open Scope string_scope.
 Local Open Scope list_scope.
 

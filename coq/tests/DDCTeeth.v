@@ -182,7 +182,7 @@ Proof.
   simpl in Htp. destruct Htp as [<-|[<-|[<-|[]]]]; try discriminate Ec.
   simpl ir_path in Gn. rewrite newest_left in Gn. simpl ir_input in Gu. simpl ir_elem in Gu.
   change (path_steps []) with (@nil step) in Gu. rewrite Hu in Gu.
-  unfold fed_value, stale, timeout_of in Gu. simpl in Gu.
+  unfold fed_value, stale, timeout_ns in Gu. simpl in Gu.
   rewrite <- Gu in Gn. unfold f_zero, f_inf in Gn. discriminate Gn.
 Qed.
 

@@ -6,7 +6,7 @@
     culprit.  Every [Example] is checked by [vm_compute]. *)
 
 From Coq Require Import String List ZArith.
-From ROSGen Require Import Errors Syntax NodeModel Wellformed Generator Generatorspec Generatorproof.
+From ROSGen Require Import Errors Syntax NodeModel Wellformed Generator Generatorspec Generatorproof Assignproof.
 From ROSGenTests Require Import LandShark.
 Import ListNotations.
 Local Open Scope string_scope.
@@ -21,8 +21,6 @@ Example landshark_generates: landshark_result = OK landshark_prog.
 Proof. vm_compute. reflexivity. Qed.
 
 (** The leaves of [TwistStamped]: 3 integers, then 6 doubles. *)
-Eval vm_compute in leaves landshark_msgs "geometry_msgs_TwistStamped".
-
 Example landshark_leaves:
   leaves landshark_msgs "geometry_msgs_TwistStamped" =
   [([PField "header"; PField "seq"], Puint32);

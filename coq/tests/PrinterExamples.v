@@ -20,7 +20,7 @@
 
 From Coq Require Import String List ZArith.
 From Flocq Require Import IEEE754.Binary IEEE754.Bits.
-From ROSGen Require Import Syntax FloatBits Printer Values Memory Environment Semantics Typing Interp.
+From ROSGen Require Import Syntax FloatBits Printer Dump Values Memory Environment Semantics Typing Interp.
 Import ListNotations.
 Local Open Scope string_scope.
 Local Open Scope Z_scope.

@@ -30,7 +30,7 @@ From Coq Require Import String List ZArith Bool.
 From Flocq Require Import IEEE754.Binary IEEE754.Bits.
 From ROSGen Require Import Errors Maps FloatBits.
 From ROSGen Require Import Syntax Values Operators Memory Environment Semantics Typing Interp.
-From ROSGen Require Import NodeModel ModelText Wellformed Generator Generatorspec Generatorproof DDC.
+From ROSGen Require Import NodeModel ModelText Wellformed Generator Generatorspec Generatorproof Assignproof DDC.
 From ROSGen Require FloatOps Loopproof Glueproof Interpproof.
 From ROSGen Require Diagram Diagramgen Diagramproof Endtoend Link.
 Import ListNotations.
@@ -239,7 +239,7 @@ Proof. exact Generatorproof.relation_consistency_output_glue. Qed.
     type. *)
 Theorem type_checking_input_glue_sound:
   forall l1 l2, type_checking_input_glue l1 l2 = true -> l1 = l2.
-Proof. exact Generatorproof.type_checking_input_glue_sound. Qed.
+Proof. exact Assignproof.type_checking_input_glue_sound. Qed.
 
 (** For every well-formed model, the check of Figure 16 succeeds on the
     sources and destinations of the copies of [input_glue]. *)
@@ -247,7 +247,7 @@ Theorem type_checking_input_glue_generated:
   forall m, wf m = true ->
   type_checking_input_glue (map typeof (gen_list_global_expr_input_glue m (nm_inrels m)))
                            (map typeof (gen_list_controller_expr_input_glue m (nm_inrels m))) = true.
-Proof. exact Generatorproof.type_checking_input_glue_generated. Qed.
+Proof. exact Assignproof.type_checking_input_glue_generated. Qed.
 
 (** For every well-formed model and every topic, the same check succeeds
     on the sources and destinations of the copies of its output glue. *)
@@ -257,7 +257,7 @@ Theorem type_checking_output_glue_generated:
     (map typeof (gen_list_controller_expr_output_glue m (topic_outrels (make_tables m) (tp_cname tp))))
     (map typeof (gen_list_message_expr_output_glue m (tp_msg tp) (topic_outrels (make_tables m) (tp_cname tp))))
   = true.
-Proof. exact Generatorproof.type_checking_output_glue_generated. Qed.
+Proof. exact Assignproof.type_checking_output_glue_generated. Qed.
 
 (** Hypotheses: [generate m = OK p]; [f] is any internal function of [p].
     Meaning: every assignment in the body of [f] is valid
@@ -266,7 +266,7 @@ Proof. exact Generatorproof.type_checking_output_glue_generated. Qed.
 Theorem generate_valid_assignments:
   forall m p id f, generate m = OK p -> find_def p id = Some (Gfun (Internal f)) ->
   valid_assignments (prog_types p) (fn_temps f) (fn_body f).
-Proof. exact Generatorproof.generate_valid_assignments. Qed.
+Proof. exact Assignproof.generate_valid_assignments. Qed.
 
 (** Preservation, first part: in the body of [loop], the call of the
     controller's step function comes right after the call of
@@ -280,7 +280,7 @@ Theorem loop_input_glue_then_step:
                                  Sifthenelse (Etempvar ok_temp tint) Sskip Sbreak;
                                  call0 ros_spinOnce_name]
                                 ++ call0 input_glue_name :: call0 (step_name m) :: rest)).
-Proof. exact Generatorproof.loop_input_glue_then_step. Qed.
+Proof. exact Assignproof.loop_input_glue_then_step. Qed.
 
 (** Preservation: no generated function other than [input_glue] assigns
     (a part of) [Controller_U], except the callback of a topic that is not
@@ -296,7 +296,7 @@ Theorem generate_inputs_written_only_by_input_glue:
   \/ (exists tp ir, In tp (subscribed m) /\ is_timed m (tp_cname tp) = false
                     /\ id = callback_name (tp_cname tp) /\ In ir (direct_of m (tp_cname tp))
                     /\ pl = Some (Rvar (nm_in_var m), PField (ir_input ir) :: ir_elem ir)).
-Proof. exact Generatorproof.generate_inputs_written_only_by_input_glue. Qed.
+Proof. exact Assignproof.generate_inputs_written_only_by_input_glue. Qed.
 
 (** Preservation: no generated function assigns (a part of)
     [Controller_Y]; only the controller writes its outputs. *)
@@ -304,7 +304,7 @@ Theorem generate_outputs_not_written:
   forall m p id f, generate m = OK p -> find_def p id = Some (Gfun (Internal f)) ->
   forall pl, In pl (assigned_places (fn_body f)) ->
   exists r path, pl = Some (r, path) /\ r <> Rvar (nm_out_var m).
-Proof. exact Generatorproof.generate_outputs_not_written. Qed.
+Proof. exact Assignproof.generate_outputs_not_written. Qed.
 
 (** Preservation: no generated function takes the address of
     [Controller_U] or [Controller_Y], so no write through a pointer can
@@ -313,7 +313,7 @@ Theorem generate_inputs_address_not_taken:
   forall m p id f, generate m = OK p -> find_def p id = Some (Gfun (Internal f)) ->
   stmt_takes_addr (nm_in_var m) (fn_body f) = false
   /\ stmt_takes_addr (nm_out_var m) (fn_body f) = false.
-Proof. exact Generatorproof.generate_inputs_address_not_taken. Qed.
+Proof. exact Assignproof.generate_inputs_address_not_taken. Qed.
 
 (** ** T4: the generator accepts exactly the well-formed models *)
 
@@ -574,8 +574,8 @@ Proof. exact Operators.sem_unop_type. Qed.
     is the last message that arrived on its topic. *)
 Theorem last_delivered_deliverable:
   forall subs s msgs, In s subs -> (1 <= sub_queue s)%nat ->
-  Loopproof.last_delivered s (deliverable subs msgs) = last_on (sub_topic s) msgs.
-Proof. exact Loopproof.last_delivered_deliverable. Qed.
+  Loopfacts.last_delivered s (deliverable subs msgs) = last_on (sub_topic s) msgs.
+Proof. exact Loopfacts.last_delivered_deliverable. Qed.
 
 (** ** The shape of the generated program (used by T1 and T2) *)
 
@@ -795,7 +795,7 @@ Theorem generate_assigned_places:
   \/ (exists tp, In tp (timed m) /\ id = input_glue_name /\ pl = Some (Rvar (new_var (tp_cname tp)), []))
   \/ (exists tp path, In tp (published m) /\ id = output_glue_name (tp_cname tp)
                       /\ pl = Some (Rderef command_param, path)).
-Proof. exact Generatorproof.generate_assigned_places. Qed.
+Proof. exact Assignproof.generate_assigned_places. Qed.
 
 (** The only addresses the generated code takes are those of the loop's
     local messages [c_cmd] (in [loop]) and of the callbacks (in [main]). *)
@@ -804,7 +804,7 @@ Theorem generate_addresses_taken:
   stmt_takes_addr x (fn_body f) = true ->
      (exists tp, In tp (published m) /\ id = loop_name /\ x = cmd_var (tp_cname tp))
   \/ (exists tp, In tp (subscribed m) /\ id = main_name /\ x = callback_name (tp_cname tp)).
-Proof. exact Generatorproof.generate_addresses_taken. Qed.
+Proof. exact Assignproof.generate_addresses_taken. Qed.
 
 (** ** Messages *)
 

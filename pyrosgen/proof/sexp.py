@@ -1,6 +1,6 @@
 """The S-expression dump of a Clight program (``<node>.sexp``).
 
-The grammar is in ``coq/theories/clight/Printer.v`` (and ``coq/README.md``):
+The grammar is in ``coq/theories/clight/Dump.v`` (and ``coq/README.md``):
 ``(program (externs IDENT...) (main IDENT) item...)`` with struct, global
 variable, external function and internal function items.  This module
 parses it (:func:`parse_sexp`) and indexes its items

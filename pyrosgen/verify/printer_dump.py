@@ -1,5 +1,6 @@
 """Printer validation, part 2: the AST side — the S-expression dump that
-Coq printed (``<node>.sexp``), normalised (:mod:`printer_types`).
+Coq printed (``<node>.sexp``, ``ROSGen.Dump.print_sexp``: independent of the
+C printer), normalised (:mod:`printer_types`).
 """
 
 from __future__ import annotations

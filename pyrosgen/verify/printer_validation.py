@@ -10,7 +10,9 @@ proved.  Every ``pyrosgen generate`` run checks its output independently:
 the printed C (the glue ``<node>_glue.c`` with the struct header
 ``<node>_types.h`` it includes) is parsed with ``pycparser``, normalised to
 the shape of the AST dump ``<node>.sexp`` (printed by Coq from the same
-term), and compared with the dump, completely:
+term by ``ROSGen.Dump``, a printer that shares no code with
+``ROSGen.Printer``, so that one error of the C printer is not repeated in
+the dump), and compared with the dump, completely:
 
 - structs: the same set, each with the same members, in the same order,
   of the same types; each defined before it is used;
@@ -369,7 +371,7 @@ def validate_glue(glue_text: str, header_text: str, sexp_text: str, *, glue_name
                   header_name: str, require_main: str | None = "main") -> ValidationReport:
     """Validate a glue printed with its struct header
     ([Printer.print_program_with_header] and [Printer.print_types_header])
-    against the dump ([Printer.print_sexp]).  Raises
+    against the dump ([Dump.print_sexp]).  Raises
     :class:`PrinterValidationError` on the first difference."""
     try:
         tu = _translation_unit(glue_text, glue_name, header_text, header_name)

@@ -53,7 +53,7 @@ def coq_side(work):
     dump, c_text, sexp_text = coq_eval_strings(
         EXAMPLES_V,
         ["interp_dump", "Printer.print_program the_externs the_program",
-         "Printer.print_sexp the_externs the_program"],
+         "Dump.print_sexp the_externs the_program"],
         work / "coqside")
     return dump, c_text, sexp_text
 

@@ -1,16 +1,17 @@
-(** * Printing the Clight subset as C text, and as an S-expression *)
+(** * Printing the Clight subset as C text *)
 
-(** Two printers over the abstract syntax of [Syntax]:
-    - [print_program externs p] is the C11 translation unit of [p], in the
-      style of the paper's Figures 8 and 11;
-    - [print_sexp externs p] is a dump of the abstract syntax tree of [p]
-      as S-expressions, against which the C text is checked (parse the C
-      with pycparser, compare the two trees).
+(** [print_program externs p] is the C11 translation unit of [p], in the
+    style of the paper's Figures 8 and 11.  It is checked against a dump
+    of the abstract syntax tree of [p] as S-expressions
+    ([Dump.print_sexp]: parse the C with pycparser, compare the two
+    trees), which is printed by a path of its own: [Dump] does not import
+    this file and shares no function with it, so an error of this printer
+    does not hide in the same error of the dump.
 
     The printer is trusted: it is not proved.  It is kept as small and
     regular as possible, and each of its outputs is checked by tests
     (gcc with [-std=c11 -pedantic -Werror], runs of the compiled code,
-    comparison with the dump).  Both texts are built as lists of lines and
+    comparison with the dump).  The text is built as lists of lines and
     joined once at the end, so that extraction to OCaml prints even very
     large programs in linear time (see [coq/extraction/]).
 
@@ -631,201 +632,6 @@ Definition print_program_with_header_lines (hdr : string) (externs : list ident)
 Definition print_program_with_header (hdr : string) (externs : list ident)
   (p : program) : string :=
   concat_lines (print_program_with_header_lines hdr externs p).
-
-(** ** The S-expression dump *)
-
-(** Grammar of the dump (one top-level item per line, statements of
-    sequences one per line; whitespace is not significant):
-<<
-program ::= (program (externs IDENT...) (main IDENT) item...)
-item    ::= (struct IDENT (IDENT type)...)
-          | (gvar IDENT type)
-          | (external IDENT ef (type...) type)        params, result
-          | (function IDENT type (params (IDENT type)...) (vars (IDENT type)...)
-                                  (temps (IDENT type)...) (body stmt))
-type    ::= void | (int SIZE SIGN) | (long SIGN) | (float FSIZE) | (ptr type)
-          | (array type INT) | (fun (type...) type) | (struct IDENT)
-SIZE    ::= I8 | I16 | I32       SIGN ::= signed | unsigned     FSIZE ::= F32 | F64
-expr    ::= (const_int INT type) | (const_long INT type)
-          | (const_float HEX64 type) | (const_single HEX32 type)
-          | (var IDENT type) | (tempvar IDENT type) | (deref expr type)
-          | (addrof expr type) | (field expr IDENT type) | (index expr expr type)
-          | (cast expr type) | (unop UNOP expr type) | (binop BINOP expr expr type)
-UNOP    ::= neg | notbool | absfloat
-BINOP   ::= add | sub | mul | div | mod | and | or | xor | eq | ne | lt | gt | le | ge
-stmt    ::= (skip) | (assign expr expr) | (set IDENT expr)
-          | (call () expr (expr...)) | (call (IDENT) expr (expr...))
-          | (seq stmt...) | (if expr stmt stmt) | (loop stmt) | (break)
-          | (return) | (return expr)
-ef      ::= (ros_init) | (ros_ok) | (ros_spinOnce) | (ros_rate_sleep INT)
-          | (ros_subscribe STRING IDENT INT) | (ros_advertise STRING IDENT INT)
-          | (ros_publish STRING IDENT)
-          | (controller_initialize IDENT IDENT) | (controller_step IDENT IDENT)
->>
-    where [X...] means zero or more [X].
-    [INT] is a decimal integer (possibly negative), exactly the [Z] of the
-    AST (not wrapped: the C text shows it wrapped to its type).  [HEX64] /
-    [HEX32] is the IEEE bit pattern of the float, [0x] and 16 / 8 hex
-    digits.  [STRING] is in double quotes, in which a double quote and a
-    backslash are preceded by a backslash.
-    Items are in the order of [prog_types] then [prog_defs].  [(seq ...)]
-    is the flattening of a tree of [Ssequence]s (sequencing is
-    associative), keeping [(skip)]s. *)
-
-Definition sexp_list (l : list string) : string := "(" ++ join " " l ++ ")".
-
-(** Atoms of the dump for the parts of types. *)
-Definition sexp_signedness (sg : signedness) : string :=
-  match sg with Signed => "signed" | Unsigned => "unsigned" end.
-
-(** A type in the dump. *)
-Fixpoint sexp_type (ty : type) : string :=
-  match ty with
-  | Tvoid => "void"
-  | Tint sz sg =>
-      sexp_list ["int"; match sz with I8 => "I8" | I16 => "I16" | I32 => "I32" end;
-                 sexp_signedness sg]
-  | Tlong sg => sexp_list ["long"; sexp_signedness sg]
-  | Tfloat fs => sexp_list ["float"; match fs with F32 => "F32" | F64 => "F64" end]
-  | Tpointer t => sexp_list ["ptr"; sexp_type t]
-  | Tarray t n => sexp_list ["array"; sexp_type t; string_of_Z n]
-  | Tfunction args res =>
-      let fix targs (l : list type) : list string :=
-        match l with [] => [] | t :: l' => sexp_type t :: targs l' end in
-      sexp_list ["fun"; sexp_list (targs args); sexp_type res]
-  | Tstruct id => sexp_list ["struct"; id]
-  end.
-
-(** Operators in the dump. *)
-Definition sexp_unop (op : unary_operation) : string :=
-  match op with Oneg => "neg" | Onotbool => "notbool" | Oabsfloat => "absfloat" end.
-
-Definition sexp_binop (op : binary_operation) : string :=
-  match op with
-  | Oadd => "add" | Osub => "sub" | Omul => "mul" | Odiv => "div" | Omod => "mod"
-  | Oand => "and" | Oor => "or" | Oxor => "xor"
-  | Oeq => "eq" | One => "ne" | Olt => "lt" | Ogt => "gt" | Ole => "le" | Oge => "ge"
-  end.
-
-(** An expression in the dump, with its type. *)
-Fixpoint sexp_expr (e : expr) : string :=
-  match e with
-  | Econst_int n ty => sexp_list ["const_int"; string_of_Z n; sexp_type ty]
-  | Econst_long n ty => sexp_list ["const_long"; string_of_Z n; sexp_type ty]
-  | Econst_float f ty =>
-      sexp_list ["const_float"; "0x" ++ hex_digits 16 (bits_of_b64 f); sexp_type ty]
-  | Econst_single f ty =>
-      sexp_list ["const_single"; "0x" ++ hex_digits 8 (bits_of_b32 f); sexp_type ty]
-  | Evar x ty => sexp_list ["var"; x; sexp_type ty]
-  | Etempvar x ty => sexp_list ["tempvar"; x; sexp_type ty]
-  | Ederef e1 ty => sexp_list ["deref"; sexp_expr e1; sexp_type ty]
-  | Eaddrof e1 ty => sexp_list ["addrof"; sexp_expr e1; sexp_type ty]
-  | Efield e1 f ty => sexp_list ["field"; sexp_expr e1; f; sexp_type ty]
-  | Eindex e1 e2 ty => sexp_list ["index"; sexp_expr e1; sexp_expr e2; sexp_type ty]
-  | Ecast e1 ty => sexp_list ["cast"; sexp_expr e1; sexp_type ty]
-  | Eunop op e1 ty => sexp_list ["unop"; sexp_unop op; sexp_expr e1; sexp_type ty]
-  | Ebinop op e1 e2 ty => sexp_list ["binop"; sexp_binop op; sexp_expr e1; sexp_expr e2; sexp_type ty]
-  end.
-
-(** A quoted string: a backslash before each double quote and backslash. *)
-Fixpoint escape (s : string) : string :=
-  match s with
-  | EmptyString => ""
-  | String c s' =>
-      (if Ascii.eqb c dquote_char then "\"""
-       else if Ascii.eqb c backslash_char then "\\"
-       else String c "") ++ escape s'
-  end.
-
-(** A [STRING] of the dump. *)
-Definition sexp_string (s : string) : string := """" ++ escape s ++ """".
-
-(** A natural number in decimal. *)
-Definition sexp_nat (n : nat) : string := string_of_nonneg (Z.of_nat n).
-
-(** The meaning tag of an external function. *)
-Definition sexp_ef (ef : external_function) : string :=
-  match ef with
-  | EF_ros_init => "(ros_init)"
-  | EF_ros_ok => "(ros_ok)"
-  | EF_ros_spinOnce => "(ros_spinOnce)"
-  | EF_ros_now => "(ros_now)"
-  | EF_ros_time_sec => "(ros_time_sec)"
-  | EF_ros_time_nsec => "(ros_time_nsec)"
-  | EF_ros_rate_sleep p => sexp_list ["ros_rate_sleep"; string_of_Z p]
-  | EF_ros_subscribe t m q => sexp_list ["ros_subscribe"; sexp_string t; m; sexp_nat q]
-  | EF_ros_advertise t m q => sexp_list ["ros_advertise"; sexp_string t; m; sexp_nat q]
-  | EF_ros_publish t m => sexp_list ["ros_publish"; sexp_string t; m]
-  | EF_controller_initialize u y => sexp_list ["controller_initialize"; u; y]
-  | EF_controller_step u y => sexp_list ["controller_step"; u; y]
-  end.
-
-(** Statements, one simple statement per line.  A compound statement opens
-    on its line, its sub-statements follow one level deeper, and its
-    closing parenthesis ends the line of its last sub-statement ([close]
-    is what that line must end with).  [inseq] holds for the elements of
-    a sequence that is already open: their own [Ssequence]s are not opened
-    again, which flattens trees of sequences. *)
-Fixpoint sexp_stmt_lines (inseq : bool) (ind close : string) (s : statement)
-  (k : list string) {struct s} : list string :=
-  let ind' := ind ++ "  " in
-  match s with
-  | Sskip => (ind ++ "(skip)" ++ close) :: k
-  | Sassign e1 e2 => (ind ++ sexp_list ["assign"; sexp_expr e1; sexp_expr e2] ++ close) :: k
-  | Sset x e => (ind ++ sexp_list ["set"; x; sexp_expr e] ++ close) :: k
-  | Scall r f args =>
-      (ind ++ sexp_list ["call"; match r with None => "()" | Some x => "(" ++ x ++ ")" end;
-                         sexp_expr f; sexp_list (map sexp_expr args)] ++ close) :: k
-  | Ssequence s1 s2 =>
-      if inseq then
-        sexp_stmt_lines true ind "" s1 (sexp_stmt_lines true ind close s2 k)
-      else
-        (ind ++ "(seq")
-          :: sexp_stmt_lines true ind' "" s1 (sexp_stmt_lines true ind' (")" ++ close) s2 k)
-  | Sifthenelse c s1 s2 =>
-      (ind ++ "(if " ++ sexp_expr c)
-        :: sexp_stmt_lines false ind' "" s1 (sexp_stmt_lines false ind' (")" ++ close) s2 k)
-  | Sloop s1 => (ind ++ "(loop") :: sexp_stmt_lines false ind' (")" ++ close) s1 k
-  | Sbreak => (ind ++ "(break)" ++ close) :: k
-  | Sreturn None => (ind ++ "(return)" ++ close) :: k
-  | Sreturn (Some e) => (ind ++ sexp_list ["return"; sexp_expr e] ++ close) :: k
-  end.
-
-(** A name with its type: [(x T)]. *)
-Definition sexp_binding (xt : ident * type) : string := sexp_list [fst xt; sexp_type (snd xt)].
-
-(** A global definition in the dump. *)
-Definition sexp_def_lines (d : ident * globdef) (k : list string) : list string :=
-  let (id, g) := d in
-  match g with
-  | Gvar ty => sexp_list ["gvar"; id; sexp_type ty] :: k
-  | Gfun (External ef params res) =>
-      sexp_list ["external"; id; sexp_ef ef; sexp_list (map sexp_type params); sexp_type res]
-        :: k
-  | Gfun (Internal f) =>
-      ("(function " ++ id ++ " " ++ sexp_type (fn_return f))
-        :: ("  " ++ sexp_list ("params" :: map sexp_binding (fn_params f)))
-        :: ("  " ++ sexp_list ("vars" :: map sexp_binding (fn_vars f)))
-        :: ("  " ++ sexp_list ("temps" :: map sexp_binding (fn_temps f)))
-        :: "  (body"
-        :: sexp_stmt_lines false "    " "))" (fn_body f) k
-  end.
-
-(** A struct definition in the dump. *)
-Definition sexp_struct (co : composite_definition) : string :=
-  sexp_list ("struct" :: co_name co :: map sexp_binding (co_members co)).
-
-(** The lines of the dump of [p]. *)
-Definition print_sexp_lines (externs : list ident) (p : program) : list string :=
-  "(program"
-    :: sexp_list ("externs" :: externs)
-    :: sexp_list ["main"; prog_main p]
-    :: map sexp_struct (prog_types p)
-    ++ fold_right sexp_def_lines [")"] (prog_defs p).
-
-(** The S-expression dump of [p] (grammar above). *)
-Definition print_sexp (externs : list ident) (p : program) : string :=
-  concat_lines (print_sexp_lines externs p).
 
 (** The C text of [p] is the header comment, the struct section (the text
     of [print_types p]) and the code; with a header, the struct section is

@@ -22,11 +22,21 @@
 
     The names of the generated functions and globals ([c_callback],
     [c_msg], [input_glue], [output_glue_c], [Controller_U],
-    [Controller_Y]) are the interface of the generated C code
-    (DESIGN.md, section 5), so the specifications refer to them. *)
+    [Controller_Y], the clock globals [c_new], [c_rcvd], [c_time]) are
+    the interface of the generated C code (DESIGN.md, section 5), so the
+    specifications refer to them: they are the only definitions taken
+    from [Wellformed].  Nothing is taken from the generator ([Generator]
+    is not loaded): the constants of the specification (the largest
+    [unsigned int] and [unsigned long long], the timeout in nanoseconds
+    from the model's milliseconds) are stated here, and the proofs show
+    that the generator's agree with them ([Gluefacts.uint_max_agrees],
+    [Gluefacts.ulong_max_agrees], [Gluefacts.timeout_ns_agrees]). *)
 
 From Coq Require Import String List ZArith Bool Lia.
-From ROSGen Require Import Errors Syntax Values Memory Environment Semantics NodeModel Wellformed Generator.
+From ROSGen Require Import Errors Syntax Values Memory Environment Semantics NodeModel.
+From ROSGen Require Wellformed.
+Import Wellformed (msg_var, callback_name, input_glue_name, output_glue_name,
+                   new_var, rcvd_var, time_var).
 Import ListNotations.
 
 (** ** Paths of the model and paths of the memory *)
@@ -129,15 +139,27 @@ Definition quiet_call_at (p : program) (fd : fundef) (args : list val) (mm : mem
     about 584 years) it is the time itself. *)
 Definition clock (t : Z) : Z := norm_long Unsigned t.
 
-(** [max_ulong] and [max_uint] ([Generator]) are the largest [unsigned
-    long long] and [unsigned int]. *)
+(** The largest [unsigned long long], [2^64 - 1]. *)
+Definition ulong_max : Z := 2 ^ 64 - 1.
+
+(** The largest [unsigned int], [2^32 - 1]. *)
+Definition uint_max : Z := 2 ^ 32 - 1.
+
+(** The timeout of the topic with C name [c], in nanoseconds: the
+    model's timeout in milliseconds ([nm_timeouts]) times [10^6]; [None]
+    if the topic has no timeout. *)
+Definition timeout_ns (m : node_model) (c : ident) : option Z :=
+  match find_assoc c (nm_timeouts m) with
+  | Some ms => Some (ms * 1000000)%Z
+  | None => None
+  end.
 
 (** The age at time [now] of the newest message of a topic, received at
     [rcv] ([None]: no message yet), in nanoseconds: 0 if the clock went
     back, the largest [unsigned long long] if no message arrived. *)
 Definition age_ns (rcv : option Z) (now : Z) : Z :=
   match rcv with
-  | None => max_ulong
+  | None => ulong_max
   | Some t => if (clock t <=? clock now)%Z then (clock now - clock t)%Z else 0%Z
   end.
 
@@ -145,10 +167,10 @@ Definition age_ns (rcv : option Z) (now : Z) : Z :=
     and no message arrived, or its newest one is older than the
     timeout. *)
 Definition stale (m : node_model) (c : ident) (rcv : option Z) (now : Z) : bool :=
-  match timeout_of m c with
+  match timeout_ns m c with
   | Some t => match rcv with
               | None => true
-              | Some _ => (t * 1000000 <? age_ns rcv now)%Z
+              | Some _ => (t <? age_ns rcv now)%Z
               end
   | None => false
   end.
@@ -169,7 +191,7 @@ Definition derived_value (k : derived) (isnew : bool) (rcv : option Z) (now : Z)
   match k with
   | Dis_new => Vint (if isnew then 1 else 0)
   | Dreceived => Vint (match rcv with Some _ => 1 | None => 0 end)
-  | Dage_ms => Vint (Z.min (age_ns rcv now / 1000000)%Z max_uint)
+  | Dage_ms => Vint (Z.min (age_ns rcv now / 1000000)%Z uint_max)
   end.
 
 (** The clock globals of the timed topic [c] in memory [mm] hold

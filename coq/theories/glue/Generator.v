@@ -56,15 +56,8 @@ Definition temps_of (qs : list prim) : list (ident * type) :=
 
 (** ** Composite types *)
 
-(** The struct of the controller's inputs or outputs. *)
-Definition controller_composite (id : ident) (fs : list (ident * ftype)) : composite_definition :=
-  Composite id (map (fun xt => (fst xt, ctype_of_ftype (snd xt))) fs).
-
-(** All structs: the messages in dependency order, then the controller's. *)
-Definition composites (m : node_model) : list composite_definition :=
-  map composite_of_msgdef (nm_msgs m)
-  ++ [controller_composite (nm_in_struct m) (nm_inputs m);
-      controller_composite (nm_out_struct m) (nm_outputs m)].
+(** The structs of the model, [composites m] (messages, then the
+    controller's inputs and outputs), are defined in [NodeModel]. *)
 
 (** ** Path expressions *)
 

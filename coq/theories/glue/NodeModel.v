@@ -382,6 +382,26 @@ Definition is_timed (m : node_model) (c : ident) : bool :=
   existsb (fun ct => ident_eqb (fst ct) c) (nm_timeouts m)
   || existsb (fun dr => ident_eqb (dr_topic dr) c) (nm_drels m).
 
+(** The timed topics, in model order (the glue keeps a clock for each). *)
+Definition timed (m : node_model) : list topic :=
+  filter (fun tp => is_timed m (tp_cname tp)) (subscribed m).
+
+(** ** The C structs of a model *)
+
+(** These are the model's types, which the generated program declares and
+    the specifications ([DDC]) speak of: they are defined here, with the
+    model, not in the generator. *)
+
+(** The struct of the controller's inputs or outputs. *)
+Definition controller_composite (id : ident) (fs : list (ident * ftype)) : composite_definition :=
+  Composite id (map (fun xt => (fst xt, ctype_of_ftype (snd xt))) fs).
+
+(** All structs: the messages in dependency order, then the controller's. *)
+Definition composites (m : node_model) : list composite_definition :=
+  map composite_of_msgdef (nm_msgs m)
+  ++ [controller_composite (nm_in_struct m) (nm_inputs m);
+      controller_composite (nm_out_struct m) (nm_outputs m)].
+
 (** ** Direct input relations (rule 4.16) *)
 
 (** Whether a path goes through an array element ([ranges.data[5]]). *)

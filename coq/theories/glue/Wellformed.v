@@ -124,11 +124,9 @@ End TABLES.
 
 (** ** Timed topics *)
 
-(** [is_timed] (rule 4.12) is defined in [NodeModel], since the direct
-    input relations (rule 4.16) and [read_paths] depend on it. *)
-
-Definition timed (m : node_model) : list topic :=
-  filter (fun tp => is_timed m (tp_cname tp)) (subscribed m).
+(** [is_timed] (rule 4.12) and the list of timed topics, [timed], are
+    defined in [NodeModel]: the direct input relations (rule 4.16),
+    [read_paths] and the specifications ([DDC]) depend on them. *)
 
 (** The globals of a timed topic's clock. *)
 Definition clock_names (tp : topic) : list ident :=
