@@ -44,6 +44,7 @@ from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
 from pyrosgen.proof.coqmodel import EmitError, node_file_names, render_node_file
 from pyrosgen.errors import ToolFailure, UserError
 from pyrosgen.proof.modeltext import compare_model_texts, model_text
+from pyrosgen.nversion.check import check_model_file
 from pyrosgen.verify.certificate import ProofRecord, sha256_file, tool_versions, write_certificate
 from pyrosgen.frontend.model import NodeModel
 from pyrosgen.frontend.validate import load_model
@@ -189,6 +190,12 @@ def _print_and_validate(drv: CoqDriver, model: NodeModel, module: str, lib: tupl
     # (raises ModelMismatch, exit 2, naming the differing items).
     proved_model = out_m.read_text(encoding="utf-8")
     compare_model_texts(model_text(model), proved_model, vfile=names.v_file)
+    # ... and of the YAML file as a second reading, which shares no code
+    # with the front end, understands it (N-version, DESIGN.md section 7;
+    # raises NVersionMismatch, exit 2, naming the differing items).
+    check_model_file(model.source, proved_model,
+                     (stage / names.controller_text).read_text(encoding="utf-8") if has_diagram else None,
+                     vfile=names.v_file)
     from pyrosgen.verify.printer_validation import validate_glue  # raises PrinterValidationError (a CoqError)
 
     validation = validate_glue(
