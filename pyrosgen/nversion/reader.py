@@ -56,9 +56,8 @@ def _plain(node, loader: yaml.SafeLoader):
     if isinstance(node, yaml.MappingNode):
         out = {}
         for k, v in node.value:
-            key = _plain(k, loader)
-            if isinstance(key, Num):
-                key = key.text
+            # a key is its text: a field named NO or On is not a boolean
+            key = k.value if isinstance(k, yaml.ScalarNode) else _plain(k, loader)
             out[key] = _plain(v, loader)
         return out
     if isinstance(node, yaml.SequenceNode):

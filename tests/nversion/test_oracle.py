@@ -122,3 +122,22 @@ def test_independent_imports():
                 if n.startswith("pyrosgen.nversion") or n in allowed_pyrosgen:
                     continue
                 assert top == "yaml" or top in sys.stdlib_module_names or top == "__future__", (f.name, n)
+
+
+def test_keys_are_their_text(tmp_path):
+    """A controller field named like a YAML 1.1 boolean (NO, On, y) is a
+    name in both readings, not ``False``."""
+    f = tmp_path / "m.yaml"
+    f.write_text(
+        "node: {name: n, period_ms: 20}\n"
+        "controller:\n  name: C\n  inputs: {name: C_U, fields: {NO: float64, On: float64}}\n"
+        "  outputs: {name: C_Y, fields: {y: float64}}\n"
+        "topics:\n  - {name: /a, direction: subscribe, type: std_msgs/Float64, queue_size: 1}\n"
+        "  - {name: /b, direction: subscribe, type: std_msgs/Float64, queue_size: 1}\n"
+        "  - {name: /c, direction: publish, type: std_msgs/Float64, queue_size: 1}\n"
+        "relations:\n  inputs:\n    - {topic: /a, field: data, input: 'NO'}\n"
+        "    - {topic: /b, field: data, input: 'On'}\n"
+        "  outputs:\n    - {output: y, topic: /c, field: data}\n")
+    text = reader.model_text(f)
+    assert text == model_text(load_model(f))
+    assert "input NO float64\ninput On float64\n" in text and "output y float64\n" in text
