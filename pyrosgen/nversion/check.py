@@ -12,6 +12,7 @@ import yaml
 # nothing of the model.
 from pyrosgen.errors import DetailedFailure
 from pyrosgen.nversion.msgs import STANDARD_ROOT, ReadingError
+from pyrosgen.nversion.diagram import diagram_text, has_diagram
 from pyrosgen.nversion.reader import model_text
 
 __all__ = ["NVersionMismatch", "check_model_file", "differing_lines"]
@@ -45,24 +46,39 @@ def check_model_file(path, proved_text: str, proved_diagram: str | None = None, 
     """Raise :class:`NVersionMismatch` unless ``proved_text`` (the model
     text Coq printed from the model term of ``vfile``) is, byte for byte,
     the text of the model file at ``path`` as this package reads it,
-    without the front end.  ``proved_diagram``, the diagram text Coq
-    printed for a block-diagram controller (``None`` for none), is not
-    compared yet: the second reading covers the model text only."""
+    without the front end, and ``proved_diagram`` (the diagram text Coq
+    printed for a block-diagram controller, ``None`` when ``vfile`` proves
+    none) is the file's block diagram as this package reads it."""
     name = Path(path).name
     try:
         expected = model_text(path, standard_root=standard_root)
-    except (ReadingError, OSError, UnicodeError, yaml.YAMLError, KeyError, TypeError, AttributeError,
-            ValueError) as exc:
+        diagram = diagram_text(path) if has_diagram(path) else None
+    except (ReadingError, OSError, UnicodeError, yaml.YAMLError, KeyError, IndexError, TypeError,
+            AttributeError, ValueError) as exc:
         detail = f"{type(exc).__name__}: {exc}" if not isinstance(exc, ReadingError) else str(exc)
         raise NVersionMismatch(
             f"the two readings of the model disagree: the second, independent reading of {name} "
             f"cannot read it", [f"  {detail}"]) from None
     lines = differing_lines(expected, proved_text)
     if lines:
-        n = sum(1 for a, b in _pairs(expected, proved_text) if a != b)
         raise NVersionMismatch(
             f"the two readings of the model disagree: the model proved in {vfile} is not {name} as read "
-            f"independently of the front end ({n} differing items)", lines)
+            f"independently of the front end ({_count(expected, proved_text)} differing items)", lines)
+    if (diagram is None) != (proved_diagram is None):
+        raise NVersionMismatch(
+            f"the two readings of the model disagree: {name} read independently "
+            + ("has a block diagram, but " + vfile + " proves none" if diagram is not None
+               else "has no block diagram, but " + vfile + " proves one"), [])
+    lines = differing_lines(diagram or "", proved_diagram or "")
+    if lines:
+        raise NVersionMismatch(
+            f"the two readings of the model disagree: the controller diagram proved in {vfile} is not the "
+            f"diagram of {name} as read independently of the front end "
+            f"({_count(diagram or '', proved_diagram or '')} differing items)", lines)
+
+
+def _count(a: str, b: str) -> int:
+    return sum(1 for x, y in _pairs(a, b) if x != y)
 
 
 def _pairs(a: str, b: str):

@@ -94,15 +94,18 @@ def _int(x) -> int:
 _DEC = re.compile(r"([+-]?)([0-9]*)(?:\.([0-9]*))?(?:[eE]([+-]?[0-9]+))?")
 
 
-def _float_bits(text: str, prim: str) -> int:
-    """The IEEE bits of decimal ``text`` rounded once, to nearest even,
-    to ``float64`` (53-bit significand) or ``float32`` (24 bits)."""
+def _float_bits(text: str, prim: str, scale: Fraction | None = None) -> int:
+    """The IEEE bits of decimal ``text`` (times ``scale``, exactly)
+    rounded once, to nearest even, to ``float64`` (53-bit significand) or
+    ``float32`` (24 bits)."""
     m = _DEC.fullmatch(text)
     if m is None or not (m.group(2) or m.group(3)):
         raise ReadingError(f"not a decimal number: {text!r}")
     neg = m.group(1) == "-"
     q = Fraction(int((m.group(2) or "") + (m.group(3) or "") or "0")) * Fraction(10) ** (
         int(m.group(4) or 0) - len(m.group(3) or ""))
+    if scale is not None:
+        q *= scale
     if prim == "float64":
         p, emin, ebits, width = 53, -1022, 11, 64
     else:

@@ -16,7 +16,7 @@ from pyrosgen import cli
 from pyrosgen.frontend import validate
 from pyrosgen.frontend.validate import load_model
 from pyrosgen.nversion.check import NVersionMismatch, check_model_file
-from pyrosgen.proof.modeltext import model_text
+from pyrosgen.proof.modeltext import diagram_text, model_text
 
 from support.generate import LANDSHARK, require_library
 
@@ -49,6 +49,13 @@ def _topic_c_name_wrong(monkeypatch):
     monkeypatch.setattr(validate, "topic_c_name", lambda name: real(name) + "_x")
 
 
+def _diagram(model_file):
+    """The front end's diagram text of ``model_file`` (``None`` without a
+    block diagram): what generate proves next to the model."""
+    m = load_model(model_file)
+    return diagram_text(m) if m.controller.diagram is not None else None
+
+
 MISREADINGS = {
     "timeout x10": (_timeout_times_ten, GUARD, "timeout"),
     "period + 1": (_period_plus_one, LANDSHARK, "period_ms"),
@@ -62,12 +69,12 @@ def test_check_refuses_a_front_end_misreading(name, monkeypatch):
     comparison passes) is refused by the second reading, naming the line."""
     patch, model, keyword = MISREADINGS[name]
     honest = model_text(load_model(model))
-    check_model_file(model, honest, vfile="node.v")          # the honest front end passes
+    check_model_file(model, honest, _diagram(model), vfile="node.v")   # the honest front end passes
     patch(monkeypatch)
     misread = model_text(load_model(model))
     assert misread != honest
     with pytest.raises(NVersionMismatch) as exc:
-        check_model_file(model, misread, vfile="node.v")
+        check_model_file(model, misread, _diagram(model), vfile="node.v")
     assert exc.value.exit_code == 2
     assert "the two readings of the model disagree" in exc.value.summary
     shown = "\n".join(exc.value.lines)
@@ -77,7 +84,7 @@ def test_check_refuses_a_front_end_misreading(name, monkeypatch):
 def test_check_names_both_timeout_lines(monkeypatch):
     _timeout_times_ten(monkeypatch)
     with pytest.raises(NVersionMismatch) as exc:
-        check_model_file(GUARD, model_text(load_model(GUARD)), vfile="velocity_guard.v")
+        check_model_file(GUARD, model_text(load_model(GUARD)), _diagram(GUARD), vfile="velocity_guard.v")
     lines = [ln for ln in exc.value.lines if "timeout" in ln]
     assert lines and all("500'" in ln and "5000'" in ln for ln in lines), exc.value.lines
 
@@ -106,3 +113,38 @@ def test_generate_refuses_a_front_end_misreading(monkeypatch, capsys, tmp_path):
     assert "independently says 'timeout " in err and "500'" in err and "5000'" in err
     assert not out.exists()
     assert [p for p in tmp_path.iterdir() if p.name.startswith(".pyrosgen-")] == []
+
+
+LASER = REPO / "examples" / "laser_guard" / "laser_guard.yaml"
+
+
+def _greater_as_greater_equal(monkeypatch):
+    """A front end that reads a RelationalOperator's '>' as '>='."""
+    from pyrosgen.frontend import blocks
+
+    monkeypatch.setitem(blocks.RELOPS, ">", ">=")
+
+
+def test_check_refuses_a_misread_diagram(monkeypatch):
+    """The diagram text too: the model texts agree, the diagram Coq would
+    prove (the front end's) is refused, naming the block's equation."""
+    check_model_file(LASER, model_text(load_model(LASER)), _diagram(LASER), vfile="laser_guard.v")
+    _greater_as_greater_equal(monkeypatch)
+    with pytest.raises(NVersionMismatch) as exc:
+        check_model_file(LASER, model_text(load_model(LASER)), _diagram(LASER), vfile="laser_guard.v")
+    assert "the controller diagram proved in laser_guard.v" in exc.value.summary
+    shown = "\n".join(exc.value.lines)
+    assert "'eq clear bool relational > float32 closest safe'" in shown
+    assert "'eq clear bool relational >= float32 closest safe'" in shown
+
+
+def test_generate_refuses_a_misread_diagram(monkeypatch, capsys, tmp_path):
+    require_library()
+    _greater_as_greater_equal(monkeypatch)
+    out = tmp_path / "out"
+    code = cli.main(["generate", str(LASER), "-o", str(out), "-q"])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert "the controller diagram proved in laser_guard.v is not the diagram of laser_guard.yaml" in err
+    assert "relational >= float32 closest safe" in err
+    assert not out.exists()

@@ -141,3 +141,30 @@ def test_keys_are_their_text(tmp_path):
     text = reader.model_text(f)
     assert text == model_text(load_model(f))
     assert "input NO float64\ninput On float64\n" in text and "output y float64\n" in text
+
+
+def test_every_accepted_diagram_reads_the_same():
+    """The diagram text (``DiagramText.print_diagram``'s grammar) of every
+    block-diagram model file the front end accepts, subsystems expanded,
+    equals the front end's."""
+    from pyrosgen.nversion import diagram
+    from pyrosgen.proof.modeltext import diagram_text
+
+    seen, differ = 0, []
+    for f in _accepted():
+        m = load_model(f)
+        assert diagram.has_diagram(f) == (m.controller.diagram is not None), f
+        if m.controller.diagram is None:
+            continue
+        seen += 1
+        expected = diagram_text(m)
+        try:
+            got = diagram.diagram_text(f)
+        except ReadingError as exc:
+            differ.append(f"{f.relative_to(REPO)}: cannot read: {exc}")
+            continue
+        if got != expected:
+            diff = difflib.unified_diff(expected.splitlines(), got.splitlines(), "front end", "nversion",
+                                        lineterm="", n=0)
+            differ.append(f"{f.relative_to(REPO)}:\n    " + "\n    ".join(list(diff)[:12]))
+    assert seen >= 5 and not differ, (seen, differ)
