@@ -7,9 +7,9 @@ In process, for every example model and for a synthetic node at the
 leaf limit of rule 4.5 (a 9,800-element controller array fed from a
 bounded ``ranges``: about 9,900 items of model text), the median time of
 ``pyrosgen.nversion.check.check_model_file`` (read the YAML and the
-``.msg`` files again, compute the model text, compare it with the proved
-one) next to the front end's own reading (``load_model`` and
-``model_text``); then ``pyrosgen generate`` on LandShark once, end to
+``.msg`` files again, compute the model text and, for a block diagram,
+the diagram text, compare them with the proved ones) next to the front
+end's own reading (``load_model`` and ``model_text``); then ``pyrosgen generate`` on LandShark once, end to
 end, for the ratio.  Prints a Markdown table and saves
 bench/results/nversion.json.
 """
@@ -31,7 +31,7 @@ sys.path.insert(0, str(REPO))
 
 from pyrosgen.frontend.validate import load_model  # noqa: E402
 from pyrosgen.nversion.check import check_model_file  # noqa: E402
-from pyrosgen.proof.modeltext import model_text  # noqa: E402
+from pyrosgen.proof.modeltext import diagram_text, model_text  # noqa: E402
 
 LANDSHARK = REPO / "examples" / "landshark" / "landshark_controller.yaml"
 
@@ -73,8 +73,10 @@ def main() -> int:
         synth.write_text(SYNTHETIC, encoding="utf-8")
         rows = []
         for f in [*sorted(REPO.glob("examples/*/*.yaml")), synth]:
-            proved = model_text(load_model(f))
-            nv = _median_ms(lambda: check_model_file(f, proved, vfile="node.v"), args.runs)
+            m = load_model(f)
+            proved = model_text(m)
+            diagram = diagram_text(m) if m.controller.diagram is not None else None
+            nv = _median_ms(lambda: check_model_file(f, proved, diagram, vfile="node.v"), args.runs)
             fe = _median_ms(lambda: model_text(load_model(f)), args.runs)
             name = f.name if f == synth else str(f.relative_to(REPO))
             rows.append({"model": name, "items": len(proved.splitlines()), "nversion_ms": round(nv, 1),

@@ -13,7 +13,7 @@ import yaml
 from pyrosgen.errors import DetailedFailure
 from pyrosgen.nversion.msgs import STANDARD_ROOT, ReadingError
 from pyrosgen.nversion.diagram import diagram_text, has_diagram
-from pyrosgen.nversion.reader import model_text
+from pyrosgen.nversion.reader import model_text, read_yaml
 
 __all__ = ["NVersionMismatch", "check_model_file", "differing_lines"]
 
@@ -51,8 +51,9 @@ def check_model_file(path, proved_text: str, proved_diagram: str | None = None, 
     none) is the file's block diagram as this package reads it."""
     name = Path(path).name
     try:
-        expected = model_text(path, standard_root=standard_root)
-        diagram = diagram_text(path) if has_diagram(path) else None
+        doc = read_yaml(Path(path))
+        expected = model_text(path, standard_root=standard_root, doc=doc)
+        diagram = diagram_text(path, doc=doc) if has_diagram(path, doc=doc) else None
     except (ReadingError, OSError, UnicodeError, yaml.YAMLError, KeyError, IndexError, TypeError,
             AttributeError, ValueError) as exc:
         detail = f"{type(exc).__name__}: {exc}" if not isinstance(exc, ReadingError) else str(exc)

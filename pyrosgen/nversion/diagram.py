@@ -21,9 +21,10 @@ RELOPS = {"==": "==", "~=": "!=", "!=": "!=", "<": "<", "<=": "<=", ">": ">", ">
 CRITERIA = {"u2 >= threshold": ">=", "u2 > threshold": ">", "u2 ~= 0": "~=0"}
 
 
-def has_diagram(path) -> bool:
+def has_diagram(path, *, doc=None) -> bool:
     """Whether the model file's controller is a block diagram."""
-    doc = read_yaml(Path(path))
+    if doc is None:
+        doc = read_yaml(Path(path))
     return isinstance(doc, dict) and isinstance(doc.get("controller"), dict) and "blocks" in doc["controller"]
 
 
@@ -123,11 +124,12 @@ def _refs(b) -> list[str]:
 # The text
 
 
-def diagram_text(path) -> str:
+def diagram_text(path, *, doc=None) -> str:
     """The canonical diagram text (the grammar of
     ``DiagramText.print_diagram``) of the model file at ``path``, read
-    without the front end."""
-    doc = read_yaml(Path(path))
+    without the front end (``doc``: the file as ``read_yaml`` read it)."""
+    if doc is None:
+        doc = read_yaml(Path(path))
     ctrl = doc["controller"]
     period = _int(doc["node"]["period_ms"])
     name = ctrl["name"]

@@ -291,11 +291,13 @@ def _topic_c(name: str) -> str:
 _TARGET = re.compile(r"([A-Za-z][A-Za-z0-9_]*)(?:\[([0-9]+)\])?")
 
 
-def model_text(path, *, standard_root: Path = STANDARD_ROOT) -> str:
+def model_text(path, *, standard_root: Path = STANDARD_ROOT, doc=None) -> str:
     """The canonical model text (the grammar of ``ModelText.print_model``)
-    of the model file at ``path``, read without the front end."""
+    of the model file at ``path``, read without the front end (``doc``:
+    the file as :func:`read_yaml` read it, if it was)."""
     path = Path(path)
-    doc = read_yaml(path)
+    if doc is None:
+        doc = read_yaml(path)
     if not isinstance(doc, dict):
         raise ReadingError(f"{path}: not a mapping")
     msg_dirs = [path.parent / d for d in (doc.get("msg_paths") or [])]
