@@ -11,9 +11,9 @@ from fractions import Fraction
 from pathlib import Path
 
 from pyrosgen.nversion.msgs import ReadingError
-from pyrosgen.nversion.reader import Num, _ctrl_fields, _float_bits, _int, read_yaml
+from pyrosgen.nversion.reader import Line, Num, YDict, _ctrl_fields, _float_bits, _int, _line, read_yaml
 
-__all__ = ["diagram_text", "has_diagram"]
+__all__ = ["diagram_text", "diagram_lines", "has_diagram"]
 
 HEADER = "pyrosgen-diagram 1"
 STATES = ("UnitDelay", "DiscreteIntegrator")
@@ -86,7 +86,8 @@ class _Scope:
             if b.get("block") == "Subsystem":
                 out += self.instance(b["name"]).expand()
                 continue
-            c = dict(b)
+            c = YDict(b)
+            c.line, c.col = getattr(b, "line", None), getattr(b, "col", None)
             c["name"] = self.prefix + b["name"]
             if "input" in b:
                 c["input"] = self.resolve(b["input"])
@@ -128,6 +129,12 @@ def diagram_text(path, *, doc=None) -> str:
     """The canonical diagram text (the grammar of
     ``DiagramText.print_diagram``) of the model file at ``path``, read
     without the front end (``doc``: the file as ``read_yaml`` read it)."""
+    return "".join(line + "\n" for line in diagram_lines(path, doc=doc))
+
+
+def diagram_lines(path, *, doc=None) -> list[Line]:
+    """The lines of :func:`diagram_text`, each with the place of the YAML
+    file it comes from (a block's for its equation and state lines)."""
     if doc is None:
         doc = read_yaml(Path(path))
     ctrl = doc["controller"]
@@ -229,10 +236,10 @@ def diagram_text(path, *, doc=None) -> str:
             line += f" integrator {kt}"
             if "lower" in st:
                 line += f" {_val(st['lower'], q)} {_val(st['upper'], q)}"
-        lines.append(line)
+        lines.append(_line(line, st))
     used = {s for b in blocks for s in _refs(b)} | {s for _, s in outports}
     lines += [f"eq {n} {p} inport {n}" for n, p, _ in inputs if n in used]
-    lines += [f"eq {st['name']} {prim[st['name']]} state {st['name']}" for st in states]
+    lines += [_line(f"eq {st['name']} {prim[st['name']]} state {st['name']}", st) for st in states]
 
     # the blocks without memory, each after those it reads within the
     # step; among the ready ones, the first in the (expanded) model
@@ -257,6 +264,6 @@ def diagram_text(path, *, doc=None) -> str:
                 heapq.heappush(ready, (index[r], r))
     if len(order) != len(plain):
         raise ReadingError("an algebraic loop")
-    lines += [f"eq {n} {prim[n]} {block_text(by_name[n])}" for n in order]
-    lines += [f"out {f} {s}" for f, s in outports]
-    return "".join(line + "\n" for line in lines)
+    lines += [_line(f"eq {n} {prim[n]} {block_text(by_name[n])}", by_name[n]) for n in order]
+    lines += [_line(f"out {f} {s}", ctrl["outports"]) for f, s in outports]
+    return [x if isinstance(x, Line) else _line(x) for x in lines]

@@ -26,7 +26,7 @@ import yaml
 
 from pyrosgen.nversion.msgs import DEFAULT_MAX, STANDARD_ROOT, Messages, ReadingError, c_name
 
-__all__ = ["model_text", "ReadingError", "read_yaml"]
+__all__ = ["model_text", "model_lines", "Line", "ReadingError", "read_yaml"]
 
 HEADER = "pyrosgen-model 1"
 
@@ -36,16 +36,47 @@ HEADER = "pyrosgen-model 1"
 
 
 class Num:
-    """A YAML number with its text (``0.5``, ``+20``, ``1.0e-3``)."""
+    """A YAML number with its text (``0.5``, ``+20``, ``1.0e-3``) and its
+    line in the file (``None`` for a default)."""
 
-    __slots__ = ("text", "value")
+    __slots__ = ("text", "value", "line", "col")
 
-    def __init__(self, text: str, value):
+    def __init__(self, text: str, value, line: int | None = None, col: int | None = None):
         self.text = text
         self.value = value
+        self.line = line
+        self.col = col
 
     def __repr__(self) -> str:
         return f"Num({self.text})"
+
+
+class YDict(dict):
+    """A YAML mapping, with its line and column in the file."""
+
+    line: int | None = None
+    col: int | None = None
+
+
+class YList(list):
+    """A YAML sequence, with its line and column in the file."""
+
+    line: int | None = None
+    col: int | None = None
+
+
+class Line(str):
+    """A line of model text, with the place in the YAML file it comes from
+    (``at``: ``(line, column)``, ``None`` when it has none of its own)."""
+
+    at: tuple[int, int] | None = None
+
+
+def _line(text: str, where=None) -> Line:
+    out = Line(text)
+    line = getattr(where, "line", None)
+    out.at = (line, getattr(where, "col", None) or 1) if line is not None else None
+    return out
 
 
 class _Loader(yaml.SafeLoader):
@@ -53,18 +84,22 @@ class _Loader(yaml.SafeLoader):
 
 
 def _plain(node, loader: yaml.SafeLoader):
+    line, col = node.start_mark.line + 1, node.start_mark.column + 1
     if isinstance(node, yaml.MappingNode):
-        out = {}
+        out = YDict()
+        out.line, out.col = line, col
         for k, v in node.value:
             # a key is its text: a field named NO or On is not a boolean
             key = k.value if isinstance(k, yaml.ScalarNode) else _plain(k, loader)
             out[key] = _plain(v, loader)
         return out
     if isinstance(node, yaml.SequenceNode):
-        return [_plain(v, loader) for v in node.value]
+        seq = YList(_plain(v, loader) for v in node.value)
+        seq.line, seq.col = line, col
+        return seq
     value = loader.construct_object(node, deep=True)
     if isinstance(value, (int, float)) and not isinstance(value, bool):
-        return Num(node.value, value)
+        return Num(node.value, value, line, col)
     return value
 
 
@@ -295,6 +330,12 @@ def model_text(path, *, standard_root: Path = STANDARD_ROOT, doc=None) -> str:
     """The canonical model text (the grammar of ``ModelText.print_model``)
     of the model file at ``path``, read without the front end (``doc``:
     the file as :func:`read_yaml` read it, if it was)."""
+    return "".join(line + "\n" for line in model_lines(path, standard_root=standard_root, doc=doc))
+
+
+def model_lines(path, *, standard_root: Path = STANDARD_ROOT, doc=None) -> list[Line]:
+    """The lines of :func:`model_text`, each with the line of the YAML
+    file it comes from (:class:`Line`)."""
     path = Path(path)
     if doc is None:
         doc = read_yaml(path)
@@ -356,24 +397,25 @@ def model_text(path, *, standard_root: Path = STANDARD_ROOT, doc=None) -> str:
     msgs.carried = {k: maxima.get(k, DEFAULT_MAX) for k in named}
     msgs.reject = reject & named
 
+    ufields, yfields = _get(ctrl, "inputs", "fields"), _get(ctrl, "outputs", "fields")
     lines = [
-        HEADER,
-        f"node {node['name']}",
-        f"period_ms {_int(node['period_ms'])}",
-        f"controller {cname}",
-        f"inputs {_get(ctrl, 'inputs', 'name')} ExtU_{cname}_T",
-        *(f"input {n} {_ftext(p, s)}" for n, p, s in inputs),
-        f"outputs {_get(ctrl, 'outputs', 'name')} ExtY_{cname}_T",
-        *(f"output {n} {_ftext(p, s)}" for n, p, s in outputs),
+        _line(HEADER),
+        _line(f"node {node['name']}", node),
+        _line(f"period_ms {_int(node['period_ms'])}", node["period_ms"]),
+        _line(f"controller {cname}", ctrl),
+        _line(f"inputs {_get(ctrl, 'inputs', 'name')} ExtU_{cname}_T", ctrl.get("inputs")),
+        *(_line(f"input {n} {_ftext(p, s)}", ufields) for n, p, s in inputs),
+        _line(f"outputs {_get(ctrl, 'outputs', 'name')} ExtY_{cname}_T", ctrl.get("outputs")),
+        *(_line(f"output {n} {_ftext(p, s)}", yfields) for n, p, s in outputs),
     ]
     for struct_name in msgs.used(t["type"] for t in topics):
-        lines.append(f"message {struct_name}")
-        lines += [f"field {f.name} {f.text()}" for f in msgs.structs[struct_name]]
+        lines.append(_line(f"message {struct_name}"))
+        lines += [_line(f"field {f.name} {f.text()}") for f in msgs.structs[struct_name]]
     for t in topics:
         q = _int(t.get("queue_size")) if "queue_size" in t else None
         if q is None:
             raise ReadingError(f"topic {t['name']}: no queue_size")
-        lines.append(f"topic {t['name']} {_topic_c(t['name'])} {t['direction']} {t['type']} {q}")
+        lines.append(_line(f"topic {t['name']} {_topic_c(t['name'])} {t['direction']} {t['type']} {q}", t))
 
     # -- relations, expanded (rule 4.15: whole arrays element by element)
     def expand(r, ty, size):
@@ -407,37 +449,40 @@ def model_text(path, *, standard_root: Path = STANDARD_ROOT, doc=None) -> str:
         t = by_name[r["topic"]]
         tc = _topic_c(t["name"])
         if "field" not in r:
-            derived_lines.append(f"derived_input {tc} {r['derived']} {r['input']}")
+            derived_lines.append(_line(f"derived_input {tc} {r['derived']} {r['input']}", r))
             continue
         name, suffix, size = target(r["input"], in_size)
         for steps, elem in expand(r, t["type"], size):
-            in_lines.append(f"input_relation {tc} {_path_text(steps)} {name}{suffix if elem is None else (elem or suffix)}")
+            in_lines.append(_line(f"input_relation {tc} {_path_text(steps)} "
+                                  f"{name}{suffix if elem is None else (elem or suffix)}", r))
             if "timeout_ms" in t:
                 policy = r.get("on_timeout", t.get("on_timeout", "zero"))
                 if policy == "zero":
-                    fallbacks.append(f"fallback {name} {_zero_text(in_prim[name])}")
+                    fallbacks.append(_line(f"fallback {name} {_zero_text(in_prim[name])}",
+                                           r if "on_timeout" in r else t))
                 elif policy != "hold":
-                    fallbacks.append(f"fallback {name} {_val_text(policy, in_prim[name])}")
+                    fallbacks.append(_line(f"fallback {name} {_val_text(policy, in_prim[name])}", r))
     lines += in_lines
     for r in out_rows:
         t = by_name[r["topic"]]
         name, suffix, size = target(r["output"], out_size)
         for steps, elem in expand(r, t["type"], size):
-            lines.append(f"output_relation {name}{suffix if elem is None else (elem or suffix)} "
-                         f"{_topic_c(t['name'])} {_path_text(steps)}")
-    lines += [f"timeout {_topic_c(t['name'])} {_int(t['timeout_ms'])}" for t in topics if "timeout_ms" in t]
+            lines.append(_line(f"output_relation {name}{suffix if elem is None else (elem or suffix)} "
+                               f"{_topic_c(t['name'])} {_path_text(steps)}", r))
+    lines += [_line(f"timeout {_topic_c(t['name'])} {_int(t['timeout_ms'])}", t["timeout_ms"])
+              for t in topics if "timeout_ms" in t]
     lines += fallbacks
     lines += derived_lines
     stamped = [t for t in topics if "stamp" in t]
-    lines += [f"stamp {_topic_c(t['name'])} header.stamp" for t in stamped]
+    lines += [_line(f"stamp {_topic_c(t['name'])} header.stamp", t) for t in stamped]
     for t in stamped:
         s = t["stamp"]
         if isinstance(s, dict):
-            lines.append(f"stamp_from {_topic_c(t['name'])} {_topic_c(s['from'])} header.stamp")
+            lines.append(_line(f"stamp_from {_topic_c(t['name'])} {_topic_c(s['from'])} header.stamp", s))
         elif s != "now":
             raise ReadingError(f"topic {t['name']}: cannot read the stamp {s!r}")
     for t in topics:
         for steps, data in constants[t["name"]]:
-            lines.append(f"string {_topic_c(t['name'])} {_path_text(steps)} "
-                         f"{','.join(str(b) for b in data) if data else '-'}")
-    return "".join(line + "\n" for line in lines)
+            lines.append(_line(f"string {_topic_c(t['name'])} {_path_text(steps)} "
+                               f"{','.join(str(b) for b in data) if data else '-'}", t))
+    return lines

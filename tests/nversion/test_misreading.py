@@ -87,6 +87,11 @@ def test_check_names_both_timeout_lines(monkeypatch):
         check_model_file(GUARD, model_text(load_model(GUARD)), _diagram(GUARD), vfile="velocity_guard.v")
     lines = [ln for ln in exc.value.lines if "timeout" in ln]
     assert lines and all("500'" in ln and "5000'" in ln for ln in lines), exc.value.lines
+    # each names the place of its timeout_ms in the file (FILE:LINE:COL)
+    text = GUARD.read_text(encoding="utf-8").splitlines()
+    places = [f"{GUARD}:{n}:{ln.index('timeout_ms: 500') + len('timeout_ms: ') + 1}"
+              for n, ln in enumerate(text, start=1) if "timeout_ms: 500" in ln]
+    assert len(places) == len(lines) and all(p in ln for p, ln in zip(places, lines)), (places, lines)
 
 
 def test_an_unreadable_file_is_a_disagreement(tmp_path):
@@ -134,8 +139,11 @@ def test_check_refuses_a_misread_diagram(monkeypatch):
         check_model_file(LASER, model_text(load_model(LASER)), _diagram(LASER), vfile="laser_guard.v")
     assert "the controller diagram proved in laser_guard.v" in exc.value.summary
     shown = "\n".join(exc.value.lines)
-    assert "'eq clear bool relational > float32 closest safe'" in shown
-    assert "'eq clear bool relational >= float32 closest safe'" in shown
+    assert "independently says 'eq clear bool relational > float32 closest safe'" in shown
+    assert "the proved diagram says 'eq clear bool relational >= float32 closest safe'" in shown
+    line = next(n for n, ln in enumerate(LASER.read_text(encoding="utf-8").splitlines(), start=1)
+                if "name: clear," in ln)
+    assert f"{LASER}:{line}:" in shown
 
 
 def test_generate_refuses_a_misread_diagram(monkeypatch, capsys, tmp_path):
