@@ -156,3 +156,23 @@ def test_generate_refuses_a_misread_diagram(monkeypatch, capsys, tmp_path):
     assert "the controller diagram proved in laser_guard.v is not the diagram of laser_guard.yaml" in err
     assert "relational >= float32 closest safe" in err
     assert not out.exists()
+
+
+def test_the_verify_function_refuses_a_folder_proved_from_a_misreading(monkeypatch, tmp_path):
+    """What ``verify --model`` checks: a folder made by a misreading front
+    end without the second reading (as an older pyrosgen made it) holds a
+    proved model text (``<node>.model``, printed by Coq) that the same
+    misreading front end agrees with; the second reading refuses it."""
+    require_library()
+    import pyrosgen.generate as gen
+
+    _timeout_times_ten(monkeypatch)
+    monkeypatch.setattr(gen, "check_model_file", lambda *a, **k: None)
+    out = tmp_path / "out"
+    assert cli.main(["generate", str(GUARD), "-o", str(out), "-q"]) == 0
+    proved = (out / "velocity_guard.model").read_text(encoding="utf-8")
+    assert "timeout teleop_cmd_vel 5000\n" in proved
+    assert proved == model_text(load_model(GUARD))        # the front end's own comparison passes
+    with pytest.raises(NVersionMismatch) as exc:
+        check_model_file(GUARD, proved, None, vfile="velocity_guard.v")
+    assert "independently says 'timeout teleop_cmd_vel 500'" in "\n".join(exc.value.lines)
