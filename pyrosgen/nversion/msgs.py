@@ -143,8 +143,9 @@ class Messages:
             self._std[ros_type] = parse_msg(f.read_text(encoding="utf-8"), pkg, str(f)) if f.is_file() else None
         got = self._std[ros_type]
         if got is None:
-            raise ReadingError(f"no definition of message type {ros_type!r} (not in {self.standard_root}/<pkg>/msg "
-                               "nor in the model's msg_paths)")
+            pkg = ros_type.partition("/")[0]
+            raise ReadingError(f"no definition of message type {ros_type!r}: not in {self.standard_root}/{pkg}/msg "
+                               f"(Debian's ROS 1 package ros-{pkg.replace('_', '-')}) nor in the model's msg_paths")
         return got
 
     def field(self, ros_type: str, name: str) -> Raw:

@@ -97,8 +97,9 @@ def test_msg_parser_reads_the_ros1_forms():
 
 def test_an_unknown_standard_type_is_named(tmp_path):
     msgs = Messages(standard_root=tmp_path)
-    with pytest.raises(ReadingError, match="std_msgs/Float64"):
+    with pytest.raises(ReadingError, match="std_msgs/Float64") as exc:
         msgs.raw("std_msgs/Float64")
+    assert "ros-std-msgs" in str(exc.value) and str(tmp_path / "std_msgs" / "msg") in str(exc.value)
 
 
 def test_independent_imports():
