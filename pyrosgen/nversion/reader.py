@@ -212,8 +212,9 @@ def _walk(msgs: Messages, ros_type: str, text: str):
     first (``(type, 'name[]')`` for the strings of an array of strings),
     ``steps`` the path in the carried C struct (``ranges.data[540]``) and
     ``end`` what it ends on: ``('prim', T)``, ``('seq', T, key)`` (a whole
-    array of primitives), ``('string', key)``, ``('array', T, n)`` (a
-    whole fixed-size array of primitives) or ``('msg', type)``."""
+    array of primitives), ``('seqmsg', T, key)``, ``('seqstring', key)``,
+    ``('string', key)``, ``('array', T, n)`` (a whole fixed-size array of
+    primitives), ``('msgarray', T)`` or ``('msg', T)``."""
     marks: list[tuple[str, str]] = []
     steps: list[str | int] = []
     cur = ros_type
@@ -227,12 +228,8 @@ def _walk(msgs: Messages, ros_type: str, text: str):
         idx = list(idx)
         if f.card == "sequence":
             marks.append(key)
-            if not idx:
-                end = ("seq", f.base, key) if f.kind == "prim" else (f.kind, key)
-                if f.kind == "msg":
-                    end = ("seqmsg", f.base, key)
-                elif f.kind == "string":
-                    end = ("seqstring", key)
+            if not idx:   # the whole array: of primitives, messages or strings
+                end = {"prim": ("seq", f.base, key), "msg": ("seqmsg", f.base, key)}.get(f.kind, ("seqstring", key))
                 continue
             i = idx.pop(0)
             steps += ["data", i if i is not None else 0]
