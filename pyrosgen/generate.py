@@ -45,6 +45,7 @@ from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
 from pyrosgen.proof.coqmodel import EmitError, node_file_names, render_node_file
 from pyrosgen.errors import ToolFailure, UserError, show
 from pyrosgen.proof.modeltext import compare_model_texts, model_text
+from pyrosgen.nversion.check import check_model_file
 from pyrosgen.verify.certificate import ProofRecord, sha256_file, tool_versions, write_certificate
 from pyrosgen.frontend.model import NodeModel
 from pyrosgen.frontend.validate import load_model
@@ -235,18 +236,24 @@ def _print_and_validate(drv: CoqDriver, model: NodeModel, module: str, lib: tupl
     # (raises ModelMismatch, exit 2, naming the differing items).
     proved_model = out_m.read_text(encoding="utf-8")
     compare_model_texts(model_text(model), proved_model, vfile=names.v_file)
+    proved_diagram = None
+    if has_diagram:
+        # The diagram the controller theorems are about is the diagram of
+        # the YAML file (raises ModelMismatch, exit 2).
+        from pyrosgen.proof.modeltext import compare_diagram_texts, diagram_text
+
+        proved_diagram = (stage / names.controller_text).read_text(encoding="utf-8")
+        compare_diagram_texts(diagram_text(model), proved_diagram, vfile=names.v_file)
+    # ... and of the YAML file as a second reading, which shares no code
+    # with the front end, understands it (N-version, DESIGN.md section 7;
+    # raises NVersionMismatch, exit 2, naming the differing items).
+    check_model_file(model.source, proved_model, proved_diagram, vfile=names.v_file)
     from pyrosgen.verify.printer_validation import validate_glue  # raises PrinterValidationError (a CoqError)
 
     validation = validate_glue(
         out_c.read_text(encoding="utf-8"), out_h.read_text(encoding="utf-8"),
         out_s.read_text(encoding="utf-8"), glue_name=names.glue_c, header_name=names.types_header)
     if has_diagram:
-        # The diagram the controller theorems are about is the diagram of
-        # the YAML file (raises ModelMismatch, exit 2).
-        from pyrosgen.proof.modeltext import compare_diagram_texts, diagram_text
-
-        compare_diagram_texts(diagram_text(model), (stage / names.controller_text).read_text(encoding="utf-8"),
-                              vfile=names.v_file)
         from pyrosgen.verify.printer_validation import validate_program
 
         validate_program((stage / names.controller_c).read_text(encoding="utf-8"),
