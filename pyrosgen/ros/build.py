@@ -245,6 +245,85 @@ class ControllerOptions:
                                      "CMakeLists.txt)")
 
 
+#: Flags that change what a floating-point (or any) operation of C computes,
+#: refused for a generated (block-diagram) controller, whose C is proved
+#: with IEEE 754 semantics (T6), and at link time (``--ldflags``: linking
+#: with ``-ffast-math`` adds ``crtfastmath.o``, which turns on flush-to-zero
+#: for the whole process, the glue included); by prefix, with the reason.
+#: ``-march``/``-mtune``/``-mfma`` are allowed: ``-ffp-contract=off`` is
+#: always passed after the user's flags, so no ``a*b+c`` is fused
+#: (``build --cflags=-march=haswell`` has no ``vfmadd``, tests/build).
+#: ``-frounding-math``/``-fno-rounding-math`` are allowed: neither changes a
+#: result in the default rounding mode, the only one the node runs in.
+FP_FLAGS: tuple[tuple[str, str], ...] = (
+    ("-ffast-math", "turns on -funsafe-math-optimizations, -ffinite-math-only and others"),
+    ("-Ofast", "turns on -ffast-math"),
+    ("-funsafe-math-optimizations", "reassociates and approximates floating-point operations"),
+    ("-fassociative-math", "reassociates floating-point operations ((a+b)+c as a+(b+c))"),
+    ("-freciprocal-math", "replaces x/y by x*(1/y)"),
+    ("-ffinite-math-only", "assumes no NaN or infinity (comparisons and guards with them change)"),
+    ("-fno-signed-zeros", "ignores the sign of zero (x+0.0 folded to x, -0.0 to 0.0)"),
+    ("-fno-trapping-math", "lets GCC move or drop operations as if none could trap; refused in "
+                           "doubt, since with the flags it enables it changes results"),
+    ("-fcx-limited-range", "computes complex division without the IEEE range checks"),
+    ("-fcx-fortran-rules", "computes complex division without the IEEE range checks"),
+    ("-fsingle-precision-constant", "rounds double constants to float"),
+    ("-ffp-contract=fast", "fuses a*b+c into one rounding (fused multiply-add)"),
+    ("-ffp-contract=on", "fuses a*b+c into one rounding (fused multiply-add)"),
+    ("-fexcess-precision=fast", "keeps values wider than their type (double rounding)"),
+    ("-mfpmath=387", "computes with the x87's 80-bit registers (double rounding)"),
+    ("-mfpmath=both", "computes with the x87's 80-bit registers (double rounding)"),
+    ("-mfpmath=sse+387", "computes with the x87's 80-bit registers (double rounding)"),
+    ("-mno-sse", "computes with the x87's 80-bit registers (double rounding)"),
+    ("-m32", "computes with the x87's 80-bit registers (double rounding), another ABI"),
+    ("-mpc", "changes the x87's precision"),
+    ("-mdaz-ftz", "sets flush-to-zero and denormals-are-zero for the whole process"),
+    ("-fpack-struct", "changes the layout of the structs the glue shares with the controller"),
+    ("-funsigned-char", "changes what char means"),
+    ("-fsigned-char", "changes what char means"),
+    ("-D", "defines a macro in the proved C"),
+    ("-U", "undefines a macro in the proved C"),
+    ("-include", "inserts a file into the proved C"),
+    ("-imacros", "inserts macros into the proved C"),
+    ("-fno-fp-int-builtin-inexact", "changes the rounding functions' results"),
+)
+
+#: The rule of the message refusing a flag of :data:`FP_FLAGS`.
+FP_RULE = "DESIGN.md section 7, compile flags"
+
+
+def fp_flag_problem(flag: str, *, link: bool = False) -> str | None:
+    """Why ``flag`` may not compile a generated controller (or, with
+    ``link``, link the node), or ``None``."""
+    for prefix, why in FP_FLAGS:
+        if link and prefix not in _LINK_FLAGS:
+            continue
+        if flag == prefix or prefix in _PREFIXES and flag.startswith(prefix):
+            return why
+    return None
+
+
+#: The flags of :data:`FP_FLAGS` that are refused with any suffix (``-DX=1``, ``-mpc64``).
+_PREFIXES = ("-D", "-U", "-mpc", "-include", "-imacros", "-fpack-struct")
+#: Those that change the process when linking (``crtfastmath.o``).
+_LINK_FLAGS = ("-ffast-math", "-Ofast", "-funsafe-math-optimizations", "-mdaz-ftz")
+
+
+def check_flags(opts: "ControllerOptions", *, generated: bool) -> None:
+    """Refuse (:class:`BuildError`, exit 1) a ``--cflags`` flag of
+    :data:`FP_FLAGS` for a ``generated`` controller, and a ``--ldflags``
+    flag that links ``crtfastmath.o`` in any case: what was proved with
+    IEEE 754 semantics must run with them."""
+    bad = [("--ldflags", f, fp_flag_problem(f, link=True)) for f in opts.ldflags]
+    if generated:
+        bad += [("--cflags", f, fp_flag_problem(f)) for f in opts.cflags]
+    for what, f, why in bad:
+        if why is not None:
+            kind = ("the node links it into every object, the proved glue included" if what == "--ldflags"
+                    else "the controller is generated from the block diagram and proved with IEEE 754 semantics (T6)")
+            raise BuildError(f"{what}: {escape(f)!s}: refused: it {why}; {kind} [{FP_RULE}]")
+
+
 def _strip_comments(text: str) -> str:
     text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
     text = re.sub(r"//[^\n]*", " ", text)
@@ -301,7 +380,7 @@ def find_controller(model: NodeModel, directory: str | Path) -> ControllerDir:
 
 
 def write_catkin_packages(model: NodeModel, stage: Path, ctl: ControllerDir, opts: ControllerOptions,
-                          user_includes: list[str], sources: dict[str, Path]) -> None:
+                          user_includes: list[str], sources: dict[str, Path], generated: bool = False) -> None:
     """Write the node's catkin package into ``stage/<package>/``: copies of
     the glue, the wrapper, the layout check and the headers (``src/``,
     ``include/``), the controller (``controller/``), ``package.xml``,
@@ -324,7 +403,8 @@ def write_catkin_packages(model: NodeModel, stage: Path, ctl: ControllerDir, opt
                                   f"controller/{inc.relative_to(ctl.path).as_posix()}" for inc in ctl.include_dirs]
     texts = ros.render_catkin(model, include_dirs, controller=ros.CatkinController(
         c_sources=ctl_c, cxx_sources=ctl_cxx, std=opts.std, cflags=list(opts.cflags),
-        cxxflags=list(opts.cxxflags), includes=user_includes, ldflags=list(opts.ldflags), libs=list(opts.libs)))
+        cxxflags=list(opts.cxxflags), includes=user_includes, ldflags=list(opts.ldflags), libs=list(opts.libs),
+        generated=generated))
     for rel, text in texts.items():
         dest = Path(os.path.normpath(pkg_dir / rel))
         dest.parent.mkdir(parents=True, exist_ok=True)
@@ -510,6 +590,7 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
     opts = options or ControllerOptions()
     opts.check()
     diagram = getattr(model.controller, "diagram", None) is not None
+    check_flags(opts, generated=diagram)
     if diagram and controller_dir is not None:
         raise BuildError(f"{model.source}: the controller is a block diagram (controller.blocks): "
                          "pyrosgen generates its C; --controller is for a controller written in C")
@@ -609,7 +690,7 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         write_catkin_packages(model, stage, ctl, opts, user_includes,
                               {"glue": stage / glue_c, "wrapper": stage / names.api_source,
                                "layout_check": stage / check_c, "types_header": stage / names.types_header,
-                               "api_header": stage / names.api_header})
+                               "api_header": stage / names.api_header}, generated=diagram)
 
         obj = stage / "obj"
         obj.mkdir()
@@ -651,7 +732,8 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         for src in ctl.sources:
             cxx_src = src.suffix in CXX_SUFFIXES
             flags = ([*CONTROLLER_CXXFLAGS, *opts.cxxflags] if cxx_src else
-                     [f"-std={opts.std}", *CONTROLLER_CFLAGS, *opts.cflags]) + ctl_includes
+                     [f"-std={opts.std}", *CONTROLLER_CFLAGS, *opts.cflags,
+                      *(ros.IEEE_CFLAGS if diagram else ())]) + ctl_includes
             obj_name = "controller_" + ctl.rel(src).replace("/", "__").rsplit(".", 1)[0] + ".o"
             compile_one(6, "compile controller", cxx if cxx_src else cc, cxx_id if cxx_src else cc_id, flags,
                         src.absolute(), obj_name, [p.absolute() for p in ctl.files if p != src], user=True)

@@ -237,6 +237,9 @@ class CatkinController:
     includes: list[str] = field(default_factory=list)
     ldflags: list[str] = field(default_factory=list)
     libs: list[str] = field(default_factory=list)
+    #: the controller is generated from a block diagram: compiled with
+    #: :data:`IEEE_CFLAGS` after the user's flags
+    generated: bool = False
 
 
 _CMAKE_WORD = re.compile(r"^[A-Za-z0-9_=+,./:@%-]+$")
@@ -244,7 +247,13 @@ _CMAKE_WORD = re.compile(r"^[A-Za-z0-9_=+,./:@%-]+$")
 
 #: The flags ``pyrosgen build`` compiles the glue and the wrapper with (the
 #: catkin package uses the same; pyrosgen.ros.build imports them).
-GLUE_CFLAGS = ("-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic")
+#: ``-ffp-contract=off``: no fused multiply-add (``a*b+c`` rounded once) even
+#: where the target has one (``-march=haswell``); ``-fexcess-precision=standard``:
+#: no value kept wider than its type (C11 5.2.4.2.2; a no-op with x86-64's SSE
+#: arithmetic, but GNU dialects default to ``fast``): the IEEE semantics of
+#: the proofs, whatever flags the user adds (DESIGN.md section 7).
+IEEE_CFLAGS = ("-ffp-contract=off", "-fexcess-precision=standard")
+GLUE_CFLAGS = ("-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic", *IEEE_CFLAGS)
 WRAPPER_CXXFLAGS = ("-std=c++14", "-O2", "-Wall", "-Wextra", "-Werror", "-pthread")
 
 _MSG_BUILTINS = {"bool", "int8", "uint8", "int16", "uint16", "int32", "uint32", "int64", "uint64",
@@ -316,6 +325,7 @@ def render_catkin(model: NodeModel, include_dirs: list[str],
         "include_dirs": include_dirs,
         "controller": ctl,
         "glue_cflags": GLUE_CFLAGS,
+        "ieee_cflags": IEEE_CFLAGS if ctl.generated else (),
         "wrapper_cxxflags": [f for f in WRAPPER_CXXFLAGS if not f.startswith("-std=")],
         "topics": [t.name for t in model.topics],
         **paths,
