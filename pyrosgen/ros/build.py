@@ -232,10 +232,16 @@ class ControllerOptions:
     includes: tuple[str, ...] = ()
     ldflags: tuple[str, ...] = ()
     libs: tuple[str, ...] = ()
+    #: ``--maintainer``: the maintainer of the catkin package (``package.xml``)
+    maintainer: str = ros.DEFAULT_MAINTAINER
 
     def check(self) -> None:
         if self.std not in C_STANDARDS:
             raise BuildError(f"--std {self.std}: not one of {', '.join(C_STANDARDS)}")
+        if ros.parse_maintainer(self.maintainer) is None:
+            raise BuildError(f"--maintainer {escape(self.maintainer)!s}: not \"Name <email>\" (a name of letters, "
+                             "digits, spaces and . , ' ( ) _ + -, and an e-mail address such as "
+                             "jane.doe@example.com in angle brackets)")
         for what, flags in (("--cflags", self.cflags), ("--cxxflags", self.cxxflags), ("--include", self.includes),
                             ("--ldflags", self.ldflags), ("--libs", self.libs)):
             for f in flags:
@@ -379,16 +385,20 @@ def find_controller(model: NodeModel, directory: str | Path) -> ControllerDir:
     return ControllerDir(d, header, tuple(sources), tuple(files), tuple(includes), tuple(left_out))
 
 
-def write_catkin_packages(model: NodeModel, stage: Path, ctl: ControllerDir, opts: ControllerOptions,
-                          user_includes: list[str], sources: dict[str, Path], generated: bool = False) -> None:
+def write_catkin_packages(model: NodeModel, node: ros.ProvedNode, stage: Path, ctl: ControllerDir,
+                          opts: ControllerOptions, user_includes: list[str], sources: dict[str, Path],
+                          generated: bool = False) -> dict:
     """Write the node's catkin package into ``stage/<package>/``: copies of
     the glue, the wrapper, the layout check and the headers (``src/``,
     ``include/``), the controller (``controller/``), ``package.xml``,
     ``CMakeLists.txt`` (the same flags as this build, the layout check as a
-    build step) and ``launch/<node>.launch``; and a message package
-    (``message_generation``) for each package of custom messages."""
-    pkg_dir = stage / ros.catkin_package_name(model)
-    paths = ros.catkin_paths(model)
+    build step) and ``launch/<node>.launch``, rendered from the proved
+    ``node`` and the returned record (:func:`pyrosgen.ros.wrapper.package_record`,
+    kept in the manifest so that ``verify`` renders them again); and a
+    message package (``message_generation``) for each package of custom
+    messages of the front end's ``model``."""
+    pkg_dir = stage / ros.catkin_package_name(node)
+    paths = ros.catkin_paths(node)
     for key, src in sources.items():
         dest = pkg_dir / paths[key]
         dest.parent.mkdir(parents=True, exist_ok=True)
@@ -401,18 +411,42 @@ def write_catkin_packages(model: NodeModel, stage: Path, ctl: ControllerDir, opt
     ctl_cxx = [f"controller/{ctl.rel(p)}" for p in ctl.sources if p.suffix in CXX_SUFFIXES]
     include_dirs = ["include"] + ["controller" if inc == ctl.path else
                                   f"controller/{inc.relative_to(ctl.path).as_posix()}" for inc in ctl.include_dirs]
-    texts = ros.render_catkin(model, include_dirs, controller=ros.CatkinController(
+    custom = ros.custom_message_packages(model)
+    record = ros.package_record(include_dirs, ros.CatkinController(
         c_sources=ctl_c, cxx_sources=ctl_cxx, std=opts.std, cflags=list(opts.cflags),
         cxxflags=list(opts.cxxflags), includes=user_includes, ldflags=list(opts.ldflags), libs=list(opts.libs),
-        generated=generated))
+        generated=generated), sorted(custom), opts.maintainer)
+    texts = ros.render_package_record(node, record)
+    for pkg, msg_dir in sorted(custom.items()):
+        msgs = {f.name: f.read_text(encoding="utf-8", errors="replace") for f in sorted(msg_dir.glob("*.msg"))}
+        for rel, text in ros.render_msg_package(model.source.name, pkg, msgs).items():
+            texts[f"../{pkg}/{rel}"] = text
     for rel, text in texts.items():
         dest = Path(os.path.normpath(pkg_dir / rel))
         dest.parent.mkdir(parents=True, exist_ok=True)
         dest.write_text(text, encoding="utf-8")
-    for pkg, msg_dir in ros.custom_message_packages(model).items():
+    for pkg, msg_dir in custom.items():
         (stage / pkg / "msg").mkdir(parents=True, exist_ok=True)
         for f in sorted(msg_dir.glob("*.msg")):
             shutil.copyfile(f, stage / pkg / "msg" / f.name)
+    return record
+
+
+def _shown_argv(argv: Sequence[str], stage: Path, controller: Path) -> list[str]:
+    """A compiler command as the certificate shows it: paths in the staging
+    folder relative to ``OUT`` (the command runs in it), the controller
+    folder as ``OUT``'s copy ``controller``."""
+    out = []
+    for a in argv:
+        for folder, shown in ((str(stage), "."), (str(controller.absolute()), "controller")):
+            if a == folder:
+                a = shown
+                break
+            if a.startswith(folder + "/"):
+                a = a[len(folder) + 1:] if shown == "." else shown + a[len(folder):]
+                break
+        out.append(a)
+    return out
 
 
 # -- the stamp file and the object cache -------------------------------------------
@@ -645,7 +679,8 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
             (cdir / f"{model.controller.name}.c").write_bytes(
                 (stage / node_file_names(node).controller_c).read_bytes())
             (cdir / layout.controller_header_name(model)).write_text(
-                layout.render_reference_header(model, types_h), encoding="ascii")
+                layout.render_reference_header(ros.proved_node(parse_model_text(gen.proved_model),
+                                                               gen.record.source_name), types_h), encoding="ascii")
             ctl = find_controller(model, cdir)
             warnings, user_includes, ctl_includes = controller_setup(ctl)
 
@@ -653,7 +688,14 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         say(f"[3/{STEPS}] wrapper: C API over roscpp, gencpp, catkin package")
         t = time.monotonic()
         proved = parse_model_text(gen.proved_model)
-        for fname, text in ros.render_wrapper(model, proved).items():
+        # the wrapper, the layout check and the catkin files are rendered
+        # from the proved model alone (verify renders them again from it)
+        pnode = ros.proved_node(proved, gen.record.source_name)
+        if (pnode.messages != tuple(model.messages) or pnode.controller.inputs != model.controller.inputs
+                or pnode.controller.outputs != model.controller.outputs):
+            raise BuildToolError("the proved model's messages or controller structs are not the front end's "
+                                 "(a pyrosgen bug: the model texts were compared equal)")
+        for fname, text in ros.render_wrapper(pnode).items():
             if fname == names.api_source:
                 # The node registers and sleeps as the proved model says.
                 check_wrapper(text, gen.proved_model, wrapper_name=fname)
@@ -680,14 +722,14 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         say(f"[4/{STEPS}] layout check: "
             f"{ctl.header.name + ' (generated from the diagram)' if diagram else ctl.header} against {names.types_header}")
         t = time.monotonic()
-        (stage / check_c).write_text(layout.render_layout_check(model, types_h, names.types_header), encoding="ascii")
+        (stage / check_c).write_text(layout.render_layout_check(pnode, types_h, names.types_header), encoding="ascii")
         layout.check_layout(model, stage / check_c, ctl.path, work, types_h, cc=cc,
                             shown_check=str(out_dir / check_c), includes=ctl_includes)
         times["layout check"] = time.monotonic() - t
 
         # the catkin package OUT/<package>/ (sources only) and, for custom
         # messages, their message packages OUT/<pkg>/
-        write_catkin_packages(model, stage, ctl, opts, user_includes,
+        package = write_catkin_packages(model, pnode, stage, ctl, opts, user_includes,
                               {"glue": stage / glue_c, "wrapper": stage / names.api_source,
                                "layout_check": stage / check_c, "types_header": stage / names.types_header,
                                "api_header": stage / names.api_header}, generated=diagram)
@@ -697,11 +739,13 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         cc_id, cxx_id = _compiler_identity(cc), _compiler_identity(cxx)
         objects: list[Path] = []
         keys: list[str] = []
+        commands: list[list[str]] = []   # every compiler call, as the certificate shows it
 
         def compile_one(step: int, what: str, tool: list[str], ident: str, flags: Sequence[str],
                         src: Path, out_name: str, inputs: Sequence[Path], user: bool) -> None:
             out = obj / out_name
             argv = [*tool, *flags, "-c", str(src), "-o", str(out)]
+            commands.append(_shown_argv(argv, stage, ctl.path))
             key = _key(argv, stage, ident, [src, *inputs])
             keys.append(key)
             objects.append(out)
@@ -752,6 +796,7 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         binary = stage / "bin" / node
         argv = [*cxx, *LDFLAGS, *opts.ldflags, *(str(o) for o in objects), "-o", str(binary), *pc_libs,
                 *opts.libs, *LDLIBS]
+        commands.append(_shown_argv(argv, stage, ctl.path))
         key = _key(argv, stage, cxx_id, [], extra=keys)
         if cache.reuse(f"bin/{node}", key, binary):
             say(f"[8/{STEPS}] link: objects unchanged, reusing bin/{node}")
@@ -779,6 +824,8 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
             steps.append((f"bin/{node}", True))
         # the certificate again, now covering what the build added (the
         # wrapper, the layout check, the controller, the catkin files, the binary)
+        # what the catkin files are rendered from, and the compile commands
+        gen.record.build = {"package": package, "commands": commands}
         cert_files = set(certificate_files(node))
         covered = [f for f in _all_files(stage) if not f.startswith("obj/") and f not in cert_files]
         write_certificate(gen.record, stage, covered)
