@@ -51,6 +51,7 @@ from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
 from pyrosgen.proof.coqmodel import node_file_names
 from pyrosgen.proof.modeltext import ModelMismatch, compare_model_texts, model_text
 from pyrosgen.verify.certificate import ProofRecord, certificate_files, read_manifest, sha256_file
+from pyrosgen.verify.package_check import check_package, is_build_folder
 
 __all__ = ["Check", "VerifyReport", "NotAnOutputFolder", "VerifyFailed", "verify_folder", "find_manifest"]
 
@@ -226,7 +227,8 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
         raise NotAnOutputFolder(f"{mpath}: unreadable manifest: {exc}") from None
     report = VerifyReport(folder, rec.node)
     checks = report.checks
-    total = 5 + (model is not None) + (wp is True) + any(n.endswith("_ros.cpp") for n in files)
+    total = 5 + (model is not None) + (wp is True) + any(n.endswith("_ros.cpp") for n in files) \
+        + is_build_folder(rec, files)
     step = 0
 
     def begin(what: str) -> None:
@@ -333,6 +335,10 @@ def verify_folder(folder: str | Path, *, node: str | None = None, model: str | P
                 checks.append(Check("wrapper", False, exc.summary, list(exc.lines)))
             except OSError as exc:
                 checks.append(Check("wrapper", False, f"cannot read {wrapper}: {exc.strerror or exc}"))
+
+        if is_build_folder(rec, files):
+            begin("package: every file of the node rendered again from the proof")
+            checks.append(check_package(folder, rec, files, proved_text))
 
         if wp:
             begin("Frama-C WP")
