@@ -85,3 +85,43 @@ def test_hand_written_controller_flags_are_the_users():
     # allowed for a generated controller: target selection and the rounding-mode flag
     check_flags(ControllerOptions(cflags=("-march=haswell", "-mtune=native", "-mfma", "-O3",
                                           "-fno-rounding-math", "-ffp-contract=off")), generated=True)
+
+
+def test_verify_refuses_a_record_with_fast_math(haswell, tmp_path):
+    """A folder whose build record and CMakeLists.txt say -ffast-math for
+    the generated controller (digests rewritten) does not verify: the
+    flags are checked again, not only the bytes."""
+    import hashlib
+    import json
+    import shutil
+
+    c = tmp_path / "c"
+    shutil.copytree(haswell, c, symlinks=True)
+    cmake = c / NODE / "CMakeLists.txt"
+    cmake.write_text(cmake.read_text().replace(";-march=haswell;", ";-march=haswell;-ffast-math;"))
+    m = c / f"{NODE}.manifest.json"
+    data = json.loads(m.read_text())
+    data["build"]["package"]["cflags"].append("-ffast-math")
+    name = f"{NODE}/CMakeLists.txt"
+    old, new = data["files"][name], hashlib.sha256(cmake.read_bytes()).hexdigest()
+    data["files"][name] = new
+    m.write_text(json.dumps(data))
+    (c / f"{NODE}.sha256").write_text("".join(f"{v}  {n}\n" for n, v in sorted(data["files"].items())))
+    cert = c / f"{NODE}.certificate.md"
+    cert.write_text(cert.read_text().replace(old, new))
+    run = pyrosgen("verify", c, "-q")
+    assert run.returncode == 1, run.stdout
+    assert "  ok      hashes" in run.stdout and "  ok      certificate" in run.stdout, run.stdout
+    assert "  FAILED  package" in run.stdout
+    assert "build.package: --cflags: -ffast-math: refused" in run.stdout, run.stdout
+
+
+def test_certificate_of_a_generated_controller_lists_its_flags(haswell):
+    cert = (haswell / f"{NODE}.certificate.md").read_text()
+    section = cert.split("## Compile commands", 1)[1].split("## Tools", 1)[0]
+    assert ("gcc -std=gnu11 -O2 -Wall -Wextra -march=haswell -ffp-contract=off -fexcess-precision=standard "
+            "-I controller -c controller/Controller.c -o obj/controller_Controller.o") in section
+    assert "The controller's own flags are the user's" not in section
+    run = pyrosgen("verify", haswell, "-q")
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "the glue and the generated controller compiled with -ffp-contract=off" in run.stdout
