@@ -145,7 +145,7 @@ def test_launch_file_namespace_and_remaps(landshark_build):
     text = (out / PKG / "launch" / f"{NODE}.launch").read_text()
     root = ET.fromstring(text.split("\n", 1)[1] if text.startswith("<?xml") else text)
     args = {a.get("name"): a.get("default") for a in root.findall("arg")}
-    assert args["ns"] == ""
+    assert args["ns"] == "/"
     assert args["topic_landshark_gps_velocity"] == "/landshark/gps_velocity"
     assert args["topic_landshark_control_base_velocity"] == "/landshark_control/base_velocity"
     group = root.find("group")
