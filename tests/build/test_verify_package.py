@@ -195,3 +195,45 @@ def test_proved_node_renders_what_the_front_end_renders():
         assert node.controller.inputs == m.controller.inputs and node.controller.outputs == m.controller.outputs
         n += 1
     assert n >= 20
+
+
+@pytest.mark.parametrize("where, value, message", [
+    ("package", {"cflags": 5}, "cannot render the node's files again: build.package: not a record of the keys"),
+    ("cflags", 5, "cannot render the node's files again: build.package.cflags: malformed"),
+    ("include_dirs", ["include", "../../etc"], "refusing to print '../../etc' as a package-relative path"),
+    ("custom_pkgs", ["../x"], "refusing to print '../x' as a C identifier"),
+    ("maintainer", "x\" onload=\"y <a@b.c>", "refusing to print"),
+])
+def test_malformed_build_record_is_a_failed_check(landshark_build, tmp_path, where, value, message):
+    """A build record of the wrong shape, or naming paths outside the
+    package, fails the package check with what is wrong (exit 1, no
+    traceback, nothing read or written outside the folder)."""
+    _, out = landshark_build
+    c = tmp_path / "c"
+    shutil.copytree(out, c, symlinks=True)
+    m = c / f"{NODE}.manifest.json"
+    data = json.loads(m.read_text())
+    if where == "package":
+        data["build"]["package"] = value
+    else:
+        data["build"]["package"][where] = value
+    m.write_text(json.dumps(data))
+    run = pyrosgen("verify", c, "-q")
+    assert run.returncode == 1, run.stdout + run.stderr
+    assert "  FAILED  package" in run.stdout and message in run.stdout, run.stdout
+    assert "Traceback" not in run.stderr and "internal error" not in run.stderr
+
+
+def test_malformed_commands_fail_the_certificate_and_package_checks(landshark_build, tmp_path):
+    _, out = landshark_build
+    c = tmp_path / "c"
+    shutil.copytree(out, c, symlinks=True)
+    m = c / f"{NODE}.manifest.json"
+    data = json.loads(m.read_text())
+    data["build"]["commands"] = [["gcc", 1]]
+    m.write_text(json.dumps(data))
+    run = pyrosgen("verify", c, "-q")
+    assert run.returncode == 1, run.stdout + run.stderr
+    assert "  FAILED  certificate certificate: the manifest's build.commands is not a list of commands" in run.stdout
+    assert "build.commands: not a list of commands" in run.stdout
+    assert "Traceback" not in run.stderr
