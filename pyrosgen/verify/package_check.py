@@ -21,6 +21,8 @@ of what ``pyrosgen build`` and ``catkin`` compile to the same source:
   the printed controller, ``controller/<Controller>.h`` the reference
   header rendered from the proved model; a hand-written controller is held
   by its recorded digests (the hashes check);
+- each custom message's `.msg`: it declares every field the proved model
+  carries, with the proved type;
 - the flags: the recorded compile commands compile the glue with
   ``GLUE_CFLAGS`` and a generated controller with ``-ffp-contract=off
   -fexcess-precision=standard`` and without any flag that changes
@@ -33,6 +35,7 @@ held by its recorded digest only.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from pyrosgen.errors import PyrosgenError
@@ -131,6 +134,80 @@ def _check_commands(build: dict, package: dict, glue: str, generated: bool, prob
                                  + (f" ({', '.join(bad)} refused)" if bad else ""))
 
 
+#: The ROS 1 aliases of ``.msg`` files, as the front end reads them.
+_MSG_ALIASES = {"char": "uint8", "byte": "int8"}
+_MSG_FIELD = re.compile(r"^([A-Za-z][A-Za-z0-9_/]*)(\[([0-9]*)\])?\s+([A-Za-z][A-Za-z0-9_]*)$")
+
+
+def _msg_fields(text: str) -> dict[str, tuple[str, str | None]]:
+    """The fields of a ``.msg`` text: name -> (type, array suffix: ``None``,
+    ``''`` for ``[]``, the length of ``[N]``); constants and comments left out."""
+    out: dict[str, tuple[str, str | None]] = {}
+    for line in text.splitlines():
+        code = line.split("#", 1)[0].strip()
+        if not code or "=" in code:
+            continue
+        m = _MSG_FIELD.match(" ".join(code.split()))
+        if m:
+            out[m.group(4)] = (_MSG_ALIASES.get(m.group(1), m.group(1)), m.group(3))
+    return out
+
+
+def _declared(pkg: str, struct: str) -> str:
+    """The ``.msg`` spelling of the proved message struct ``struct`` (a field
+    of a message of package ``pkg``): ``pkg/Type`` (or ``Type`` in ``pkg``),
+    ``time``, ``duration``, ``string`` and ``T[]`` for the bounded structs."""
+    from pyrosgen.frontend.msgmodel import bounded_type, is_bounded_type
+
+    if is_bounded_type(struct):
+        b = bounded_type(struct)
+        if b.is_string:
+            return "string"
+        elem = b.seq_of[0]
+        return f"{elem}[]"
+    return ros._proved_msg_name(struct)
+
+
+def _check_custom_msgs(folder: Path, files: dict[str, str], pm, custom_pkgs: list[str],
+                       problems: "_Problems") -> None:
+    """Each proved message of a custom package is declared by the folder's
+    ``<pkg>/msg/<Type>.msg`` (what catkin's message_generation compiles)
+    with every carried field, of the proved type: a field whose type the
+    ``.msg`` changed would still compile (C++ converts ``double`` to
+    ``float`` silently) and change what the node reads."""
+    for struct, fields in pm.messages.items():
+        name = ros._proved_msg_name(struct)
+        pkg, _, typ = name.partition("/")
+        if pkg not in custom_pkgs or not typ:
+            continue
+        msg_name = f"{pkg}/msg/{typ}.msg"
+        if msg_name not in files:
+            problems.add(msg_name, f"not covered by the manifest (the proved model carries {name})")
+            continue
+        data = _read(folder, msg_name, problems)
+        if data is None:
+            continue
+        declared = _msg_fields(data.decode("utf-8", "replace"))
+        for fname, ftype in fields:
+            m = re.fullmatch(r"(?:array ([1-9][0-9]*) )?(?:msg (\w+)|(\w+))", ftype)
+            if m is None:
+                problems.add(msg_name, f"the proved field {fname} has type {ftype!r}")
+                continue
+            want = _declared(pkg, m.group(2)) if m.group(2) else m.group(3)
+            if want.endswith("[]"):
+                want_t, want_n = want[:-2], ""
+            else:
+                want_t, want_n = want, m.group(1)
+            have_t, have_n = declared.get(fname, (None, None))
+            if have_t is not None and "/" not in have_t and "/" in want_t:
+                have_t = "std_msgs/Header" if have_t == "Header" else f"{pkg}/{have_t}"
+            if (have_t, have_n) != (want_t, want_n):
+                shown = "not declared" if have_t is None else \
+                    f"declared {have_t}{'' if have_n is None else f'[{have_n}]'}"
+                problems.add(msg_name, f"field {fname}: {shown}, the proved model carries "
+                                       f"{want_t}{'' if want_n is None else f'[{want_n}]'}")
+
+
 def check_package(folder: str | Path, rec: ProofRecord, files: dict[str, str], proved_text: str | None):
     """The ``package`` check of a build folder (see the module
     documentation), as a :class:`pyrosgen.verify.recheck.Check`; ``None``
@@ -217,10 +294,12 @@ def check_package(folder: str | Path, rec: ProofRecord, files: dict[str, str], p
                 _compare(folder, files, f"{cpkg}/{rel}", text, "rendered from its .msg files", problems)
         except ValueError as exc:
             problems.add(cpkg, f"cannot render the message package again: {exc}")
+    _check_custom_msgs(folder, files, pm, package["custom_pkgs"], problems)
     _check_commands(build, package, rec.glue_c, generated, problems)
 
     if problems:
-        return Check("package", False, f"{len(problems)} files of the node are not the ones the proof renders",
+        return Check("package", False, f"{len(problems)} problems with the files of the node (rendered again "
+                     "from the proved model and compared)",
                      list(problems))
     return Check("package", True, f"{problems.compared} files of the node rendered again from the proved model and equal; "
                  "the glue" + (" and the generated controller" if generated else "") + " compiled with "
