@@ -9,11 +9,19 @@ The steps (each one progress line):
 3. wrapper: the C API over roscpp (:func:`pyrosgen.ros.wrapper.render_wrapper`),
    gencpp headers for custom messages (``include/``), a copy of the
    controller (``controller/``), the catkin package (``package.xml``,
-   ``CMakeLists.txt``);
+   ``CMakeLists.txt``, the launch file); the wrapper, the layout check and
+   the catkin files are rendered from the proved model alone
+   (:func:`pyrosgen.ros.wrapper.proved_node`) and a record of the build's
+   options kept in the manifest (``build.package``), so that ``verify``
+   renders them again (:mod:`pyrosgen.verify.package_check`);
 4. layout check: ``<node>_layout_check.c`` (:mod:`pyrosgen.ros.layout`);
-5. compile the glue: ``gcc -std=c11 -Wall -Wextra -Werror -pedantic``;
+5. compile the glue: ``gcc -std=c11 -Wall -Wextra -Werror -pedantic
+   -ffp-contract=off -fexcess-precision=standard``;
 6. compile the controller: every ``.c`` of ``DIR`` and its subfolders
-   with ``-std=<--std, default c11> -O2 -Wall -Wextra`` and ``--cflags``,
+   with ``-std=<--std, default c11> -O2 -Wall -Wextra`` and ``--cflags``
+   (a controller generated from a block diagram: then
+   ``-ffp-contract=off -fexcess-precision=standard``, and ``--cflags``
+   that change floating-point semantics are refused, :data:`FP_FLAGS`),
    every ``.cpp`` with ``g++ -std=c++14`` and ``--cxxflags``, ``-I`` each
    folder holding headers and each ``--include`` (user code: warnings are
    shown, not errors); sources defining ``main`` (``ert_main.c``) are left
@@ -21,7 +29,9 @@ The steps (each one progress line):
 7. compile the wrapper: ``g++ -std=c++14 -Wall -Wextra -Werror`` with the
    flags of ``pkg-config roscpp <message packages>``;
 8. link ``bin/<node>`` (with ``--ldflags`` and ``--libs``) and install
-   everything into ``OUT``.
+   everything into ``OUT``; the manifest records every compiler command
+   (``build.commands``, paths relative to ``OUT``) and the certificate
+   lists them.
 
 Nothing partial: everything is built in a staging folder next to ``OUT``
 and moved into ``OUT`` only when every step succeeded (files whose content

@@ -21,7 +21,7 @@ of what ``pyrosgen build`` and ``catkin`` compile to the same source:
   the printed controller, ``controller/<Controller>.h`` the reference
   header rendered from the proved model; a hand-written controller is held
   by its recorded digests (the hashes check);
-- each custom message's `.msg`: it declares every field the proved model
+- each custom message's ``.msg``: it declares every field the proved model
   carries, with the proved type;
 - the flags: the recorded compile commands compile the glue with
   ``GLUE_CFLAGS`` and a generated controller with ``-ffp-contract=off
