@@ -733,7 +733,7 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
             f"{ctl.header.name + ' (generated from the diagram)' if diagram else ctl.header} against {names.types_header}")
         t = time.monotonic()
         (stage / check_c).write_text(layout.render_layout_check(pnode, types_h, names.types_header), encoding="ascii")
-        layout.check_layout(model, stage / check_c, ctl.path, work, types_h, cc=cc,
+        layout_cmds = layout.check_layout(model, stage / check_c, ctl.path, work, types_h, cc=cc,
                             shown_check=str(out_dir / check_c), includes=ctl_includes)
         times["layout check"] = time.monotonic() - t
 
@@ -749,7 +749,12 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         cc_id, cxx_id = _compiler_identity(cc), _compiler_identity(cxx)
         objects: list[Path] = []
         keys: list[str] = []
-        commands: list[list[str]] = []   # every compiler call, as the certificate shows it
+        # every compiler call, as the certificate shows it (the layout check's
+        # reference header is in the work folder: shown as layout-reference)
+        commands: list[list[str]] = [[str(Path("layout-reference") / a[len(str(work / "layout-reference")) + 1:])
+                                      if a.startswith(str(work / "layout-reference") + "/") else
+                                      "layout-reference" if a == str(work / "layout-reference") else a
+                                      for a in _shown_argv(c, stage, ctl.path)] for c in layout_cmds]
 
         def compile_one(step: int, what: str, tool: list[str], ident: str, flags: Sequence[str],
                         src: Path, out_name: str, inputs: Sequence[Path], user: bool) -> None:

@@ -237,3 +237,13 @@ def test_malformed_commands_fail_the_certificate_and_package_checks(landshark_bu
     assert "  FAILED  certificate certificate: the manifest's build.commands is not a list of commands" in run.stdout
     assert "build.commands: not a list of commands" in run.stdout
     assert "Traceback" not in run.stderr
+
+
+def test_certificate_lists_the_layout_check_calls(landshark_build):
+    """Every gcc call of the build, the layout check's two syntax-only
+    compilations included, with no temporary path."""
+    _, out = landshark_build
+    cmds = json.loads((out / f"{NODE}.manifest.json").read_text())["build"]["commands"]
+    layout = [c for c in cmds if "-fsyntax-only" in c]
+    assert [c[c.index("-I") + 1] for c in layout] == ["layout-reference", "controller"]
+    assert all(c[-1] == f"{NODE}_layout_check.c" for c in layout)
