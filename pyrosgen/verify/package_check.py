@@ -15,8 +15,9 @@ of what ``pyrosgen build`` and ``catkin`` compile to the same source:
   ``package.xml``, ``CMakeLists.txt`` and ``launch/<node>.launch`` are
   rendered again from the proved model and the manifest's ``build.package``
   record (sources, flags, include folders, maintainer); the package's copy
-  of the controller is the top-level ``controller/``; each message package
-  of custom messages is rendered again from its ``.msg`` files;
+  of the controller is the top-level ``controller/``; the package holds no
+  other file (listed in the manifest or not); each message package of
+  custom messages is rendered again from its ``.msg`` files;
 - a generated (block-diagram) controller: ``controller/<Controller>.c`` is
   the printed controller, ``controller/<Controller>.h`` the reference
   header rendered from the proved model; a hand-written controller is held
@@ -35,7 +36,9 @@ held by its recorded digest only.
 
 from __future__ import annotations
 
+import os
 import re
+import stat
 from pathlib import Path
 
 from pyrosgen.errors import PyrosgenError
@@ -208,6 +211,31 @@ def _check_custom_msgs(folder: Path, files: dict[str, str], pm, custom_pkgs: lis
                                        f"{want_t}{'' if want_n is None else f'[{want_n}]'}")
 
 
+def _unexpected_files(folder: Path, pkg: str, expected: set[str], problems: "_Problems", limit: int = 50) -> None:
+    """Every entry under ``folder/pkg`` that is not one of the ``expected``
+    names (a file of the package catkin would see: a header added to
+    ``include/`` would shadow a system header of the wrapper's) is a
+    problem, whether the manifest lists it or not; links are not followed."""
+    root = folder / pkg
+    try:
+        if not stat.S_ISDIR(os.lstat(root).st_mode):
+            problems.add(pkg, "not a folder")
+            return
+    except OSError:
+        problems.add(pkg, "missing")
+        return
+    found = 0
+    for dirpath, dirnames, filenames in os.walk(root, followlinks=False):
+        rel_dir = Path(dirpath).relative_to(folder).as_posix()
+        for n in sorted(filenames + [d for d in dirnames if os.path.islink(os.path.join(dirpath, d))]):
+            name = f"{rel_dir}/{n}"
+            if name not in expected:
+                problems.add(name, "not a file of the node's package (the package holds only what build writes)")
+                found += 1
+                if found >= limit:
+                    return
+
+
 def check_package(folder: str | Path, rec: ProofRecord, files: dict[str, str], proved_text: str | None):
     """The ``package`` check of a build folder (see the module
     documentation), as a :class:`pyrosgen.verify.recheck.Check`; ``None``
@@ -294,6 +322,9 @@ def check_package(folder: str | Path, rec: ProofRecord, files: dict[str, str], p
                 _compare(folder, files, f"{cpkg}/{rel}", text, "rendered from its .msg files", problems)
         except ValueError as exc:
             problems.add(cpkg, f"cannot render the message package again: {exc}")
+    expected = {f"{pkg}/{paths[key]}" for key in copies} | {f"{pkg}/{rel}" for rel in pkg_texts} \
+        | {f"{pkg}/{n}" for n in files if n.startswith("controller/")}
+    _unexpected_files(folder, pkg, expected, problems)
     _check_custom_msgs(folder, files, pm, package["custom_pkgs"], problems)
     _check_commands(build, package, rec.glue_c, generated, problems)
 

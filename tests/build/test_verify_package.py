@@ -247,3 +247,19 @@ def test_certificate_lists_the_layout_check_calls(landshark_build):
     layout = [c for c in cmds if "-fsyntax-only" in c]
     assert [c[c.index("-I") + 1] for c in layout] == ["layout-reference", "controller"]
     assert all(c[-1] == f"{NODE}_layout_check.c" for c in layout)
+
+
+def test_a_file_added_to_the_package_is_refused(landshark_build, tmp_path):
+    """A header added to the package's include/ (listed in the manifest or
+    not) would shadow a system header in the catkin build: refused."""
+    _, out = landshark_build
+    c = tmp_path / "c"
+    shutil.copytree(out, c, symlinks=True)
+    (c / PKG / "include" / "cstring").write_text("#error shadowed\n")
+    (c / PKG / "src" / "etc").symlink_to("/etc")
+    run = pyrosgen("verify", c, "-q")
+    assert run.returncode == 1, run.stdout + run.stderr
+    assert "  ok      hashes" in run.stdout, run.stdout
+    lines = run.stdout.split("  FAILED  package", 1)[1]
+    assert f"  {PKG}/include/cstring: not a file of the node's package" in lines
+    assert f"  {PKG}/src/etc: not a file of the node's package" in lines
