@@ -263,3 +263,27 @@ def test_a_file_added_to_the_package_is_refused(landshark_build, tmp_path):
     lines = run.stdout.split("  FAILED  package", 1)[1]
     assert f"  {PKG}/include/cstring: not a file of the node's package" in lines
     assert f"  {PKG}/src/etc: not a file of the node's package" in lines
+
+
+def test_an_embedded_coder_build_with_flags_verifies(tmp_path):
+    """Subfolders, a C++ source, a left-out ert_main.c, user flags and an
+    include folder: the package is rendered again from the build record,
+    and a flag changed in CMakeLists.txt is refused."""
+    from .conftest import LANDSHARK
+    from .test_controller_folder import _folder
+
+    d = _folder(tmp_path)
+    inc = tmp_path / "vendor"
+    inc.mkdir()
+    out = tmp_path / "out"
+    run = pyrosgen("build", LANDSHARK, "--controller", d, "-o", out, "-q", "--std=gnu99",
+                   "--cflags=-DROBOT_VARIANT=2 -ffast-math", "--include", str(inc),
+                   "--maintainer", "Jane Doe <jane.doe@example.com>")
+    assert run.returncode == 0, run.stderr
+    run = pyrosgen("verify", out, "-q")
+    assert run.returncode == 0, run.stdout + run.stderr
+    record = json.loads((out / f"{NODE}.manifest.json").read_text())["build"]["package"]
+    assert record["cxx_sources"] == ["controller/helper.cpp"] and record["includes"] == [str(inc)]
+    assert record["cflags"] == ["-DROBOT_VARIANT=2", "-ffast-math"] and record["generated"] is False
+    c = _tamper(out, tmp_path / "c", f"{PKG}/CMakeLists.txt", ";-DROBOT_VARIANT=2;", ";-DROBOT_VARIANT=3;")
+    _refused(c, f"{PKG}/CMakeLists.txt")
