@@ -204,7 +204,8 @@ def cmd_build(args: argparse.Namespace) -> int:
     try:
         options = ControllerOptions(std=args.std, cflags=words(args.cflags), cxxflags=words(args.cxxflags),
                                     includes=tuple(args.include or ()), ldflags=words(args.ldflags),
-                                    libs=words(args.libs))
+                                    libs=words(args.libs),
+                                    **({"maintainer": args.maintainer} if args.maintainer is not None else {}))
     except ValueError as exc:  # shlex: an unclosed quote
         raise UserError(f"controller flags: {exc}") from None
     with _stopped_by_signals():
@@ -499,6 +500,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="an include folder for the controller (relative to its folder, or absolute)")
     g.add_argument("--ldflags", action="append", metavar="FLAGS", help="extra link flags")
     g.add_argument("--libs", action="append", metavar="LIBS", help="extra libraries, e.g. -lrt")
+    p.add_argument("--maintainer", metavar="'NAME <EMAIL>'", default=None,
+                   help="the maintainer written into the catkin package's package.xml "
+                        "(default: 'pyrosgen <nobody@example.com>')")
     p.set_defaults(func=cmd_build)
 
     p = sub.add_parser(

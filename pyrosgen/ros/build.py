@@ -9,11 +9,19 @@ The steps (each one progress line):
 3. wrapper: the C API over roscpp (:func:`pyrosgen.ros.wrapper.render_wrapper`),
    gencpp headers for custom messages (``include/``), a copy of the
    controller (``controller/``), the catkin package (``package.xml``,
-   ``CMakeLists.txt``);
+   ``CMakeLists.txt``, the launch file); the wrapper, the layout check and
+   the catkin files are rendered from the proved model alone
+   (:func:`pyrosgen.ros.wrapper.proved_node`) and a record of the build's
+   options kept in the manifest (``build.package``), so that ``verify``
+   renders them again (:mod:`pyrosgen.verify.package_check`);
 4. layout check: ``<node>_layout_check.c`` (:mod:`pyrosgen.ros.layout`);
-5. compile the glue: ``gcc -std=c11 -Wall -Wextra -Werror -pedantic``;
+5. compile the glue: ``gcc -std=c11 -Wall -Wextra -Werror -pedantic
+   -ffp-contract=off -fexcess-precision=standard``;
 6. compile the controller: every ``.c`` of ``DIR`` and its subfolders
-   with ``-std=<--std, default c11> -O2 -Wall -Wextra`` and ``--cflags``,
+   with ``-std=<--std, default c11> -O2 -Wall -Wextra`` and ``--cflags``
+   (a controller generated from a block diagram: then
+   ``-ffp-contract=off -fexcess-precision=standard``, and ``--cflags``
+   that change floating-point semantics are refused, :data:`FP_FLAGS`),
    every ``.cpp`` with ``g++ -std=c++14`` and ``--cxxflags``, ``-I`` each
    folder holding headers and each ``--include`` (user code: warnings are
    shown, not errors); sources defining ``main`` (``ert_main.c``) are left
@@ -21,7 +29,9 @@ The steps (each one progress line):
 7. compile the wrapper: ``g++ -std=c++14 -Wall -Wextra -Werror`` with the
    flags of ``pkg-config roscpp <message packages>``;
 8. link ``bin/<node>`` (with ``--ldflags`` and ``--libs``) and install
-   everything into ``OUT``.
+   everything into ``OUT``; the manifest records every compiler command
+   (``build.commands``, paths relative to ``OUT``) and the certificate
+   lists them.
 
 Nothing partial: everything is built in a staging folder next to ``OUT``
 and moved into ``OUT`` only when every step succeeded (files whose content
@@ -230,10 +240,16 @@ class ControllerOptions:
     includes: tuple[str, ...] = ()
     ldflags: tuple[str, ...] = ()
     libs: tuple[str, ...] = ()
+    #: ``--maintainer``: the maintainer of the catkin package (``package.xml``)
+    maintainer: str = ros.DEFAULT_MAINTAINER
 
     def check(self) -> None:
         if self.std not in C_STANDARDS:
             raise BuildError(f"--std {self.std}: not one of {', '.join(C_STANDARDS)}")
+        if ros.parse_maintainer(self.maintainer) is None:
+            raise BuildError(f"--maintainer {escape(self.maintainer)!s}: not \"Name <email>\" (a name of letters, "
+                             "digits, spaces and . , ' ( ) _ + -, and an e-mail address such as "
+                             "jane.doe@example.com in angle brackets)")
         for what, flags in (("--cflags", self.cflags), ("--cxxflags", self.cxxflags), ("--include", self.includes),
                             ("--ldflags", self.ldflags), ("--libs", self.libs)):
             for f in flags:
@@ -241,6 +257,85 @@ class ControllerOptions:
                     raise BuildError(f"{what}: {escape(f)!s}: unsupported characters (letters, digits and "
                                      "_ = + , . / : @ % - only; flags reach the compiler's command line and "
                                      "CMakeLists.txt)")
+
+
+#: Flags that change what a floating-point (or any) operation of C computes,
+#: refused for a generated (block-diagram) controller, whose C is proved
+#: with IEEE 754 semantics (T6), and at link time (``--ldflags``: linking
+#: with ``-ffast-math`` adds ``crtfastmath.o``, which turns on flush-to-zero
+#: for the whole process, the glue included); by prefix, with the reason.
+#: ``-march``/``-mtune``/``-mfma`` are allowed: ``-ffp-contract=off`` is
+#: always passed after the user's flags, so no ``a*b+c`` is fused
+#: (``build --cflags=-march=haswell`` has no ``vfmadd``, tests/build).
+#: ``-frounding-math``/``-fno-rounding-math`` are allowed: neither changes a
+#: result in the default rounding mode, the only one the node runs in.
+FP_FLAGS: tuple[tuple[str, str], ...] = (
+    ("-ffast-math", "turns on -funsafe-math-optimizations, -ffinite-math-only and others"),
+    ("-Ofast", "turns on -ffast-math"),
+    ("-funsafe-math-optimizations", "reassociates and approximates floating-point operations"),
+    ("-fassociative-math", "reassociates floating-point operations ((a+b)+c as a+(b+c))"),
+    ("-freciprocal-math", "replaces x/y by x*(1/y)"),
+    ("-ffinite-math-only", "assumes no NaN or infinity (comparisons and guards with them change)"),
+    ("-fno-signed-zeros", "ignores the sign of zero (x+0.0 folded to x, -0.0 to 0.0)"),
+    ("-fno-trapping-math", "lets GCC move or drop operations as if none could trap; refused in "
+                           "doubt, since with the flags it enables it changes results"),
+    ("-fcx-limited-range", "computes complex division without the IEEE range checks"),
+    ("-fcx-fortran-rules", "computes complex division without the IEEE range checks"),
+    ("-fsingle-precision-constant", "rounds double constants to float"),
+    ("-ffp-contract=fast", "fuses a*b+c into one rounding (fused multiply-add)"),
+    ("-ffp-contract=on", "fuses a*b+c into one rounding (fused multiply-add)"),
+    ("-fexcess-precision=fast", "keeps values wider than their type (double rounding)"),
+    ("-mfpmath=387", "computes with the x87's 80-bit registers (double rounding)"),
+    ("-mfpmath=both", "computes with the x87's 80-bit registers (double rounding)"),
+    ("-mfpmath=sse+387", "computes with the x87's 80-bit registers (double rounding)"),
+    ("-mno-sse", "computes with the x87's 80-bit registers (double rounding)"),
+    ("-m32", "computes with the x87's 80-bit registers (double rounding), another ABI"),
+    ("-mpc", "changes the x87's precision"),
+    ("-mdaz-ftz", "sets flush-to-zero and denormals-are-zero for the whole process"),
+    ("-fpack-struct", "changes the layout of the structs the glue shares with the controller"),
+    ("-funsigned-char", "changes what char means"),
+    ("-fsigned-char", "changes what char means"),
+    ("-D", "defines a macro in the proved C"),
+    ("-U", "undefines a macro in the proved C"),
+    ("-include", "inserts a file into the proved C"),
+    ("-imacros", "inserts macros into the proved C"),
+    ("-fno-fp-int-builtin-inexact", "changes the rounding functions' results"),
+)
+
+#: The rule of the message refusing a flag of :data:`FP_FLAGS`.
+FP_RULE = "DESIGN.md section 7, compile flags"
+
+
+def fp_flag_problem(flag: str, *, link: bool = False) -> str | None:
+    """Why ``flag`` may not compile a generated controller (or, with
+    ``link``, link the node), or ``None``."""
+    for prefix, why in FP_FLAGS:
+        if link and prefix not in _LINK_FLAGS:
+            continue
+        if flag == prefix or prefix in _PREFIXES and flag.startswith(prefix):
+            return why
+    return None
+
+
+#: The flags of :data:`FP_FLAGS` that are refused with any suffix (``-DX=1``, ``-mpc64``).
+_PREFIXES = ("-D", "-U", "-mpc", "-include", "-imacros", "-fpack-struct")
+#: Those that change the process when linking (``crtfastmath.o``).
+_LINK_FLAGS = ("-ffast-math", "-Ofast", "-funsafe-math-optimizations", "-mdaz-ftz")
+
+
+def check_flags(opts: "ControllerOptions", *, generated: bool) -> None:
+    """Refuse (:class:`BuildError`, exit 1) a ``--cflags`` flag of
+    :data:`FP_FLAGS` for a ``generated`` controller, and a ``--ldflags``
+    flag that links ``crtfastmath.o`` in any case: what was proved with
+    IEEE 754 semantics must run with them."""
+    bad = [("--ldflags", f, fp_flag_problem(f, link=True)) for f in opts.ldflags]
+    if generated:
+        bad += [("--cflags", f, fp_flag_problem(f)) for f in opts.cflags]
+    for what, f, why in bad:
+        if why is not None:
+            kind = ("the node links it into every object, the proved glue included" if what == "--ldflags"
+                    else "the controller is generated from the block diagram and proved with IEEE 754 semantics (T6)")
+            raise BuildError(f"{what}: {escape(f)!s}: refused: it {why}; {kind} [{FP_RULE}]")
 
 
 def defines_main(p: Path, includes: Sequence[Path] = ()) -> bool:
@@ -292,16 +387,20 @@ def find_controller(model: NodeModel, directory: str | Path,
     return ControllerDir(d, header, tuple(sources), tuple(files), tuple(includes), tuple(left_out))
 
 
-def write_catkin_packages(model: NodeModel, stage: Path, ctl: ControllerDir, opts: ControllerOptions,
-                          user_includes: list[str], sources: dict[str, Path]) -> None:
+def write_catkin_packages(model: NodeModel, node: ros.ProvedNode, stage: Path, ctl: ControllerDir,
+                          opts: ControllerOptions, user_includes: list[str], sources: dict[str, Path],
+                          generated: bool = False) -> dict:
     """Write the node's catkin package into ``stage/<package>/``: copies of
     the glue, the wrapper, the layout check and the headers (``src/``,
     ``include/``), the controller (``controller/``), ``package.xml``,
     ``CMakeLists.txt`` (the same flags as this build, the layout check as a
-    build step) and ``launch/<node>.launch``; and a message package
-    (``message_generation``) for each package of custom messages."""
-    pkg_dir = stage / ros.catkin_package_name(model)
-    paths = ros.catkin_paths(model)
+    build step) and ``launch/<node>.launch``, rendered from the proved
+    ``node`` and the returned record (:func:`pyrosgen.ros.wrapper.package_record`,
+    kept in the manifest so that ``verify`` renders them again); and a
+    message package (``message_generation``) for each package of custom
+    messages of the front end's ``model``."""
+    pkg_dir = stage / ros.catkin_package_name(node)
+    paths = ros.catkin_paths(node)
     for key, src in sources.items():
         dest = pkg_dir / paths[key]
         dest.parent.mkdir(parents=True, exist_ok=True)
@@ -314,17 +413,42 @@ def write_catkin_packages(model: NodeModel, stage: Path, ctl: ControllerDir, opt
     ctl_cxx = [f"controller/{ctl.rel(p)}" for p in ctl.sources if p.suffix in CXX_SUFFIXES]
     include_dirs = ["include"] + ["controller" if inc == ctl.path else
                                   f"controller/{inc.relative_to(ctl.path).as_posix()}" for inc in ctl.include_dirs]
-    texts = ros.render_catkin(model, include_dirs, controller=ros.CatkinController(
+    custom = ros.custom_message_packages(model)
+    record = ros.package_record(include_dirs, ros.CatkinController(
         c_sources=ctl_c, cxx_sources=ctl_cxx, std=opts.std, cflags=list(opts.cflags),
-        cxxflags=list(opts.cxxflags), includes=user_includes, ldflags=list(opts.ldflags), libs=list(opts.libs)))
+        cxxflags=list(opts.cxxflags), includes=user_includes, ldflags=list(opts.ldflags), libs=list(opts.libs),
+        generated=generated), sorted(custom), opts.maintainer)
+    texts = ros.render_package_record(node, record)
+    for pkg, msg_dir in sorted(custom.items()):
+        msgs = {f.name: f.read_text(encoding="utf-8", errors="replace") for f in sorted(msg_dir.glob("*.msg"))}
+        for rel, text in ros.render_msg_package(model.source.name, pkg, msgs).items():
+            texts[f"../{pkg}/{rel}"] = text
     for rel, text in texts.items():
         dest = Path(os.path.normpath(pkg_dir / rel))
         dest.parent.mkdir(parents=True, exist_ok=True)
         dest.write_text(text, encoding="utf-8")
-    for pkg, msg_dir in ros.custom_message_packages(model).items():
+    for pkg, msg_dir in custom.items():
         (stage / pkg / "msg").mkdir(parents=True, exist_ok=True)
         for f in sorted(msg_dir.glob("*.msg")):
             shutil.copyfile(f, stage / pkg / "msg" / f.name)
+    return record
+
+
+def _shown_argv(argv: Sequence[str], stage: Path, controller: Path) -> list[str]:
+    """A compiler command as the certificate shows it: paths in the staging
+    folder relative to ``OUT`` (the command runs in it), the controller
+    folder as ``OUT``'s copy ``controller``."""
+    out = []
+    for a in argv:
+        for folder, shown in ((str(stage), "."), (str(controller.absolute()), "controller")):
+            if a == folder:
+                a = shown
+                break
+            if a.startswith(folder + "/"):
+                a = a[len(folder) + 1:] if shown == "." else shown + a[len(folder):]
+                break
+        out.append(a)
+    return out
 
 
 # -- the stamp file and the object cache -------------------------------------------
@@ -502,6 +626,7 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
     opts = options or ControllerOptions()
     opts.check()
     diagram = getattr(model.controller, "diagram", None) is not None
+    check_flags(opts, generated=diagram)
     if diagram and controller_dir is not None:
         raise BuildError(f"{model.source}: the controller is a block diagram (controller.blocks): "
                          "pyrosgen generates its C; --controller is for a controller written in C")
@@ -571,7 +696,8 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
             (cdir / f"{model.controller.name}.c").write_bytes(
                 (stage / node_file_names(node).controller_c).read_bytes())
             (cdir / layout.controller_header_name(model)).write_text(
-                layout.render_reference_header(model, types_h), encoding="ascii")
+                layout.render_reference_header(ros.proved_node(parse_model_text(gen.proved_model),
+                                                               gen.record.source_name), types_h), encoding="ascii")
             ctl = find_controller(model, cdir)
             warnings, user_includes, ctl_includes = controller_setup(ctl)
 
@@ -579,7 +705,14 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         say(f"[3/{STEPS}] wrapper: C API over roscpp, gencpp, catkin package")
         t = time.monotonic()
         proved = parse_model_text(gen.proved_model)
-        for fname, text in ros.render_wrapper(model, proved).items():
+        # the wrapper, the layout check and the catkin files are rendered
+        # from the proved model alone (verify renders them again from it)
+        pnode = ros.proved_node(proved, gen.record.source_name)
+        if (pnode.messages != tuple(model.messages) or pnode.controller.inputs != model.controller.inputs
+                or pnode.controller.outputs != model.controller.outputs):
+            raise BuildToolError("the proved model's messages or controller structs are not the front end's "
+                                 "(a pyrosgen bug: the model texts were compared equal)")
+        for fname, text in ros.render_wrapper(pnode).items():
             if fname == names.api_source:
                 # The node registers and sleeps as the proved model says.
                 check_wrapper(text, gen.proved_model, wrapper_name=fname)
@@ -606,28 +739,35 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         say(f"[4/{STEPS}] layout check: "
             f"{ctl.header.name + ' (generated from the diagram)' if diagram else ctl.header} against {names.types_header}")
         t = time.monotonic()
-        (stage / check_c).write_text(layout.render_layout_check(model, types_h, names.types_header), encoding="ascii")
-        layout.check_layout(model, stage / check_c, ctl.path, work, types_h, cc=cc,
+        (stage / check_c).write_text(layout.render_layout_check(pnode, types_h, names.types_header), encoding="ascii")
+        layout_cmds = layout.check_layout(model, stage / check_c, ctl.path, work, types_h, cc=cc,
                             shown_check=str(out_dir / check_c), includes=ctl_includes)
         times["layout check"] = time.monotonic() - t
 
         # the catkin package OUT/<package>/ (sources only) and, for custom
         # messages, their message packages OUT/<pkg>/
-        write_catkin_packages(model, stage, ctl, opts, user_includes,
+        package = write_catkin_packages(model, pnode, stage, ctl, opts, user_includes,
                               {"glue": stage / glue_c, "wrapper": stage / names.api_source,
                                "layout_check": stage / check_c, "types_header": stage / names.types_header,
-                               "api_header": stage / names.api_header})
+                               "api_header": stage / names.api_header}, generated=diagram)
 
         obj = stage / "obj"
         obj.mkdir()
         cc_id, cxx_id = _compiler_identity(cc), _compiler_identity(cxx)
         objects: list[Path] = []
         keys: list[str] = []
+        # every compiler call, as the certificate shows it (the layout check's
+        # reference header is in the work folder: shown as layout-reference)
+        commands: list[list[str]] = [[str(Path("layout-reference") / a[len(str(work / "layout-reference")) + 1:])
+                                      if a.startswith(str(work / "layout-reference") + "/") else
+                                      "layout-reference" if a == str(work / "layout-reference") else a
+                                      for a in _shown_argv(c, stage, ctl.path)] for c in layout_cmds]
 
         def compile_one(step: int, what: str, tool: list[str], ident: str, flags: Sequence[str],
                         src: Path, out_name: str, inputs: Sequence[Path], user: bool) -> None:
             out = obj / out_name
             argv = [*tool, *flags, "-c", str(src), "-o", str(out)]
+            commands.append(_shown_argv(argv, stage, ctl.path))
             key = _key(argv, stage, ident, [src, *inputs])
             keys.append(key)
             objects.append(out)
@@ -658,7 +798,8 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         for src in ctl.sources:
             cxx_src = src.suffix in CXX_SUFFIXES
             flags = ([*CONTROLLER_CXXFLAGS, *opts.cxxflags] if cxx_src else
-                     [f"-std={opts.std}", *CONTROLLER_CFLAGS, *opts.cflags]) + ctl_includes
+                     [f"-std={opts.std}", *CONTROLLER_CFLAGS, *opts.cflags,
+                      *(ros.IEEE_CFLAGS if diagram else ())]) + ctl_includes
             obj_name = "controller_" + ctl.rel(src).replace("/", "__").rsplit(".", 1)[0] + ".o"
             compile_one(6, "compile controller", cxx if cxx_src else cc, cxx_id if cxx_src else cc_id, flags,
                         src.absolute(), obj_name, [p.absolute() for p in ctl.files if p != src], user=True)
@@ -677,6 +818,7 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         binary = stage / "bin" / node
         argv = [*cxx, *LDFLAGS, *opts.ldflags, *(str(o) for o in objects), "-o", str(binary), *pc_libs,
                 *opts.libs, *LDLIBS]
+        commands.append(_shown_argv(argv, stage, ctl.path))
         key = _key(argv, stage, cxx_id, [], extra=keys)
         if cache.reuse(f"bin/{node}", key, binary):
             say(f"[8/{STEPS}] link: objects unchanged, reusing bin/{node}")
@@ -712,6 +854,8 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
             steps.append((f"bin/{node}", True))
         # the certificate again, now covering what the build added (the
         # wrapper, the layout check, the controller, the catkin files, the binary)
+        # what the catkin files are rendered from, and the compile commands
+        gen.record.build = {"package": package, "commands": commands}
         cert_files = set(certificate_files(node))
         covered = [f for f in _all_files(stage) if not f.startswith("obj/") and f not in cert_files]
         write_certificate(gen.record, stage, covered)

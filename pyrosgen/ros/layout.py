@@ -168,9 +168,13 @@ def render_reference_header(model: NodeModel, types_h: str) -> str:
     )
 
 
-def _compile(cc: list[str], check_c: Path, include: Path, extra: list[str] = ()) -> subprocess.CompletedProcess:
-    argv = [*cc, "-std=c11", "-Wall", "-Wextra", "-pedantic", "-fsyntax-only", "-I", str(include), *extra,
+def _argv(cc: list[str], check_c: Path, include: Path, extra: list[str] = ()) -> list[str]:
+    return [*cc, "-std=c11", "-Wall", "-Wextra", "-pedantic", "-fsyntax-only", "-I", str(include), *extra,
             str(check_c)]
+
+
+def _compile(cc: list[str], check_c: Path, include: Path, extra: list[str] = ()) -> subprocess.CompletedProcess:
+    argv = _argv(cc, check_c, include, extra)
     try:
         return procs.run(argv, timeout=300)
     except OSError as exc:
@@ -198,10 +202,11 @@ def _problems(output: str, check_c: Path, shown_check: str) -> list[str]:
 
 def check_layout(model: NodeModel, check_c: Path, controller_dir: Path, work: Path,
                  types_h: str, *, cc: list[str] | None = None, shown_check: str | None = None,
-                 includes: list[str] = ()) -> None:
+                 includes: list[str] = ()) -> list[list[str]]:
     """Compile ``check_c`` (already written) against the reference header,
     then against the user's header in ``controller_dir`` (``includes``:
-    ``-I`` options for the folders its own includes need).
+    ``-I`` options for the folders its own includes need); return the two
+    commands run.
 
     Raises :class:`LayoutToolError` if the check fails against the reference
     header (or the compiler cannot be run), :class:`LayoutMismatch` naming
@@ -222,3 +227,4 @@ def check_layout(model: NodeModel, check_c: Path, controller_dir: Path, work: Pa
     if r.returncode != 0:
         problems = _problems(r.stderr + r.stdout, check_c, shown) or [(r.stderr or r.stdout).strip()]
         raise LayoutMismatch(header, problems)
+    return [_argv(cc, check_c, ref_dir), _argv(cc, check_c, controller_dir, list(includes))]

@@ -85,6 +85,11 @@ class ProofRecord:
     #: when the controller is a block diagram: ``c`` and ``sexp`` (file
     #: names of its printed C and dump), ``wf``, ``e2e`` and ``linked`` (theorem names)
     controller: dict | None = None
+    #: after ``build``: ``package``, what the catkin files are rendered from
+    #: besides the proved model (:func:`pyrosgen.ros.wrapper.package_record`),
+    #: and ``commands``, the argv of every compiler call (paths relative to
+    #: the output folder)
+    build: dict | None = None
 
 
 def sha256_file(path: Path) -> str:
@@ -486,6 +491,25 @@ def _hashes(folder: Path, files: list[str]) -> list[tuple[str, str]]:
     return [(name, sha256_file(folder / name)) for name in sorted(set(files))]
 
 
+def _commands(build: object) -> list[str]:
+    """The compiler commands of a ``build`` record, one shell line each
+    (``shlex.join``; a JSON list when a word holds a backtick or a control
+    character, which a Markdown code block could not show as is)."""
+    import shlex
+
+    if build is None:
+        return []
+    cmds = build.get("commands") if isinstance(build, dict) else None
+    if not isinstance(cmds, list) or not all(isinstance(c, list) and c and all(isinstance(w, str) for w in c)
+                                             for c in cmds):
+        raise CertificateError("certificate: the manifest's build.commands is not a list of commands")
+    out = []
+    for c in cmds:
+        line = shlex.join(c)
+        out.append(json.dumps(c) if re.search(r"[`\x00-\x1f\x7f]", line) else line)
+    return out
+
+
 def render_certificate(rec: ProofRecord, proved: str, glue_text: str, hashes: list[tuple[str, str]],
                        diagram: str | None = None) -> str:
     """The certificate of ``rec``: rendered from the proved model text
@@ -510,7 +534,9 @@ def render_certificate(rec: ProofRecord, proved: str, glue_text: str, hashes: li
         inputs=inputs, outputs=outputs, stamps=stamps, freshness=freshness, strings=strings,
         string_structs=string_structs, seq_structs=seq_structs,
         reject_structs=[n for n in string_structs + seq_structs if n.startswith(("ros_rseq_", "ros_rstring"))],
-        hashes=hashes, built=built,
+        hashes=hashes, built=built, commands=_commands(rec.build),
+        generated=bool(isinstance(rec.build, dict) and isinstance(rec.build.get("package"), dict)
+                       and rec.build["package"].get("generated") is True),
         manifest=manifest_name, sums=sums_name, certificate=cert_name,
     )
 

@@ -66,6 +66,8 @@ from pyrosgen.proof.modeltext import ModelMismatch, compare_model_texts, model_t
 from pyrosgen.verify.certificate import (MANIFEST_MAX_BYTES, ManifestError, ProofRecord, certificate_files,
                                          read_manifest)
 from pyrosgen.verify.folder import UnsafeFile, check_name, read_file, read_text
+from pyrosgen.verify.package_check import check_package, is_build_folder
+from pyrosgen.nversion.check import check_model_file
 
 #: The default limit of each tool run of ``verify`` (``--timeout``), in
 #: seconds: LandShark's coqc takes 2 s, the largest model of BENCHMARKS.md
@@ -368,7 +370,8 @@ def _verify_folder(folder: Path, *, node: str | None, model: str | Path | None, 
         raise NotAnOutputFolder(f"{folder}: unreadable manifest: {exc}") from None
     report = VerifyReport(folder, rec.node)
     checks = report.checks
-    total = 6 + (model is not None) + (wp is True) + any(n.endswith("_ros.cpp") for n in files)
+    total = 6 + (model is not None) + (wp is True) + any(n.endswith("_ros.cpp") for n in files) \
+        + is_build_folder(rec, files)
     step = 0
 
     def begin(what: str) -> None:
@@ -473,7 +476,10 @@ def _verify_folder(folder: Path, *, node: str | None, model: str | Path | None, 
                             raise ModelMismatch(f"{Path(model).name} has no block diagram, "
                                                 f"but {rec.node_v} proves one", [])
                         compare_diagram_texts(diagram_text(loaded), proved_diagram, vfile=rec.node_v)
-                    checks.append(Check("model", True, f"the proved model is the model of {Path(model).name}"))
+                    # the second, independent reading of the model file (N-version, DESIGN.md section 7)
+                    check_model_file(model, proved_text, proved_diagram, vfile=rec.node_v)
+                    checks.append(Check("model", True, f"the proved model is the model of {Path(model).name}, "
+                                        "read by the front end and read independently"))
                 except PyrosgenError as exc:
                     checks.append(Check("model", False, getattr(exc, "summary", str(exc).splitlines()[0]),
                                         list(getattr(exc, "lines", ())) or str(exc).splitlines()[1:]))
@@ -497,6 +503,10 @@ def _verify_folder(folder: Path, *, node: str | None, model: str | Path | None, 
                 checks.append(Check("wrapper", False, exc.summary, list(exc.lines)))
             except FileNotFoundError as exc:
                 checks.append(Check("wrapper", False, f"cannot read {exc}"))
+
+        if is_build_folder(rec, files):
+            begin("package: every file of the node rendered again from the proof")
+            checks.append(check_package(folder, rec, files, proved_text))
 
         if wp:
             begin("Frama-C WP")

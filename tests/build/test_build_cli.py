@@ -125,7 +125,8 @@ def test_catkin_package_holds_only_sources(landshark_build, tmp_path):
     cml = (pkg / "CMakeLists.txt").read_text()
     assert f"add_library({NODE}_layout_check OBJECT src/{NODE}_layout_check.c)" in cml
     assert f"add_dependencies({NODE} {NODE}_layout_check" in cml
-    assert 'COMPILE_OPTIONS "-std=c11;-O2;-Wall;-Wextra;-Werror;-pedantic"' in cml  # the glue, as pyrosgen build
+    assert ('COMPILE_OPTIONS "-std=c11;-O2;-Wall;-Wextra;-Werror;-pedantic;-ffp-contract=off;'
+            '-fexcess-precision=standard"') in cml  # the glue, as pyrosgen build
     assert "<name>landshark_controller</name>" in (pkg / "package.xml").read_text()
     assert f'<node pkg="{NODE}" type="{NODE}" name="{NODE}"' in (pkg / "launch" / f"{NODE}.launch").read_text()
     r = subprocess.run(["cmake", "-S", str(pkg), "-B", str(tmp_path / "cmake"), "-DPYTHON_EXECUTABLE=/usr/bin/python3"],

@@ -63,6 +63,17 @@ def test_catkin_make_rosrun_roslaunch(ros, multi_echo, tmp_path):
                 assert _echo_one(ros, ws, topic) == text, (how, topic)
         finally:
             stop_process(p)
+    # the launch file's arguments: a namespace for the node, a topic remapped
+    how = f"roslaunch {NODE} {NODE}.launch ns:=robot1 topic_cmd_vel:=/robot1/cmd_vel"
+    p = ros.spawn(_in_ws(ws, how), stdout=open(tmp_path / "node.log", "ab"), stderr=subprocess.STDOUT)
+    try:
+        assert _echo_one(ros, ws, "/robot1/cmd_vel") == expected["/cmd_vel"]
+        assert _echo_one(ros, ws, "/fusion/status") == expected["/fusion/status"]  # absolute: not moved
+        r = subprocess.run(_in_ws(ws, "rosnode list"), env=ros.env, capture_output=True, text=True,
+                           stdin=subprocess.DEVNULL, timeout=60)
+        assert f"/robot1/{NODE}" in r.stdout.split(), r.stdout
+    finally:
+        stop_process(p)
 
 
 def test_layout_check_is_a_build_step(multi_echo, tmp_path):

@@ -1,0 +1,337 @@
+"""``pyrosgen verify`` of a ``build`` folder: every file that goes into
+the node is rendered again from the proved model and compared byte for byte.
+
+The re-print check (:mod:`pyrosgen.verify.recheck`) holds the top-level
+glue and types header to what the proof prints.  This check holds the rest
+of what ``pyrosgen build`` and ``catkin`` compile to the same source:
+
+- the C API over roscpp, ``<node>_ros.h`` and ``<node>_ros.cpp``, and the
+  layout check ``<node>_layout_check.c``: rendered again from the proved
+  model alone (:func:`pyrosgen.ros.wrapper.proved_node`; the model text
+  Coq printed, read back) and the printed types header, so that every
+  behaviour of the wrapper is the reviewed template's;
+- the catkin package ``<package>/``: its copies of the glue, the types
+  header, the wrapper and the layout check are the top-level files;
+  ``package.xml``, ``CMakeLists.txt`` and ``launch/<node>.launch`` are
+  rendered again from the proved model and the manifest's ``build.package``
+  record (sources, flags, include folders, maintainer); the package's copy
+  of the controller is the top-level ``controller/``; the package holds no
+  other file (listed in the manifest or not); each message package of
+  custom messages is rendered again from its ``.msg`` files;
+- a generated (block-diagram) controller: ``controller/<Controller>.c`` is
+  the printed controller, ``controller/<Controller>.h`` the reference
+  header rendered from the proved model; a hand-written controller is held
+  by its recorded digests (the hashes check);
+- each custom message's ``.msg``: it declares every field the proved model
+  carries, with the proved type;
+- the flags: the recorded compile commands compile the glue with
+  ``GLUE_CFLAGS`` and a generated controller with ``-ffp-contract=off
+  -fexcess-precision=standard`` and without any flag that changes
+  floating-point semantics (:func:`pyrosgen.ros.build.check_flags`).
+
+Every file is read through :func:`pyrosgen.verify.folder.read_file` (a
+relative name, a regular file, no link, bounded size).  The node binary is
+held by its recorded digest only.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import stat
+from pathlib import Path
+
+from pyrosgen.errors import PyrosgenError
+from pyrosgen.proof.modeltext import MalformedModelText, parse_model_text
+from pyrosgen.ros import layout
+from pyrosgen.ros import wrapper as ros
+from pyrosgen.verify.certificate import ProofRecord
+from pyrosgen.verify.folder import read_file
+
+__all__ = ["is_build_folder", "check_package"]
+
+
+def is_build_folder(rec: ProofRecord, files: dict[str, str]) -> bool:
+    """Whether the folder holds what ``pyrosgen build`` adds (a build
+    record, a binary, a wrapper, a package): then :func:`check_package`
+    must hold."""
+    return rec.build is not None or any(
+        n.startswith("bin/") or n.endswith(("_ros.cpp", "_ros.h", "_layout_check.c", "/package.xml",
+                                            "/CMakeLists.txt")) for n in files)
+
+
+class _Problems(list):
+    compared = 0  #: files compared
+
+    def add(self, name: str, why: str) -> None:
+        self.append(f"  {name}: {why}")
+
+
+def _read(folder: Path, name: str, problems: _Problems) -> bytes | None:
+    try:
+        return read_file(folder, name)
+    except FileNotFoundError:
+        problems.add(name, "missing")
+    except PyrosgenError as exc:  # verify.folder.UnsafeFile
+        problems.add(name, str(exc))
+    except OSError as exc:
+        problems.add(name, f"cannot read: {exc.strerror or exc}")
+    return None
+
+
+def _compare(folder: Path, files: dict[str, str], name: str, want: bytes | str | None, what: str,
+             problems: _Problems) -> None:
+    """``folder/name`` is covered by the manifest and equals ``want``."""
+    if want is None:
+        return
+    if isinstance(want, str):
+        want = want.encode("utf-8")
+    problems.compared += 1
+    if name not in files:
+        problems.add(name, "not covered by the manifest")
+    have = _read(folder, name, problems)
+    if have is not None and have != want:
+        a, b = have.decode("utf-8", "replace").splitlines(), want.decode("utf-8", "replace").splitlines()
+        k = next((i for i in range(min(len(a), len(b))) if a[i] != b[i]), min(len(a), len(b)))
+        problems.add(name, f"not {what} (line {k + 1}: {a[k] if k < len(a) else '(nothing)'!r}, "
+                           f"rendered {b[k] if k < len(b) else '(nothing)'!r})")
+
+
+def _check_commands(build: dict, package: dict, glue: str, generated: bool, problems: _Problems) -> None:
+    """The recorded commands compile the glue with the glue's flags and a
+    generated controller with the IEEE flags and no flag of
+    :data:`pyrosgen.ros.build.FP_FLAGS`; the recorded controller flags pass
+    :func:`pyrosgen.ros.build.check_flags`."""
+    from pyrosgen.ros.build import CONTROLLER_CFLAGS, BuildError, ControllerOptions, check_flags, fp_flag_problem
+
+    try:
+        check_flags(ControllerOptions(std=package["std"], cflags=tuple(package["cflags"]),
+                                      ldflags=tuple(package["ldflags"])), generated=generated)
+    except BuildError as exc:
+        problems.add("build.package", str(exc))
+    cmds = build.get("commands")
+    if not isinstance(cmds, list) or not all(isinstance(c, list) and all(isinstance(w, str) for w in c)
+                                             for c in cmds):
+        problems.add("build.commands", "not a list of commands")
+        return
+    compiled = {}
+    for c in cmds:
+        if "-c" in c and c.index("-c") + 1 < len(c):
+            compiled.setdefault(c[c.index("-c") + 1], []).append(c)
+    glue_cmds = compiled.get(glue, [])
+    if len(glue_cmds) != 1:
+        problems.add("build.commands", f"{len(glue_cmds)} commands compile {glue}, not one")
+    for c in glue_cmds:
+        if c[1:1 + len(ros.GLUE_CFLAGS)] != list(ros.GLUE_CFLAGS) or any(fp_flag_problem(w) for w in c[1:]):
+            problems.add("build.commands", f"{glue} is not compiled with {' '.join(ros.GLUE_CFLAGS)} alone")
+    if generated:
+        for src, cs in compiled.items():
+            if not src.startswith("controller/"):
+                continue
+            want = [f"-std={package['std']}", *CONTROLLER_CFLAGS, *package["cflags"], *ros.IEEE_CFLAGS]
+            for c in cs:
+                bad = [w for w in c[1:] if fp_flag_problem(w)]
+                if bad or c[1:1 + len(want)] != want:
+                    problems.add("build.commands", f"the generated controller {src} is not compiled with "
+                                 f"{' '.join(ros.IEEE_CFLAGS)} after the user's flags"
+                                 + (f" ({', '.join(bad)} refused)" if bad else ""))
+
+
+#: The ROS 1 aliases of ``.msg`` files, as the front end reads them.
+_MSG_ALIASES = {"char": "uint8", "byte": "int8"}
+_MSG_FIELD = re.compile(r"^([A-Za-z][A-Za-z0-9_/]*)(\[([0-9]*)\])?\s+([A-Za-z][A-Za-z0-9_]*)$")
+
+
+def _msg_fields(text: str) -> dict[str, tuple[str, str | None]]:
+    """The fields of a ``.msg`` text: name -> (type, array suffix: ``None``,
+    ``''`` for ``[]``, the length of ``[N]``); constants and comments left out."""
+    out: dict[str, tuple[str, str | None]] = {}
+    for line in text.splitlines():
+        code = line.split("#", 1)[0].strip()
+        if not code or "=" in code:
+            continue
+        m = _MSG_FIELD.match(" ".join(code.split()))
+        if m:
+            out[m.group(4)] = (_MSG_ALIASES.get(m.group(1), m.group(1)), m.group(3))
+    return out
+
+
+def _declared(pkg: str, struct: str) -> str:
+    """The ``.msg`` spelling of the proved message struct ``struct`` (a field
+    of a message of package ``pkg``): ``pkg/Type`` (or ``Type`` in ``pkg``),
+    ``time``, ``duration``, ``string`` and ``T[]`` for the bounded structs."""
+    from pyrosgen.frontend.msgmodel import bounded_type, is_bounded_type
+
+    if is_bounded_type(struct):
+        b = bounded_type(struct)
+        if b.is_string:
+            return "string"
+        elem = b.seq_of[0]
+        return f"{elem}[]"
+    return ros._proved_msg_name(struct)
+
+
+def _check_custom_msgs(folder: Path, files: dict[str, str], pm, custom_pkgs: list[str],
+                       problems: "_Problems") -> None:
+    """Each proved message of a custom package is declared by the folder's
+    ``<pkg>/msg/<Type>.msg`` (what catkin's message_generation compiles)
+    with every carried field, of the proved type: a field whose type the
+    ``.msg`` changed would still compile (C++ converts ``double`` to
+    ``float`` silently) and change what the node reads."""
+    for struct, fields in pm.messages.items():
+        name = ros._proved_msg_name(struct)
+        pkg, _, typ = name.partition("/")
+        if pkg not in custom_pkgs or not typ:
+            continue
+        msg_name = f"{pkg}/msg/{typ}.msg"
+        if msg_name not in files:
+            problems.add(msg_name, f"not covered by the manifest (the proved model carries {name})")
+            continue
+        data = _read(folder, msg_name, problems)
+        if data is None:
+            continue
+        declared = _msg_fields(data.decode("utf-8", "replace"))
+        for fname, ftype in fields:
+            m = re.fullmatch(r"(?:array ([1-9][0-9]*) )?(?:msg (\w+)|(\w+))", ftype)
+            if m is None:
+                problems.add(msg_name, f"the proved field {fname} has type {ftype!r}")
+                continue
+            want = _declared(pkg, m.group(2)) if m.group(2) else m.group(3)
+            if want.endswith("[]"):
+                want_t, want_n = want[:-2], ""
+            else:
+                want_t, want_n = want, m.group(1)
+            have_t, have_n = declared.get(fname, (None, None))
+            if have_t is not None and "/" not in have_t and "/" in want_t:
+                have_t = "std_msgs/Header" if have_t == "Header" else f"{pkg}/{have_t}"
+            if (have_t, have_n) != (want_t, want_n):
+                shown = "not declared" if have_t is None else \
+                    f"declared {have_t}{'' if have_n is None else f'[{have_n}]'}"
+                problems.add(msg_name, f"field {fname}: {shown}, the proved model carries "
+                                       f"{want_t}{'' if want_n is None else f'[{want_n}]'}")
+
+
+def _unexpected_files(folder: Path, pkg: str, expected: set[str], problems: "_Problems", limit: int = 50) -> None:
+    """Every entry under ``folder/pkg`` that is not one of the ``expected``
+    names (a file of the package catkin would see: a header added to
+    ``include/`` would shadow a system header of the wrapper's) is a
+    problem, whether the manifest lists it or not; links are not followed."""
+    root = folder / pkg
+    try:
+        if not stat.S_ISDIR(os.lstat(root).st_mode):
+            problems.add(pkg, "not a folder")
+            return
+    except OSError:
+        problems.add(pkg, "missing")
+        return
+    found = 0
+    for dirpath, dirnames, filenames in os.walk(root, followlinks=False):
+        rel_dir = Path(dirpath).relative_to(folder).as_posix()
+        for n in sorted(filenames + [d for d in dirnames if os.path.islink(os.path.join(dirpath, d))]):
+            name = f"{rel_dir}/{n}"
+            if name not in expected:
+                problems.add(name, "not a file of the node's package (the package holds only what build writes)")
+                found += 1
+                if found >= limit:
+                    return
+
+
+def check_package(folder: str | Path, rec: ProofRecord, files: dict[str, str], proved_text: str | None):
+    """The ``package`` check of a build folder (see the module
+    documentation), as a :class:`pyrosgen.verify.recheck.Check`; ``None``
+    for a folder of ``pyrosgen generate`` (:func:`is_build_folder`)."""
+    from pyrosgen.verify.recheck import Check
+
+    folder = Path(folder)
+    if not is_build_folder(rec, files):
+        return None
+    if proved_text is None:
+        return Check("package", False, "not run: no proved model text")
+    build = rec.build
+    if not isinstance(build, dict) or not isinstance(build.get("package"), dict):
+        return Check("package", False, "the folder holds a build but the manifest has no build record "
+                     "(build.package): its package cannot be rendered again")
+    problems = _Problems()
+    try:
+        pm = parse_model_text(proved_text, origin=rec.model_file)
+        node = ros.proved_node(pm, rec.source_name)
+        if node.name != rec.node:
+            raise ValueError(f"the proved model's node is {node.name!r}, the manifest's {rec.node!r}")
+        names = ros.wrapper_files(node)
+        wrapper = ros.render_wrapper(node)
+        package = build["package"]
+        pkg_texts = ros.render_package_record(node, package)
+        generated = rec.controller is not None
+        if package["generated"] != generated:
+            raise ValueError("build.package.generated does not say whether the controller is generated")
+    except (MalformedModelText, ValueError, KeyError, TypeError) as exc:
+        return Check("package", False, f"cannot render the node's files again: {exc}")
+
+    glue = _read(folder, rec.glue_c, problems)
+    types_raw = _read(folder, rec.types_h, problems)
+    types_h = types_raw.decode("utf-8", "replace") if types_raw is not None else None
+    try:
+        check_c = layout.render_layout_check(node, types_h, names.types_header) if types_h is not None else None
+        ref_h = layout.render_reference_header(node, types_h) if types_h is not None and generated else None
+    except (PyrosgenError, ValueError) as exc:
+        return Check("package", False, f"cannot render the layout check again: {exc}", list(problems))
+
+    # the top-level files
+    rendered = "rendered from the proved model"
+    for name in (names.api_header, names.api_source):
+        _compare(folder, files, name, wrapper[name], rendered, problems)
+    _compare(folder, files, f"{rec.node}_layout_check.c", check_c, rendered, problems)
+    # the catkin package
+    pkg = ros.catkin_package_name(node)
+    paths = ros.catkin_paths(node)
+    copies = {"glue": (glue, f"the top-level {rec.glue_c}"), "types_header": (types_raw, f"the top-level {rec.types_h}"),
+              "wrapper": (wrapper[names.api_source], rendered), "api_header": (wrapper[names.api_header], rendered),
+              "layout_check": (check_c, rendered)}
+    for key, (want, what) in copies.items():
+        _compare(folder, files, f"{pkg}/{paths[key]}", want, what, problems)
+    for rel, text in pkg_texts.items():
+        _compare(folder, files, f"{pkg}/{rel}", text, "rendered from the proved model and the build record", problems)
+    # the controller: its package copy is the top-level one; a generated one is the proof's
+    for name in sorted(files):
+        if name.startswith("controller/"):
+            _compare(folder, files, f"{pkg}/{name}", _read(folder, name, problems), f"the top-level {name}", problems)
+    for src in [*package["c_sources"], *package["cxx_sources"]]:
+        if src not in {n[len(pkg) + 1:] for n in files if n.startswith(pkg + "/controller/")}:
+            problems.add(f"{pkg}/{src}", "a recorded controller source not covered by the manifest")
+    if generated:
+        c_name = rec.controller.get("c") if isinstance(rec.controller, dict) else None
+        if isinstance(c_name, str):
+            _compare(folder, files, f"controller/{pm.controller}.c", _read(folder, c_name, problems),
+                     f"the printed {c_name}", problems)
+        _compare(folder, files, f"controller/{layout.controller_header_name(node)}", ref_h,
+                 "the reference header rendered from the proved model", problems)
+        extra = [n for n in files if n.startswith("controller/")
+                 and n not in (f"controller/{pm.controller}.c", f"controller/{layout.controller_header_name(node)}")]
+        for n in extra:
+            problems.add(n, "not a file of the generated controller")
+    # the message packages of custom messages, from their .msg files
+    for cpkg in package["custom_pkgs"]:
+        msgs = {}
+        for n in sorted(files):
+            if n.startswith(f"{cpkg}/msg/") and n.count("/") == 2 and n.endswith(".msg"):
+                data = _read(folder, n, problems)
+                if data is not None:
+                    msgs[n.rsplit("/", 1)[1]] = data.decode("utf-8", "replace")
+        try:
+            for rel, text in ros.render_msg_package(rec.source_name, cpkg, msgs).items():
+                _compare(folder, files, f"{cpkg}/{rel}", text, "rendered from its .msg files", problems)
+        except ValueError as exc:
+            problems.add(cpkg, f"cannot render the message package again: {exc}")
+    expected = {f"{pkg}/{paths[key]}" for key in copies} | {f"{pkg}/{rel}" for rel in pkg_texts} \
+        | {f"{pkg}/{n}" for n in files if n.startswith("controller/")}
+    _unexpected_files(folder, pkg, expected, problems)
+    _check_custom_msgs(folder, files, pm, package["custom_pkgs"], problems)
+    _check_commands(build, package, rec.glue_c, generated, problems)
+
+    if problems:
+        return Check("package", False, f"{len(problems)} problems with the files of the node (rendered again "
+                     "from the proved model and compared)",
+                     list(problems))
+    return Check("package", True, f"{problems.compared} files of the node rendered again from the proved model and equal; "
+                 "the glue" + (" and the generated controller" if generated else "") + " compiled with "
+                 + " ".join(ros.IEEE_CFLAGS))
