@@ -204,14 +204,3 @@ class Checker:
             self.err_rule("4.9", node, f"{what} {show(name)} cannot be used: {problem}")
             return None
         return name
-
-
-
-
-
-
-
-
-
-
-

@@ -9,7 +9,7 @@ from pyrosgen.errors import show
 from pyrosgen.frontend.checker import Checker, TopicDecl
 from pyrosgen.frontend.model import SUBSCRIBE, Topic
 from pyrosgen.frontend.msgload import MsgRegistry
-from pyrosgen.frontend.names import identifier_problem, MAX_NAME_LEN, topic_c_name, topic_name_problem
+from pyrosgen.frontend.names import MAX_NAME_LEN, identifier_problem, topic_c_name, topic_name_problem
 from pyrosgen.frontend.yamlsrc import YMap
 
 
@@ -120,15 +120,12 @@ def check_c_names(ck: Checker, decls, ctrl_name, cm, uvar, yvar, registry: MsgRe
     for d in decls:
         if d.type_ok and d.msg_type and d.msg_type not in type_nodes:
             type_nodes[d.msg_type] = d.type_node
+    contained = {tname: {m.name for m in registry.used_types([tname])} for tname in type_nodes}
     for mt in used:
         # Report at the first topic whose type uses it.
         where = None
         for tname, tnode in type_nodes.items():
-            if mt.name == tname or mt.name in _contained(registry, tname):
+            if mt.name == tname or mt.name in contained[tname]:
                 where = tnode
                 break
         claim(mt.c_name, f"message type {mt.name}", where)
-
-
-def _contained(registry: MsgRegistry, name: str) -> set[str]:
-    return {m.name for m in registry.used_types([name])}

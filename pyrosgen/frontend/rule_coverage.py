@@ -84,7 +84,6 @@ def index_ranges(indices) -> str:
     return ", ".join(out)
 
 
-
 def check_written_once(ck: Checker, out_rels: list[Rel]) -> None:
     """Rule 4.8: a published field (each element of a whole array, rule
     4.15) is written by at most one output relation."""

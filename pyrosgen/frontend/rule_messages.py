@@ -142,8 +142,8 @@ def carried_string_fields(node: YNode | None, registry: MsgRegistry) -> set[tupl
     return out
 
 
-def carried_bounded_fields(topics: YNode | None, relations: YNode | None,
-                           registry: MsgRegistry) -> dict[tuple[str, str], int]:
+def carried_bounded_fields(topics: YNode | None, relations: YNode | None, registry: MsgRegistry,
+                           declared: dict | None = None) -> dict[tuple[str, str], int]:
     """The strings and variable-length arrays of primitives the glue
     carries, as (message type, field name) -> capacity: the string fields
     that constants name (rule 4.14) and the strings and sequences that
@@ -152,9 +152,11 @@ def carried_bounded_fields(topics: YNode | None, relations: YNode | None,
     the ``max_length`` a topic gives it, or :data:`DEFAULT_MAX_LENGTH`.
     Read before the topics are checked (a message type's carried view
     depends on it); nothing is reported here, :func:`check_max_length` and
-    the relations' checks report every problem of the same items."""
+    the relations' checks report every problem of the same items.
+    (``declared``: the topics' :func:`_topic_types`, when already read.)"""
     named = set(carried_string_fields(topics, registry))
-    declared = _topic_types(topics, registry)
+    if declared is None:
+        declared = _topic_types(topics, registry)
     maxima: dict[tuple[str, str], int] = {}
     for item, _direction, msg_type in declared.values():
         mnode = item.get("max_length")
@@ -179,12 +181,16 @@ def carried_bounded_fields(topics: YNode | None, relations: YNode | None,
     return {key: maxima.get(key, DEFAULT_MAX_LENGTH) for key in sorted(named)}
 
 
-def carried_reject_fields(topics: YNode | None, registry: MsgRegistry) -> set[tuple[str, str]]:
+def carried_reject_fields(topics: YNode | None, registry: MsgRegistry,
+                          declared: dict | None = None) -> set[tuple[str, str]]:
     """The (message type, field name) pairs that a subscribed topic's
     ``policy`` gives policy reject (rule 4.15); read before the topics are
-    checked, nothing is reported here (:func:`check_policy` does)."""
+    checked, nothing is reported here (:func:`check_policy` does).
+    (``declared``: the topics' :func:`_topic_types`, when already read.)"""
     out: set[tuple[str, str]] = set()
-    for item, direction, msg_type in _topic_types(topics, registry).values():
+    if declared is None:
+        declared = _topic_types(topics, registry)
+    for item, direction, msg_type in declared.values():
         pnode = item.get("policy")
         if direction != SUBSCRIBE or not isinstance(pnode, YMap):
             continue
@@ -192,7 +198,6 @@ def carried_reject_fields(topics: YNode | None, registry: MsgRegistry) -> set[tu
             if it.target is not None and it.value == "reject":
                 out.add(it.target.key)
     return out
-
 
 
 def load_messages(ck: Checker, root: YMap) -> tuple[MsgRegistry, list[Path]]:
@@ -205,6 +210,7 @@ def load_messages(ck: Checker, root: YMap) -> tuple[MsgRegistry, list[Path]]:
     registry = MsgRegistry()
     folders = msg_paths(ck, root.get("msg_paths"), registry)
     topics, relations = root.get("topics"), root.get("relations")
-    registry.set_carried(carried_bounded_fields(topics, relations, registry),
-                         carried_reject_fields(topics, registry))
+    declared = _topic_types(topics, registry)
+    registry.set_carried(carried_bounded_fields(topics, relations, registry, declared),
+                         carried_reject_fields(topics, registry, declared))
     return registry, folders

@@ -12,7 +12,7 @@ import re
 from pyrosgen.errors import show
 from pyrosgen.frontend.blocks import check_diagram
 from pyrosgen.frontend.checker import Checker
-from pyrosgen.frontend.model import ControllerField, Diagram, MAX_CONTROLLER_ARRAY
+from pyrosgen.frontend.model import MAX_CONTROLLER_ARRAY, ControllerField, Diagram
 from pyrosgen.frontend.msgmodel import PRIMITIVES, ROS1_ALIASES
 from pyrosgen.frontend.names import did_you_mean, identifier_problem
 from pyrosgen.frontend.yamlsrc import YMap, YNode, YScalar
@@ -156,7 +156,6 @@ def prim_type(ck: Checker, node: YNode, what: str) -> str | None:
     else:
         ck.err_rule("4.3", node, f"{what}: unknown type {show(t)}{did_you_mean(t, PRIMITIVES)}; {expected}")
     return None
-
 
 
 def check_controller_diagram(ck: Checker, cm: YMap | None, ctrl_name, ufields, yfields, uvar, yvar,

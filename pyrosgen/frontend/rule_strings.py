@@ -9,7 +9,7 @@ import unicodedata
 
 from pyrosgen.errors import show
 from pyrosgen.frontend.checker import Checker, TopicDecl
-from pyrosgen.frontend.model import Pos, PUBLISH, StringConstant
+from pyrosgen.frontend.model import PUBLISH, Pos, StringConstant
 from pyrosgen.frontend.msgload import MsgRegistry, PathError, StringTarget
 from pyrosgen.frontend.msgmodel import STRING_CAPACITY
 from pyrosgen.frontend.yamlsrc import YBad, YMap, YNode, YScalar

@@ -20,6 +20,8 @@ MAX_QUEUE_SIZE = 10_000
 
 
 def topics_section(ck: Checker, node: YNode | None, registry: MsgRegistry) -> list[TopicDecl]:
+    """The topic declarations written at ``node`` (rules 4.4, 4.5), each as
+    far as it checks; a topic declared twice is reported and left out."""
     if node is None or isinstance(node, YBad):
         return []
     if not isinstance(node, YSeq):
@@ -67,62 +69,73 @@ def topics_section(ck: Checker, node: YNode | None, registry: MsgRegistry) -> li
         d.queue_size = ck.integer(m.get("queue_size"), f"{what}.queue_size", 1, MAX_QUEUE_SIZE)
         tnode = m.get("type")
         d.type_node = tnode
-        t = ck.string(tnode, f"{what}.type")
-        type_ok = False
-        if t is not None:
-            problem = registry.check_type_name(t)
-            if t in registry.failed:
-                pass  # its .msg file could not be read: reported there
-            elif problem:
-                ck.err_rule("4.5", tnode, f"{what}.type: {problem}")
-            else:
-                d.msg_type = t
-                carried = registry.carried(t)
-                if registry.is_broken(t):
-                    pass  # reported in the .msg file
-                elif carried is None:
-                    ck.err_rule(
-                        "4.5",
-                        tnode,
-                        f"{what}.type: message type {t} carries no field "
-                        "(strings and variable-length arrays are not carried by the glue)",
-                    )
-                else:
-                    n = leaf_count(carried, registry.messages())
-                    wide, width = widest_struct(carried, registry.messages())
-                    if n > MAX_LEAVES:
-                        ck.err_rule(
-                            "4.5",
-                            tnode,
-                            f"{what}.type: message type {t} has {n} scalar leaves; "
-                            f"the glue carries at most {MAX_LEAVES} per message"
-                            + (" (lower the max_length of its variable-length arrays and strings: each "
-                               "carries its maximum, every element of an array of messages or strings "
-                               "all of its element's leaves)" if _has_bounded(carried, registry) else ""),
-                        )
-                    # read from msgmodel when used: bench/limits.py lifts it for one run
-                    elif width > msgmodel.MAX_STRUCT_FIELDS:
-                        ck.err_rule(
-                            "4.5",
-                            tnode,
-                            f"{what}.type: message type {wide}{' (in ' + t + ')' if wide != t else ''} "
-                            f"has {width} carried fields; at most {msgmodel.MAX_STRUCT_FIELDS} per message "
-                            "definition (nest them in sub-messages, or use an array)",
-                        )
-                    else:
-                        type_ok = True
-                        total_leaves += n
-                        if total_leaves > MAX_TOTAL_LEAVES and not total_reported:
-                            total_reported = True
-                            ck.err_rule(
-                                "4.5",
-                                tnode,
-                                f"{what}.type: the topics up to this one carry {total_leaves} scalar leaves "
-                                f"in all; a node carries at most {MAX_TOTAL_LEAVES}",
-                            )
+        n = _message_type(ck, d, ck.string(tnode, f"{what}.type"), registry)
+        type_ok = n is not None
+        if type_ok:
+            total_leaves += n
+            if total_leaves > MAX_TOTAL_LEAVES and not total_reported:
+                total_reported = True
+                ck.err_rule(
+                    "4.5",
+                    tnode,
+                    f"{what}.type: the topics up to this one carry {total_leaves} scalar leaves "
+                    f"in all; a node carries at most {MAX_TOTAL_LEAVES}",
+                )
         d.type_ok = type_ok
         d.usable = usable and type_ok and direction is not None and d.queue_size is not None
     return decls
+
+
+def _message_type(ck: Checker, d: TopicDecl, t: str | None, registry: MsgRegistry) -> int | None:
+    """Topic ``d``'s message type ``t`` as written (rule 4.5): a known type
+    that carries at least one field, within the limits of one message.
+    Sets ``d.msg_type``; returns its number of scalar leaves, or ``None``
+    when it is refused (reported)."""
+    what, tnode = d.what, d.type_node
+    if t is not None:
+        problem = registry.check_type_name(t)
+        if t in registry.failed:
+            pass  # its .msg file could not be read: reported there
+        elif problem:
+            ck.err_rule("4.5", tnode, f"{what}.type: {problem}")
+        else:
+            d.msg_type = t
+            carried = registry.carried(t)
+            if registry.is_broken(t):
+                pass  # reported in the .msg file
+            elif carried is None:
+                ck.err_rule(
+                    "4.5",
+                    tnode,
+                    f"{what}.type: message type {t} carries no field "
+                    "(strings and variable-length arrays are not carried by the glue)",
+                )
+            else:
+                messages = registry.messages()
+                n = leaf_count(carried, messages)
+                wide, width = widest_struct(carried, messages)
+                if n > MAX_LEAVES:
+                    ck.err_rule(
+                        "4.5",
+                        tnode,
+                        f"{what}.type: message type {t} has {n} scalar leaves; "
+                        f"the glue carries at most {MAX_LEAVES} per message"
+                        + (" (lower the max_length of its variable-length arrays and strings: each "
+                           "carries its maximum, every element of an array of messages or strings "
+                           "all of its element's leaves)" if _has_bounded(carried, registry) else ""),
+                    )
+                # read from msgmodel when used: bench/limits.py lifts it for one run
+                elif width > msgmodel.MAX_STRUCT_FIELDS:
+                    ck.err_rule(
+                        "4.5",
+                        tnode,
+                        f"{what}.type: message type {wide}{' (in ' + t + ')' if wide != t else ''} "
+                        f"has {width} carried fields; at most {msgmodel.MAX_STRUCT_FIELDS} per message "
+                        "definition (nest them in sub-messages, or use an array)",
+                    )
+                else:
+                    return n
+    return None
 
 
 def _has_bounded(t, registry: MsgRegistry) -> bool:
