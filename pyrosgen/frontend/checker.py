@@ -2,12 +2,12 @@
 
 :class:`Checker` collects the diagnostics of one model file (each citing its
 rule, by default the rule of the model section its message names) and reads
-the structure every section shares: mappings, known keys, strings, integers
-and identifiers (rule 4.1's "one YAML mapping with ... keys", rule 4.9's
-names).  :class:`TopicDecl` and :class:`Rel` are a topic declaration and a
-relation row as far as the rules have checked them; the rule modules fill
-them in, pass after pass, and :mod:`pyrosgen.frontend.validate` builds the
-model from them.
+the structure every section shares: mappings, known keys (rule 4.1: "no
+other key anywhere in the model", a misspelt one with a suggestion),
+strings, integers and identifiers (rule 4.9).  :class:`TopicDecl` and
+:class:`Rel` are a topic declaration and a relation row as far as the
+rules have checked them; the rule modules fill them in, pass after pass,
+and :mod:`pyrosgen.frontend.validate` builds the model from them.
 """
 
 from __future__ import annotations
@@ -40,6 +40,7 @@ _SECTION_RULES = (
 
 
 def _rule_of(message: str) -> str | None:
+    """The rule of the model section ``message`` names (by its prefix)."""
     for prefix, rule in _SECTION_RULES:
         if message.startswith(prefix):
             return rule
@@ -47,6 +48,7 @@ def _rule_of(message: str) -> str | None:
 
 
 def name_list(names) -> str:
+    """``names`` for a message: comma-separated, at most 12 of them."""
     names = list(names)
     if len(names) > 12:
         names = names[:12] + ["..."]
@@ -147,6 +149,8 @@ class Checker:
     # -- structure helpers ----------------------------------------------------
 
     def mapping(self, node: YNode | None, what: str) -> YMap | None:
+        """``node`` if it is a mapping; else ``None``, reported unless it is
+        missing or already refused (a :class:`YBad`)."""
         if node is None or isinstance(node, YBad):
             return None
         if not isinstance(node, YMap):
@@ -155,6 +159,8 @@ class Checker:
         return node
 
     def keys(self, m: YMap, what: str, required, optional=()) -> None:
+        """Report the keys of ``m`` that are neither ``required`` nor
+        ``optional``, and each missing required one."""
         allowed = tuple(required) + tuple(optional)
         for k in m.keys():
             if k not in allowed:
@@ -169,6 +175,8 @@ class Checker:
                 self.err(m.owner_pos, f"{what}: missing key {show(k)}")
 
     def string(self, node: YNode | None, what: str) -> str | None:
+        """The non-empty string written at ``node``, or ``None`` (reported
+        unless missing or already refused)."""
         if node is None or isinstance(node, YBad):
             return None
         if isinstance(node, YScalar) and node.kind == "str":
@@ -183,6 +191,8 @@ class Checker:
         return None
 
     def integer(self, node: YNode | None, what: str, lo: int, hi: int, unit: str = "") -> int | None:
+        """The integer from ``lo`` to ``hi`` written at ``node``, or ``None``
+        (reported unless missing or already refused)."""
         if node is None or isinstance(node, YBad):
             return None
         expected = f"an integer from {lo} to {hi}{unit}"
@@ -196,6 +206,8 @@ class Checker:
         return v
 
     def ident(self, node: YNode | None, what: str, *, global_scope: bool) -> str | None:
+        """The C identifier written at ``node`` (rule 4.9; ``global_scope``: a
+        global name), or ``None`` (reported)."""
         name = self.string(node, what)
         if name is None:
             return None

@@ -36,6 +36,9 @@ def reserved_package(pkg: str) -> bool:
 
 
 def msg_paths(ck: Checker, node: YNode | None, registry: MsgRegistry) -> list[Path]:
+    """The custom message folders of ``msg_paths`` (rule 4.5), each read into
+    ``registry``; returns those that exist, resolved (relative paths are
+    relative to the model file)."""
     if node is None or isinstance(node, YBad):
         return []
     if isinstance(node, YScalar) and node.kind == "null":

@@ -36,6 +36,8 @@ _DIMS = re.compile(r"\[([^\[\]]*)\]")
 
 
 def node_section(ck: Checker, m: YMap | None) -> tuple[str | None, int | None]:
+    """``node.name`` and ``node.period_ms`` (rule 4.2); each ``None`` when
+    refused."""
     if m is None:
         return None, None
     ck.keys(m, "node", ("name", "period_ms"))
@@ -45,6 +47,9 @@ def node_section(ck: Checker, m: YMap | None) -> tuple[str | None, int | None]:
 
 
 def controller_section(ck: Checker, m: YMap | None):
+    """The controller section (rule 4.3): the section itself, the
+    controller's name, and its inputs' and outputs' struct names and fields
+    (:func:`io_struct`)."""
     if m is None:
         return None, None, (None, None), (None, None)
     ck.keys(m, "controller", ("name", "inputs", "outputs"), ("blocks", "outports", "subsystems"))
@@ -55,6 +60,9 @@ def controller_section(ck: Checker, m: YMap | None):
 
 
 def io_struct(ck: Checker, m: YMap | None, what: str) -> tuple[str | None, list[tuple[YScalar, ControllerField]] | None]:
+    """A struct of the controller (``controller.inputs`` or ``outputs``): its
+    name and its fields, each with its key's node (``None`` when any is
+    refused; refused and array fields are noted on ``ck``)."""
     if m is None:
         return None, None
     ck.keys(m, what, ("name", "fields"))
@@ -143,6 +151,8 @@ def controller_type(ck: Checker, node: YNode, what: str) -> tuple[str, int | Non
 
 
 def prim_type(ck: Checker, node: YNode, what: str) -> str | None:
+    """The primitive type written at ``node`` for field ``what`` (rule 4.3),
+    or ``None`` (reported)."""
     t = ck.string(node, f"type of {what}")
     if t is None:
         return None

@@ -33,6 +33,8 @@ def relations_section(
     outputs: dict[str, ControllerField] | None,
     registry: MsgRegistry,
 ) -> tuple[list[Rel], list[Rel]]:
+    """The ``relations`` section: its input and output rows
+    (:func:`relation_rows`)."""
     m = ck.mapping(node, "relations")
     if m is None:
         return [], []

@@ -187,6 +187,8 @@ def check_strings(ck: Checker, decls: list[TopicDecl], registry: MsgRegistry) ->
 
 
 def steps_text(steps) -> str:
+    """Steps of a field path as the model writes them: ``header.frame_id``,
+    ``poses[0].header``."""
     out = ""
     for s in steps:
         out += f"[{s}]" if isinstance(s, int) else ("." if out else "") + s

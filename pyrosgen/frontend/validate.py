@@ -43,6 +43,8 @@ from pyrosgen.frontend.model import (
 )
 from pyrosgen.frontend.msgload import MsgRegistry
 from pyrosgen.frontend.names import topic_c_name
+# Besides the passes, the names other code imported from here before the rules
+# had modules of their own are imported (and so still importable) here.
 from pyrosgen.frontend.rule_c_names import FIXED_C_NAMES, LOCAL_C_NAMES, check_c_names
 from pyrosgen.frontend.rule_coverage import check_fed, check_written_once
 from pyrosgen.frontend.rule_freshness import check_freshness, fallback_constant, fallback_of
@@ -60,14 +62,6 @@ from pyrosgen.frontend.rule_topics import MAX_QUEUE_SIZE, topics_section
 from pyrosgen.frontend.yamlsrc import YMap, load_yaml
 
 __all__ = ["load_model", "MAX_PERIOD_MS", "MAX_QUEUE_SIZE", "FIXED_C_NAMES"]
-
-#: Names importable from here before the rules had modules of their own.
-_REEXPORTED = (
-    LOCAL_C_NAMES, MAX_CONTROLLER_FIELDS, POLICIES, STAMP_FIELD, FRAME_ID_FIELD, HEADER_TYPE,
-    carried_bounded_fields, carried_reject_fields, carried_string_fields, reserved_package, fallback_constant,
-    check_fed, check_c_names, check_freshness, check_max_length, check_policy, check_published_sequences,
-    check_stamps, check_strings,
-)
 
 _TOP_REQUIRED = ("node", "controller", "topics", "relations")
 _TOP_OPTIONAL = ("msg_paths",)
@@ -218,6 +212,8 @@ def _relations(c: _Checked, topic_objs: dict[str, Topic]):
 
 
 def _sorted(diags: list[Diagnostic], file: str) -> list[Diagnostic]:
+    """``diags`` without duplicates, those of the model file first, each
+    file's by position."""
     unique = list(dict.fromkeys(diags))
     return sorted(
         unique,
