@@ -1,9 +1,9 @@
 """Rules 4.6 (field paths) and 4.7 (relations): each input and output
 relation names a topic of the right direction, a controller field (or one
 element of a controller array, rule 4.15) and a field path of the topic's
-message, of the same type (relations never convert).  The whole-array rows
-of rule 4.15 are :mod:`pyrosgen.frontend.rule_arrays`'; derived inputs are
-rule 4.12's (:mod:`pyrosgen.frontend.rule_freshness`).
+message, of the same type (relations never convert).  A whole-array row
+(rule 4.15) is checked by :mod:`pyrosgen.frontend.rule_arrays`, a derived
+input (rule 4.12) by :mod:`pyrosgen.frontend.rule_freshness`.
 """
 
 from __future__ import annotations
