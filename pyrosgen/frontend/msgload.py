@@ -850,7 +850,6 @@ class MsgRegistry:
         length`` or ``truncated``; ``what`` names it in messages), through
         nested messages and fixed-size arrays of messages; raises
         :class:`PathError` saying why not."""
-        keys = what in ("max_length", "policy")
         steps = parse_path(text, extended=True)
         cur = self.raw(type_name)
         assert cur is not None
@@ -865,51 +864,11 @@ class MsgRegistry:
             ftype = f.type_text()
             bounded = f.card == "sequence" or (f.base_kind == "string" and f.card == "scalar")
             if f.card == "sequence" and f.base_kind in ("msg", "string"):
-                string = f.base_kind == "string"
-                kind = f"a variable-length array of {'strings' if string else 'messages'} ({ftype})"
-                if index is None and not step.any:
-                    if last:
-                        return BoundedTarget(tuple(out), cur.name, f.name, f.base, f.base_kind, inside)
-                    raise BoundedPathError(
-                        f"field path {show(text)}: {show(shown)} is {kind}; "
-                        + (f"a {what} key reaches into every element with [] ({show(shown + '[].' + steps[i + 1][0])})"
-                           if keys else f"name one element with a constant index ({show(shown + '[0].' + steps[i + 1][0])})"))
-                if keys and not step.any:
-                    raise BoundedPathError(
-                        f"field path {show(text)}: {show(shown + f'[{index}]')}: a {what} key names every element "
-                        f"of {show(shown)} ({kind}) with [] ({show(shown + '[]')}): one struct holds them all")
-                if not keys and step.any:
-                    raise BoundedPathError(
-                        f"field path {show(text)}: {show(shown + '[]')}: {what} names one element with a constant "
-                        f"index ({show(shown + '[0]')}); [] (every element) is for max_length and policy keys")
-                if index is not None:
-                    n = self.capacity(cur.name, f.name)
-                    if n is not None and index >= n:
-                        raise BoundedPathError(
-                            f"field path {show(text)}: index {index} is beyond the maximum length of {show(shown)}: "
-                            f"the node carries at most {n} of its elements (max_length, default "
-                            f"{DEFAULT_MAX_LENGTH}); valid indices are 0..{n - 1}")
-                out += ["data", index if index is not None else 0]
-                shown += f"[{index}]" if index is not None else "[]"
+                found = self._into_elements(text, steps, i, cur, f, out, shown, what, inside)
+                if isinstance(found, BoundedTarget):
+                    return found
+                cur, shown = found
                 inside = True
-                if step.more:
-                    raise BoundedPathError(
-                        f"field path {show(text)}: {show(shown + f'[{step.more[0]}]')} is one element of "
-                        + ("a string" if string else f"an array of messages") + f"; {what} names a whole "
-                        + ("string" if string else "array") + f" ({show(shown)})")
-                if string:
-                    if not last:
-                        raise BoundedPathError(
-                            f"field path {show(text)}: {show(shown)} is a string; a path does not go inside it "
-                            f"({show(steps[i + 1][0])}: len, truncated and data are fields of its C struct, not "
-                            "of the ROS message)")
-                    return BoundedTarget(tuple(out), cur.name, f.name + "[]", "string", None, True)
-                if last:
-                    raise BoundedPathError(
-                        f"field path {show(text)}: {show(shown)} is a whole element ({f.base}) of {kind}, "
-                        f"not a variable-length array or a string ({what} is for those)")
-                cur = self.raw(f.base)
-                assert cur is not None
                 continue
             if step.any or step.more:
                 raise BoundedPathError(
@@ -954,6 +913,64 @@ class MsgRegistry:
                 )
             cur = nxt
         raise PathError(f"field path {show(text)} is empty")  # pragma: no cover
+
+    def _into_elements(self, text: object, steps, i: int, cur: _RawMsg, f: _RawField, out: list[str | int],
+                       shown: str, what: str, inside: bool) -> BoundedTarget | tuple[_RawMsg, str]:
+        """Step ``i`` of :meth:`walk_bounded`: field ``f`` of ``cur``, a
+        variable-length array of messages or strings (``out`` gets its
+        steps).  Returns the target when the path names it (or one
+        element's string), else the element's type and the path shown so
+        far; raises :class:`BoundedPathError` saying why not."""
+        keys = what in ("max_length", "policy")
+        last = i == len(steps) - 1
+        step = steps[i]
+        index = step[1]
+        ftype = f.type_text()
+        string = f.base_kind == "string"
+        kind = f"a variable-length array of {'strings' if string else 'messages'} ({ftype})"
+        if index is None and not step.any:
+            if last:
+                return BoundedTarget(tuple(out), cur.name, f.name, f.base, f.base_kind, inside)
+            raise BoundedPathError(
+                f"field path {show(text)}: {show(shown)} is {kind}; "
+                + (f"a {what} key reaches into every element with [] ({show(shown + '[].' + steps[i + 1][0])})"
+                   if keys else f"name one element with a constant index ({show(shown + '[0].' + steps[i + 1][0])})"))
+        if keys and not step.any:
+            raise BoundedPathError(
+                f"field path {show(text)}: {show(shown + f'[{index}]')}: a {what} key names every element "
+                f"of {show(shown)} ({kind}) with [] ({show(shown + '[]')}): one struct holds them all")
+        if not keys and step.any:
+            raise BoundedPathError(
+                f"field path {show(text)}: {show(shown + '[]')}: {what} names one element with a constant "
+                f"index ({show(shown + '[0]')}); [] (every element) is for max_length and policy keys")
+        if index is not None:
+            n = self.capacity(cur.name, f.name)
+            if n is not None and index >= n:
+                raise BoundedPathError(
+                    f"field path {show(text)}: index {index} is beyond the maximum length of {show(shown)}: "
+                    f"the node carries at most {n} of its elements (max_length, default "
+                    f"{DEFAULT_MAX_LENGTH}); valid indices are 0..{n - 1}")
+        out += ["data", index if index is not None else 0]
+        shown += f"[{index}]" if index is not None else "[]"
+        if step.more:
+            raise BoundedPathError(
+                f"field path {show(text)}: {show(shown + f'[{step.more[0]}]')} is one element of "
+                + ("a string" if string else f"an array of messages") + f"; {what} names a whole "
+                + ("string" if string else "array") + f" ({show(shown)})")
+        if string:
+            if not last:
+                raise BoundedPathError(
+                    f"field path {show(text)}: {show(shown)} is a string; a path does not go inside it "
+                    f"({show(steps[i + 1][0])}: len, truncated and data are fields of its C struct, not "
+                    "of the ROS message)")
+            return BoundedTarget(tuple(out), cur.name, f.name + "[]", "string", None, True)
+        if last:
+            raise BoundedPathError(
+                f"field path {show(text)}: {show(shown)} is a whole element ({f.base}) of {kind}, "
+                f"not a variable-length array or a string ({what} is for those)")
+        cur = self.raw(f.base)
+        assert cur is not None
+        return cur, shown
 
     def walk_string_path(self, type_name: str, text: object) -> StringTarget:
         """Resolve field path ``text`` in message type ``type_name`` to a
