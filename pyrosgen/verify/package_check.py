@@ -46,6 +46,7 @@ from pyrosgen.proof.modeltext import MalformedModelText, parse_model_text
 from pyrosgen.ros import layout
 from pyrosgen.ros import wrapper as ros
 from pyrosgen.verify.certificate import ProofRecord
+from pyrosgen.verify.check import Check
 from pyrosgen.verify.folder import read_file
 
 __all__ = ["is_build_folder", "check_package"]
@@ -238,9 +239,8 @@ def _unexpected_files(folder: Path, pkg: str, expected: set[str], problems: "_Pr
 
 def check_package(folder: str | Path, rec: ProofRecord, files: dict[str, str], proved_text: str | None):
     """The ``package`` check of a build folder (see the module
-    documentation), as a :class:`pyrosgen.verify.recheck.Check`; ``None``
+    documentation), as a :class:`pyrosgen.verify.check.Check`; ``None``
     for a folder of ``pyrosgen generate`` (:func:`is_build_folder`)."""
-    from pyrosgen.verify.recheck import Check
 
     folder = Path(folder)
     if not is_build_folder(rec, files):

@@ -66,6 +66,7 @@ from pyrosgen.proof.modeltext import ModelMismatch, compare_model_texts, model_t
 from pyrosgen.verify.certificate import (MANIFEST_MAX_BYTES, ManifestError, ProofRecord, certificate_files,
                                          read_manifest)
 from pyrosgen.verify.folder import UnsafeFile, check_name, read_file, read_text
+from pyrosgen.verify.check import Check
 from pyrosgen.verify.package_check import check_package, is_build_folder
 from pyrosgen.nversion.check import check_model_file
 
@@ -90,14 +91,6 @@ class VerifyFailed(UserError):
         failed = [c.name for c in report.checks if not c.ok]
         super().__init__(f"{report.folder}: {len(failed)} of {len(report.checks)} checks failed: "
                          f"{', '.join(failed)}")
-
-
-@dataclass
-class Check:
-    name: str
-    ok: bool
-    summary: str
-    details: list[str] = field(default_factory=list)
 
 
 @dataclass
