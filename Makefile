@@ -12,7 +12,12 @@ PYTEST_ARGS ?=
 all: test
 
 ## deps: Debian packages (only the missing ones) and the virtual environment
-deps: apt venv
+deps: apt venv ros2-deps
+
+## ros2-deps: the pinned ROS 2 Kilted wheels (requirements-ros2.txt) in .venv-ros2, only when missing
+.PHONY: ros2-deps
+ros2-deps:
+	@scripts/ros2-deps.sh
 
 apt:
 	@scripts/deps.sh

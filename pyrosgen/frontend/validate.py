@@ -1823,22 +1823,25 @@ def _list(names) -> str:
     return ", ".join(names) if names else "(none)"
 
 
-def load_model(path: str | Path) -> NodeModel:
+def load_model(path: str | Path, standard_msgs=None) -> NodeModel:
     """Read, parse and validate the node model file at ``path``.
 
+    ``standard_msgs``: the target's standard message definitions (rule
+    4.17; ``None``: ROS 1 Noetic's; ROS 2's come from
+    :func:`pyrosgen.ros2.frontend.load_model_ros2`).
     Raises :class:`InvalidNodeModel` with every problem found.
     """
     path = Path(path)
     doc = load_yaml(path)
-    return build_model(doc.root, doc.file, path, list(doc.diagnostics))
+    return build_model(doc.root, doc.file, path, list(doc.diagnostics), standard_msgs=standard_msgs)
 
 
-def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> NodeModel:
+def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic], standard_msgs=None) -> NodeModel:
     """Validate a parsed model tree and build the :class:`NodeModel`."""
     ck = _Checker(file, path.parent, diags)
     ck.keys(root, "the node model", _TOP_REQUIRED, _TOP_OPTIONAL)
 
-    registry = MsgRegistry()
+    registry = MsgRegistry(standard=standard_msgs)
     msg_paths = ck.msg_paths(root.get("msg_paths"), registry)
 
     node_name, period = ck.node_section(ck.mapping(root.get("node"), "node"))
