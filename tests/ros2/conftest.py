@@ -1,0 +1,111 @@
+"""Fixtures for the ROS 2 tests (marker ``ros2``): the ROS 2 installation
+(``make ros2-deps``), the environment of every ROS 2 process (one module
+sets it: :func:`pyrosgen.ros2.env.ros2_env`, loopback discovery and a
+domain of this test session's own, set here before any ROS 2 process
+starts), nodes built once per session, and the process helpers: every
+process is started in a group of its own, recorded in ``support.ros.STARTED``
+(the session fails if one survives) and stopped by its PID."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import pytest
+
+from pyrosgen.ros2.env import find_ros2, ros2_env
+
+from support import ros as rosutil
+
+# The whole session's environment: loopback discovery, a domain of its own.
+os.environ.update(ros2_env())
+
+PEER = Path(__file__).resolve().parent / "peer.py"
+SHM = Path("/dev/shm")
+
+
+@pytest.fixture(scope="session")
+def ros2_install():
+    """The ROS 2 installation (``make ros2-deps``); the tests fail, never
+    skip, without it."""
+    return find_ros2()
+
+
+@pytest.fixture(scope="session")
+def ros2_nodes(tmp_path_factory) -> Path:
+    return tmp_path_factory.mktemp("ros2nodes")
+
+
+def fastdds_segments() -> set[str]:
+    """Fast DDS's shared-memory segments and their semaphores."""
+    return {p.name for p in [*SHM.glob("fastdds_*"), *SHM.glob("sem.fastdds_*")]}
+
+
+@pytest.fixture
+def shm_guard():
+    """The Fast DDS shared-memory segments that appear during the test
+    (only this session's processes run ROS 2 on this machine) are removed
+    afterwards; yields the set present before."""
+    before = fastdds_segments()
+    yield before
+    for name in fastdds_segments() - before:
+        try:
+            (SHM / name).unlink()
+        except OSError:
+            pass
+
+
+def spawn(argv, log: Path) -> subprocess.Popen:
+    """Start a ROS 2 process in the ROS 2 environment (no LD_LIBRARY_PATH:
+    a node finds its libraries by its DT_RPATH), in a process group of its
+    own, its output into ``log``; its PID is recorded."""
+    out = open(log, "wb")
+    p = subprocess.Popen([str(a) for a in argv], stdout=out, stderr=subprocess.STDOUT,
+                         env=ros2_env(), start_new_session=True)
+    out.close()
+    rosutil.STARTED.append((p.pid, " ".join(str(a) for a in argv)))
+    return p
+
+
+def stop(p: subprocess.Popen, sig: int = signal.SIGTERM, timeout: float = 15.0) -> int | None:
+    """Send ``sig`` to the process; its exit status if it ended within
+    ``timeout`` s, else it is killed (its group) and ``None`` returned."""
+    if p.poll() is not None:
+        return p.returncode
+    p.send_signal(sig)
+    try:
+        return p.wait(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        p.wait()
+        return None
+
+
+def run_peer(plan: dict, work: Path, install, name: str = "peer", timeout: float = 120) -> dict:
+    """Run the rclpy peer (peer.py) on ``plan``; its result."""
+    plan_file, result_file = work / f"{name}.plan.json", work / f"{name}.result.json"
+    plan_file.write_text(json.dumps(plan))
+    p = spawn([install.python, PEER, plan_file, result_file], work / f"{name}.log")
+    try:
+        rc = p.wait(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        stop(p, signal.SIGKILL)
+        raise AssertionError(f"the rclpy peer did not finish within {timeout} s")
+    log = (work / f"{name}.log").read_text(errors="replace")
+    assert result_file.is_file(), f"the rclpy peer wrote no result (exit {rc}):\n{log[-3000:]}"
+    result = json.loads(result_file.read_text())
+    assert result["matched_after"] is not None, f"no discovery match within {plan['match_timeout']} s:\n{log[-3000:]}"
+    return result
+
+
+def wait_for(pred, timeout: float) -> bool:
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if pred():
+            return True
+        time.sleep(0.05)
+    return pred()

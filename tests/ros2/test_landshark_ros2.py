@@ -1,0 +1,111 @@
+"""LandShark on ROS 2, end to end on a real DDS (Fast DDS from the wheels,
+loopback only): the node built by ``pyrosgen build --ros2`` (the proved
+glue, the rcl wrapper, the bit-exact test controller of tests/ros) is driven
+by an rclpy peer, which waits for the discovery match, publishes the three
+wheel velocities and checks, bit for bit, that the published base velocity
+is what the controller computes from the newest messages; then the node is
+stopped by a signal and leaves no process and no shared-memory segment."""
+
+from __future__ import annotations
+
+import random
+import signal
+
+import pytest
+
+from pyrosgen.ros2.build import build_ros2
+from pyrosgen.ros2.frontend import load_model_ros2
+
+from support import expect
+from support import ros as rosutil
+
+from .conftest import fastdds_segments, run_peer, spawn, stop, wait_for
+
+LEFT, RIGHT, GPS = "/landshark/left_wheel_velocity", "/landshark/right_wheel_velocity", "/landshark/gps_velocity"
+BASE = "/landshark_control/base_velocity"
+
+
+@pytest.fixture(scope="module")
+def landshark2(ros2_install, ros2_nodes):
+    """The LandShark model built for ROS 2 with the bit-exact echo controller."""
+    out = ros2_nodes / "landshark_echo"
+    res = build_ros2(rosutil.LANDSHARK, rosutil.CONTROLLERS / "landshark_echo", out, install=ros2_install)
+    return res
+
+
+def test_build_installs_node_target_and_certificate(landshark2):
+    out = landshark2.out_dir
+    node = landshark2.model.name
+    assert (out / f"{node}.target").read_text().startswith("target: ros2")
+    cert = (out / f"{node}.certificate.md").read_text()
+    assert f"{node}.target" in cert and f"{node}_rcl.c" in cert and f"bin/{node}" in cert
+    assert landshark2.generated.assumptions == "Closed under the global context"
+    # the ROS 2 structs were proved: Header has no seq, Time is int32 sec + uint32 nanosec
+    types_h = (out / f"{node}_types.h").read_text()
+    assert "struct builtin_interfaces_Time {\n    int sec;\n    unsigned int nanosec;\n};" in types_h
+    assert "seq" not in types_h
+    # DT_RPATH (not RUNPATH) to the wheels' libraries
+    import subprocess
+    dyn = subprocess.run(["readelf", "-d", str(landshark2.binary)], capture_output=True, text=True).stdout
+    assert "(RPATH)" in dyn and "(RUNPATH)" not in dyn and "ros_rcl.libs" in dyn
+
+
+def _bits_rounds(rng):
+    modes = ["special", "random", "min", "max", "random", "zero"]
+    model = load_model_ros2(rosutil.LANDSHARK)
+    return model, [{t: rosutil.random_value("float64", rng, m) for t in (LEFT, RIGHT, GPS)} for m in modes]
+
+
+def test_landshark_ros2_end_to_end_bit_exact(landshark2, ros2_install, tmp_path, shm_guard):
+    rng = random.Random(20261128)
+    _model, rounds = _bits_rounds(rng)
+    node = spawn([landshark2.binary], tmp_path / "node.log")
+    try:
+        steps = [{"sleep": 0.6}]
+        for r in rounds:
+            steps.append({"publish": {t: rosutil.bits_of(v) if isinstance(v, str) else v for t, v in r.items()}})
+            steps.append({"sleep": 0.6})
+        result = run_peer({"publishers": [LEFT, RIGHT, GPS], "subscriber": BASE, "match_timeout": 20.0,
+                           "steps": steps}, tmp_path, ros2_install)
+    finally:
+        status = stop(node, signal.SIGTERM)
+    log = (tmp_path / "node.log").read_text(errors="replace")
+    assert status == 0, f"the node did not end cleanly on SIGTERM (status {status}):\n{log[-2000:]}"
+    received = result["received"]
+    problems = []
+    # before any input: the controller's answer to all-zero inputs
+    zero = expect.landshark_echo({"In1": 0, "In2": 0, "In3": 0})["Out1"]
+    first_pub = result["steps"][1]["t0"]
+    before = [lv for t, lv in received if t < first_pub]
+    assert len(before) >= 5, f"too few outputs before any input: {len(before)}"
+    problems += [f"before any input: {lv}" for lv in before if lv["twist.linear.x"] != zero]
+    for i, r in enumerate(rounds):
+        bits = {t: (rosutil.bits_of(v) if isinstance(v, str) else v) for t, v in r.items()}
+        want = expect.landshark_echo({"In1": bits[LEFT], "In2": bits[RIGHT], "In3": bits[GPS]})["Out1"]
+        wait = result["steps"][2 + 2 * i]
+        window = [lv for t, lv in received if wait["t0"] + 0.3 <= t <= wait["t1"]]
+        assert len(window) >= 5, f"round {i}: only {len(window)} messages on {BASE}"
+        for lv in window:
+            if lv["twist.linear.x"] != want:
+                problems.append(f"round {i}: twist.linear.x bits {lv['twist.linear.x']:#x}, expected {want:#x}")
+            others = {k: v for k, v in lv.items() if k != "twist.linear.x"}
+            if others != {"header.stamp.sec": 0, "header.stamp.nanosec": 0, "header.frame_id": "",
+                          "twist.linear.y": 0, "twist.linear.z": 0, "twist.angular.x": 0,
+                          "twist.angular.y": 0, "twist.angular.z": 0}:
+                problems.append(f"round {i}: a field the model does not write is not zero: {others}")
+    assert not problems, "\n".join(problems[:20])
+    assert fastdds_segments() <= shm_guard, f"shared memory left behind: {fastdds_segments() - shm_guard}"
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_node_stops_cleanly_on_signal(landshark2, tmp_path, shm_guard, sig):
+    node = spawn([landshark2.binary], tmp_path / "node.log")
+    # running: its shared-memory transport is up
+    assert wait_for(lambda: node.poll() is not None or bool(fastdds_segments() - shm_guard), 10.0)
+    assert node.poll() is None, (tmp_path / "node.log").read_text(errors="replace")
+    assert fastdds_segments() - shm_guard, "no Fast DDS shared-memory segment while the node runs"
+    status = stop(node, sig)
+    log = (tmp_path / "node.log").read_text(errors="replace")
+    assert status == 0, f"exit status {status} after {sig!r}:\n{log[-2000:]}"
+    assert not rosutil.alive(node.pid)
+    assert fastdds_segments() <= shm_guard, f"shared memory left behind: {fastdds_segments() - shm_guard}"
