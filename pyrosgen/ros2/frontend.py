@@ -57,19 +57,25 @@ def _relabel(exc: InvalidNodeModel, path: Path) -> InvalidNodeModel:
     return InvalidNodeModel(out)
 
 
+def _msg_paths_refusal(path: Path) -> list[Diagnostic]:
+    """A non-empty ``msg_paths``: custom messages are not built for ROS 2
+    in this version (rule 4.17)."""
+    try:
+        root = load_yaml(path).root
+    except InvalidNodeModel:
+        return []  # reported by the model's reading
+    mp = root.get("msg_paths") if isinstance(root, YMap) else None
+    if mp is None or not getattr(mp, "items", None):
+        return []
+    return [Diagnostic(str(path), mp.line, mp.col,
+                       "msg_paths: custom message types are not built for the target ros2 yet "
+                       "(they need rosidl's C generators); use ROS 2's standard types", rule=TARGET_RULE)]
+
+
 def _refusals(model: NodeModel, path: Path) -> list[Diagnostic]:
     """What this version does not build for ROS 2 (rule 4.17)."""
     file = str(path)
     diags: list[Diagnostic] = []
-    doc = load_yaml(path)
-    root = doc.root
-    if isinstance(root, YMap):
-        mp = root.get("msg_paths")
-        if model.msg_paths and mp is not None:
-            diags.append(Diagnostic(file, mp.line, mp.col,
-                                    "msg_paths: custom message types are not built for the target ros2 yet "
-                                    "(they need rosidl's C generators); use ROS 2's standard types",
-                                    rule=TARGET_RULE))
     bounded_types = {m.name for m in model.messages if m.is_bounded}
     if bounded_types:
         for t in model.topics:
@@ -104,11 +110,14 @@ def load_model_ros2(path: str | Path, install: Ros2Install | None = None) -> Nod
     installation."""
     path = Path(path)
     defs = ros2_standard_defs(install)
+    pre = _msg_paths_refusal(path)
     try:
         model = load_model(path, standard_msgs=defs)
     except InvalidNodeModel as exc:
-        raise _relabel(exc, path) from None
-    diags = _refusals(model, path)
+        relabelled = _relabel(exc, path).diagnostics
+        raise InvalidNodeModel(sorted([*pre, *relabelled], key=lambda d: (d.file != str(path), d.line or 0,
+                                                                          d.col or 0))) from None
+    diags = pre + _refusals(model, path)
     if diags:
         raise InvalidNodeModel(diags)
     return model
