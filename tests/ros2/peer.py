@@ -3,23 +3,37 @@ interpreter (``.venv-ros2/bin/python peer.py PLAN.json RESULT.json``) in the
 environment of :func:`pyrosgen.ros2.env.ros2_env` (loopback discovery, a
 domain of the test's own).
 
-The plan: ``publishers`` (topics of geometry_msgs/TwistStamped the peer
-publishes), ``subscriber`` (the topic it listens to), ``match_timeout``
-(seconds to wait until every publisher has a subscription and the listened
-topic a publisher: discovery takes 0.2 to 3 s), ``steps``: ``{"sleep": s}``
-or ``{"publish": {topic: float64 bits of twist.linear.x}}``.  The result:
-``matched_after`` (s), the steps with their monotonic start/end ``t0``/``t1``,
-and ``received``: every message heard, ``[t, leaves]`` with each leaf of
-the TwistStamped (the floats as IEEE bits).
+The plan: ``publishers`` and ``subscribers`` (topic -> ROS 2 type such as
+``geometry_msgs/TwistStamped``), ``match_timeout`` (seconds to wait until
+every publisher has a subscription and every listened topic a publisher:
+discovery takes 0.2 to 3 s), and ``steps``:
+
+- ``{"sleep": s}``: listen for ``s`` seconds;
+- ``{"publish": {topic: {leaf: value}}}``: one message per topic, the
+  leaves given (floats as their IEEE bits), every other leaf zero;
+- ``{"stream": {topic: {leaf: value}}, "period": p, "duration": s}``: the
+  same every ``p`` seconds for ``s`` seconds, listening in between.
+
+The result: ``matched_after`` (s), the steps with their monotonic start and
+end ``t0``/``t1`` and the time of each publication (``published``: [t,
+topic]), and ``received``: every message heard, ``[t, topic, leaves]`` (the
+floats as IEEE bits).
 """
 
+import importlib
 import json
 import struct
 import sys
 import time
 
 import rclpy
-from geometry_msgs.msg import TwistStamped
+
+_FLOATS = ("float", "double")
+
+
+def msg_class(ros_type: str):
+    pkg, name = ros_type.split("/")
+    return getattr(importlib.import_module(f"{pkg}.msg"), name)
 
 
 def bits(x: float) -> int:
@@ -30,43 +44,72 @@ def value(b: int) -> float:
     return struct.unpack("<d", struct.pack("<Q", b))[0]
 
 
-def leaves(m: TwistStamped) -> dict:
-    out = {"header.stamp.sec": m.header.stamp.sec, "header.stamp.nanosec": m.header.stamp.nanosec,
-           "header.frame_id": m.header.frame_id}
-    for part in ("linear", "angular"):
-        for axis in "xyz":
-            out[f"twist.{part}.{axis}"] = bits(getattr(getattr(m.twist, part), axis))
+def leaves(m, prefix: str = "") -> dict:
+    out = {}
+    for name, typ in m.get_fields_and_field_types().items():
+        v = getattr(m, name)
+        if hasattr(v, "get_fields_and_field_types"):
+            out.update(leaves(v, f"{prefix}{name}."))
+        elif typ in _FLOATS:
+            out[prefix + name] = bits(v)
+        else:
+            out[prefix + name] = v
     return out
+
+
+def build(cls, values: dict):
+    m = cls()
+    for path, v in values.items():
+        *parents, leaf = path.split(".")
+        obj = m
+        for p in parents:
+            obj = getattr(obj, p)
+        typ = obj.get_fields_and_field_types()[leaf]
+        setattr(obj, leaf, value(v) if typ in _FLOATS else v)
+    return m
 
 
 def main() -> int:
     plan = json.load(open(sys.argv[1]))
     rclpy.init()
     node = rclpy.create_node("pyrosgen_test_peer")
-    pubs = {t: node.create_publisher(TwistStamped, t, 10) for t in plan["publishers"]}
+    pubs = {t: (node.create_publisher(msg_class(ty), t, 10), msg_class(ty)) for t, ty in plan["publishers"].items()}
     received = []
-    node.create_subscription(TwistStamped, plan["subscriber"],
-                             lambda m: received.append([time.monotonic(), leaves(m)]), 10)
+    for topic, ty in plan["subscribers"].items():
+        node.create_subscription(msg_class(ty), topic,
+                                 lambda m, topic=topic: received.append([time.monotonic(), topic, leaves(m)]), 10)
     t0 = time.monotonic()
     result = {"matched_after": None, "steps": [], "received": received}
     while time.monotonic() - t0 < plan["match_timeout"]:
-        if all(p.get_subscription_count() > 0 for p in pubs.values()) \
-                and node.count_publishers(plan["subscriber"]) > 0:
+        if all(p.get_subscription_count() > 0 for p, _ in pubs.values()) \
+                and all(node.count_publishers(t) > 0 for t in plan["subscribers"]):
             result["matched_after"] = time.monotonic() - t0
             break
         rclpy.spin_once(node, timeout_sec=0.05)
+
+    def listen(until: float) -> None:
+        while time.monotonic() < until:
+            rclpy.spin_once(node, timeout_sec=min(0.01, max(0.0, until - time.monotonic())))
+
+    def publish(msgs: dict, log: list) -> None:
+        for topic, values in msgs.items():
+            pub, cls = pubs[topic]
+            m = build(cls, values)
+            log.append([time.monotonic(), topic])
+            pub.publish(m)
+
     if result["matched_after"] is not None:
         for step in plan["steps"]:
-            s = {"t0": time.monotonic()}
+            s = {"t0": time.monotonic(), "published": []}
             if "sleep" in step:
-                end = s["t0"] + step["sleep"]
-                while time.monotonic() < end:
-                    rclpy.spin_once(node, timeout_sec=0.01)
+                listen(s["t0"] + step["sleep"])
+            elif "publish" in step:
+                publish(step["publish"], s["published"])
             else:
-                for topic, b in step["publish"].items():
-                    m = TwistStamped()
-                    m.twist.linear.x = value(b)
-                    pubs[topic].publish(m)
+                end = s["t0"] + step["duration"]
+                while time.monotonic() < end:
+                    publish(step["stream"], s["published"])
+                    listen(min(end, time.monotonic() + step["period"]))
             s["t1"] = time.monotonic()
             result["steps"].append(s)
     node.destroy_node()

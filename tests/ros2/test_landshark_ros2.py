@@ -23,6 +23,7 @@ from .conftest import fastdds_segments, run_peer, spawn, stop, wait_for
 
 LEFT, RIGHT, GPS = "/landshark/left_wheel_velocity", "/landshark/right_wheel_velocity", "/landshark/gps_velocity"
 BASE = "/landshark_control/base_velocity"
+TS = "geometry_msgs/TwistStamped"
 
 
 @pytest.fixture(scope="module")
@@ -63,10 +64,10 @@ def test_landshark_ros2_end_to_end_bit_exact(landshark2, ros2_install, tmp_path,
     try:
         steps = [{"sleep": 0.6}]
         for r in rounds:
-            steps.append({"publish": {t: rosutil.bits_of(v) if isinstance(v, str) else v for t, v in r.items()}})
+            steps.append({"publish": {t: {"twist.linear.x": rosutil.bits_of(v)} for t, v in r.items()}})
             steps.append({"sleep": 0.6})
-        result = run_peer({"publishers": [LEFT, RIGHT, GPS], "subscriber": BASE, "match_timeout": 20.0,
-                           "steps": steps}, tmp_path, ros2_install)
+        result = run_peer({"publishers": {t: TS for t in (LEFT, RIGHT, GPS)}, "subscribers": {BASE: TS},
+                           "match_timeout": 20.0, "steps": steps}, tmp_path, ros2_install)
     finally:
         status = stop(node, signal.SIGTERM)
     log = (tmp_path / "node.log").read_text(errors="replace")
@@ -76,14 +77,14 @@ def test_landshark_ros2_end_to_end_bit_exact(landshark2, ros2_install, tmp_path,
     # before any input: the controller's answer to all-zero inputs
     zero = expect.landshark_echo({"In1": 0, "In2": 0, "In3": 0})["Out1"]
     first_pub = result["steps"][1]["t0"]
-    before = [lv for t, lv in received if t < first_pub]
+    before = [lv for t, _topic, lv in received if t < first_pub]
     assert len(before) >= 5, f"too few outputs before any input: {len(before)}"
     problems += [f"before any input: {lv}" for lv in before if lv["twist.linear.x"] != zero]
     for i, r in enumerate(rounds):
-        bits = {t: (rosutil.bits_of(v) if isinstance(v, str) else v) for t, v in r.items()}
+        bits = {t: rosutil.bits_of(v) for t, v in r.items()}
         want = expect.landshark_echo({"In1": bits[LEFT], "In2": bits[RIGHT], "In3": bits[GPS]})["Out1"]
         wait = result["steps"][2 + 2 * i]
-        window = [lv for t, lv in received if wait["t0"] + 0.3 <= t <= wait["t1"]]
+        window = [lv for t, _topic, lv in received if wait["t0"] + 0.3 <= t <= wait["t1"]]
         assert len(window) >= 5, f"round {i}: only {len(window)} messages on {BASE}"
         for lv in window:
             if lv["twist.linear.x"] != want:
