@@ -182,3 +182,16 @@ def test_rcl_wrapper_check_refuses_a_tampered_wrapper(tmp_path, ros2_install, ta
     assert text.count(old) == 1
     with pytest.raises(Ros2WrapperMismatch):
         check_rcl_wrapper(text.replace(old, new), PROVED, wrapper_name="n2_rcl.c")
+
+
+def test_build_ros2_cli_nothing_partial_on_a_controller_error(tmp_path, ros2_install):
+    import shutil
+    ctl = tmp_path / "ctl"
+    shutil.copytree(rosutil.CONTROLLERS / "landshark_echo", ctl)
+    (ctl / "Controller.c").write_text((ctl / "Controller.c").read_text() + "\nint broken(void) { return }\n")
+    out = tmp_path / "out"
+    r = _cli("build", "--ros2", "-q", str(rosutil.LANDSHARK), "--controller", str(ctl), "-o", str(out))
+    assert r.returncode == 1, r.stderr
+    assert "Controller.c: error: the controller source does not compile" in r.stderr
+    assert "Traceback" not in r.stderr
+    assert not out.exists() and not list(tmp_path.glob(".pyrosgen-build-*"))
