@@ -24,6 +24,7 @@ from pathlib import Path
 
 from pyrosgen.errors import Diagnostic, InvalidNodeModel
 from pyrosgen.frontend.model import NodeModel
+from pyrosgen.frontend.msgmodel import PRIMITIVES
 from pyrosgen.frontend.validate import load_model
 from pyrosgen.frontend.yamlsrc import YMap, load_yaml
 from pyrosgen.ros2.env import Ros2Install
@@ -76,16 +77,19 @@ def _refusals(model: NodeModel, path: Path) -> list[Diagnostic]:
     """What this version does not build for ROS 2 (rule 4.17)."""
     file = str(path)
     diags: list[Diagnostic] = []
-    bounded_types = {m.name for m in model.messages if m.is_bounded}
-    if bounded_types:
+    # strings and sequences of primitives are converted (policy truncate);
+    # sequences of messages or strings, and policy reject, not yet
+    unsupported = {m.name for m in model.messages
+                   if m.is_bounded and (m.reject or (m.is_seq and m.seq_of[0] not in PRIMITIVES))}
+    if unsupported:
         for t in model.topics:
-            used = {m.name for m in model.messages if m.is_bounded} & _reachable(model, t.msg_type)
+            used = unsupported & _reachable(model, t.msg_type)
             if used:
                 diags.append(Diagnostic(file, t.pos.line, t.pos.col,
-                                        f"topic {t.name!r} carries a string or variable-length array "
-                                        f"(rules 4.14, 4.15: {', '.join(sorted(used))}), which the rcl wrapper "
-                                        "does not convert yet: not built for the target ros2 in this version",
-                                        rule=TARGET_RULE))
+                                        f"topic {t.name!r} carries a variable-length array of messages or of "
+                                        f"strings, or one of policy reject (rule 4.15: {', '.join(sorted(used))}), "
+                                        "which the rcl wrapper does not convert yet: not built for the target "
+                                        "ros2 in this version", rule=TARGET_RULE))
     return diags
 
 

@@ -52,6 +52,9 @@ def _field(fname: str, desc) -> _RawField:
         base, _bound = payload
         if base == "string":
             return _RawField(fname, "string", "string", card, size)
+        if card == "sequence" and base in _ALIASES:
+            # rosidl's C sequence of a byte is an octet sequence, not a uint8 one
+            return _RawField(fname, "unsupported", base, card, size)
         base = _ALIASES.get(base, base)
         if base in PRIMITIVES:
             return _RawField(fname, "prim", base, card, size)

@@ -25,6 +25,11 @@ __all__ = ["Ros2WrapperFiles", "ros2_wrapper_files", "render_rcl_wrapper", "rosi
 
 _C_IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
+#: rosidl's C sequence type of each primitive (``rosidl_runtime_c__<name>__Sequence``)
+ROSIDL_SEQ = {"bool": "boolean", "int8": "int8", "uint8": "uint8", "int16": "int16", "uint16": "uint16",
+              "int32": "int32", "uint32": "uint32", "int64": "int64", "uint64": "uint64",
+              "float32": "float", "float64": "double"}
+
 
 class Ros2WrapperMismatch(DetailedFailure):
     """The rcl wrapper does not implement the proved model (exit 2)."""
@@ -79,9 +84,18 @@ def _context(model: NodeModel, proved: ProvedModel) -> dict:
     by_name = {m.name: m for m in model.messages}
     messages = []
     for m in model.messages:
+        if m.is_string and not m.reject:
+            messages.append({"c_name": _ident(m.c_name), "bounded": "string", "capacity": int(m.capacity),
+                             "rosidl": "rosidl_runtime_c__String", "fields": []})
+            continue
+        if m.is_seq and not m.reject and m.seq_of[0] in ROSIDL_SEQ:
+            messages.append({"c_name": _ident(m.c_name), "bounded": "seq", "capacity": int(m.capacity),
+                             "elem": m.seq_of[0], "rosidl": f"rosidl_runtime_c__{ROSIDL_SEQ[m.seq_of[0]]}__Sequence",
+                             "fields": []})
+            continue
         if m.is_bounded or "/" not in m.name:
             raise ValueError(f"{m.name}: no rcl conversion for this type in this version")
-        messages.append({
+        messages.append({"bounded": None,
             "c_name": _ident(m.c_name),
             "rosidl": rosidl_c_type(m.name),
             "fields": [{"name": _ident(f.name), "kind": f.kind, "array_len": f.array_len,

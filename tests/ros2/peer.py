@@ -44,20 +44,36 @@ def value(b: int) -> float:
     return struct.unpack("<d", struct.pack("<Q", b))[0]
 
 
+def _is_float(typ: str) -> bool:
+    base = typ.split("<")[-1].split("[")[0].rstrip(">,0123456789=")
+    return base in _FLOATS
+
+
+def _leaf(v, typ: str):
+    if hasattr(v, "get_fields_and_field_types"):
+        return leaves(v)
+    if isinstance(v, (list, tuple)) or hasattr(v, "tolist"):
+        items = v.tolist() if hasattr(v, "tolist") else list(v)
+        return [_leaf(x, typ) for x in items]
+    return bits(v) if _is_float(typ) else v
+
+
 def leaves(m, prefix: str = "") -> dict:
+    """Every leaf of ``m`` by path; floats as IEEE bits; a sequence or
+    array as the list of its elements (messages as their leaves)."""
     out = {}
     for name, typ in m.get_fields_and_field_types().items():
         v = getattr(m, name)
         if hasattr(v, "get_fields_and_field_types"):
             out.update(leaves(v, f"{prefix}{name}."))
-        elif typ in _FLOATS:
-            out[prefix + name] = bits(v)
         else:
-            out[prefix + name] = v
+            out[prefix + name] = _leaf(v, typ)
     return out
 
 
 def build(cls, values: dict):
+    """A message of ``cls`` with the leaves ``values`` (floats as IEEE
+    bits, a list for a sequence), every other leaf zero."""
     m = cls()
     for path, v in values.items():
         *parents, leaf = path.split(".")
@@ -65,7 +81,11 @@ def build(cls, values: dict):
         for p in parents:
             obj = getattr(obj, p)
         typ = obj.get_fields_and_field_types()[leaf]
-        setattr(obj, leaf, value(v) if typ in _FLOATS else v)
+        if isinstance(v, list):
+            v = [value(x) if _is_float(typ) else x for x in v]
+        elif _is_float(typ):
+            v = value(v)
+        setattr(obj, leaf, v)
     return m
 
 

@@ -96,12 +96,18 @@ def test_stamp_now_refused_for_ros2(tmp_path, ros2_install):
     assert "int32 sec" in d.message and "rule 4.13" in d.message
 
 
-def test_carried_sequence_refused_for_ros2(tmp_path, ros2_install):
-    path = _model(tmp_path, field='"ranges[0]"', in_type="float32", in_msg="sensor_msgs/LaserScan")
+def test_sequence_of_strings_refused_for_ros2(ros2_install):
+    path = rosutil.ROOT / "examples" / "arm_named" / "arm_named.yaml"
     load_model(path)
-    (d,) = _refused(path, ros2_install)
-    assert (d.line, d.col, d.rule) == (7, 5, "4.17")
-    assert "variable-length" in d.message and "/cmd_in" in d.message
+    diags = _refused(path, ros2_install)
+    assert [(d.line, d.col, d.rule) for d in diags] == [(51, 5, "4.17")]
+    assert "ros_seq_string32_6" in diags[0].message and "/joint_states" in diags[0].message
+
+
+def test_sequence_of_numbers_accepted_for_ros2(tmp_path, ros2_install):
+    path = _model(tmp_path, field='"ranges[0]"', in_type="float32", in_msg="sensor_msgs/LaserScan")
+    m = load_model_ros2(path, ros2_install)
+    assert any(t.is_seq and t.seq_of == ("float32", 128) for t in m.messages)
 
 
 def test_msg_paths_refused_for_ros2(ros2_install):
