@@ -110,3 +110,34 @@ def test_node_stops_cleanly_on_signal(landshark2, tmp_path, shm_guard, sig):
     assert status == 0, f"exit status {status} after {sig!r}:\n{log[-2000:]}"
     assert not rosutil.alive(node.pid)
     assert fastdds_segments() <= shm_guard, f"shared memory left behind: {fastdds_segments() - shm_guard}"
+
+
+def test_constant_frame_id_published_over_rcl(ros2_install, ros2_nodes, tmp_path, shm_guard):
+    """Rule 4.14 on ROS 2: LandShark with ``frame_id: base_link`` on its
+    command; the rcl wrapper converts the glue's bounded string into
+    rosidl's string: every command carries exactly 'base_link', and the
+    controller's value."""
+    text = rosutil.LANDSHARK.read_text()
+    old = "{name: /landshark_control/base_velocity, direction: publish,   type: geometry_msgs/TwistStamped, queue_size: 1}"
+    assert text.count(old) == 1
+    model = tmp_path / "landshark_framed.yaml"
+    model.write_text(text.replace(old, old[:-1] + ", frame_id: base_link}"))
+    res = build_ros2(model, rosutil.CONTROLLERS / "landshark_echo", ros2_nodes / "landshark_framed",
+                     install=ros2_install)
+    assert "struct ros_string" in (res.out_dir / "landshark_controller_types.h").read_text()
+    node = spawn([res.binary], tmp_path / "node.log")
+    v = 0x400921FB54442D18  # pi
+    try:
+        result = run_peer({"publishers": {t: TS for t in (LEFT, RIGHT, GPS)}, "subscribers": {BASE: TS},
+                           "match_timeout": 20.0,
+                           "steps": [{"sleep": 0.3}, {"publish": {t: {"twist.linear.x": v} for t in (LEFT, RIGHT, GPS)}},
+                                     {"sleep": 0.6}]}, tmp_path, ros2_install)
+    finally:
+        status = stop(node, signal.SIGTERM)
+    assert status == 0
+    got = [lv for _t, _topic, lv in result["received"]]
+    assert len(got) >= 10 and all(lv["header.frame_id"] == "base_link" for lv in got), got[:3]
+    want = expect.landshark_echo({"In1": v, "In2": v, "In3": v})["Out1"]
+    late = [lv for t, _topic, lv in result["received"] if t >= result["steps"][2]["t0"] + 0.3]
+    assert late and all(lv["twist.linear.x"] == want for lv in late)
+    assert fastdds_segments() <= shm_guard
