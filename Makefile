@@ -41,6 +41,11 @@ proofs: apt
 demo: deps proofs
 	@scripts/demo.sh
 
+## demo-ros2: the LandShark node built for ROS 2 (--ros2: rcl, Fast DDS on the loopback) against a simulated robot
+.PHONY: demo-ros2
+demo-ros2: deps proofs
+	@scripts/demo-ros2.sh
+
 ## docs: HTML documentation of the Coq library (coqdoc) and its front page, in build/docs/
 .PHONY: docs
 docs: venv
