@@ -59,13 +59,13 @@ def shm_guard():
             pass
 
 
-def spawn(argv, log: Path) -> subprocess.Popen:
+def spawn(argv, log: Path, extra_env: dict | None = None) -> subprocess.Popen:
     """Start a ROS 2 process in the ROS 2 environment (no LD_LIBRARY_PATH:
     a node finds its libraries by its DT_RPATH), in a process group of its
     own, its output into ``log``; its PID is recorded."""
     out = open(log, "wb")
     p = subprocess.Popen([str(a) for a in argv], stdout=out, stderr=subprocess.STDOUT,
-                         env=ros2_env(), start_new_session=True)
+                         env={**ros2_env(), **(extra_env or {})}, start_new_session=True)
     out.close()
     rosutil.STARTED.append((p.pid, " ".join(str(a) for a in argv)))
     return p

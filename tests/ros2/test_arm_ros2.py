@@ -6,7 +6,10 @@ truncated, zeros after) and back (the first len elements).  Every effort
 message is checked bit for bit against the PD law computed here in IEEE
 binary64, as tests/ros/test_arm_node.py does on ROS 1: 6 elements when the
 newest joint state has at least 6 positions and 6 velocities and the newest
-target at least 6 angles, else none (also before the first messages)."""
+target at least 6 angles, else none (also before the first messages).  The
+same under AddressSanitizer and UndefinedBehaviorSanitizer (the glue, the
+controller and the wrapper's conversions compiled with them): any error
+ends the node with a non-zero status, which fails the test."""
 
 from __future__ import annotations
 
@@ -54,12 +57,32 @@ def _joints(n: int, k: int) -> tuple[list[float], list[float]]:
     return [0.1 * (i + 1) + 0.01 * k for i in range(n)], [0.5 - 0.125 * i + 0.25 * k for i in range(n)]
 
 
-@pytest.fixture(scope="module")
-def arm2(ros2_install, ros2_nodes):
-    res = build_ros2(MODEL, None, ros2_nodes / "arm", install=ros2_install)
+#: the sanitized build: the glue, the controller and the rcl wrapper's
+#: conversions under ASan and UBSan, any error fatal (the node's exit status)
+SANITIZED_CC = "gcc -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
+SANITIZED_ENV = {"ASAN_OPTIONS": "detect_leaks=0:abort_on_error=0:exitcode=86",
+                 "UBSAN_OPTIONS": "print_stacktrace=1:halt_on_error=1:exitcode=87"}
+
+
+@pytest.fixture(scope="module", params=["gcc", "sanitizers"])
+def arm2(request, ros2_install, ros2_nodes):
+    """The arm built for ROS 2, plain and under ASan/UBSan: (binary, extra
+    environment of the node)."""
+    import os
+    sanitized = request.param == "sanitizers"
+    old = os.environ.get("CC")
+    if sanitized:
+        os.environ["CC"] = SANITIZED_CC
+    try:
+        res = build_ros2(MODEL, None, ros2_nodes / f"arm_{request.param}", install=ros2_install)
+    finally:
+        if old is None:
+            os.environ.pop("CC", None)
+        else:
+            os.environ["CC"] = old
     proved = res.generated.proved_model.splitlines()
     assert "output_relation NE arm_effort data.len" in proved
-    return res.binary
+    return res.binary, (SANITIZED_ENV if sanitized else {})
 
 
 def test_arm_ros2_pd_effort_per_joint(arm2, ros2_install, tmp_path, shm_guard):
@@ -76,7 +99,8 @@ def test_arm_ros2_pd_effort_per_joint(arm2, ros2_install, tmp_path, shm_guard):
                   {"sleep": HOLD}]
         wants.append([pd(targets[i], pos[i], vel[i]) for i in range(6)]
                      if npos >= 6 and nvel >= 6 and ntgt >= 6 else [])
-    node = spawn([arm2], tmp_path / "node.log")
+    binary, extra_env = arm2
+    node = spawn([binary], tmp_path / "node.log", extra_env)
     try:
         result = run_peer({"publishers": {JS: "sensor_msgs/JointState", TARGET: "std_msgs/Float64MultiArray"},
                            "subscribers": {EFFORT: "std_msgs/Float64MultiArray"}, "match_timeout": 20.0,
