@@ -141,3 +141,40 @@ def test_constant_frame_id_published_over_rcl(ros2_install, ros2_nodes, tmp_path
     late = [lv for t, _topic, lv in result["received"] if t >= result["steps"][2]["t0"] + 0.3]
     assert late and all(lv["twist.linear.x"] == want for lv in late)
     assert fastdds_segments() <= shm_guard
+
+
+def test_a_burst_delivers_the_newest_last(ros2_install, ros2_nodes, tmp_path, shm_guard):
+    """Queue size 3 (the reader's KEEP_LAST depth): a burst of 5 messages per
+    topic between two cycles; the spin takes the newest 3 and runs the
+    callbacks in arrival order, so the controller sees the last value of
+    each topic (a wrapper delivering them in another order, or keeping the
+    oldest, would leave an older one)."""
+    text = rosutil.LANDSHARK.read_text()
+    assert text.count("direction: subscribe, type: geometry_msgs/TwistStamped, queue_size: 1}") == 3
+    model = tmp_path / "landshark_q3.yaml"
+    model.write_text(text.replace("direction: subscribe, type: geometry_msgs/TwistStamped, queue_size: 1}",
+                                  "direction: subscribe, type: geometry_msgs/TwistStamped, queue_size: 3}"))
+    res = build_ros2(model, rosutil.CONTROLLERS / "landshark_echo", ros2_nodes / "landshark_q3",
+                     install=ros2_install)
+    assert "options.qos.depth = 3;" in (res.out_dir / "landshark_controller_rcl.c").read_text()
+    rng = random.Random(7)
+    bursts = [[{t: rosutil.bits_of(rosutil.random_value("float64", rng, "random")) for t in (LEFT, RIGHT, GPS)}
+               for _ in range(5)] for _ in range(4)]
+    steps = [{"sleep": 0.3}]
+    for burst in bursts:
+        steps += [{"publish": {t: {"twist.linear.x": b} for t, b in msg.items()}} for msg in burst]
+        steps.append({"sleep": 0.5})
+    node = spawn([res.binary], tmp_path / "node.log")
+    try:
+        result = run_peer({"publishers": {t: TS for t in (LEFT, RIGHT, GPS)}, "subscribers": {BASE: TS},
+                           "match_timeout": 20.0, "steps": steps}, tmp_path, ros2_install)
+    finally:
+        status = stop(node, signal.SIGTERM)
+    assert status == 0
+    for i, burst in enumerate(bursts):
+        last = burst[-1]
+        want = expect.landshark_echo({"In1": last[LEFT], "In2": last[RIGHT], "In3": last[GPS]})["Out1"]
+        wait = result["steps"][6 * (i + 1)]
+        window = [lv["twist.linear.x"] for t, _topic, lv in result["received"] if wait["t0"] + 0.2 <= t <= wait["t1"]]
+        assert len(window) >= 5 and all(b == want for b in window), (i, [hex(b) for b in window[:3]], hex(want))
+    assert fastdds_segments() <= shm_guard
