@@ -85,7 +85,8 @@ def link_flags(inst: Ros2Install, model: NodeModel) -> list[str]:
     """The libraries of a node and where it finds them at run time."""
     rpath = ":".join(str(p) for p in inst.library_path())
     libs = ["-lrcl", "-lrcutils", "-lrmw", "-lrosidl_runtime_c"]
-    for pkg in message_packages(model):
+    # rosgraph_msgs: /clock under use_sim_time (builtin_interfaces: its stamp)
+    for pkg in sorted({*message_packages(model), "rosgraph_msgs", "builtin_interfaces"}):
         libs += [f"-l{pkg}__rosidl_typesupport_c", f"-l{pkg}__rosidl_generator_c"]
     return ["-L", str(inst.lib_dir), "-Wl,--disable-new-dtags", f"-Wl,-rpath,{rpath}", *libs,
             "-Wl,--no-as-needed", f"-l{PYTHON_LIB}", "-Wl,--as-needed"]

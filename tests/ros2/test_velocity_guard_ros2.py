@@ -82,3 +82,45 @@ def test_velocity_guard_ros2_timeouts_wall_time(guard2, ros2_install, tmp_path, 
     expect(last_nav + TIMEOUT_S + MARGIN_S, silent["t1"], ZERO, "both stale")
     assert not problems, "\n".join(problems[:20])
     assert fastdds_segments() <= shm_guard
+
+
+def _clock(sec: float) -> dict:
+    ns = round(sec * 1e9)
+    return {"clock.sec": ns // 1000000000, "clock.nanosec": ns % 1000000000}
+
+
+def test_velocity_guard_ros2_timeouts_follow_clock_under_use_sim_time(guard2, ros2_install, tmp_path, shm_guard):
+    """``--ros-args -p use_sim_time:=true``: the ROS clock is /clock's, so a
+    message's age is simulated time: the clock standing still for 1.5 s of
+    wall time (three timeouts) keeps teleop's command fresh; teleop becomes
+    stale only when /clock passes 500 ms after its receipt, nav likewise."""
+    clock = "/clock"
+    steps = [{"stream": {clock: _clock(100.0)}, "period": 0.05, "duration": 0.3},
+             {"publish": {TELEOP: cmd(*TELEOP_CMD)}},
+             {"stream": {clock: _clock(100.0)}, "period": 0.05, "duration": 1.5},
+             {"stream": {clock: _clock(100.3)}, "period": 0.05, "duration": 0.3},
+             {"publish": {NAV: cmd(*NAV_CMD)}},
+             {"stream": {clock: _clock(100.45)}, "period": 0.05, "duration": 0.6},
+             {"stream": {clock: _clock(100.6)}, "period": 0.05, "duration": 0.6},
+             {"stream": {clock: _clock(100.9)}, "period": 0.05, "duration": 0.6}]
+    node = spawn([guard2, "--ros-args", "-p", "use_sim_time:=true"], tmp_path / "node.log")
+    try:
+        result = run_peer({"publishers": {clock: "rosgraph_msgs/Clock", TELEOP: TWIST, NAV: TWIST},
+                           "subscribers": {OUT: TWIST}, "match_timeout": 20.0, "steps": steps},
+                          tmp_path, ros2_install)
+    finally:
+        status = stop(node, signal.SIGTERM)
+    assert status == 0, (tmp_path / "node.log").read_text(errors="replace")[-2000:]
+    out = [(t, value(lv)) for t, topic, lv in result["received"] if topic == OUT]
+    problems = []
+    for k, want, what in ((2, TELEOP_CMD, "clock still at 100.0 s for 1.5 s of wall time"),
+                          (5, TELEOP_CMD, "clock at 100.45 s: teleop 450 ms old"),
+                          (6, NAV_CMD, "clock at 100.6 s: teleop 600 ms old, nav 300 ms"),
+                          (7, ZERO, "clock at 100.9 s: nav 600 ms old")):
+        s = result["steps"][k]
+        window = [v for t, v in out if s["t0"] + 0.2 <= t <= s["t1"]]
+        if len(window) < 5:
+            problems.append(f"{what}: only {len(window)} messages")
+        problems += [f"{what}: got {v}, expected {want}" for v in window if v != want]
+    assert not problems, "\n".join(problems[:20])
+    assert fastdds_segments() <= shm_guard
