@@ -9,8 +9,6 @@ under rule 4.17, with the rule it breaks for ROS 2.  Then the features this
 version does not yet build for ROS 2 are refused, each at its place:
 
 - custom messages (``msg_paths``): they would need rosidl's generators;
-- carried strings and variable-length arrays (rules 4.14, 4.15): the rcl
-  wrapper has no conversion of rosidl strings and sequences yet;
 - stamps (rule 4.13): the proved glue stores ``ros_time_sec()`` (an
   ``unsigned int``) into ``stamp.sec``, which is ROS 2's ``int32``, and the
   nanoseconds into ``nsec``, which ROS 2 calls ``nanosec``: the library
@@ -24,7 +22,6 @@ from pathlib import Path
 
 from pyrosgen.errors import Diagnostic, InvalidNodeModel
 from pyrosgen.frontend.model import NodeModel
-from pyrosgen.frontend.msgmodel import PRIMITIVES
 from pyrosgen.frontend.validate import load_model
 from pyrosgen.frontend.yamlsrc import YMap, load_yaml
 from pyrosgen.ros2.env import Ros2Install
@@ -73,39 +70,6 @@ def _msg_paths_refusal(path: Path) -> list[Diagnostic]:
                        "(they need rosidl's C generators); use ROS 2's standard types", rule=TARGET_RULE)]
 
 
-def _refusals(model: NodeModel, path: Path) -> list[Diagnostic]:
-    """What this version does not build for ROS 2 (rule 4.17)."""
-    file = str(path)
-    diags: list[Diagnostic] = []
-    # strings and sequences of primitives are converted (policy truncate);
-    # sequences of messages or strings, and policy reject, not yet
-    unsupported = {m.name for m in model.messages
-                   if m.is_bounded and (m.reject or (m.is_seq and m.seq_of[0] not in PRIMITIVES))}
-    if unsupported:
-        for t in model.topics:
-            used = unsupported & _reachable(model, t.msg_type)
-            if used:
-                diags.append(Diagnostic(file, t.pos.line, t.pos.col,
-                                        f"topic {t.name!r} carries a variable-length array of messages or of "
-                                        f"strings, or one of policy reject (rule 4.15: {', '.join(sorted(used))}), "
-                                        "which the rcl wrapper does not convert yet: not built for the target "
-                                        "ros2 in this version", rule=TARGET_RULE))
-    return diags
-
-
-def _reachable(model: NodeModel, name: str) -> set[str]:
-    by = {m.name: m for m in model.messages}
-    seen: set[str] = set()
-    todo = [name]
-    while todo:
-        n = todo.pop()
-        if n in seen or n not in by:
-            continue
-        seen.add(n)
-        todo.extend(f.msg for f in by[n].fields if f.kind == "msg" and f.msg)
-    return seen
-
-
 def load_model_ros2(path: str | Path, install: Ros2Install | None = None) -> NodeModel:
     """Read and validate the model file at ``path`` for the target ros2.
 
@@ -121,9 +85,8 @@ def load_model_ros2(path: str | Path, install: Ros2Install | None = None) -> Nod
         relabelled = _relabel(exc, path).diagnostics
         raise InvalidNodeModel(sorted([*pre, *relabelled], key=lambda d: (d.file != str(path), d.line or 0,
                                                                           d.col or 0))) from None
-    diags = pre + _refusals(model, path)
-    if diags:
-        raise InvalidNodeModel(diags)
+    if pre:
+        raise InvalidNodeModel(pre)
     return model
 
 

@@ -18,7 +18,9 @@ from dataclasses import dataclass
 from pyrosgen.errors import DetailedFailure
 from pyrosgen.frontend.model import NodeModel
 from pyrosgen.proof.modeltext import ProvedModel, parse_model_text
+from pyrosgen.frontend.msgmodel import PRIMITIVES
 from pyrosgen.render import render, ros_name, source_label
+from pyrosgen.ros.wrapper import _reject_paths
 
 __all__ = ["Ros2WrapperFiles", "ros2_wrapper_files", "render_rcl_wrapper", "rosidl_header",
            "check_rcl_wrapper", "Ros2WrapperMismatch", "message_packages"]
@@ -84,11 +86,19 @@ def _context(model: NodeModel, proved: ProvedModel) -> dict:
     by_name = {m.name: m for m in model.messages}
     messages = []
     for m in model.messages:
-        if m.is_string and not m.reject:
+        if m.is_seq and m.seq_of[0] not in PRIMITIVES:
+            # of strings (ros_string<M> elements) or of messages
+            elem_c = _ident(next(f for f in m.fields if f.name == "data").c_type.removeprefix("struct "))
+            rosidl = ("rosidl_runtime_c__String__Sequence" if m.seq_of[0] == "string"
+                      else f"{rosidl_c_type(m.seq_of[0])}__Sequence")
+            messages.append({"c_name": _ident(m.c_name), "bounded": "seqelem", "capacity": int(m.capacity),
+                             "elem": m.seq_of[0], "elem_c": elem_c, "rosidl": rosidl, "fields": []})
+            continue
+        if m.is_string:
             messages.append({"c_name": _ident(m.c_name), "bounded": "string", "capacity": int(m.capacity),
                              "rosidl": "rosidl_runtime_c__String", "fields": []})
             continue
-        if m.is_seq and not m.reject and m.seq_of[0] in ROSIDL_SEQ:
+        if m.is_seq and m.seq_of[0] in ROSIDL_SEQ:
             messages.append({"c_name": _ident(m.c_name), "bounded": "seq", "capacity": int(m.capacity),
                              "elem": m.seq_of[0], "rosidl": f"rosidl_runtime_c__{ROSIDL_SEQ[m.seq_of[0]]}__Sequence",
                              "fields": []})
@@ -101,6 +111,8 @@ def _context(model: NodeModel, proved: ProvedModel) -> dict:
             "fields": [{"name": _ident(f.name), "kind": f.kind, "array_len": f.array_len,
                         "c_name": by_name[f.msg].c_name if f.kind == "msg" else None} for f in m.fields],
         })
+    msgs = {m.name: m for m in model.messages}
+    by_c_name = {m.c_name: m.name for m in model.messages}
     topics = []
     for t in proved.topics:
         pkg, typ = t.ros_type.split("/", 1)
@@ -111,6 +123,8 @@ def _context(model: NodeModel, proved: ProvedModel) -> dict:
             "type_name": f"{_ident(pkg)}/{_ident(typ)}", "pkg": pkg, "type": typ,
             "rosidl": rosidl_c_type(t.ros_type), "c_struct": t.struct,
             "subscribe_fn": t.subscribe_fn, "advertise_fn": t.advertise_fn, "publish_fn": t.publish_fn,
+            # policy reject (rule 4.15): (C access path, maximum), as the roscpp wrapper's
+            "rejects": (_reject_paths(msgs, by_c_name.get(t.struct, "")) if t.direction == "subscribe" else []),
             # for ros_api.h.j2
             "msg_type": t.ros_type, "queue_size": int(t.queue),
         })

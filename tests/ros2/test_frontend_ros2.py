@@ -96,12 +96,9 @@ def test_stamp_now_refused_for_ros2(tmp_path, ros2_install):
     assert "int32 sec" in d.message and "rule 4.13" in d.message
 
 
-def test_sequence_of_strings_refused_for_ros2(ros2_install):
-    path = rosutil.ROOT / "examples" / "arm_named" / "arm_named.yaml"
-    load_model(path)
-    diags = _refused(path, ros2_install)
-    assert [(d.line, d.col, d.rule) for d in diags] == [(51, 5, "4.17")]
-    assert "ros_seq_string32_6" in diags[0].message and "/joint_states" in diags[0].message
+def test_sequence_of_strings_accepted_for_ros2(ros2_install):
+    m = load_model_ros2(rosutil.ROOT / "examples" / "arm_named" / "arm_named.yaml", ros2_install)
+    assert any(t.is_seq and t.seq_of == ("string", 6) for t in m.messages)
 
 
 def test_sequence_of_numbers_accepted_for_ros2(tmp_path, ros2_install):
