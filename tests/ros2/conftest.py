@@ -98,7 +98,8 @@ def run_peer(plan: dict, work: Path, install, name: str = "peer", timeout: float
     log = (work / f"{name}.log").read_text(errors="replace")
     assert result_file.is_file(), f"the rclpy peer wrote no result (exit {rc}):\n{log[-3000:]}"
     result = json.loads(result_file.read_text())
-    assert result["matched_after"] is not None, f"no discovery match within {plan['match_timeout']} s:\n{log[-3000:]}"
+    if not plan.get("run_anyway"):
+        assert result["matched_after"] is not None, f"no discovery match within {plan['match_timeout']} s:\n{log[-3000:]}"
     return result
 
 

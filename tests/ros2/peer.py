@@ -6,7 +6,9 @@ domain of the test's own).
 The plan: ``publishers`` and ``subscribers`` (topic -> ROS 2 type such as
 ``geometry_msgs/TwistStamped``), ``match_timeout`` (seconds to wait until
 every publisher has a subscription and every listened topic a publisher:
-discovery takes 0.2 to 3 s), and ``steps``:
+discovery takes 0.2 to 3 s), ``best_effort`` (optional: the publishers
+with the best-effort reliability, the others reliable), ``run_anyway``
+(optional: run the steps even without the match), and ``steps``:
 
 - ``{"sleep": s}``: listen for ``s`` seconds;
 - ``{"publish": {topic: {leaf: value}}}``: one message per topic, the
@@ -93,7 +95,14 @@ def main() -> int:
     plan = json.load(open(sys.argv[1]))
     rclpy.init()
     node = rclpy.create_node("pyrosgen_test_peer")
-    pubs = {t: (node.create_publisher(msg_class(ty), t, 10), msg_class(ty)) for t, ty in plan["publishers"].items()}
+    best_effort = set(plan.get("best_effort", ()))
+
+    def qos(topic: str):
+        from rclpy.qos import QoSProfile, ReliabilityPolicy
+        return QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT if topic in best_effort
+                          else ReliabilityPolicy.RELIABLE)
+
+    pubs = {t: (node.create_publisher(msg_class(ty), t, qos(t)), msg_class(ty)) for t, ty in plan["publishers"].items()}
     received = []
     for topic, ty in plan["subscribers"].items():
         node.create_subscription(msg_class(ty), topic,
@@ -118,7 +127,7 @@ def main() -> int:
             log.append([time.monotonic(), topic])
             pub.publish(m)
 
-    if result["matched_after"] is not None:
+    if result["matched_after"] is not None or plan.get("run_anyway"):
         for step in plan["steps"]:
             s = {"t0": time.monotonic(), "published": []}
             if "sleep" in step:

@@ -178,3 +178,27 @@ def test_a_burst_delivers_the_newest_last(ros2_install, ros2_nodes, tmp_path, sh
         window = [lv["twist.linear.x"] for t, _topic, lv in result["received"] if wait["t0"] + 0.2 <= t <= wait["t1"]]
         assert len(window) >= 5 and all(b == want for b in window), (i, [hex(b) for b in window[:3]], hex(want))
     assert fastdds_segments() <= shm_guard
+
+
+def test_best_effort_publisher_does_not_reach_the_node(landshark2, ros2_install, tmp_path, shm_guard):
+    """QoS (not yet a model key): the node's subscriptions are reliable, as
+    rclcpp's default; a best-effort publisher (a sensor driver with
+    SensorDataQoS) does not match them (DDS's request/offered rule), so
+    nothing reaches the node: within 10 s the publishers see no
+    subscription, and the node keeps answering all-zero inputs while they
+    publish."""
+    node = spawn([landshark2.binary], tmp_path / "node.log")
+    try:
+        result = run_peer({"publishers": {t: TS for t in (LEFT, RIGHT, GPS)}, "subscribers": {BASE: TS},
+                           "best_effort": [LEFT, RIGHT, GPS], "match_timeout": 10.0, "run_anyway": True,
+                           "steps": [{"stream": {t: {"twist.linear.x": 0x4000000000000000} for t in (LEFT, RIGHT, GPS)},
+                                      "period": 0.02, "duration": 1.0}]}, tmp_path, ros2_install)
+    finally:
+        status = stop(node, signal.SIGTERM)
+    assert status == 0
+    assert result["matched_after"] is None
+    zero = expect.landshark_echo({"In1": 0, "In2": 0, "In3": 0})["Out1"]
+    during = [lv["twist.linear.x"] for t, _topic, lv in result["received"]
+              if result["steps"][0]["t0"] <= t <= result["steps"][0]["t1"]]
+    assert len(during) >= 20 and all(b == zero for b in during)
+    assert fastdds_segments() <= shm_guard
