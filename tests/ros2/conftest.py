@@ -85,11 +85,19 @@ def stop(p: subprocess.Popen, sig: int = signal.SIGTERM, timeout: float = 15.0) 
         return None
 
 
-def run_peer(plan: dict, work: Path, install, name: str = "peer", timeout: float = 120) -> dict:
-    """Run the rclpy peer (peer.py) on ``plan``; its result."""
+def start_peer(plan: dict, work: Path, install, name: str = "peer") -> subprocess.Popen:
+    """Start the rclpy peer (peer.py) on ``plan``; :func:`run_peer` waits for it."""
     plan_file, result_file = work / f"{name}.plan.json", work / f"{name}.result.json"
     plan_file.write_text(json.dumps(plan))
-    p = spawn([install.python, PEER, plan_file, result_file], work / f"{name}.log")
+    return spawn([install.python, PEER, plan_file, result_file], work / f"{name}.log")
+
+
+def run_peer(plan: dict, work: Path, install, name: str = "peer", timeout: float = 120,
+             started: subprocess.Popen | None = None) -> dict:
+    """Run the rclpy peer (peer.py) on ``plan`` (or wait for the one
+    ``started``); its result."""
+    result_file = work / f"{name}.result.json"
+    p = started if started is not None else start_peer(plan, work, install, name)
     try:
         rc = p.wait(timeout=timeout)
     except subprocess.TimeoutExpired:

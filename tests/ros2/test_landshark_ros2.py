@@ -202,3 +202,40 @@ def test_best_effort_publisher_does_not_reach_the_node(landshark2, ros2_install,
               if result["steps"][0]["t0"] <= t <= result["steps"][0]["t1"]]
     assert len(during) >= 20 and all(b == zero for b in during)
     assert fastdds_segments() <= shm_guard
+
+
+def test_node_restarted_under_a_running_peer(landshark2, ros2_install, tmp_path, shm_guard):
+    """The node stopped (SIGTERM) and started again while the peer keeps
+    publishing: DDS discovers the new node by itself (no master), and it
+    answers the peer's messages again; no segment of either node left."""
+    from .conftest import start_peer
+    v = 0x3FF8000000000000  # 1.5
+    want = expect.landshark_echo({"In1": v, "In2": v, "In3": v})["Out1"]
+    zero = expect.landshark_echo({"In1": 0, "In2": 0, "In3": 0})["Out1"]
+    first = spawn([landshark2.binary], tmp_path / "node1.log")
+    plan = {"publishers": {t: TS for t in (LEFT, RIGHT, GPS)}, "subscribers": {BASE: TS}, "match_timeout": 20.0,
+            "steps": [{"stream": {t: {"twist.linear.x": v} for t in (LEFT, RIGHT, GPS)}, "period": 0.05,
+                       "duration": 9.0}]}
+    peer = start_peer(plan, tmp_path, ros2_install)
+    second = None
+    try:
+        assert wait_for(lambda: (tmp_path / "peer.log").exists() and first.poll() is None, 5.0)
+        import time
+        time.sleep(4.0)   # matched (0.2 to 3 s) and answering
+        assert stop(first, signal.SIGTERM) == 0
+        t_stopped = time.monotonic()
+        time.sleep(0.5)
+        second = spawn([landshark2.binary], tmp_path / "node2.log")
+        result = run_peer(plan, tmp_path, ros2_install, started=peer)
+    finally:
+        stop(first, signal.SIGTERM)
+        status2 = stop(second, signal.SIGTERM) if second is not None else None
+        stop(peer, signal.SIGTERM)
+    assert status2 == 0
+    received = [(t, lv["twist.linear.x"]) for t, _topic, lv in result["received"]]
+    before = [b for t, b in received if t < t_stopped]
+    after = [b for t, b in received if t > t_stopped + 0.5]
+    assert before and before[-1] == want, "the first node did not answer"
+    assert after and after[-1] == want, "the restarted node did not answer the running peer"
+    assert set(after) <= {zero, want}
+    assert fastdds_segments() <= shm_guard
