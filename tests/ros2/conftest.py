@@ -12,6 +12,7 @@ import json
 import os
 import signal
 import subprocess
+import threading
 import time
 from pathlib import Path
 
@@ -21,8 +22,21 @@ from pyrosgen.ros2.env import find_ros2, ros2_env
 
 from support import ros as rosutil
 
+
+
+def _session_domain() -> int | None:
+    """Under pytest-xdist (``make test``: ``-n 2``), one domain per worker,
+    derived from the controlling process's id, so that the workers' nodes
+    and peers (same topic names) never meet; else ros2_env's own (from this
+    process's id)."""
+    worker = os.environ.get("PYTEST_XDIST_WORKER", "")
+    if worker.startswith("gw") and worker[2:].isdigit():
+        return 102 + (os.getppid() % 40) * 3 + int(worker[2:]) % 3
+    return None
+
+
 # The whole session's environment: loopback discovery, a domain of its own.
-os.environ.update(ros2_env())
+os.environ.update(ros2_env(domain_id=_session_domain()))
 
 PEER = Path(__file__).resolve().parent / "peer.py"
 SHM = Path("/dev/shm")
@@ -45,14 +59,53 @@ def fastdds_segments() -> set[str]:
     return {p.name for p in [*SHM.glob("fastdds_*"), *SHM.glob("sem.fastdds_*")]}
 
 
+def segments_of(pid: int) -> set[str]:
+    """The Fast DDS segments process ``pid`` has mapped (its /proc maps)."""
+    try:
+        text = Path(f"/proc/{pid}/maps").read_text()
+    except OSError:
+        return set()
+    out = set()
+    for line in text.splitlines():
+        path = line.split(maxsplit=5)[5] if len(line.split(maxsplit=5)) == 6 else ""
+        if path.startswith("/dev/shm/") and ("/fastdds_" in path or "/sem.fastdds_" in path):
+            out.add(path.split("/dev/shm/", 1)[1].split(" ", 1)[0])
+    return out
+
+
+def in_use() -> set[str]:
+    """The Fast DDS segments some live process maps."""
+    out: set[str] = set()
+    for d in Path("/proc").iterdir():
+        if d.name.isdigit():
+            out |= segments_of(int(d.name))
+    return out
+
+
+#: every Fast DDS segment a process started by these tests was seen to map
+#: (sampled while it ran): the only ones the tests may call theirs
+OWNED: set[str] = set()
+
+
+def _watch(p: subprocess.Popen) -> None:
+    while p.poll() is None:
+        OWNED.update(segments_of(p.pid))
+        time.sleep(0.1)
+
+
+def leftover_segments() -> set[str]:
+    """Segments that processes these tests started mapped, still present,
+    and mapped by no live process: left behind by them."""
+    return (OWNED & fastdds_segments()) - in_use()
+
+
 @pytest.fixture
 def shm_guard():
-    """The Fast DDS shared-memory segments that appear during the test
-    (only this session's processes run ROS 2 on this machine) are removed
-    afterwards; yields the set present before."""
-    before = fastdds_segments()
-    yield before
-    for name in fastdds_segments() - before:
+    """After the test, the shared-memory segments its processes left behind
+    (:func:`leftover_segments`: by ownership, never another process's) are
+    removed."""
+    yield
+    for name in leftover_segments():
         try:
             (SHM / name).unlink()
         except OSError:
@@ -68,6 +121,7 @@ def spawn(argv, log: Path, extra_env: dict | None = None) -> subprocess.Popen:
                          env={**ros2_env(), **(extra_env or {})}, start_new_session=True)
     out.close()
     rosutil.STARTED.append((p.pid, " ".join(str(a) for a in argv)))
+    threading.Thread(target=_watch, args=(p,), daemon=True).start()
     return p
 
 

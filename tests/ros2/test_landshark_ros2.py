@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import random
 import signal
+import time
 
 import pytest
 
@@ -19,7 +20,7 @@ from pyrosgen.ros2.frontend import load_model_ros2
 from support import expect
 from support import ros as rosutil
 
-from .conftest import fastdds_segments, run_peer, spawn, stop, wait_for
+from .conftest import fastdds_segments, in_use, leftover_segments, run_peer, segments_of, spawn, stop, wait_for
 
 LEFT, RIGHT, GPS = "/landshark/left_wheel_velocity", "/landshark/right_wheel_velocity", "/landshark/gps_velocity"
 BASE = "/landshark_control/base_velocity"
@@ -95,21 +96,25 @@ def test_landshark_ros2_end_to_end_bit_exact(landshark2, ros2_install, tmp_path,
                           "twist.angular.y": 0, "twist.angular.z": 0}:
                 problems.append(f"round {i}: a field the model does not write is not zero: {others}")
     assert not problems, "\n".join(problems[:20])
-    assert fastdds_segments() <= shm_guard, f"shared memory left behind: {fastdds_segments() - shm_guard}"
+    assert not leftover_segments(), leftover_segments()
 
 
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
 def test_node_stops_cleanly_on_signal(landshark2, tmp_path, shm_guard, sig):
     node = spawn([landshark2.binary], tmp_path / "node.log")
     # running: its shared-memory transport is up
-    assert wait_for(lambda: node.poll() is not None or bool(fastdds_segments() - shm_guard), 10.0)
+    assert wait_for(lambda: node.poll() is not None or bool(segments_of(node.pid)), 10.0)
     assert node.poll() is None, (tmp_path / "node.log").read_text(errors="replace")
-    assert fastdds_segments() - shm_guard, "no Fast DDS shared-memory segment while the node runs"
+    time.sleep(0.5)
+    mapped = segments_of(node.pid)
+    assert any(not n.startswith("sem.") for n in mapped), f"no Fast DDS shared-memory segment mapped: {mapped}"
     status = stop(node, sig)
     log = (tmp_path / "node.log").read_text(errors="replace")
     assert status == 0, f"exit status {status} after {sig!r}:\n{log[-2000:]}"
     assert not rosutil.alive(node.pid)
-    assert fastdds_segments() <= shm_guard, f"shared memory left behind: {fastdds_segments() - shm_guard}"
+    # what it mapped is gone, or still used by another live process
+    left = (mapped & fastdds_segments()) - in_use()
+    assert not left, f"shared memory left behind: {left}"
 
 
 def test_constant_frame_id_published_over_rcl(ros2_install, ros2_nodes, tmp_path, shm_guard):
@@ -140,7 +145,7 @@ def test_constant_frame_id_published_over_rcl(ros2_install, ros2_nodes, tmp_path
     want = expect.landshark_echo({"In1": v, "In2": v, "In3": v})["Out1"]
     late = [lv for t, _topic, lv in result["received"] if t >= result["steps"][2]["t0"] + 0.3]
     assert late and all(lv["twist.linear.x"] == want for lv in late)
-    assert fastdds_segments() <= shm_guard
+    assert not leftover_segments(), leftover_segments()
 
 
 def test_a_burst_delivers_the_newest_last(ros2_install, ros2_nodes, tmp_path, shm_guard):
@@ -177,7 +182,7 @@ def test_a_burst_delivers_the_newest_last(ros2_install, ros2_nodes, tmp_path, sh
         wait = result["steps"][6 * (i + 1)]
         window = [lv["twist.linear.x"] for t, _topic, lv in result["received"] if wait["t0"] + 0.2 <= t <= wait["t1"]]
         assert len(window) >= 5 and all(b == want for b in window), (i, [hex(b) for b in window[:3]], hex(want))
-    assert fastdds_segments() <= shm_guard
+    assert not leftover_segments(), leftover_segments()
 
 
 def test_best_effort_publisher_does_not_reach_the_node(landshark2, ros2_install, tmp_path, shm_guard):
@@ -201,7 +206,7 @@ def test_best_effort_publisher_does_not_reach_the_node(landshark2, ros2_install,
     during = [lv["twist.linear.x"] for t, _topic, lv in result["received"]
               if result["steps"][0]["t0"] <= t <= result["steps"][0]["t1"]]
     assert len(during) >= 20 and all(b == zero for b in during)
-    assert fastdds_segments() <= shm_guard
+    assert not leftover_segments(), leftover_segments()
 
 
 def test_node_restarted_under_a_running_peer(landshark2, ros2_install, tmp_path, shm_guard):
@@ -238,4 +243,4 @@ def test_node_restarted_under_a_running_peer(landshark2, ros2_install, tmp_path,
     assert before and before[-1] == want, "the first node did not answer"
     assert after and after[-1] == want, "the restarted node did not answer the running peer"
     assert set(after) <= {zero, want}
-    assert fastdds_segments() <= shm_guard
+    assert not leftover_segments(), leftover_segments()
