@@ -39,9 +39,9 @@ proofs: apt
 ## demo: the main job on the LandShark example (DIAGRAM=1: its controller as a proved block diagram),
 ## then the velocity guard's timeouts (rule 4.12) when its command sources fall silent
 demo: deps proofs
-	@scripts/demo.sh
+	@if [ "$(ROS)" = 2 ]; then scripts/demo-ros2.sh; else scripts/demo.sh; fi
 
-## demo-ros2: the LandShark node built for ROS 2 (--ros2: rcl, Fast DDS on the loopback) against a simulated robot
+## demo-ros2 (or demo ROS=2): the LandShark node built for ROS 2 (--ros2: rcl, Fast DDS on the loopback) against a simulated robot
 .PHONY: demo-ros2
 demo-ros2: deps proofs
 	@scripts/demo-ros2.sh
