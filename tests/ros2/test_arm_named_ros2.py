@@ -17,8 +17,6 @@ import pytest
 
 from pyrosgen.ros2.build import build_ros2
 
-from support import ros as rosutil
-
 from .conftest import leftover_segments, run_peer, spawn, stop
 from ros.test_arm_named_node import CASES, EFFORT, EMAX, EXAMPLE, JS, TARGET, _state, efforts
 
