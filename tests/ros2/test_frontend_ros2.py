@@ -198,3 +198,24 @@ def test_build_ros2_cli_nothing_partial_on_a_controller_error(tmp_path, ros2_ins
     assert "Controller.c: error: the controller source does not compile" in r.stderr
     assert "Traceback" not in r.stderr
     assert not out.exists() and not list(tmp_path.glob(".pyrosgen-build-*"))
+
+
+def test_verify_covers_the_ros2_files(tmp_path, ros2_install):
+    """``pyrosgen verify`` on a ``build --ros2`` folder: every check holds
+    (the recorded hashes cover the rcl wrapper and ``<node>.target``); a
+    tampered rcl wrapper or target file is refused."""
+    import shutil
+    from pyrosgen.ros2.build import build_ros2
+    out = tmp_path / "out"
+    build_ros2(rosutil.LANDSHARK, rosutil.CONTROLLERS / "landshark_echo", out, install=ros2_install)
+    ok = _cli("verify", "-q", str(out))
+    assert ok.returncode == 0, ok.stdout + ok.stderr
+    for name, edit in (("landshark_controller_rcl.c", lambda t: t.replace("options.qos.depth = 1;", "options.qos.depth = 2;", 1)),
+                       ("landshark_controller.target", lambda t: t.replace("ros2", "ros1"))):
+        bad = tmp_path / f"bad_{name}"
+        shutil.copytree(out, bad)
+        text = (bad / name).read_text()
+        assert edit(text) != text
+        (bad / name).write_text(edit(text))
+        r = _cli("verify", "-q", str(bad))
+        assert r.returncode == 1 and name in r.stdout + r.stderr, (name, r.stdout, r.stderr)
