@@ -11,15 +11,20 @@ PYTEST_ARGS ?=
 
 all: test
 
-## deps: Debian packages (only the missing ones), the virtual environment and
-## the bash completion script (README "Installing": how to enable it)
+## deps: Debian packages (only the missing ones), the virtual environment, the
+## ROS 2 wheels (.venv-ros2) and the bash completion script (README "Installing": how to enable it)
 COMPLETION := $(VENV)/share/bash-completion/completions/pyrosgen
-deps: apt venv $(COMPLETION)
+deps: apt venv ros2-deps $(COMPLETION)
 
 # generated from the command line's argument parser (pyrosgen/completion.py)
 $(COMPLETION): pyrosgen/cli.py pyrosgen/completion.py $(VENV)/.installed
 	@mkdir -p $(dir $@)
 	@$(PY) -m pyrosgen completion > $@.tmp && mv $@.tmp $@
+
+## ros2-deps: the pinned ROS 2 Kilted wheels (requirements-ros2.txt) in .venv-ros2, only when missing
+.PHONY: ros2-deps
+ros2-deps:
+	@scripts/ros2-deps.sh
 
 apt:
 	@scripts/deps.sh
@@ -41,7 +46,12 @@ proofs: apt
 ## demo: the main job on the LandShark example (DIAGRAM=1: its controller as a proved block diagram),
 ## then the velocity guard's timeouts (rule 4.12) when its command sources fall silent
 demo: deps proofs
-	@scripts/demo.sh
+	@if [ "$(ROS)" = 2 ]; then scripts/demo-ros2.sh; else scripts/demo.sh; fi
+
+## demo-ros2 (or demo ROS=2): the LandShark node built for ROS 2 (--ros2: rcl, Fast DDS on the loopback) against a simulated robot
+.PHONY: demo-ros2
+demo-ros2: deps proofs
+	@scripts/demo-ros2.sh
 
 ## docs: HTML documentation of the Coq library (coqdoc) and its front page, in build/docs/
 .PHONY: docs

@@ -53,9 +53,9 @@ def _rows(relations) -> str:
 
 def cmd_check(args: argparse.Namespace) -> int:
     """``pyrosgen check MODEL.yaml``: validate only."""
-    from pyrosgen.frontend.validate import load_model
+    from pyrosgen.ros2.cli import load_for_target  # --ros2: ROS 2's messages (rule 4.17)
 
-    model = load_model(args.model)
+    model = load_for_target(args)
     d = model.controller.diagram
     ctrl = (f"; controller: a block diagram of {_plural(len(d.blocks), 'block')}"
             f" ({_plural(len(d.states), 'state')})" if d is not None else "")
@@ -159,8 +159,13 @@ def cmd_generate(args: argparse.Namespace) -> int:
     from pyrosgen.generate import generate
 
     with _stopped_by_signals():
-        res = generate(args.model, args.output, progress=_progress(args), keep_work=args.keep_work,
-                       wp=args.wp)
+        if getattr(args, "ros2", False):  # the target ROS 2 (pyrosgen.ros2, rule 4.17)
+            from pyrosgen.ros2.cli import generate_ros2
+
+            res = generate_ros2(args, _progress(args))
+        else:
+            res = generate(args.model, args.output, progress=_progress(args), keep_work=args.keep_work,
+                           wp=args.wp)
     print(f"pyrosgen: generated node {res.model.name} into {res.out_dir}")
     for path, rewritten in res.files:
         print(f"  {'written' if rewritten else 'unchanged':<10}{path}")
@@ -208,6 +213,11 @@ def cmd_build(args: argparse.Namespace) -> int:
                                     **({"maintainer": args.maintainer} if args.maintainer is not None else {}))
     except ValueError as exc:  # shlex: an unclosed quote
         raise UserError(f"controller flags: {exc}") from None
+    if getattr(args, "ros2", False):  # the target ROS 2: a node over rcl (pyrosgen.ros2.build)
+        from pyrosgen.ros2.cli import build_ros2_command
+
+        with _stopped_by_signals():
+            return build_ros2_command(args, options, _progress(args))
     with _stopped_by_signals():
         res = build(args.model, args.controller, args.output, progress=_progress(args), keep_work=args.keep_work,
                     wp=args.wp, options=options)
@@ -416,6 +426,8 @@ output folder, 2 a tool is missing.""",
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with one subparser per command."""
+    from pyrosgen.ros2.cli import ROS2_HELP  # the --ros2 option (pyrosgen.ros2)
+
     parser = _Parser(
         prog="pyrosgen",
         description="Generate proven glue code for ROS 1 nodes from a node model.",
@@ -431,6 +443,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("check", epilog=_EXAMPLES["check"], formatter_class=argparse.RawDescriptionHelpFormatter, help="validate a node model", description="Validate a node model file.")
     p.add_argument("model", metavar="MODEL.yaml", help="the node model file")
+    p.add_argument("--ros2", action="store_true", help=ROS2_HELP)
     p.set_defaults(func=cmd_check)
 
     p = sub.add_parser(
@@ -465,6 +478,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--wp", action="store_true",
         help="also prove ACSL contracts generated from the model on the printed C with Frama-C WP",
     )
+    p.add_argument("--ros2", action="store_true", help=ROS2_HELP)
     p.set_defaults(func=cmd_generate)
 
     p = sub.add_parser(
@@ -491,6 +505,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--wp", action="store_true",
         help="also prove ACSL contracts generated from the model on the printed C with Frama-C WP",
     )
+    p.add_argument("--ros2", action="store_true", help=ROS2_HELP)
     g = p.add_argument_group("compiling the controller (also written into the catkin package); "
                              "write flags with '=': --cflags=-DX=1, --libs=-lrt")
     g.add_argument("--std", default="c11", metavar="STD", help="C standard of the controller's .c files (default c11)")

@@ -34,6 +34,7 @@ def repo_root() -> Path:
 _BY_PATH = {
     ("ros",): ("ros",),
     ("build",): ("ros",),
+    ("ros2",): ("ros2",),
     ("validation", "test_wp.py"): ("wp", "slow"),
     ("validation", "test_difftest.py"): ("slow",),
 }

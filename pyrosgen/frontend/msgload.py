@@ -282,6 +282,13 @@ class MsgRegistry:
     #: those of ``carry_bounded`` with policy reject (rule 4.15,
     #: ``policy``): carried as ``ros_rseq_<T>_<N>`` / ``ros_rstring<N>``
     carry_reject: frozenset[tuple[str, str]] = frozenset()
+    #: the standard definitions (``pkg/Type`` -> definition) of the target:
+    #: ``None`` for ROS 1 Noetic's (rosbags); the ROS 2 target (rule 4.17)
+    #: sets ROS 2's, read from the installed wheels (pyrosgen.ros2.msgdefs)
+    standard: dict[str, _RawMsg] | None = None
+
+    def _standard(self) -> dict[str, _RawMsg]:
+        return self.standard if self.standard is not None else _standard_defs()
 
     @property
     def carry_strings(self) -> frozenset[tuple[str, str]]:
@@ -431,11 +438,11 @@ class MsgRegistry:
             return _RAW_PSEUDO[name]
         if name in self.custom:
             return self.custom[name]
-        return _standard_defs().get(name)
+        return self._standard().get(name)
 
     def known_names(self) -> list[str]:
         """All ``pkg/Type`` names available."""
-        return sorted(set(_standard_defs()) | set(self.custom))
+        return sorted(set(self._standard()) | set(self.custom))
 
     def check_type_name(self, name: str) -> str | None:
         """Why ``name`` does not name a known message type, or ``None``."""

@@ -203,14 +203,14 @@ def carried_reject_fields(topics: YNode | None, registry: MsgRegistry,
     return out
 
 
-def load_messages(ck: Checker, root: YMap) -> tuple[MsgRegistry, list[Path]]:
+def load_messages(ck: Checker, root: YMap, standard_msgs=None) -> tuple[MsgRegistry, list[Path]]:
     """The message registry of the model ``root``, loaded once, before the
     rules run: the standard ROS 1 Noetic types, the custom ones of its
     ``msg_paths`` folders (checked here, rule 4.5), and the strings and
     variable-length arrays the glue carries, with their maxima and
     policies (rules 4.14, 4.15), read from the model as written.  Returns
     the registry and the folders."""
-    registry = MsgRegistry()
+    registry = MsgRegistry(standard=standard_msgs)
     folders = msg_paths(ck, root.get("msg_paths"), registry)
     topics, relations = root.get("topics"), root.get("relations")
     declared = _topic_types(topics, registry)

@@ -91,21 +91,24 @@ class _Checked:
         return {f.name: f for _, f in pairs} if pairs is not None else None
 
 
-def load_model(path: str | Path) -> NodeModel:
+def load_model(path: str | Path, standard_msgs=None) -> NodeModel:
     """Read, parse and validate the node model file at ``path``.
 
+    ``standard_msgs``: the target's standard message definitions (rule
+    4.17; ``None``: ROS 1 Noetic's; ROS 2's come from
+    :func:`pyrosgen.ros2.frontend.load_model_ros2`).
     Raises :class:`InvalidNodeModel` with every problem found.
     """
     path = Path(path)
     doc = load_yaml(path)
-    return build_model(doc.root, doc.file, path, list(doc.diagnostics))
+    return build_model(doc.root, doc.file, path, list(doc.diagnostics), standard_msgs=standard_msgs)
 
 
-def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic]) -> NodeModel:
+def build_model(root: YMap, file: str, path: Path, diags: list[Diagnostic], standard_msgs=None) -> NodeModel:
     """Validate a parsed model tree and build the :class:`NodeModel`."""
     ck = Checker(file, path.parent, diags)
     ck.keys(root, "the node model", _TOP_REQUIRED, _TOP_OPTIONAL)
-    registry, msg_paths = load_messages(ck, root)
+    registry, msg_paths = load_messages(ck, root, standard_msgs)
     checked = _run_rules(ck, root, registry)
     if ck.diags:
         raise InvalidNodeModel(_sorted(ck.diags, file))

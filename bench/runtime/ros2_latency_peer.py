@@ -1,0 +1,71 @@
+"""The rclpy side of bench/ros2.py, run with .venv-ros2/bin/python in the
+environment of pyrosgen.ros2.env.ros2_env: waits for the discovery match,
+then ``rounds`` times publishes one value on LandShark's three inputs and
+measures the time from the first publication to the first base velocity
+that the echo controller computed from all three (its twin below); a pause
+of 20 to 40 ms (random) between rounds.  Prints JSON: the latencies in ms."""
+
+import json
+import random
+import struct
+import sys
+import time
+
+import rclpy
+from geometry_msgs.msg import TwistStamped
+
+INS = ("/landshark/left_wheel_velocity", "/landshark/right_wheel_velocity", "/landshark/gps_velocity")
+OUT = "/landshark_control/base_velocity"
+M64 = (1 << 64) - 1
+
+
+def bits(x):
+    return struct.unpack("<Q", struct.pack("<d", x))[0]
+
+
+def rotl(b, n):
+    return ((b << n) | (b >> (64 - n))) & M64
+
+
+def echo(b):  # tests/ros/controllers/landshark_echo with In1 = In2 = In3
+    return (b ^ rotl(b, 21) ^ rotl(b, 42) ^ 0x3FF0000000000000) & M64
+
+
+def main():
+    rounds = int(sys.argv[1])
+    rng = random.Random(31)
+    rclpy.init()
+    node = rclpy.create_node("pyrosgen_bench_peer")
+    pubs = [node.create_publisher(TwistStamped, t, 10) for t in INS]
+    heard = []
+    node.create_subscription(TwistStamped, OUT, lambda m: heard.append((time.monotonic(), bits(m.twist.linear.x))), 10)
+    t0 = time.monotonic()
+    while not (all(p.get_subscription_count() for p in pubs) and node.count_publishers(OUT)):
+        rclpy.spin_once(node, timeout_sec=0.05)
+        if time.monotonic() - t0 > 20:
+            sys.exit("no discovery match within 20 s")
+    lat = []
+    for i in range(rounds):
+        v = 1.0 + i / 1000.0
+        want = echo(bits(v))
+        heard.clear()
+        m = TwistStamped()
+        m.twist.linear.x = v
+        t_pub = time.monotonic()
+        for p in pubs:
+            p.publish(m)
+        while time.monotonic() - t_pub < 1.0 and not any(b == want for _, b in heard):
+            rclpy.spin_once(node, timeout_sec=0.001)
+        hit = [t for t, b in heard if b == want]
+        if hit:
+            lat.append((hit[0] - t_pub) * 1000.0)
+        end = time.monotonic() + rng.uniform(0.02, 0.04)
+        while time.monotonic() < end:
+            rclpy.spin_once(node, timeout_sec=0.005)
+    node.destroy_node()
+    rclpy.shutdown()
+    print(json.dumps({"latency_ms": lat, "rounds": rounds, "matched_after_s": None}))
+
+
+if __name__ == "__main__":
+    main()

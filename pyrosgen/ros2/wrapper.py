@@ -1,0 +1,206 @@
+"""The C API over rcl (ROS 2) of a generated node: the same header as the
+roscpp wrapper's (``ros_api.h.j2``: the API the glue calls) and a C
+implementation over rcl (``rcl_api.c.j2``), rendered from the model Coq
+printed (its topics, types, queue sizes and period) and the message
+definitions of the front end's ROS 2 reading (the conversions between the
+rosidl C messages and the glue's structs).
+
+:func:`check_rcl_wrapper` holds the rendered wrapper to the proved model:
+it subscribes and advertises exactly the proved topics, with their rosidl
+types, C structs and queue sizes, and sleeps with the proved period.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from pyrosgen.errors import DetailedFailure
+from pyrosgen.frontend.model import NodeModel
+from pyrosgen.proof.modeltext import ProvedModel, parse_model_text
+from pyrosgen.frontend.msgmodel import PRIMITIVES
+from pyrosgen.render import render, ros_name, source_label
+from pyrosgen.ros.wrapper import _reject_paths
+
+__all__ = ["Ros2WrapperFiles", "ros2_wrapper_files", "render_rcl_wrapper", "rosidl_header",
+           "check_rcl_wrapper", "Ros2WrapperMismatch", "message_packages"]
+
+_C_IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+
+#: rosidl's C sequence type of each primitive (``rosidl_runtime_c__<name>__Sequence``)
+ROSIDL_SEQ = {"bool": "boolean", "int8": "int8", "uint8": "uint8", "int16": "int16", "uint16": "uint16",
+              "int32": "int32", "uint32": "uint32", "int64": "int64", "uint64": "uint64",
+              "float32": "float", "float64": "double"}
+
+
+class Ros2WrapperMismatch(DetailedFailure):
+    """The rcl wrapper does not implement the proved model (exit 2)."""
+
+
+def _ident(name: str) -> str:
+    if not _C_IDENT.match(name):
+        raise ValueError(f"refusing to print {name!r} as a C identifier")
+    return name
+
+
+def snake(type_name: str) -> str:
+    """rosidl's file name of a message type (``TwistStamped`` ->
+    ``twist_stamped``, ``PointCloud2`` -> ``point_cloud2``), as
+    ``rosidl_pycommon.convert_camel_case_to_lower_case_underscore``."""
+    value = re.sub(r"(.)([A-Z][a-z]+)", r"\1_\2", type_name)
+    value = re.sub(r"([a-z0-9])([A-Z])", r"\1_\2", value)
+    return value.lower()
+
+
+def rosidl_header(ros_type: str) -> str:
+    """``geometry_msgs/TwistStamped`` -> ``geometry_msgs/msg/twist_stamped.h``."""
+    pkg, typ = ros_type.split("/", 1)
+    return f"{_ident(pkg)}/msg/{snake(_ident(typ))}.h"
+
+
+def rosidl_c_type(ros_type: str) -> str:
+    """``geometry_msgs/TwistStamped`` -> ``geometry_msgs__msg__TwistStamped``."""
+    pkg, typ = ros_type.split("/", 1)
+    return f"{_ident(pkg)}__msg__{_ident(typ)}"
+
+
+@dataclass(frozen=True)
+class Ros2WrapperFiles:
+    types_header: str   #: Coq-printed message structs
+    api_header: str     #: the C API prototypes (the roscpp wrapper's)
+    api_source: str     #: the C implementation over rcl
+
+
+def ros2_wrapper_files(model: NodeModel) -> Ros2WrapperFiles:
+    n = _ident(model.name)
+    return Ros2WrapperFiles(f"{n}_types.h", f"{n}_ros.h", f"{n}_rcl.c")
+
+
+def message_packages(model: NodeModel) -> list[str]:
+    """The ROS 2 packages of every message type the node's structs hold."""
+    return sorted({_ident(m.name.split("/", 1)[0]) for m in model.messages if "/" in m.name})
+
+
+def _context(model: NodeModel, proved: ProvedModel) -> dict:
+    files = ros2_wrapper_files(model)
+    by_name = {m.name: m for m in model.messages}
+    messages = []
+    for m in model.messages:
+        if m.is_seq and m.seq_of[0] not in PRIMITIVES:
+            # of strings (ros_string<M> elements) or of messages
+            elem_c = _ident(next(f for f in m.fields if f.name == "data").c_type.removeprefix("struct "))
+            rosidl = ("rosidl_runtime_c__String__Sequence" if m.seq_of[0] == "string"
+                      else f"{rosidl_c_type(m.seq_of[0])}__Sequence")
+            messages.append({"c_name": _ident(m.c_name), "bounded": "seqelem", "capacity": int(m.capacity),
+                             "elem": m.seq_of[0], "elem_c": elem_c, "rosidl": rosidl, "fields": []})
+            continue
+        if m.is_string:
+            messages.append({"c_name": _ident(m.c_name), "bounded": "string", "capacity": int(m.capacity),
+                             "rosidl": "rosidl_runtime_c__String", "fields": []})
+            continue
+        if m.is_seq and m.seq_of[0] in ROSIDL_SEQ:
+            messages.append({"c_name": _ident(m.c_name), "bounded": "seq", "capacity": int(m.capacity),
+                             "elem": m.seq_of[0], "rosidl": f"rosidl_runtime_c__{ROSIDL_SEQ[m.seq_of[0]]}__Sequence",
+                             "fields": []})
+            continue
+        if m.is_bounded or "/" not in m.name:
+            raise ValueError(f"{m.name}: no rcl conversion for this type in this version")
+        messages.append({"bounded": None,
+            "c_name": _ident(m.c_name),
+            "rosidl": rosidl_c_type(m.name),
+            "fields": [{"name": _ident(f.name), "kind": f.kind, "array_len": f.array_len,
+                        "c_name": by_name[f.msg].c_name if f.kind == "msg" else None} for f in m.fields],
+        })
+    msgs = {m.name: m for m in model.messages}
+    by_c_name = {m.c_name: m.name for m in model.messages}
+    topics = []
+    for t in proved.topics:
+        pkg, typ = t.ros_type.split("/", 1)
+        for n in (t.c_name, t.subscribe_fn, t.advertise_fn, t.publish_fn, t.struct):
+            _ident(n)
+        topics.append({
+            "name": ros_name(t.name), "c_name": t.c_name, "direction": t.direction, "queue": int(t.queue),
+            "type_name": f"{_ident(pkg)}/{_ident(typ)}", "pkg": pkg, "type": typ,
+            "rosidl": rosidl_c_type(t.ros_type), "c_struct": t.struct,
+            "subscribe_fn": t.subscribe_fn, "advertise_fn": t.advertise_fn, "publish_fn": t.publish_fn,
+            # policy reject (rule 4.15): (C access path, maximum), as the roscpp wrapper's
+            "rejects": (_reject_paths(msgs, by_c_name.get(t.struct, "")) if t.direction == "subscribe" else []),
+            # for ros_api.h.j2
+            "msg_type": t.ros_type, "queue_size": int(t.queue),
+        })
+    subs = [t for t in topics if t["direction"] == "subscribe"]
+    pubs = [t for t in topics if t["direction"] == "publish"]
+    return {
+        "source": source_label(model.source.name),
+        "node": model,
+        "header_name": files.api_header,
+        "types_header": files.types_header,
+        "guard": f"PYROSGEN_{model.name.upper()}_ROS_H",
+        "rosidl_headers": sorted({rosidl_header(t["type_name"]) for t in topics}),
+        "messages": messages,
+        "subs": subs,
+        "pubs": pubs,
+        "msg_c": {t["name"]: t["c_struct"] for t in topics},
+        "period_ns": int(proved.period_ms) * 1000000,
+    }
+
+
+class _T(dict):
+    """A dict whose keys read as attributes (the templates use ``t.name``)."""
+
+    __getattr__ = dict.__getitem__
+
+
+def render_rcl_wrapper(model: NodeModel, proved: ProvedModel) -> dict[str, str]:
+    """The C API header and its rcl implementation, by file name; the topics
+    and the period from ``proved`` (the model Coq printed)."""
+    ctx = _context(model, proved)
+    ctx["subs"] = [_T(t) for t in ctx["subs"]]
+    ctx["pubs"] = [_T(t) for t in ctx["pubs"]]
+    ctx["messages"] = [_T(m, fields=[_T(f) for f in m["fields"]]) for m in ctx["messages"]]
+    files = ros2_wrapper_files(model)
+    return {
+        files.api_header: render("ros_api.h.j2", **ctx),
+        files.api_source: render("rcl_api.c.j2", **ctx),
+    }
+
+
+_SUB = re.compile(r'rcl_subscription_init\(&g_sub_(\w+), &g_node,\s*ROSIDL_GET_MSG_TYPE_SUPPORT\((\w+), msg, (\w+)\),'
+                  r'\s*"([^"]*)", &options\)')
+_PUB = re.compile(r'rcl_publisher_init\(&g_pub_(\w+), &g_node,\s*ROSIDL_GET_MSG_TYPE_SUPPORT\((\w+), msg, (\w+)\),'
+                  r'\s*"([^"]*)", &options\)')
+_DEPTH = re.compile(r"void (ros_(?:subscribe|advertise)_\w+)\((?:void \(\*cb\)\(struct (\w+) \*\)|void)\)\n\{\n"
+                    r"(?:.*\n)*?    options\.qos\.depth = (\d+);")
+_PERIOD = re.compile(r"^#define PYROSGEN_PERIOD_NS (\d+)LL$", re.M)
+
+
+def check_rcl_wrapper(text: str, proved_model_text: str, *, wrapper_name: str) -> None:
+    """Raise :class:`Ros2WrapperMismatch` unless the rcl wrapper ``text``
+    subscribes and advertises exactly the proved model's topics (names,
+    ROS types, C structs of the callbacks, queue sizes as history depths)
+    and sleeps with its period."""
+    pm = parse_model_text(proved_model_text)
+    problems: list[str] = []
+    want = {(t.direction, t.c_name, t.ros_type, t.name) for t in pm.topics}
+    got = {("subscribe", c, f"{p}/{ty}", n) for c, p, ty, n in _SUB.findall(text)}
+    got |= {("publish", c, f"{p}/{ty}", n) for c, p, ty, n in _PUB.findall(text)}
+    for w in sorted(want - got):
+        problems.append(f"  the proved topic {w[3]} ({w[0]}, {w[2]}) is not registered so")
+    for g in sorted(got - want):
+        problems.append(f"  registers {g[3]} ({g[0]}, {g[2]}), which is not a proved topic")
+    depths = {fn: (struct, int(d)) for fn, struct, d in _DEPTH.findall(text)}
+    for t in pm.topics:
+        fn = t.subscribe_fn if t.direction == "subscribe" else t.advertise_fn
+        if fn not in depths:
+            problems.append(f"  no {fn} with a history depth")
+            continue
+        struct, depth = depths[fn]
+        if depth != t.queue:
+            problems.append(f"  {fn}: history depth {depth}, the proved queue size is {t.queue}")
+        if t.direction == "subscribe" and struct != t.struct:
+            problems.append(f"  {fn}: callback of struct {struct}, the proved struct is {t.struct}")
+    periods = _PERIOD.findall(text)
+    if periods != [str(pm.period_ms * 1000000)]:
+        problems.append(f"  period {periods or 'missing'} ns, the proved period is {pm.period_ms} ms")
+    if problems:
+        raise Ros2WrapperMismatch(f"{wrapper_name} does not implement the proved model", problems)

@@ -1,0 +1,221 @@
+"""The front end for the target ros2 (DESIGN.md rule 4.17): the same model
+read with ROS 2's message definitions from the installed wheels; a field
+path or a feature that holds for ROS 1 and not for ROS 2 is refused for
+ROS 2 with file:line:col and the rule; a missing installation is exit 2."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+from pyrosgen.errors import InvalidNodeModel
+from pyrosgen.frontend.validate import load_model
+from pyrosgen.proof.modeltext import parse_model_text
+from pyrosgen.ros2.frontend import load_model_ros2
+from pyrosgen.ros2.wrapper import Ros2WrapperMismatch, check_rcl_wrapper, render_rcl_wrapper
+
+from support import ros as rosutil
+
+MODEL = """\
+node: {{name: n2, period_ms: 10}}
+controller:
+  name: C
+  inputs: {{name: C_U, fields: {{In1: {in_type}}}}}
+  outputs: {{name: C_Y, fields: {{Out1: float64}}}}
+topics:
+  - {{name: /cmd_in, direction: subscribe, type: {in_msg}, queue_size: 3}}
+  - {{name: /out, direction: publish, type: geometry_msgs/TwistStamped, queue_size: 2{extra}}}
+relations:
+  inputs:
+    - {{topic: /cmd_in, field: {field}, input: In1}}
+  outputs:
+    - {{output: Out1, topic: /out, field: twist.linear.x}}
+"""
+
+
+def _model(tmp_path, field="twist.linear.x", in_type="float64", in_msg="geometry_msgs/TwistStamped", extra=""):
+    p = tmp_path / "m.yaml"
+    p.write_text(MODEL.format(field=field, in_type=in_type, in_msg=in_msg, extra=extra), encoding="utf-8")
+    return p
+
+
+def _refused(path, install) -> list:
+    with pytest.raises(InvalidNodeModel) as info:
+        load_model_ros2(path, install)
+    return list(info.value.diagnostics)
+
+
+def test_ros2_reads_ros2_messages(tmp_path, ros2_install):
+    m = load_model_ros2(_model(tmp_path, field="header.stamp.nanosec", in_type="uint32"), ros2_install)
+    by = {t.name: [(f.name, f.prim or f.msg) for f in t.fields] for t in m.messages}
+    assert by["builtin_interfaces/Time"] == [("sec", "int32"), ("nanosec", "uint32")]
+    assert by["std_msgs/Header"] == [("stamp", "builtin_interfaces/Time")]
+
+
+def test_header_seq_refused_for_ros2_with_position_and_rule(tmp_path, ros2_install):
+    path = _model(tmp_path, field="header.seq", in_type="uint32")
+    load_model(path)  # ROS 1 has header.seq
+    (d,) = _refused(path, ros2_install)
+    assert (d.file, d.line, d.col, d.rule) == (str(path), 11, 31, "4.17")
+    assert "seq" in d.message and "target ros2" in d.message and "the ROS 1 target accepts it" in d.message
+    assert str(d).startswith(f"{path}:11:31: error: ") and str(d).endswith("[rule 4.17]")
+
+
+def test_stamp_nsec_refused_for_ros2(tmp_path, ros2_install):
+    path = _model(tmp_path, field="header.stamp.nsec", in_type="uint32")
+    load_model(path)
+    (d,) = _refused(path, ros2_install)
+    assert (d.line, d.col, d.rule) == (11, 31, "4.17") and "nsec" in d.message
+
+
+def test_ros2_only_path_refused_for_ros1(tmp_path, ros2_install):
+    path = _model(tmp_path, field="header.stamp.nanosec", in_type="uint32")
+    load_model_ros2(path, ros2_install)
+    with pytest.raises(InvalidNodeModel) as info:
+        load_model(path)
+    (d,) = info.value.diagnostics
+    assert d.line == 11 and "nanosec" in d.message
+
+
+def test_type_missing_from_ros2_refused(tmp_path, ros2_install):
+    # std_msgs/Time exists in ROS 1 Noetic, not in ROS 2
+    path = _model(tmp_path, field="data.sec", in_type="uint32", in_msg="std_msgs/Time")
+    load_model(path)
+    diags = _refused(path, ros2_install)
+    assert diags and all(d.rule == "4.17" for d in diags)
+    assert any(d.line == 7 and "std_msgs/Time" in d.message for d in diags)
+
+
+def test_stamp_now_refused_for_ros2(tmp_path, ros2_install):
+    path = _model(tmp_path, extra=", stamp: now")
+    load_model(path)
+    (d,) = _refused(path, ros2_install)
+    assert (d.line, d.rule) == (8, "4.17")
+    assert "int32 sec" in d.message and "rule 4.13" in d.message
+
+
+def test_sequence_of_strings_accepted_for_ros2(ros2_install):
+    m = load_model_ros2(rosutil.ROOT / "examples" / "arm_named" / "arm_named.yaml", ros2_install)
+    assert any(t.is_seq and t.seq_of == ("string", 6) for t in m.messages)
+
+
+def test_sequence_of_numbers_accepted_for_ros2(tmp_path, ros2_install):
+    path = _model(tmp_path, field='"ranges[0]"', in_type="float32", in_msg="sensor_msgs/LaserScan")
+    m = load_model_ros2(path, ros2_install)
+    assert any(t.is_seq and t.seq_of == ("float32", 128) for t in m.messages)
+
+
+def test_msg_paths_refused_for_ros2(ros2_install):
+    diags = _refused(rosutil.MULTI, ros2_install)
+    assert any(d.rule == "4.17" and "msg_paths" in d.message and d.line is not None for d in diags)
+
+
+def _cli(*args, env_extra=None):
+    import os
+    env = dict(os.environ, **(env_extra or {}))
+    return subprocess.run([sys.executable, "-m", "pyrosgen", *args], capture_output=True, text=True, env=env,
+                          cwd=str(rosutil.ROOT))
+
+
+def test_check_cli_ros2(tmp_path, ros2_install):
+    ok = _cli("check", "--ros2", str(rosutil.LANDSHARK))
+    assert ok.returncode == 0 and "ok: node landshark_controller" in ok.stdout
+    bad = _cli("check", "--ros2", str(_model(tmp_path, field="header.seq", in_type="uint32")))
+    assert bad.returncode == 1 and ":11:31: error:" in bad.stderr and "[rule 4.17]" in bad.stderr
+    assert "Traceback" not in bad.stderr
+
+
+def test_missing_ros2_installation_is_exit_2_with_the_install_command(tmp_path):
+    for cmd in (["check", "--ros2", str(rosutil.LANDSHARK)],
+                ["build", "--ros2", str(rosutil.LANDSHARK), "--controller", str(rosutil.LANDSHARK_CTL),
+                 "-o", str(tmp_path / "out")]):
+        r = _cli(*cmd, env_extra={"PYROSGEN_ROS2_PREFIX": str(tmp_path / "none")})
+        assert r.returncode == 2, r.stderr
+        assert "make ros2-deps" in r.stderr and "Traceback" not in r.stderr
+    assert not (tmp_path / "out").exists()
+
+
+PROVED = """\
+pyrosgen-model 1
+node n2
+period_ms 10
+controller C
+inputs C_U ExtU_C_T
+input In1 float64
+outputs C_Y ExtY_C_T
+output Out1 float64
+message builtin_interfaces_Time
+field sec int32
+field nanosec uint32
+message std_msgs_Header
+field stamp msg builtin_interfaces_Time
+message geometry_msgs_Vector3
+field x float64
+field y float64
+field z float64
+message geometry_msgs_Twist
+field linear msg geometry_msgs_Vector3
+field angular msg geometry_msgs_Vector3
+message geometry_msgs_TwistStamped
+field header msg std_msgs_Header
+field twist msg geometry_msgs_Twist
+topic /cmd_in cmd_in subscribe geometry_msgs/TwistStamped 3
+topic /out out publish geometry_msgs/TwistStamped 2
+input_relation cmd_in twist.linear.x In1
+output_relation Out1 out twist.linear.x
+"""
+
+
+@pytest.mark.parametrize("tamper", [
+    ("options.qos.depth = 3;", "options.qos.depth = 1;"),
+    ('"/cmd_in", &options', '"/other", &options'),
+    ("#define PYROSGEN_PERIOD_NS 10000000LL", "#define PYROSGEN_PERIOD_NS 20000000LL"),
+    ("ROSIDL_GET_MSG_TYPE_SUPPORT(geometry_msgs, msg, TwistStamped),\n                            \"/out\"",
+     "ROSIDL_GET_MSG_TYPE_SUPPORT(geometry_msgs, msg, Twist),\n                            \"/out\""),
+])
+def test_rcl_wrapper_check_refuses_a_tampered_wrapper(tmp_path, ros2_install, tamper):
+    model = load_model_ros2(_model(tmp_path), ros2_install)
+    from pyrosgen.proof.modeltext import model_text
+    assert model_text(model) == PROVED  # the proved text the wrapper is rendered from
+    text = render_rcl_wrapper(model, parse_model_text(PROVED))["n2_rcl.c"]
+    check_rcl_wrapper(text, PROVED, wrapper_name="n2_rcl.c")
+    old, new = tamper
+    assert text.count(old) == 1
+    with pytest.raises(Ros2WrapperMismatch):
+        check_rcl_wrapper(text.replace(old, new), PROVED, wrapper_name="n2_rcl.c")
+
+
+def test_build_ros2_cli_nothing_partial_on_a_controller_error(tmp_path, ros2_install):
+    import shutil
+    ctl = tmp_path / "ctl"
+    shutil.copytree(rosutil.CONTROLLERS / "landshark_echo", ctl)
+    (ctl / "Controller.c").write_text((ctl / "Controller.c").read_text() + "\nint broken(void) { return }\n")
+    out = tmp_path / "out"
+    r = _cli("build", "--ros2", "-q", str(rosutil.LANDSHARK), "--controller", str(ctl), "-o", str(out))
+    assert r.returncode == 1, r.stderr
+    assert "Controller.c: error: the controller source does not compile" in r.stderr
+    assert "Traceback" not in r.stderr
+    assert not out.exists() and not list(tmp_path.glob(".pyrosgen-build-*"))
+
+
+def test_verify_covers_the_ros2_files(tmp_path, ros2_install):
+    """``pyrosgen verify`` on a ``build --ros2`` folder: every check holds
+    (the recorded hashes cover the rcl wrapper and ``<node>.target``); a
+    tampered rcl wrapper or target file is refused."""
+    import shutil
+    from pyrosgen.ros2.build import build_ros2
+    out = tmp_path / "out"
+    build_ros2(rosutil.LANDSHARK, rosutil.CONTROLLERS / "landshark_echo", out, install=ros2_install)
+    ok = _cli("verify", "-q", str(out))
+    assert ok.returncode == 0, ok.stdout + ok.stderr
+    for name, edit in (("landshark_controller_rcl.c", lambda t: t.replace("options.qos.depth = 1;", "options.qos.depth = 2;", 1)),
+                       ("landshark_controller.target", lambda t: t.replace("ros2", "ros1"))):
+        bad = tmp_path / f"bad_{name}"
+        shutil.copytree(out, bad)
+        text = (bad / name).read_text()
+        assert edit(text) != text
+        (bad / name).write_text(edit(text))
+        r = _cli("verify", "-q", str(bad))
+        assert r.returncode == 1 and name in r.stdout + r.stderr, (name, r.stdout, r.stderr)
