@@ -13,11 +13,11 @@ front end read them), the bytes of every ``.msg`` file under its
 ``msg_paths`` and of its controller folder, the ROSGen library's digest,
 the versions of coqc, ocamlopt and gcc, and the digest of pyrosgen's own
 sources and templates.  An entry is written under a temporary name
-(``.tmp-<pid>-...``) and renamed into place only once complete; a reader
-trusts an entry only when ``entry.json`` names its key and every file's
-digest matches, so a killed run leaves nothing a later run trusts (its
-temporary folders are removed by the next run once their process is
-gone).  A corrupted entry is a miss (the node is proved again).
+(``.tmp-<pid>-...``, locked by its worker) and renamed into place only
+once complete; a reader trusts an entry only when ``entry.json`` names its
+key and every file's digest matches, so a killed run leaves nothing a
+later run trusts (its temporary folders are removed by the next run, whose
+lock they no longer hold).  A corrupted entry is a miss (the node is proved again).
 
 Nothing is written into ``OUT`` unless every node succeeded: the nodes are
 staged next to ``OUT`` and moved in at the end.
@@ -177,7 +177,14 @@ def entry_valid(entry: Path, key: str) -> bool:
 
 
 def _clean_dead_temps(cache: Path) -> None:
-    """Remove the temporary folders of runs whose process is gone."""
+    """Remove the temporary folders of runs that are gone: each worker
+    holds an exclusive ``flock`` on its folder's ``.lock`` while it works
+    (the kernel releases it when the process dies, however it dies), so a
+    folder whose lock can be taken belongs to nobody.  A folder without a
+    lock (killed between its creation and the lock's) is removed once it
+    is ten minutes old."""
+    import fcntl
+
     try:
         names = os.listdir(cache)
     except OSError:
@@ -185,15 +192,27 @@ def _clean_dead_temps(cache: Path) -> None:
     for n in names:
         if not n.startswith(".tmp-"):
             continue
+        folder = cache / n
         try:
-            pid = int(n.split("-")[1])
-            os.kill(pid, 0)
-            continue            # still running
-        except ProcessLookupError:
-            pass
-        except (ValueError, IndexError, PermissionError, OSError):
+            fd = os.open(folder / ".lock", os.O_RDONLY)
+        except FileNotFoundError:
+            try:
+                if time.time() - folder.stat().st_mtime > 600:
+                    shutil.rmtree(folder, ignore_errors=True)
+            except OSError:
+                pass
             continue
-        shutil.rmtree(cache / n, ignore_errors=True)
+        except OSError:
+            continue
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            os.close(fd)
+            continue            # its worker is still at work
+        try:
+            shutil.rmtree(folder, ignore_errors=True)
+        finally:
+            os.close(fd)
 
 
 def _gen_node(model_path: str, dest: str) -> tuple[str, float, int, list[str]]:
@@ -215,7 +234,11 @@ def _gen_node(model_path: str, dest: str) -> tuple[str, float, int, list[str]]:
 def _gen_cached(model_path: str, cache: str, key: str) -> tuple[str, float, int, list[str]]:
     """Worker: generate the node into a temporary folder of the cache and
     rename it into place as entry ``key``."""
+    import fcntl
+
     tmp = Path(tempfile.mkdtemp(prefix=f".tmp-{os.getpid()}-", dir=cache))
+    lock = os.open(tmp / ".lock", os.O_RDWR | os.O_CREAT, 0o600)
+    fcntl.flock(lock, fcntl.LOCK_EX)
     try:
         status = _gen_node(model_path, str(tmp / "files"))
         if status[0] != "ok":
@@ -240,6 +263,7 @@ def _gen_cached(model_path: str, cache: str, key: str) -> tuple[str, float, int,
     finally:
         if tmp.exists():
             shutil.rmtree(tmp, ignore_errors=True)
+        os.close(lock)
 
 
 def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int | None = None,

@@ -1,0 +1,155 @@
+"""``pyrosgen system generate``: nodes in parallel, the content-addressed
+cache (a second run all hits; one node changed, only it proved; a corrupted
+or partial entry never trusted; a killed run leaves no entry a later run
+trusts), nothing written into OUT on failure."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from pyrosgen import cli
+from pyrosgen.system.generate import ENTRY, entry_valid, generate_system
+
+from .sysfiles import chain
+
+
+def tree(folder: Path) -> dict[str, bytes]:
+    return {p.relative_to(folder).as_posix(): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+def entries(cache: Path) -> list[Path]:
+    return sorted(p for p in cache.iterdir() if not p.name.startswith("."))
+
+
+@pytest.fixture(scope="module")
+def cold(tmp_path_factory):
+    """One cold run of the two-node chain (both nodes proved)."""
+    d = tmp_path_factory.mktemp("cold")
+    src = d / "src"
+    src.mkdir()
+    p = chain(src)
+    cache = d / "cache"
+    res = generate_system(p, d / "out", jobs=2, cache=cache)
+    return p, cache, d / "out", res
+
+
+def test_cold_run(cold):
+    p, cache, out, res = cold
+    assert [(n.folder, n.cached) for n in res.nodes] == [("a", False), ("b", False)]
+    names = tree(out)
+    for node in ("a", "b"):
+        for suffix in (".v", "_glue.c", ".certificate.md", ".manifest.json", ".model"):
+            assert f"{node}/{node}{suffix}" in names
+    cert = names["sys.certificate.md"].decode()
+    assert "`/src` -> `/a` -> `/mid` -> `/b` -> `/out`" in cert
+    assert "`O1` -> `linear.x`" in cert and "`linear.x` -> `I1`" in cert
+    assert "## Transport assumption" in cert
+    graph = json.loads(names["sys.system.json"])
+    assert graph["chains"] == [[{"node": "/a", "from": "/src", "to": "/mid"}, {"node": "/b", "from": "/mid", "to": "/out"}]]
+    assert b'<node pkg="a" type="a" name="a"' in names["sys.launch"]
+    assert len(entries(cache)) == 2 and all(entry_valid(e, e.name) for e in entries(cache))
+
+
+def test_warm_run_all_hits(cold, tmp_path, capsys):
+    p, cache, out, _ = cold
+    stamps = {e.name: (e / ENTRY).stat().st_mtime_ns for e in entries(cache)}
+    code = cli.main(["system", "generate", str(p), "-o", str(tmp_path / "out"), "--cache", str(cache), "-j", "2"])
+    o, err = capsys.readouterr()
+    assert code == 0, err
+    assert "2 nodes (2 from the cache, 0 proved)" in o
+    assert tree(tmp_path / "out") == tree(out)
+    assert {e.name: (e / ENTRY).stat().st_mtime_ns for e in entries(cache)} == stamps
+
+
+def test_one_node_changed(cold, tmp_path):
+    p, cache, out, _ = cold
+    src = tmp_path / "src"
+    src.mkdir()
+    for f in ("a.yaml", "b.yaml", "system.yaml"):
+        (src / f).write_bytes((p.parent / f).read_bytes())
+    # b's model changes (a comment: its bytes, hence its key)
+    (src / "b.yaml").write_text("# changed\n" + (src / "b.yaml").read_text())
+    res = generate_system(src / "system.yaml", tmp_path / "out", jobs=2, cache=cache)
+    assert [(n.folder, n.cached) for n in res.nodes] == [("a", True), ("b", False)]
+    assert len(entries(cache)) == 3
+
+
+def test_corrupted_and_partial_entries_are_not_trusted(cold, tmp_path):
+    p, cache, out, first = cold
+    c2 = tmp_path / "cache"
+    import shutil
+
+    shutil.copytree(cache, c2)
+    by_node = {n.folder: c2 / n.key for n in first.nodes}
+    # a: one file's bytes changed (a disk error, a hand edit)
+    glue = by_node["a"] / "files" / "a_glue.c"
+    glue.write_text(glue.read_text() + "\n/* tampered */\n")
+    assert not entry_valid(by_node["a"], by_node["a"].name)
+    # b: the entry of a run killed before it wrote entry.json
+    (by_node["b"] / ENTRY).unlink()
+    assert not entry_valid(by_node["b"], by_node["b"].name)
+    # and the temporary folder of a run that is gone (its lock is free)
+    dead = c2 / f".tmp-{2**22 + 1}-x"
+    (dead / "files").mkdir(parents=True)
+    (dead / ".lock").write_text("")
+    res = generate_system(p, tmp_path / "out", jobs=2, cache=c2)
+    assert [(n.folder, n.cached) for n in res.nodes] == [("a", False), ("b", False)]
+    assert tree(tmp_path / "out") == tree(out)
+    assert not dead.exists()
+    assert all(entry_valid(e, e.name) for e in entries(c2))
+
+
+def test_killed_run_leaves_nothing_trusted(cold, tmp_path):
+    p, cache, out, _ = cold
+    c3 = tmp_path / "cache"
+    c3.mkdir()
+    target = tmp_path / "out"
+    proc = subprocess.Popen([sys.executable, "-m", "pyrosgen", "system", "generate", str(p), "-o", str(target),
+                             "--cache", str(c3), "-j", "2", "-q"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    try:
+        # kill it while a node is being proved (its temporary entry exists)
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline and not any(x.name.startswith(".tmp-") for x in c3.iterdir()):
+            time.sleep(0.05)
+        assert any(x.name.startswith(".tmp-") for x in c3.iterdir()), "no node started"
+        time.sleep(1.0)
+        os.killpg(proc.pid, signal.SIGKILL)
+    finally:
+        proc.wait(timeout=60)
+    assert proc.returncode == -signal.SIGKILL
+    # nothing in OUT, and no entry a later run would trust that is not complete
+    assert not target.exists()
+    for e in entries(c3):
+        assert entry_valid(e, e.name)   # only completed entries were renamed into place
+    res = generate_system(p, target, jobs=2, cache=c3)
+    assert tree(target) == tree(out)
+    assert not any(x.name.startswith(".tmp-") for x in c3.iterdir())
+    assert res.hits + sum(1 for n in res.nodes if not n.cached) == 2
+
+
+def test_failure_writes_nothing(tmp_path, capsys):
+    src = tmp_path / "src"
+    src.mkdir()
+    p = chain(src)
+    out = tmp_path / "out"
+    out.write_text("a file, not a folder")
+    code = cli.main(["system", "generate", str(p), "-o", str(out), "--no-cache", "-q"])
+    _, err = capsys.readouterr()
+    assert code == 1 and "exists and is not a directory" in err
+    assert out.read_text() == "a file, not a folder"
+    # an invalid system: exit 1, OUT not created
+    (src / "system.yaml").write_text((src / "system.yaml").read_text().replace("/out", "/nope"))
+    code = cli.main(["system", "generate", str(p), "-o", str(tmp_path / "o2"), "--no-cache", "-q"])
+    _, err = capsys.readouterr()
+    assert code == 1 and "[rule 10.5]" in err
+    assert not (tmp_path / "o2").exists()
+    assert [x.name for x in tmp_path.iterdir() if x.name.startswith(".pyrosgen")] == []
