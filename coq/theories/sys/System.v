@@ -101,21 +101,27 @@ Definition delivered_from {CS : Type} (mB : node_model) (ctxB : ros_context CS) 
   exists a, newest_arrival mB ctxB tpB i = Some a /\ ar_msg a = sent mA tpA mv.
 
 (** The facts about the two models that make a link: [tpA] is a
-    published topic of [A], [tpB] a subscribed topic of [B] with the
-    same ROS name and the only subscribed topic of [B] with its C name;
-    output relation [o] of [A] writes field [or_path o] of [tpA],
-    input relation [ir] of [B] reads the same field of [tpB]; in both
-    nodes' message types the field is a scalar reached through no
+    published topic of [A] (every published topic of [A] with its ROS
+    name has its C name and message struct), [tpB] a subscribed topic of
+    [B], the only one with its C name; the two are one topic of the ROS
+    graph: [gA] and [gB] give each node's topic names as the graph
+    resolves them (namespace and remappings, DESIGN.md section 10), and
+    they agree; output relation [o] of [A] writes field [or_path o] of
+    [tpA], input relation [ir] of [B] reads the same field of [tpB]; in
+    both nodes' message types the field is a scalar reached through no
     bounded sequence.  A system's file decides [link_ok] by
     computation. *)
-Definition link_ok (mA : node_model) (tpA : topic) (o : outrel)
-                   (mB : node_model) (tpB : topic) (ir : inrel) : bool :=
+Definition link_ok (gA : string -> string) (mA : node_model) (tpA : topic) (o : outrel)
+                   (gB : string -> string) (mB : node_model) (tpB : topic) (ir : inrel) : bool :=
      existsb (fun t => topic_eqb (tp_name t) (tp_name tpA) && String.eqb (tp_cname t) (tp_cname tpA)
                        && String.eqb (tp_msg t) (tp_msg tpA) && is_published t) (nm_topics mA)
+  && forallb (fun t => negb (is_published t && topic_eqb (tp_name t) (tp_name tpA))
+                       || (String.eqb (tp_cname t) (tp_cname tpA) && String.eqb (tp_msg t) (tp_msg tpA)))
+             (nm_topics mA)
   && existsb (fun t => topic_eqb (tp_name t) (tp_name tpB) && String.eqb (tp_cname t) (tp_cname tpB)
                        && String.eqb (tp_msg t) (tp_msg tpB) && Nat.eqb (tp_queue t) (tp_queue tpB)
                        && is_subscribed t) (nm_topics mB)
-  && topic_eqb (tp_name tpA) (tp_name tpB)
+  && String.eqb (gA (tp_name tpA)) (gB (tp_name tpB))
   && Nat.eqb (length (filter (fun t => String.eqb (tp_cname t) (tp_cname tpB)) (subscribed mB))) 1
   && existsb (fun o' => String.eqb (or_output o') (or_output o) && path_eqb (or_elem o') (or_elem o)
                         && String.eqb (or_topic o') (or_topic o) && path_eqb (or_path o') (or_path o))
@@ -162,8 +168,8 @@ Definition kept_fresh {CS : Type} (mB : node_model) (ctxB : ros_context CS) (tpB
     whose message [B] received last ([y] the controller's outputs of
     [A]'s cycle [j], [mv] the message its output glue built then). *)
 Theorem link_value:
-  forall mA mB (CS : Type) (ctxB : ros_context CS) i u tpA tpB o ir y now g mv,
-  link_ok mA tpA o mB tpB ir = true ->
+  forall gA gB mA mB (CS : Type) (ctxB : ros_context CS) i u tpA tpB o ir y now g mv,
+  link_ok gA mA tpA o gB mB tpB ir = true ->
   arrivals_wt mB ctxB ->
   input_values mB ctxB i u ->
   published_value mA y now g tpA mv ->
@@ -173,9 +179,9 @@ Theorem link_value:
      mval_get y (Sfield (or_output o) :: path_steps (or_elem o)) = Some (MVscalar v)
   /\ mval_get u (input_leaf ir) = Some (MVscalar v).
 Proof.
-  intros mA mB CS ctxB i u tpA tpB o ir y now g mv L WT IV PV (a & NA & MA) KF.
+  intros gA gB mA mB CS ctxB i u tpA tpB o ir y now g mv L WT IV PV (a & NA & MA) KF.
   unfold link_ok in L. repeat rewrite andb_true_iff in L.
-  destruct L as [[[[[[[[[[[_ SB] NAB] One] Oin] Ot] Iin] It] Pe] UA] UB] Ty].
+  destruct L as [[[[[[[[[[[[_ _] SB] NAB] One] Oin] Ot] Iin] It] Pe] UA] UB] Ty].
   destruct (existsb_in _ _ SB) as (tB & TBin & TB). repeat rewrite andb_true_iff in TB.
   destruct TB as ((((N1 & C1) & M1) & Q1) & S1).
   destruct (existsb_in _ _ Oin) as (o' & Oin' & Oe). repeat rewrite andb_true_iff in Oe.
@@ -234,6 +240,121 @@ Proof.
   destruct KF as [KF|KF].
   - destruct (stale _ _ _ _); [rewrite KF|]; reflexivity.
   - rewrite KF. reflexivity.
+Qed.
+
+
+(** ** Links between whole runs (from the nodes' T2) *)
+
+Lemma Forall2_In_combine:
+  forall {A B} (P : A -> B -> Prop) l1 l2 x y,
+  Forall2 P l1 l2 -> In (x, y) (combine l1 l2) -> P x y.
+Proof.
+  intros A B P l1 l2 x y F. induction F as [|a b l1 l2 Pab F IH]; simpl; intros H; [contradiction|].
+  destruct H as [H|H]; [inversion H; subst; auto|auto].
+Qed.
+
+(** [published_value] and [sent] depend on a topic's C name and message
+    struct only. *)
+Lemma published_value_ext:
+  forall m y now g t1 t2 mv,
+  tp_cname t1 = tp_cname t2 -> tp_msg t1 = tp_msg t2 ->
+  published_value m y now g t1 mv -> published_value m y now g t2 mv.
+Proof.
+  intros m y now g t1 t2 mv C M H. unfold published_value in *. rewrite <- C, <- M. exact H.
+Qed.
+
+Lemma sent_ext:
+  forall m t1 t2 mv, tp_msg t1 = tp_msg t2 -> sent m t1 mv = sent m t2 mv.
+Proof. intros m t1 t2 mv M. unfold sent. rewrite M. reflexivity. Qed.
+
+(** A publication in a correct cycle: the message of one of the model's
+    published topics, built from the cycle's controller outputs. *)
+Lemma cycle_publication:
+  forall m CS (ctx : ros_context CS) i s evs s' name msg,
+  cycle_ok m ctx i s evs s' -> In (Epublish name msg) evs ->
+  exists u y rest tp mv,
+     evs = Estep u y :: rest
+  /\ ctx_step ctx s u = (s', y)
+  /\ In tp (published m) /\ name = tp_name tp /\ msg = sent m tp mv
+  /\ published_value m y (ctx_time ctx (S i)) (newest_by m ctx i) tp mv.
+Proof.
+  intros m CS ctx i s evs s' name msg (u & y & mvs & E & _ & St & F) I.
+  subst evs. destruct I as [I|I]; [discriminate|].
+  apply in_app_or in I. destruct I as [I|[I|[]]]; [|discriminate].
+  unfold publish_events in I. apply in_map_iff in I. destruct I as ([tp mv] & Ev & Ic).
+  simpl in Ev. inversion Ev; subst.
+  exists u, y, (publish_events m (published m) mvs ++ [Esleep (nm_period_ms m)]), tp, mv.
+  split; [reflexivity|]. split; [exact St|].
+  split; [apply in_combine_l in Ic; exact Ic|]. split; [reflexivity|]. split; [reflexivity|].
+  exact (Forall2_In_combine _ _ _ _ _ F Ic).
+Qed.
+
+(** What a link guarantees of the runs of its two nodes ([A] publishing,
+    [B] subscribing), in every environment of each with well-typed
+    messages and controller outputs, for any numbers of cycles: their
+    traces are the nodes' starts followed by cycles (T2's
+    decomposition), and for every cycle [i] of [B] and [j] of [A], if
+    the newest message [B]'s callback of [tpB] received up to its
+    [i]-th spin is the message [A] published on [tpA] in its cycle [j]
+    (the transport assumption: ROS delivered it, and nothing newer), and
+    no fallback value replaced the input ([kept_fresh]), then [A]'s
+    controller computed, in cycle [j] (stepped from its state [sA j] to
+    [sA (S j)]), an output whose field [o] is a value [v], and [B]'s
+    controller receives [v] on the input of [ir] in cycle [i]. *)
+Definition link_holds (mA : node_model) (pA : program) (tpA : topic) (o : outrel)
+                      (mB : node_model) (pB : program) (tpB : topic) (ir : inrel) : Prop :=
+  forall (CSA : Type) (ctxA : ros_context CSA) nA tA (CSB : Type) (ctxB : ros_context CSB) nB tB,
+  arrivals_wt mA ctxA -> controller_wt mA ctxA -> arrivals_wt mB ctxB -> controller_wt mB ctxB ->
+  program_behaves pA ctxA nA tA -> program_behaves pB ctxB nB tB ->
+  exists (sA : nat -> CSA) (evsA : nat -> trace) (sB : nat -> CSB) (evsB : nat -> trace),
+     sA O = ctx_init ctxA /\ tA = start_events mA ++ concat (map evsA (seq 0 nA))
+  /\ sB O = ctx_init ctxB /\ tB = start_events mB ++ concat (map evsB (seq 0 nB))
+  /\ forall i j, (i < nB)%nat -> (j < nA)%nat ->
+     (exists a, newest_arrival mB ctxB tpB i = Some a /\ In (Epublish (tp_name tpA) (ar_msg a)) (evsA j)) ->
+     kept_fresh mB ctxB tpB ir i ->
+     exists uA yA restA uB yB restB v,
+        evsA j = Estep uA yA :: restA
+     /\ ctx_step ctxA (sA j) uA = (sA (S j), yA)
+     /\ evsB i = Estep uB yB :: restB
+     /\ mval_get yA (Sfield (or_output o) :: path_steps (or_elem o)) = Some (MVscalar v)
+     /\ mval_get uB (input_leaf ir) = Some (MVscalar v).
+
+(** The link theorem: the two nodes' T2 ([node_ddc], proved for each
+    generated node as [<node>_ddc]) and the link's facts give
+    [link_holds]. *)
+Theorem system_link:
+  forall gA gB mA pA mB pB tpA o tpB ir,
+  node_ddc mA pA -> node_ddc mB pB ->
+  link_ok gA mA tpA o gB mB tpB ir = true ->
+  link_holds mA pA tpA o mB pB tpB ir.
+Proof.
+  intros gA gB mA pA mB pB tpA o tpB ir DA DB L.
+  intros CSA ctxA nA tA CSB ctxB nB tB WA CA WB CB BA BB.
+  destruct (DA CSA ctxA nA WA CA) as [_ RA]. destruct (RA tA BA) as (sA & evsA & SA0 & TA & CyA).
+  destruct (DB CSB ctxB nB WB CB) as [_ RB]. destruct (RB tB BB) as (sB & evsB & SB0 & TB & CyB).
+  exists sA, evsA, sB, evsB. repeat split; auto.
+  intros i j Hi Hj (a & NA & IP) KF.
+  destruct (cycle_publication _ _ _ _ _ _ _ _ _ (CyA j Hj) IP)
+    as (uA & yA & restA & tp & mv & EA & StA & Tp & Nm & Msg & PV).
+  (* the publishing topic is [tpA] as far as the message goes *)
+  assert (L' := L). unfold link_ok in L'. repeat rewrite andb_true_iff in L'.
+  destruct L' as [[[[[[[[[[[[_ PU] _] _] _] _] _] _] _] _] _] _] _].
+  assert (Tin : In tp (nm_topics mA) /\ is_published tp = true)
+    by (unfold published in Tp; apply filter_In in Tp; exact Tp).
+  destruct Tin as [Tin Pub].
+  rewrite forallb_forall in PU. specialize (PU tp Tin). rewrite Pub in PU.
+  assert (Nt : topic_eqb (tp_name tp) (tp_name tpA) = true)
+    by (unfold topic_eqb; destruct (string_dec (tp_name tp) (tp_name tpA)); congruence).
+  rewrite Nt in PU. simpl in PU. rewrite andb_true_iff in PU. destruct PU as [Ce Me].
+  apply String.eqb_eq in Ce. apply String.eqb_eq in Me.
+  assert (PV' : published_value mA yA (ctx_time ctxA (S j)) (newest_by mA ctxA j) tpA mv)
+    by (eapply published_value_ext; eauto).
+  assert (DF : delivered_from mB ctxB tpB i mA tpA mv).
+  { exists a. split; auto. rewrite Msg. apply sent_ext. exact Me. }
+  destruct (CyB i Hi) as (uB & yB & mvsB & EB & IVB & StB & _).
+  destruct (link_value gA gB mA mB CSB ctxB i uB tpA tpB o ir yA _ _ mv L WB IVB PV' DF KF) as (v & Gy & Gu).
+  exists uA, yA, restA, uB, yB, (publish_events mB (published mB) mvsB ++ [Esleep (nm_period_ms mB)]), v.
+  split; [exact EA|]. split; [exact StA|]. split; [exact EB|]. split; [exact Gy|exact Gu].
 Qed.
 
 (** ** Chains *)
