@@ -13,6 +13,7 @@ one (the controller is a function of all its inputs).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from pyrosgen.errors import Diagnostic, InvalidNodeModel, show
 from pyrosgen.frontend.model import InputRelation, OutputRelation, Topic
@@ -91,6 +92,15 @@ def check_system(sysm: SystemModel) -> SystemGraph:
         diags.append(Diagnostic(file, node.line, node.col, message, rule=rule))
 
     gr = SystemGraph(sysm)
+    # rule 10.3: the system's proof loads each node's module by its node
+    # name, so two different node models may not share one
+    by_name: dict[str, SystemNode] = {}
+    for sn in sysm.nodes:
+        other = by_name.setdefault(sn.model.name, sn)
+        if other is not sn and Path(other.model.source).resolve() != Path(sn.model.source).resolve():
+            err(sn.model_node, f"nodes[{sn.index}]: node models {show(str(other.model_node.value))} and "
+                               f"{show(str(sn.model_node.value))} both name their node {show(sn.model.name)}; the "
+                               "system's proof loads each node by that name: rename one (node.name)", "10.3")
     for sn in sysm.nodes:
         m = sn.model
         assert m is not None

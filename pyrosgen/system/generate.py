@@ -167,11 +167,11 @@ def entry_valid(entry: Path, key: str) -> bool:
         files = meta["files"]
         if meta.get("key") != key or meta.get("digest") != _entry_digest(files):
             return False
-        root = entry / "files"
-        present = sorted(p.relative_to(root).as_posix() for p in root.rglob("*") if p.is_file())
+        present = sorted(p.relative_to(entry).as_posix() for p in entry.rglob("*") if p.is_file()
+                         and p.relative_to(entry).as_posix() not in (ENTRY, ".lock"))
         if present != sorted(files):
             return False
-        return all(not (root / n).is_symlink() and _sha_file(root / n) == d for n, d in files.items())
+        return all(not (entry / n).is_symlink() and _sha_file(entry / n) == d for n, d in files.items())
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return False
 
@@ -215,15 +215,27 @@ def _clean_dead_temps(cache: Path) -> None:
             os.close(fd)
 
 
-def _gen_node(model_path: str, dest: str) -> tuple[str, float, int, list[str]]:
-    """Worker: the node pipeline into ``dest`` (a fresh folder).  Returns
-    (status, seconds, exit code, report lines); never raises."""
+def _gen_node(model_path: str, tmp: Path) -> tuple[str, float, int, list[str]]:
+    """Worker: the node pipeline into ``tmp/files`` (its output folder)
+    and the compiled per-node module into ``tmp/coq/<node>.vo`` (for the
+    system's proof).  Returns (status, seconds, exit code, report
+    lines); never raises."""
     from pyrosgen.errors import Context
     from pyrosgen.generate import generate
 
     t0 = time.monotonic()
+    lines: list[str] = []
     try:
-        generate(model_path, dest)
+        res = generate(model_path, str(tmp / "files"), keep_work=True, progress=lines.append)
+        kept = [ln.split(": ", 1)[1] for ln in lines if ln.startswith("work directory kept: ")]
+        if len(kept) != 1:
+            return ("error", time.monotonic() - t0, 2, ["pyrosgen: error: the node's work directory was not kept"])
+        work = Path(kept[0])
+        try:
+            (tmp / "coq").mkdir()
+            shutil.copyfile(work / "coq" / f"{res.model.name}.vo", tmp / "coq" / f"{res.model.name}.vo")
+        finally:
+            shutil.rmtree(work, ignore_errors=True)
         return ("ok", time.monotonic() - t0, 0, [])
     except PyrosgenError as exc:
         return ("error", time.monotonic() - t0, exc.exit_code, exc.report(Context()))
@@ -231,26 +243,34 @@ def _gen_node(model_path: str, dest: str) -> tuple[str, float, int, list[str]]:
         return ("error", time.monotonic() - t0, 2, [f"pyrosgen: internal error: {type(exc).__name__}: {exc}"])
 
 
-def _gen_cached(model_path: str, cache: str, key: str) -> tuple[str, float, int, list[str]]:
-    """Worker: generate the node into a temporary folder of the cache and
-    rename it into place as entry ``key``."""
+def _listing(root: Path) -> dict[str, str]:
+    return {p.relative_to(root).as_posix(): _sha_file(p) for p in sorted(root.rglob("*"))
+            if p.is_file() and p.relative_to(root).as_posix() not in (ENTRY, ".lock")}
+
+
+def _put_entry(parent: Path, key: str, fill) -> tuple[str, float, int, list[str]]:
+    """Write entry ``key`` of ``parent`` (a cache, or the run's staging
+    folder): ``fill(tmp)`` writes the entry's files into a temporary
+    folder, locked while it works, which gets ``entry.json`` (each file's
+    digest, and the digest of that list) and is renamed into place only
+    when complete.  ``fill`` returns (status, seconds, exit code, report
+    lines); nothing is installed unless the status is ``ok``."""
     import fcntl
 
-    tmp = Path(tempfile.mkdtemp(prefix=f".tmp-{os.getpid()}-", dir=cache))
+    tmp = Path(tempfile.mkdtemp(prefix=f".tmp-{os.getpid()}-", dir=str(parent)))
     lock = os.open(tmp / ".lock", os.O_RDWR | os.O_CREAT, 0o600)
     fcntl.flock(lock, fcntl.LOCK_EX)
     try:
-        status = _gen_node(model_path, str(tmp / "files"))
+        status = fill(tmp)
         if status[0] != "ok":
             return status
-        root = tmp / "files"
-        files = {p.relative_to(root).as_posix(): _sha_file(p) for p in sorted(root.rglob("*")) if p.is_file()}
+        files = _listing(tmp)
         meta = {"format": 1, "key": key, "files": files, "digest": _entry_digest(files)}
         with open(tmp / ENTRY, "w", encoding="utf-8") as fh:
             json.dump(meta, fh, indent=1, sort_keys=True)
             fh.flush()
             os.fsync(fh.fileno())
-        target = Path(cache) / key
+        target = Path(parent) / key
         try:
             os.rename(tmp, target)
         except OSError:
@@ -264,6 +284,21 @@ def _gen_cached(model_path: str, cache: str, key: str) -> tuple[str, float, int,
         if tmp.exists():
             shutil.rmtree(tmp, ignore_errors=True)
         os.close(lock)
+
+
+def _gen_entry(model_path: str, parent: str, key: str) -> tuple[str, float, int, list[str]]:
+    """Worker: the node's entry ``key`` of ``parent``: ``files/`` (the
+    node's output folder), ``coq/`` (its compiled module)."""
+    return _put_entry(Path(parent), key, lambda tmp: _gen_node(model_path, tmp))
+
+
+def _system_key(node_keys: list[str], vtext: str) -> str:
+    h = hashlib.sha256()
+    h.update(b"pyrosgen-system-proof-1\0" + _environment_digest().encode() + b"\0")
+    for k in node_keys:
+        h.update(k.encode() + b"\0")
+    h.update(vtext.encode())
+    return h.hexdigest()
 
 
 def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int | None = None,
@@ -298,6 +333,10 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
             except OSError as exc:
                 raise UserError(f"cannot create the cache folder {cache}: {exc.strerror or exc}") from None
             _clean_dead_temps(cache)
+            entries = cache
+        else:
+            entries = stage / ".nodes"
+            entries.mkdir()
         keys: dict[str, str] = {}
         for sn in sysm.nodes:
             key = node_key(sn)
@@ -306,7 +345,7 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
             if use_cache and entry_valid(cache / key, key):
                 oc.cached = True
                 continue
-            if use_cache and key in keys:
+            if key in keys:
                 continue        # the same node under another name: proved once
             keys[key] = sn.folder
             todo.append((oc, sn))
@@ -316,12 +355,7 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
         code = 0
         if todo:
             with ProcessPoolExecutor(max_workers=min(jobs, len(todo))) as pool:
-                futs = []
-                for oc, sn in todo:
-                    if use_cache:
-                        futs.append(pool.submit(_gen_cached, str(sn.model_path), str(cache), oc.key))
-                    else:
-                        futs.append(pool.submit(_gen_node, str(sn.model_path), str(stage / sn.folder)))
+                futs = [pool.submit(_gen_entry, str(sn.model_path), str(entries), oc.key) for oc, sn in todo]
                 for (oc, sn), fut in zip(todo, futs):
                     status, secs, ec, lines = fut.result()
                     oc.seconds = secs
@@ -333,15 +367,39 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
                         say(f"  {sn.full_name}: proved in {secs:.1f} s")
         if failures:
             raise SystemNodeFailure(failures, code or 2)
-        if use_cache:
-            for oc in outcomes:
-                entry = cache / oc.key
-                if not entry_valid(entry, oc.key):
-                    raise ToolFailure(f"the cache entry of {oc.folder} ({entry}) is not valid after its generation")
-                shutil.copytree(entry / "files", stage / oc.folder)
-                if oc.cached:
-                    say(f"  {oc.folder}: from the cache ({oc.key[:16]})")
-        files = system_files(sysm, graph, stage)
+        vo_files: dict[str, Path] = {}
+        for oc in outcomes:
+            entry = entries / oc.key
+            if not entry_valid(entry, oc.key):
+                raise ToolFailure(f"the entry of node {oc.folder} ({entry}) is not valid after its generation")
+            shutil.copytree(entry / "files", stage / oc.folder)
+            vo_files[oc.name] = entry / "coq" / f"{oc.name}.vo"
+            if oc.cached:
+                say(f"  {oc.folder}: from the cache ({oc.key[:16]})")
+        # the system's theorem: every link, from the nodes' T2
+        from pyrosgen.system.coqsystem import prove_system, render_system_file, system_v_name
+
+        vname = system_v_name(sysm.name)
+        vtext = render_system_file(sysm, graph)
+        skey = _system_key(sorted({oc.key for oc in outcomes}), vtext)
+        if use_cache and entry_valid(cache / skey, skey):
+            say(f"  system proof: from the cache ({skey[:16]})")
+        else:
+            say(f"  system proof: {len(graph.links)} links from the nodes' T2 ...")
+
+            def fill(tmp: Path):
+                t1 = time.monotonic()
+                text, _ = prove_system(sysm, graph, vo_files, tmp / "work")
+                shutil.rmtree(tmp / "work")
+                (tmp / "files").mkdir()
+                (tmp / "files" / vname).write_text(text, encoding="ascii")
+                return ("ok", time.monotonic() - t1, 0, [])
+
+            _put_entry(entries, skey, fill)
+        if not entry_valid(entries / skey, skey):
+            raise ToolFailure(f"the entry of the system's proof ({entries / skey}) is not valid")
+        shutil.copyfile(entries / skey / "files" / vname, stage / vname)
+        files = [vname] + system_files(sysm, graph, stage)
         _install(stage, out, [oc.folder for oc in outcomes] + files)
     finally:
         shutil.rmtree(stage, ignore_errors=True)

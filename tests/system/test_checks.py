@@ -240,3 +240,15 @@ def test_cli_subprocess_exit_codes(tmp_path):
     r = subprocess.run([sys.executable, "-m", "pyrosgen", "system", "check", str(p)], capture_output=True, text=True)
     assert r.returncode == 1
     assert r.stderr.startswith(f"{p}:") and "[rule 10.2]" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_two_models_one_node_name(tmp_path, capsys):
+    chain(tmp_path)
+    sub = tmp_path / "other"
+    sub.mkdir()
+    node_model(sub, "a", subs=[("/src", TWIST, ["linear.x"], None)], pubs=[("/side", TWIST, ["linear.x"])])
+    p = system_file(tmp_path, [{"model": "a.yaml"}, {"model": "b.yaml"}, {"model": "other/a.yaml", "namespace": "/x"}],
+                    inputs=["/src"], outputs=["/out"])
+    errs = errors(capsys, p)
+    assert [(e[1], e[4]) for e in errs] == [(line_of(p, "other/a.yaml"), "10.3")]
+    assert "both name their node 'a'" in errs[0][3]

@@ -52,10 +52,17 @@ def test_cold_run(cold):
     assert "`/src` -> `/a` -> `/mid` -> `/b` -> `/out`" in cert
     assert "`O1` -> `linear.x`" in cert and "`linear.x` -> `I1`" in cert
     assert "## Transport assumption" in cert
+    assert "| `sys_link_1` | `/mid` | `/a`: `O1` -> `linear.x` | `/b`: `linear.x` -> `I1` |" in cert
+    v = names["sys_system.v"].decode()
+    assert "Require RosgenNode.a.\nRequire RosgenNode.b." in v
+    assert "Theorem sys_link_1 : link_1_holds." in v and "Theorem sys_link_2 : link_2_holds." in v
+    assert "RosgenNode.a.a_ddc RosgenNode.b.b_ddc link_2_ok" in v
     graph = json.loads(names["sys.system.json"])
     assert graph["chains"] == [[{"node": "/a", "from": "/src", "to": "/mid"}, {"node": "/b", "from": "/mid", "to": "/out"}]]
     assert b'<node pkg="a" type="a" name="a"' in names["sys.launch"]
-    assert len(entries(cache)) == 2 and all(entry_valid(e, e.name) for e in entries(cache))
+    # two node entries (each with its compiled module) and the system's proof
+    assert len(entries(cache)) == 3 and all(entry_valid(e, e.name) for e in entries(cache))
+    assert sorted(p.name for e in entries(cache) for p in (e / "coq").glob("*.vo")) == ["a.vo", "b.vo"]
 
 
 def test_warm_run_all_hits(cold, tmp_path, capsys):
@@ -79,7 +86,7 @@ def test_one_node_changed(cold, tmp_path):
     (src / "b.yaml").write_text("# changed\n" + (src / "b.yaml").read_text())
     res = generate_system(src / "system.yaml", tmp_path / "out", jobs=2, cache=cache)
     assert [(n.folder, n.cached) for n in res.nodes] == [("a", True), ("b", False)]
-    assert len(entries(cache)) == 3
+    assert len(entries(cache)) == 5   # b's and the system proof's new entries
 
 
 def test_corrupted_and_partial_entries_are_not_trusted(cold, tmp_path):
@@ -153,3 +160,34 @@ def test_failure_writes_nothing(tmp_path, capsys):
     assert code == 1 and "[rule 10.5]" in err
     assert not (tmp_path / "o2").exists()
     assert [x.name for x in tmp_path.iterdir() if x.name.startswith(".pyrosgen")] == []
+
+
+@pytest.mark.parametrize("mutant", ["crossed", "remap"])
+def test_system_proof_refuses_wrong_wiring(cold, tmp_path, mutant):
+    """The system's Coq file cannot prove a wrong link: two relations
+    crossed between the nodes, or a remapping to the wrong topic (the
+    checks would refuse both; here they are forced into the .v)."""
+    from dataclasses import replace
+
+    from pyrosgen.proof.coqdriver import CoqError
+    from pyrosgen.system.checks import check_system
+    from pyrosgen.system.coqsystem import prove_system
+    from pyrosgen.system.model import load_system
+
+    p, cache, out, first = cold
+    sysm = load_system(p)
+    graph = check_system(sysm)
+    vo = {n.name: cache / n.key / "coq" / f"{n.name}.vo" for n in first.nodes}
+    # the right wiring is proved
+    text, thms = prove_system(sysm, graph, vo, tmp_path / "ok")
+    assert thms == ["sys_system", "sys_link_1", "sys_link_2"]
+    l1, l2 = graph.links
+    if mutant == "crossed":
+        graph.links = [replace(l1, inp=l2.inp), replace(l2, inp=l1.inp)]
+    else:
+        sysm.nodes[1].remap = {"/mid": "/elsewhere"}
+    with pytest.raises(CoqError) as exc:
+        prove_system(sysm, graph, vo, tmp_path / "bad")
+    assert exc.value.exit_code == 2
+    # refused where a link's facts are decided: link_ok computes false
+    assert 'Unable to unify "true" with "false"' in str(exc.value)
