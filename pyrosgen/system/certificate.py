@@ -86,10 +86,14 @@ def certificate_text(sysm, graph, stage: Path) -> str:
             "controller upstream computed, the last node publishes what its controller computed).", ""]
     if not graph.chains:
         out.append("No chain: no external output is reachable from an external input.")
-    for i, ch in enumerate(graph.chains, 1):
+    from pyrosgen.system.coqsystem import chain_links
+
+    for i, (ch, ks) in enumerate(zip(graph.chains, chain_links(graph)), 1):
         head = " -> ".join([md_code(ch.hops[0].src)] + [f"{md_code(h.node.full_name)} -> {md_code(h.dst)}"
                                                         for h in ch.hops])
-        out += [f"{i}. {head}"]
+        thm = (f"; theorem {md_code(f'{sysm.name}_chain_{i}')}: links "
+               + ", ".join(md_code(f"{sysm.name}_link_{k}") for k in ks)) if ks else ""
+        out += [f"{i}. {head}{thm}"]
         for h in ch.hops:
             ins = ", ".join(_rel(r) for r in h.inputs) or "(derived inputs only)"
             outs = ", ".join(_orel(o) for o in h.outputs) or "(no output relation)"

@@ -7,12 +7,13 @@ from __future__ import annotations
 import argparse
 import sys
 
-__all__ = ["add_parser", "cmd_system_check", "cmd_system_generate"]
+__all__ = ["add_parser", "cmd_system_check", "cmd_system_generate", "cmd_system_diagram"]
 
 _EPILOG = """examples:
   pyrosgen system check examples/system_chain/system.yaml
   pyrosgen system generate examples/system_chain/system.yaml -o build/system_chain -j 2
   pyrosgen system generate SYSTEM.yaml -o OUT --cache /var/cache/pyrosgen   # a cache shared by CI jobs
+  pyrosgen system diagram examples/system_chain/system.yaml -o chain.svg --chain 1
 
 generate writes OUT/<node>/ (each node's generate output; the folder is the
 node's resolved name, '/' as '.'), OUT/<system>.certificate.md,
@@ -69,6 +70,27 @@ def cmd_system_generate(args: argparse.Namespace) -> int:
 cmd_system_generate.writes_output = True  # type: ignore[attr-defined]
 
 
+def cmd_system_diagram(args: argparse.Namespace) -> int:
+    """Draw the system's nodes and topics (one chain with ``--chain``)."""
+    from pyrosgen import diagram
+    from pyrosgen.errors import UserError, escape
+    from pyrosgen.system.checks import check_system
+    from pyrosgen.system.diagram import write_system_diagram
+    from pyrosgen.system.model import load_system
+
+    try:
+        fmt = diagram.output_format(args.output, args.format)
+    except ValueError as exc:
+        raise UserError(str(exc)) from None
+    sysm = load_system(args.model)
+    graph = check_system(sysm)
+    try:
+        write_system_diagram(sysm, graph, args.output, fmt, args.chain)
+    except OSError as exc:
+        raise UserError(f"cannot write {escape(args.output)}: {exc.strerror or exc}") from None
+    return 0
+
+
 def add_parser(sub, parser_class) -> None:
     """Register ``system`` and its commands on the subparsers ``sub``."""
     p = sub.add_parser(
@@ -99,3 +121,12 @@ def add_parser(sub, parser_class) -> None:
     g.add_argument("--no-cache", action="store_true", help="prove every node, read and write no cache")
     g.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     g.set_defaults(func=cmd_system_generate)
+    d = ss.add_parser("diagram", help="draw the nodes and the topics between them with Graphviz",
+                      description="Draw the system's nodes and the topics between them (from the model, before "
+                                  "anything runs), and with --chain N one chain with the relations it passes "
+                                  "through in every node.")
+    d.add_argument("model", metavar="SYSTEM.yaml", help="the system file")
+    d.add_argument("-o", "--output", required=True, metavar="FILE", help="output file (.svg, .png, .pdf or .dot)")
+    d.add_argument("--format", choices=("svg", "png", "pdf", "dot"), help="output format (default: from the suffix)")
+    d.add_argument("--chain", type=_jobs, metavar="N", help="highlight chain N (as numbered in the certificate)")
+    d.set_defaults(func=cmd_system_diagram)

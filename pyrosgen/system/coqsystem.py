@@ -14,7 +14,7 @@ from pyrosgen.frontend.msgmodel import msg_c_name
 from pyrosgen.proof.coqmodel import coq_comment, coq_ident, coq_nat, coq_path, coq_ros_name, coq_string, coq_z
 from pyrosgen.render import render, source_label
 
-__all__ = ["SYSTEM_TEMPLATE", "system_v_name", "system_theorem", "render_system_file", "prove_system"]
+__all__ = ["SYSTEM_TEMPLATE", "system_v_name", "system_theorem", "render_system_file", "prove_system", "chain_links"]
 
 SYSTEM_TEMPLATE = "coq/templates/system.v.j2"
 
@@ -65,8 +65,30 @@ def render_system_file(sysm, graph) -> str:
                               f"{ln.sub.full_name} {ln.inp.field_text} -> {ln.inp.input_target}")
         links.append((k, comment, ln.pub.model.name, gindex[ln.pub.full_name], _topic(ln.pub_topic), _outrel(ln.out),
                       ln.sub.model.name, gindex[ln.sub.full_name], _topic(ln.sub_topic), _inrel(ln.inp)))
+    chains = []
+    for c, ks in enumerate(chain_links(graph), 1):
+        if ks:
+            ch = graph.chains[c - 1]
+            path = " -> ".join([ch.hops[0].src] + [f"{h.node.full_name} -> {h.dst}" for h in ch.hops])
+            chains.append((c, coq_comment(path), ks))
     return render("system.v.j2", template=SYSTEM_TEMPLATE, source=source_label(sysm.source.name),
-                  system=coq_ident(sysm.name, "system name")[1:-1], modules=modules, graphs=graphs, links=links)
+                  system=coq_ident(sysm.name, "system name")[1:-1], modules=modules, graphs=graphs, links=links,
+                  chains=chains)
+
+
+def chain_links(graph) -> list[list[int]]:
+    """For each chain of ``graph``, the numbers (from 1) of the links it
+    passes: those from the node of one hop to the node of the next on the
+    topic between them."""
+    out = []
+    for ch in graph.chains:
+        ks = []
+        for h, nxt in zip(ch.hops, ch.hops[1:]):
+            for k, ln in enumerate(graph.links, 1):
+                if ln.topic == h.dst and ln.pub is h.node and ln.sub is nxt.node:
+                    ks.append(k)
+        out.append(ks)
+    return out
 
 
 def prove_system(sysm, graph, vo_files: dict[str, Path], work: Path) -> tuple[str, list[str]]:

@@ -57,6 +57,8 @@ def test_cold_run(cold):
     assert "Require RosgenNode.a.\nRequire RosgenNode.b." in v
     assert "Theorem sys_link_1 : link_1_holds." in v and "Theorem sys_link_2 : link_2_holds." in v
     assert "RosgenNode.a.a_ddc RosgenNode.b.b_ddc link_2_ok" in v
+    assert "Theorem sys_chain_1 : link_1_holds /\\ link_2_holds." in v
+    assert "theorem `sys_chain_1`: links `sys_link_1`, `sys_link_2`" in cert
     graph = json.loads(names["sys.system.json"])
     assert graph["chains"] == [[{"node": "/a", "from": "/src", "to": "/mid"}, {"node": "/b", "from": "/mid", "to": "/out"}]]
     assert b'<node pkg="a" type="a" name="a"' in names["sys.launch"]
