@@ -7,13 +7,14 @@ from __future__ import annotations
 import argparse
 import sys
 
-__all__ = ["add_parser", "cmd_system_check", "cmd_system_generate", "cmd_system_diagram"]
+__all__ = ["add_parser", "cmd_system_check", "cmd_system_generate", "cmd_system_diagram", "cmd_system_verify"]
 
 _EPILOG = """examples:
   pyrosgen system check examples/system_chain/system.yaml
   pyrosgen system generate examples/system_chain/system.yaml -o build/system_chain -j 2
   pyrosgen system generate SYSTEM.yaml -o OUT --cache /var/cache/pyrosgen   # a cache shared by CI jobs
   pyrosgen system diagram examples/system_chain/system.yaml -o chain.svg --chain 1
+  pyrosgen system verify build/system_chain --system examples/system_chain/system.yaml
 
 generate writes OUT/<node>/ (each node's generate output; the folder is the
 node's resolved name, '/' as '.'), OUT/<system>.certificate.md,
@@ -70,6 +71,18 @@ def cmd_system_generate(args: argparse.Namespace) -> int:
 cmd_system_generate.writes_output = True  # type: ignore[attr-defined]
 
 
+def cmd_system_verify(args: argparse.Namespace) -> int:
+    """Re-check a system's output folder against its system file."""
+    from pyrosgen.system.verify import verify_system
+
+    say = (lambda line: (sys.stderr.write(line + "\n"), sys.stderr.flush())) if not args.quiet else None
+    rep = verify_system(args.folder, args.system, jobs=args.jobs, progress=say)
+    print(f"pyrosgen: {rep.folder} verifies (system {rep.system}); {rep.seconds:.1f} s")
+    for line in rep.lines():
+        print(line)
+    return 0
+
+
 def cmd_system_diagram(args: argparse.Namespace) -> int:
     """Draw the system's nodes and topics (one chain with ``--chain``)."""
     from pyrosgen import diagram
@@ -121,6 +134,16 @@ def add_parser(sub, parser_class) -> None:
     g.add_argument("--no-cache", action="store_true", help="prove every node, read and write no cache")
     g.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     g.set_defaults(func=cmd_system_generate)
+    v = ss.add_parser("verify", help="re-check a system's output folder against its system file",
+                      description="Re-check OUT against SYSTEM.yaml: the system's files rendered again and "
+                                  "compared byte for byte, each node folder as 'pyrosgen verify FOLDER --model "
+                                  "MODEL' does, and the system's proof compiled again against the nodes' .v.")
+    v.add_argument("folder", metavar="OUT", help="output folder of pyrosgen system generate")
+    v.add_argument("--system", metavar="SYSTEM.yaml", required=True, help="the system file OUT was generated from")
+    v.add_argument("-j", "--jobs", type=_jobs, default=None, metavar="N",
+                   help="nodes checked at once (default: the number of cores)")
+    v.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
+    v.set_defaults(func=cmd_system_verify)
     d = ss.add_parser("diagram", help="draw the nodes and the topics between them with Graphviz",
                       description="Draw the system's nodes and the topics between them (from the model, before "
                                   "anything runs), and with --chain N one chain with the relations it passes "
