@@ -7,12 +7,14 @@ from __future__ import annotations
 import argparse
 import sys
 
-__all__ = ["add_parser", "cmd_system_check", "cmd_system_generate", "cmd_system_diagram", "cmd_system_verify"]
+__all__ = ["add_parser", "cmd_system_check", "cmd_system_generate", "cmd_system_build", "cmd_system_diagram",
+           "cmd_system_verify"]
 
 _EPILOG = """examples:
   pyrosgen system check examples/system_chain/system.yaml
   pyrosgen system generate examples/system_chain/system.yaml -o build/system_chain -j 2
   pyrosgen system generate SYSTEM.yaml -o OUT --cache /var/cache/pyrosgen   # a cache shared by CI jobs
+  pyrosgen system build examples/system_chain/system.yaml -o build/system_chain -j 2
   pyrosgen system diagram examples/system_chain/system.yaml -o chain.svg --chain 1
   pyrosgen system verify build/system_chain --system examples/system_chain/system.yaml
 
@@ -69,6 +71,28 @@ def cmd_system_generate(args: argparse.Namespace) -> int:
 
 
 cmd_system_generate.writes_output = True  # type: ignore[attr-defined]
+
+
+def cmd_system_build(args: argparse.Namespace) -> int:
+    """Build every node (in parallel, cached) and the system's files; OUT/src
+    is a catkin workspace's source folder."""
+    from pathlib import Path
+
+    from pyrosgen.system.generate import generate_system
+
+    say = (lambda line: (sys.stderr.write(line + "\n"), sys.stderr.flush())) if not args.quiet else None
+    res = generate_system(args.model, args.output, jobs=args.jobs,
+                          cache=Path(args.cache) if args.cache else None, use_cache=not args.no_cache,
+                          progress=say, build=True)
+    print(f"pyrosgen: system built in {res.out_dir}: {_plural(len(res.nodes), 'node')} "
+          f"({res.hits} from the cache, {len(res.nodes) - res.hits} built), {', '.join(res.files)}; "
+          f"{res.seconds:.1f} s")
+    print(f"  catkin: catkin_make -C WS with {res.out_dir}/src as WS/src, or each node's binary "
+          f"{res.out_dir}/<node>/bin/<name>")
+    return 0
+
+
+cmd_system_build.writes_output = True  # type: ignore[attr-defined]
 
 
 def cmd_system_verify(args: argparse.Namespace) -> int:
@@ -134,6 +158,20 @@ def add_parser(sub, parser_class) -> None:
     g.add_argument("--no-cache", action="store_true", help="prove every node, read and write no cache")
     g.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     g.set_defaults(func=cmd_system_generate)
+    b = ss.add_parser("build", help="build every node (in parallel, cached) and the system's files",
+                      description="As system generate, with each node built as pyrosgen build does (its binary "
+                                  "and catkin package in OUT/<node>/); OUT/src links every node's package, the "
+                                  "source folder of a catkin workspace.", epilog=_EPILOG,
+                      formatter_class=argparse.RawDescriptionHelpFormatter)
+    b.add_argument("model", metavar="SYSTEM.yaml", help="the system file")
+    b.add_argument("-o", "--output", metavar="OUT", required=True, help="output directory")
+    b.add_argument("-j", "--jobs", type=_jobs, default=None, metavar="N",
+                   help="nodes built at once (default: the number of cores)")
+    b.add_argument("--cache", metavar="DIR", default=None,
+                   help="the node cache (default: nodes/ in $PYROSGEN_CACHE or ~/.cache/pyrosgen)")
+    b.add_argument("--no-cache", action="store_true", help="build every node, read and write no cache")
+    b.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
+    b.set_defaults(func=cmd_system_build)
     v = ss.add_parser("verify", help="re-check a system's output folder against its system file",
                       description="Re-check OUT against SYSTEM.yaml: the system's files rendered again and "
                                   "compared byte for byte, each node folder as 'pyrosgen verify FOLDER --model "

@@ -243,6 +243,40 @@ def _gen_node(model_path: str, tmp: Path) -> tuple[str, float, int, list[str]]:
         return ("error", time.monotonic() - t0, 2, [f"pyrosgen: internal error: {type(exc).__name__}: {exc}"])
 
 
+def _build_node(model_path: str, controller: str | None, tmp: Path) -> tuple[str, float, int, list[str]]:
+    """Worker: ``pyrosgen build`` of the node into ``tmp/files`` (the
+    node's build folder: binary, catkin package, certificate) and its
+    compiled per-node module into ``tmp/coq/<node>.vo``."""
+    from pyrosgen.errors import Context
+    from pyrosgen.ros.build import build
+
+    t0 = time.monotonic()
+    lines: list[str] = []
+    kept: list[Path] = []
+    try:
+        res = build(model_path, controller, str(tmp / "files"), keep_work=True, progress=lines.append)
+        kept = [Path(ln.split("work directory kept: ", 1)[1].strip()) for ln in lines if "work directory kept: " in ln]
+        name = res.model.name if hasattr(res, "model") else Path(model_path).stem
+        vos = [k / "coq" / f"{name}.vo" for k in kept if (k / "coq" / f"{name}.vo").is_file()]
+        if len(vos) != 1:
+            return ("error", time.monotonic() - t0, 2, ["pyrosgen: error: the node's compiled module was not kept"])
+        (tmp / "coq").mkdir()
+        shutil.copyfile(vos[0], tmp / "coq" / f"{name}.vo")
+        return ("ok", time.monotonic() - t0, 0, [])
+    except PyrosgenError as exc:
+        return ("error", time.monotonic() - t0, exc.exit_code, exc.report(Context()))
+    except Exception as exc:  # noqa: BLE001 - reported, never a traceback
+        return ("error", time.monotonic() - t0, 2, [f"pyrosgen: internal error: {type(exc).__name__}: {exc}"])
+    finally:
+        for k in kept:
+            shutil.rmtree(k, ignore_errors=True)
+
+
+def _build_entry(model_path: str, controller: str | None, parent: str, key: str) -> tuple[str, float, int, list[str]]:
+    """Worker: the node's build entry ``key`` of ``parent``."""
+    return _put_entry(Path(parent), key, lambda tmp: _build_node(model_path, controller, tmp))
+
+
 def _listing(root: Path) -> dict[str, str]:
     return {p.relative_to(root).as_posix(): _sha_file(p) for p in sorted(root.rglob("*"))
             if p.is_file() and p.relative_to(root).as_posix() not in (ENTRY, ".lock")}
@@ -302,10 +336,14 @@ def _system_key(node_keys: list[str], vtext: str) -> str:
 
 
 def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int | None = None,
-                    cache: Path | None = None, use_cache: bool = True, progress=None) -> SystemGenerateResult:
+                    cache: Path | None = None, use_cache: bool = True, progress=None,
+                    build: bool = False) -> SystemGenerateResult:
     """Check the system, generate every node (``jobs`` processes, default
     the number of cores), write the system's files, install into
-    ``out_dir``."""
+    ``out_dir``.  With ``build``, each node is built as ``pyrosgen
+    build`` does (its folder holds its binary and its catkin package), and
+    ``OUT/src/`` is a catkin workspace's source folder linking every
+    node's package."""
     from pyrosgen.system.checks import check_system
     from pyrosgen.system.model import load_system
     from pyrosgen.system.certificate import system_files
@@ -339,7 +377,8 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
             entries.mkdir()
         keys: dict[str, str] = {}
         for sn in sysm.nodes:
-            key = node_key(sn)
+            key = node_key(sn) if not build else hashlib.sha256(
+                ("pyrosgen-system-build-1\0" + node_key(sn)).encode()).hexdigest()
             oc = NodeOutcome(sn.folder, sn.model.name, key, False)
             outcomes.append(oc)
             if use_cache and entry_valid(cache / key, key):
@@ -349,13 +388,17 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
                 continue        # the same node under another name: proved once
             keys[key] = sn.folder
             todo.append((oc, sn))
+        verb = "build" if build else "prove"
         say(f"system {sysm.name}: {len(outcomes)} nodes, {len(outcomes) - len(todo)} from the cache, "
-            f"{len(todo)} to prove ({min(jobs, max(len(todo), 1))} in parallel)")
+            f"{len(todo)} to {verb} ({min(jobs, max(len(todo), 1))} in parallel)")
         failures: list[str] = []
         code = 0
         if todo:
             with ProcessPoolExecutor(max_workers=min(jobs, len(todo))) as pool:
-                futs = [pool.submit(_gen_entry, str(sn.model_path), str(entries), oc.key) for oc, sn in todo]
+                futs = [pool.submit(_gen_entry, str(sn.model_path), str(entries), oc.key) if not build else
+                        pool.submit(_build_entry, str(sn.model_path), str(sn.controller) if sn.controller else None,
+                                    str(entries), oc.key)
+                        for oc, sn in todo]
                 for (oc, sn), fut in zip(todo, futs):
                     status, secs, ec, lines = fut.result()
                     oc.seconds = secs
@@ -364,7 +407,7 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
                         failures.append(f"pyrosgen: node {sn.full_name} ({sn.model_path}):")
                         failures.extend("  " + ln for ln in lines)
                     else:
-                        say(f"  {sn.full_name}: proved in {secs:.1f} s")
+                        say(f"  {sn.full_name}: {'built' if build else 'proved'} in {secs:.1f} s")
         if failures:
             raise SystemNodeFailure(failures, code or 2)
         vo_files: dict[str, Path] = {}
@@ -400,6 +443,15 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
             raise ToolFailure(f"the entry of the system's proof ({entries / skey}) is not valid")
         shutil.copyfile(entries / skey / "files" / vname, stage / vname)
         files = [vname] + system_files(sysm, graph, stage)
+        if build:
+            # a catkin workspace's source folder: one link per node package
+            src = stage / "src"
+            src.mkdir()
+            for oc in outcomes:
+                pkg = stage / oc.folder / oc.name
+                if pkg.is_dir() and not (src / oc.name).exists():
+                    os.symlink(Path("..") / oc.folder / oc.name, src / oc.name)
+            files.append("src")
         _install(stage, out, [oc.folder for oc in outcomes] + files)
     finally:
         shutil.rmtree(stage, ignore_errors=True)
