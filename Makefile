@@ -39,7 +39,8 @@ proofs: apt
 	@$(MAKE) --no-print-directory -C coq
 
 ## demo: the main job on the LandShark example (DIAGRAM=1: its controller as a proved block diagram),
-## then the velocity guard's timeouts (rule 4.12) when its command sources fall silent
+## then the velocity guard's timeouts (rule 4.12) when its command sources fall silent,
+## then the three-node system chain (DESIGN.md section 10) on a real master
 demo: deps proofs
 	@scripts/demo.sh
 

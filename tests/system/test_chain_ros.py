@@ -144,3 +144,26 @@ def test_chain_roslaunch_of_the_system(ros, workspace, system_out, tmp_path):
     p = ros.spawn(["bash", "-c", f"source {workspace}/devel/setup.bash && exec roslaunch {launch}"],
                   stdout=f, stderr=subprocess.STDOUT)
     drive(ros, tmp_path, [("roslaunch", p, log)])
+
+
+def test_system_demo(system_out, tmp_path):
+    """``make demo``'s system part: python -m pyrosgen.system.demo OUT."""
+    import re
+    import sys
+
+    env = {"CI": "true", "PATH": "/usr/bin:/bin", "HOME": str(tmp_path)}
+    r = subprocess.run([sys.executable, "-m", "pyrosgen.system.demo", str(system_out), "--phase", "1.5"],
+                       cwd=rosutil.ROOT, env=env, stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                       timeout=180)
+    assert r.returncode == 0, r.stdout + r.stderr
+    out = r.stdout
+    assert "sim: OK: the chain computed every phase's wheel speeds" in out
+    assert len(re.findall(r"^sim: [^\n]*the controllers compute [^\n]*: OK$", out, re.M)) == 3
+    assert "/nav/cmd_vel:=/safety/cmd_vel" in out
+    pids = [int(p) for p in re.findall(r"\(pid (\d+)\)", out)]
+    assert len(pids) == 5 and not any(rosutil.alive(p) for p in pids)
+    assert "demo: all processes stopped" in out
+    # bad usage: a folder without the nodes
+    r = subprocess.run([sys.executable, "-m", "pyrosgen.system.demo", str(tmp_path / "nothing")],
+                       cwd=rosutil.ROOT, env=env, capture_output=True, text=True, timeout=60)
+    assert r.returncode == 1 and "not found" in r.stdout and "Traceback" not in r.stderr
