@@ -73,7 +73,9 @@ def certificate_text(sysm, graph, stage: Path) -> str:
             "Each link is a publisher's output relation and a subscriber's input relation on the same field "
             "of one topic: under the transport assumption, in every cycle the subscriber's controller receives "
             "on that input the value the publisher's controller computed on that output in the cycle whose "
-            f"message it received last. {md_code(vname)} proves each as an instance of `System.system_link` "
+            "message it received last (unless the topic is stale and the input has a fallback value, rule "
+            f"4.12, which it then holds: `System.kept_fresh`). {md_code(vname)} proves each as an instance of "
+            "`System.system_link` "
             "(`System.link_holds`) from the two nodes' T2 (`<node>_ddc`), and their conjunction "
             f"{md_code(sysm.name + '_system')}: Closed under the global context, re-checked by coqchk.", "",
             "| theorem | topic | publisher: output -> field | subscriber: field -> input |", "|---|---|---|---|"]
