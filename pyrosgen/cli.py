@@ -584,6 +584,10 @@ def build_parser() -> argparse.ArgumentParser:
                     "(make deps installs it into .venv/share/bash-completion/completions/pyrosgen).",
     )
     p.set_defaults(func=cmd_completion)
+
+    from pyrosgen.system.cli import add_parser as add_system_parser
+
+    add_system_parser(sub, _Parser)
     return parser
 
 
@@ -607,7 +611,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             return int(exc.code or 0) if not isinstance(exc.code, str) else EXIT_USER
         console.VERBOSE = bool(getattr(args, "verbose", False))
         func: Callable[[argparse.Namespace], int] = args.func
-        writes = func in (cmd_generate, cmd_build)
+        writes = func in (cmd_generate, cmd_build) or getattr(func, "writes_output", False)
         ctx = Context(command=func.__name__.removeprefix("cmd_"), model=str(getattr(args, "model", "") or ""),
                       output=str(args.output) if writes else "")
         return func(args)

@@ -6,6 +6,9 @@
 # timeouts (rule 4.12): build the velocity guard (examples/velocity_guard)
 # and run it on a private rosmaster while its two command sources fall
 # silent one after the other: the command before and after each stops.
+# Then a system (DESIGN.md section 10): build the three-node chain of
+# examples/system_chain (in parallel, cached), show its certificate's chains,
+# and run it: the wheel speeds for a clear scan, an obstacle, a teleop command.
 # Needs no terminal; stops everything it started; builds rewrite only what
 # changed.
 # With DIAGRAM=1 (`make demo DIAGRAM=1`), the controller is the block
@@ -34,4 +37,14 @@ echo
 echo "demo: pyrosgen build $GUARD -o $GUARD_OUT   (timeouts: a silent source is replaced, rule 4.12)"
 .venv/bin/pyrosgen build "$GUARD" -o "$GUARD_OUT"
 echo "demo: running $GUARD_OUT/bin/velocity_guard: teleop falls silent at 2 s, nav at 4 s"
-exec .venv/bin/python -m pyrosgen.ros.demo_guard "$GUARD_OUT"
+.venv/bin/python -m pyrosgen.ros.demo_guard "$GUARD_OUT"
+
+SYSTEM=examples/system_chain/system.yaml
+SYSTEM_OUT=build/system_chain
+echo
+echo "demo: pyrosgen system build $SYSTEM -o $SYSTEM_OUT   (a system: laser guard -> velocity mux -> base)"
+.venv/bin/pyrosgen system build "$SYSTEM" -o "$SYSTEM_OUT"
+echo "demo: the chain's links and chains: $SYSTEM_OUT/guard_chain.certificate.md"
+sed -n '/^## Chains/,/^## Transport/p' "$SYSTEM_OUT/guard_chain.certificate.md" | sed '$d'
+echo "demo: running the chain: a clear scan, an obstacle, then a teleop command"
+exec .venv/bin/python -m pyrosgen.system.demo "$SYSTEM_OUT"

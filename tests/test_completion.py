@@ -79,7 +79,7 @@ def complete(script: Path, words: list[str], cwd: Path = ROOT) -> list[str]:
 
 def test_completes_subcommands(script):
     assert complete(script, ["pyrosgen", ""]) == sorted(
-        ["check", "diagram", "generate", "build", "verify", "init", "library", "completion"])
+        ["check", "diagram", "generate", "build", "verify", "init", "library", "completion", "system"])
     assert complete(script, ["pyrosgen", "ve"]) == ["verify"]
     assert complete(script, ["pyrosgen", "-v", "bu"]) == ["build"]
     assert complete(script, ["pyrosgen", "--ver"]) == ["--verbose", "--version"]

@@ -138,7 +138,8 @@ def test_layout_has_one_entry_per_module_in_order(docs):
     # _CoqProject gives it.
     layers = re.findall(r'<h3 id="layer-([a-z]+)"><code>([^<]+)</code>', layout)
     assert layers == [("lib", "theories/lib"), ("clight", "theories/clight"),
-                      ("glue", "theories/glue"), ("ctrl", "theories/ctrl"), ("top", "theories")]
+                      ("glue", "theories/glue"), ("ctrl", "theories/ctrl"), ("top", "theories"),
+                      ("sys", "theories/sys")]
     assert "<code>theories/glue</code>: the node model, the generator" in layout
 
 

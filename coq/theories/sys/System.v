@@ -1,0 +1,429 @@
+(** * Systems of nodes: composing the nodes' T2 over the topics that connect them *)
+
+(** A system is a set of nodes, each generated and proved on its own
+    (T2, [DDC.node_ddc]), wired by topics: a topic that node [A]
+    publishes and node [B] subscribes to (after namespaces and
+    remappings, DESIGN.md section "Systems").  This file composes the
+    nodes' guarantees over such a connection.
+
+    The *transport assumption* (what the network, that is ROS and the
+    operating system, must do, and which no node can prove) is
+    [delivered_from]: the newest message that [B]'s callback of the
+    connecting topic received up to [B]'s [i]-th spin is the message
+    [A] sent in one of its cycles [j] (as [A]'s trace records it: the
+    message [DDC.sent] made of the [published_value] of that cycle).
+    Every message is delivered, in order, within the environment's
+    arrival schedule: the [j] of [B]'s [i]-th cycle is the latest cycle
+    of [A] whose message [B] received.
+
+    - Section "Links" ([link_value]): under the transport assumption, a
+      subscriber's input fed by a field that the publisher's output
+      relation writes holds, in the subscriber's cycle [i], exactly the
+      value of the publisher's controller output in cycle [j]: the
+      value the upstream controller computed.  Its hypotheses are the
+      two nodes' cycle facts as T2 gives them ([input_values] of [B]'s
+      cycle, [published_value] of [A]'s), facts about the two models
+      that a system's file decides by computation ([link_ok]), and
+      freshness (no fallback value replaced the field).
+    - Section "Chains" ([chain_value]): a chain input topic -> node ->
+      topic -> ... -> output topic is a list of links; the generic
+      composition, over an abstract per-node interface (what each
+      controller receives and computes at each cycle), says that each
+      controller along the chain receives what the controller upstream
+      computed at the cycle the transport delivered, and the last node
+      publishes what its controller computed.
+
+    Definitions and proofs only; no axiom. *)
+
+From Coq Require Import String List ZArith Bool Lia.
+From ROSGen Require Import Errors Syntax Values Memory Environment Semantics NodeModel Wellformed Generator DDC.
+Import ListNotations.
+
+(** ** Facts about received messages *)
+
+Lemma last_on_topic:
+  forall name l a, last_on name l = Some a -> ar_topic a = name /\ In a l.
+Proof.
+  intros name l; induction l as [|b l IH]; simpl; intros a H; try discriminate.
+  destruct (last_on name l) as [v|] eqn:L.
+  - inversion H; subst. destruct (IH a eq_refl); auto.
+  - destruct (string_dec (ar_topic b) name) as [E|E]; inversion H; subst; auto.
+Qed.
+
+Lemma received_on_incl:
+  forall m tp msgs a, In a (received_on m tp msgs) -> In a msgs.
+Proof.
+  intros m tp msgs; induction msgs as [|b rest IH]; simpl; intros a H; auto.
+  apply in_app_or in H. destruct H as [H|H]; auto.
+  destruct (_ && _ && _); simpl in H; [destruct H as [H|H]; auto; contradiction|contradiction].
+Qed.
+
+(** The newest arrival is an arrival of the environment, on the topic. *)
+Lemma newest_arrival_in:
+  forall CS m (ctx : ros_context CS) tp i a,
+  newest_arrival m ctx tp i = Some a ->
+  ar_topic a = tp_name tp /\ exists k, In a (ctx_arrivals ctx k).
+Proof.
+  intros CS m ctx tp i a H. unfold newest_arrival in H.
+  destruct (last_on_topic _ _ _ H) as [E I]. split; auto.
+  apply in_flat_map in I. destruct I as (k & _ & I). exists k. eapply received_on_incl; eauto.
+Qed.
+
+(** The newest message depends on a topic's ROS name, message struct
+    and queue size only. *)
+Lemma received_on_ext:
+  forall m t1 t2 l, tp_name t1 = tp_name t2 -> tp_queue t1 = tp_queue t2 -> tp_msg t1 = tp_msg t2 ->
+  received_on m t1 l = received_on m t2 l.
+Proof.
+  intros m t1 t2 l N Q M. induction l as [|a l IH]; simpl; auto. rewrite N, Q, M, IH. reflexivity.
+Qed.
+
+Lemma newest_ext:
+  forall CS m (ctx : ros_context CS) t1 t2 i,
+  tp_name t1 = tp_name t2 -> tp_queue t1 = tp_queue t2 -> tp_msg t1 = tp_msg t2 ->
+  newest m ctx t1 i = newest m ctx t2 i /\ newest_time m ctx t1 i = newest_time m ctx t2 i.
+Proof.
+  intros CS m ctx t1 t2 i N Q M.
+  assert (E: newest_arrival m ctx t1 i = newest_arrival m ctx t2 i).
+  { unfold newest_arrival. rewrite N. f_equal. apply flat_map_ext. intros j. apply received_on_ext; auto. }
+  unfold newest, newest_time, converted. rewrite E, M. split; reflexivity.
+Qed.
+
+(** ** Links *)
+
+(** The transport assumption for one connection, at [B]'s cycle [i]:
+    the newest message [B]'s callback of topic [tpB] received up to its
+    [i]-th spin is the message that [A] sent on its topic [tpA], [mv]
+    being what [A]'s output glue built in the cycle it was published
+    (ROS carries [DDC.sent mA tpA mv]). *)
+Definition delivered_from {CS : Type} (mB : node_model) (ctxB : ros_context CS) (tpB : topic) (i : nat)
+                          (mA : node_model) (tpA : topic) (mv : mval) : Prop :=
+  exists a, newest_arrival mB ctxB tpB i = Some a /\ ar_msg a = sent mA tpA mv.
+
+(** The facts about the two models that make a link: [tpA] is a
+    published topic of [A] (every published topic of [A] with its ROS
+    name has its C name and message struct), [tpB] a subscribed topic of
+    [B], the only one with its C name; the two are one topic of the ROS
+    graph: [gA] and [gB] give each node's topic names as the graph
+    resolves them (namespace and remappings, DESIGN.md section 10), and
+    they agree; output relation [o] of [A] writes field [or_path o] of
+    [tpA], input relation [ir] of [B] reads the same field of [tpB]; in
+    both nodes' message types the field is a scalar reached through no
+    bounded sequence.  A system's file decides [link_ok] by
+    computation. *)
+Definition link_ok (gA : string -> string) (mA : node_model) (tpA : topic) (o : outrel)
+                   (gB : string -> string) (mB : node_model) (tpB : topic) (ir : inrel) : bool :=
+     existsb (fun t => topic_eqb (tp_name t) (tp_name tpA) && String.eqb (tp_cname t) (tp_cname tpA)
+                       && String.eqb (tp_msg t) (tp_msg tpA) && is_published t) (nm_topics mA)
+  && forallb (fun t => negb (is_published t && topic_eqb (tp_name t) (tp_name tpA))
+                       || (String.eqb (tp_cname t) (tp_cname tpA) && String.eqb (tp_msg t) (tp_msg tpA)))
+             (nm_topics mA)
+  && existsb (fun t => topic_eqb (tp_name t) (tp_name tpB) && String.eqb (tp_cname t) (tp_cname tpB)
+                       && String.eqb (tp_msg t) (tp_msg tpB) && Nat.eqb (tp_queue t) (tp_queue tpB)
+                       && is_subscribed t) (nm_topics mB)
+  && String.eqb (gA (tp_name tpA)) (gB (tp_name tpB))
+  && Nat.eqb (length (filter (fun t => String.eqb (tp_cname t) (tp_cname tpB)) (subscribed mB))) 1
+  && existsb (fun o' => String.eqb (or_output o') (or_output o) && path_eqb (or_elem o') (or_elem o)
+                        && String.eqb (or_topic o') (or_topic o) && path_eqb (or_path o') (or_path o))
+             (nm_outrels mA)
+  && String.eqb (or_topic o) (tp_cname tpA)
+  && existsb (fun ir' => String.eqb (ir_topic ir') (ir_topic ir) && path_eqb (ir_path ir') (ir_path ir)
+                         && String.eqb (ir_input ir') (ir_input ir) && path_eqb (ir_elem ir') (ir_elem ir))
+             (nm_inrels mB)
+  && String.eqb (ir_topic ir) (tp_cname tpB)
+  && path_eqb (or_path o) (ir_path ir)
+  && unbounded_path (composites mA) (Tstruct (tp_msg tpA)) (path_steps (or_path o))
+  && unbounded_path (composites mB) (Tstruct (tp_msg tpB)) (path_steps (ir_path ir))
+  && match type_at (composites mA) (Tstruct (tp_msg tpA)) (path_steps (or_path o)),
+           type_at (composites mB) (Tstruct (tp_msg tpB)) (path_steps (ir_path ir)) with
+     | Some ta, Some tb => is_scalar_type ta && is_scalar_type tb
+     | _, _ => false
+     end.
+
+Lemma existsb_in:
+  forall {A} (f : A -> bool) l, existsb f l = true -> exists x, In x l /\ f x = true.
+Proof. intros A f l H. apply existsb_exists in H. exact H. Qed.
+
+Lemma filter_one:
+  forall {A} (f : A -> bool) l x y,
+  length (filter f l) = 1%nat -> In x l -> f x = true -> In y l -> f y = true -> x = y.
+Proof.
+  intros A f l x y L Ix Fx Iy Fy.
+  assert (Hx: In x (filter f l)) by (apply filter_In; auto).
+  assert (Hy: In y (filter f l)) by (apply filter_In; auto).
+  destruct (filter f l) as [|a [|b r]]; simpl in L; try discriminate.
+  destruct Hx as [Hx|[]]; destruct Hy as [Hy|[]]; congruence.
+Qed.
+
+(** Whether the input of relation [ir] keeps the newest message's field
+    in [B]'s cycle [i]: it has no fallback value (rule 4.12), or its
+    topic is not stale at the cycle's time. *)
+Definition kept_fresh {CS : Type} (mB : node_model) (ctxB : ros_context CS) (tpB : topic) (ir : inrel) (i : nat)
+  : Prop :=
+  find_assoc (ir_input ir) (nm_fallbacks mB) = None
+  \/ stale mB (ir_topic ir) (newest_time mB ctxB tpB i) (ctx_time ctxB (S i)) = false.
+
+(** One link: in [B]'s cycle [i], the input of [ir] holds the value that
+    [A]'s controller computed for the output of [o] in the cycle [j]
+    whose message [B] received last ([y] the controller's outputs of
+    [A]'s cycle [j], [mv] the message its output glue built then). *)
+Theorem link_value:
+  forall gA gB mA mB (CS : Type) (ctxB : ros_context CS) i u tpA tpB o ir y now g mv,
+  link_ok gA mA tpA o gB mB tpB ir = true ->
+  arrivals_wt mB ctxB ->
+  input_values mB ctxB i u ->
+  published_value mA y now g tpA mv ->
+  delivered_from mB ctxB tpB i mA tpA mv ->
+  kept_fresh mB ctxB tpB ir i ->
+  exists v,
+     mval_get y (Sfield (or_output o) :: path_steps (or_elem o)) = Some (MVscalar v)
+  /\ mval_get u (input_leaf ir) = Some (MVscalar v).
+Proof.
+  intros gA gB mA mB CS ctxB i u tpA tpB o ir y now g mv L WT IV PV (a & NA & MA) KF.
+  unfold link_ok in L. repeat rewrite andb_true_iff in L.
+  destruct L as [[[[[[[[[[[[_ _] SB] NAB] One] Oin] Ot] Iin] It] Pe] UA] UB] Ty].
+  destruct (existsb_in _ _ SB) as (tB & TBin & TB). repeat rewrite andb_true_iff in TB.
+  destruct TB as ((((N1 & C1) & M1) & Q1) & S1).
+  destruct (existsb_in _ _ Oin) as (o' & Oin' & Oe). repeat rewrite andb_true_iff in Oe.
+  destruct Oe as (((Oe1 & Oe2) & Oe3) & Oe4).
+  destruct (existsb_in _ _ Iin) as (ir' & Iin' & Ie). repeat rewrite andb_true_iff in Ie.
+  destruct Ie as (((Ie1 & Ie2) & Ie3) & Ie4).
+  apply String.eqb_eq in Ot. apply String.eqb_eq in It. apply path_eqb_iff in Pe.
+  apply Nat.eqb_eq in One.
+  assert (Eir: ir' = ir).
+  { destruct ir, ir'; simpl in *. apply String.eqb_eq in Ie1. apply String.eqb_eq in Ie3.
+    apply path_eqb_iff in Ie2. apply path_eqb_iff in Ie4. subst. reflexivity. }
+  assert (Eo: o' = o).
+  { destruct o, o'; simpl in *. apply String.eqb_eq in Oe1. apply String.eqb_eq in Oe3.
+    apply path_eqb_iff in Oe2. apply path_eqb_iff in Oe4. subst. reflexivity. }
+  subst ir' o'.
+  (* The publisher's side: the output relation's field holds the output. *)
+  destruct PV as (PT & PO & _).
+  destruct (PO o Oin' Ot) as (v & Gy & Gmv).
+  exists v. split; [exact Gy|].
+  destruct (type_at (composites mA) (Tstruct (tp_msg tpA)) (path_steps (or_path o))) as [ta|] eqn:TA;
+    [|discriminate].
+  destruct (type_at (composites mB) (Tstruct (tp_msg tpB)) (path_steps (ir_path ir))) as [tb|] eqn:TB;
+    [|discriminate].
+  (* What ROS carries: the scalar field as the glue wrote it. *)
+  assert (Gs: mval_get (sent mA tpA mv) (path_steps (or_path o)) = Some (MVscalar v))
+    by (eapply sent_scalar; eauto).
+  (* The subscriber's side: the relation's topic is [tpB]. *)
+  destruct IV as (_ & IR & _).
+  destruct (IR ir Iin') as (tp & v' & Tin & Tc & Gn & Gu).
+  assert (Etp: tp = tB).
+  { assert (Tin' : In tB (subscribed mB)) by (unfold subscribed; apply filter_In; auto).
+    apply String.eqb_eq in C1.
+    apply (filter_one (fun t => String.eqb (tp_cname t) (tp_cname tpB)) (subscribed mB) tp tB One Tin).
+    - apply String.eqb_eq. congruence.
+    - exact Tin'.
+    - apply String.eqb_eq. exact C1. }
+  subst tp.
+  (* tB and tpB agree on everything the newest message depends on *)
+  assert (Etb: newest mB ctxB tB i = newest mB ctxB tpB i /\ newest_time mB ctxB tB i = newest_time mB ctxB tpB i).
+  { apply newest_ext.
+    - unfold topic_eqb in N1. destruct (string_dec (tp_name tB) (tp_name tpB)); [auto|discriminate].
+    - apply Nat.eqb_eq; exact Q1.
+    - apply String.eqb_eq; exact M1. }
+  destruct Etb as [En Et]. rewrite En in Gn. rewrite Et in Gu.
+  destruct (newest_arrival_in _ _ _ _ _ _ NA) as (Ea & k & Ik).
+  unfold newest in Gn. rewrite NA in Gn. unfold converted in Gn.
+  assert (Ta: mval_has_type (composites mB) (Tstruct (tp_msg tpB)) (ar_msg a)).
+  { assert (Tin' : In tB (subscribed mB)) by (unfold subscribed; apply filter_In; auto).
+    specialize (WT k a tB Ik Tin'). clear -WT N1 M1 Ea.
+    destruct tB as [n1 c1 ty1 d1 s1 q1], tpB as [n2 c2 ty2 d2 s2 q2]; simpl in *.
+    unfold topic_eqb in N1. destruct (string_dec n1 n2); [|discriminate].
+    apply String.eqb_eq in M1. subst. apply WT. auto. }
+  rewrite <- MA, Pe in Gs.
+  rewrite (clamp_get _ _ _ _ tb _ Ta UB TB Gs) in Gn. simpl in Gn. inversion Gn; subst v'.
+  unfold input_leaf. rewrite Gu. unfold fed_value.
+  destruct KF as [KF|KF].
+  - destruct (stale _ _ _ _); [rewrite KF|]; reflexivity.
+  - rewrite KF. reflexivity.
+Qed.
+
+
+(** ** Links between whole runs (from the nodes' T2) *)
+
+Lemma Forall2_In_combine:
+  forall {A B} (P : A -> B -> Prop) l1 l2 x y,
+  Forall2 P l1 l2 -> In (x, y) (combine l1 l2) -> P x y.
+Proof.
+  intros A B P l1 l2 x y F. induction F as [|a b l1 l2 Pab F IH]; simpl; intros H; [contradiction|].
+  destruct H as [H|H]; [inversion H; subst; auto|auto].
+Qed.
+
+(** [published_value] and [sent] depend on a topic's C name and message
+    struct only. *)
+Lemma published_value_ext:
+  forall m y now g t1 t2 mv,
+  tp_cname t1 = tp_cname t2 -> tp_msg t1 = tp_msg t2 ->
+  published_value m y now g t1 mv -> published_value m y now g t2 mv.
+Proof.
+  intros m y now g t1 t2 mv C M H. unfold published_value in *. rewrite <- C, <- M. exact H.
+Qed.
+
+Lemma sent_ext:
+  forall m t1 t2 mv, tp_msg t1 = tp_msg t2 -> sent m t1 mv = sent m t2 mv.
+Proof. intros m t1 t2 mv M. unfold sent. rewrite M. reflexivity. Qed.
+
+(** A publication in a correct cycle: the message of one of the model's
+    published topics, built from the cycle's controller outputs. *)
+Lemma cycle_publication:
+  forall m CS (ctx : ros_context CS) i s evs s' name msg,
+  cycle_ok m ctx i s evs s' -> In (Epublish name msg) evs ->
+  exists u y rest tp mv,
+     evs = Estep u y :: rest
+  /\ ctx_step ctx s u = (s', y)
+  /\ In tp (published m) /\ name = tp_name tp /\ msg = sent m tp mv
+  /\ published_value m y (ctx_time ctx (S i)) (newest_by m ctx i) tp mv.
+Proof.
+  intros m CS ctx i s evs s' name msg (u & y & mvs & E & _ & St & F) I.
+  subst evs. destruct I as [I|I]; [discriminate|].
+  apply in_app_or in I. destruct I as [I|[I|[]]]; [|discriminate].
+  unfold publish_events in I. apply in_map_iff in I. destruct I as ([tp mv] & Ev & Ic).
+  simpl in Ev. inversion Ev; subst.
+  exists u, y, (publish_events m (published m) mvs ++ [Esleep (nm_period_ms m)]), tp, mv.
+  split; [reflexivity|]. split; [exact St|].
+  split; [apply in_combine_l in Ic; exact Ic|]. split; [reflexivity|]. split; [reflexivity|].
+  exact (Forall2_In_combine _ _ _ _ _ F Ic).
+Qed.
+
+(** What a link guarantees of the runs of its two nodes ([A] publishing,
+    [B] subscribing), in every environment of each with well-typed
+    messages and controller outputs, for any numbers of cycles: their
+    traces are the nodes' starts followed by cycles (T2's
+    decomposition), and for every cycle [i] of [B] and [j] of [A], if
+    the newest message [B]'s callback of [tpB] received up to its
+    [i]-th spin is the message [A] published on [tpA] in its cycle [j]
+    (the transport assumption: ROS delivered it, and nothing newer), and
+    no fallback value replaced the input ([kept_fresh]), then [A]'s
+    controller computed, in cycle [j] (stepped from its state [sA j] to
+    [sA (S j)]), an output whose field [o] is a value [v], and [B]'s
+    controller receives [v] on the input of [ir] in cycle [i]. *)
+Definition link_holds (mA : node_model) (pA : program) (tpA : topic) (o : outrel)
+                      (mB : node_model) (pB : program) (tpB : topic) (ir : inrel) : Prop :=
+  forall (CSA : Type) (ctxA : ros_context CSA) nA tA (CSB : Type) (ctxB : ros_context CSB) nB tB,
+  arrivals_wt mA ctxA -> controller_wt mA ctxA -> arrivals_wt mB ctxB -> controller_wt mB ctxB ->
+  program_behaves pA ctxA nA tA -> program_behaves pB ctxB nB tB ->
+  exists (sA : nat -> CSA) (evsA : nat -> trace) (sB : nat -> CSB) (evsB : nat -> trace),
+     sA O = ctx_init ctxA /\ tA = start_events mA ++ concat (map evsA (seq 0 nA))
+  /\ sB O = ctx_init ctxB /\ tB = start_events mB ++ concat (map evsB (seq 0 nB))
+  /\ forall i j, (i < nB)%nat -> (j < nA)%nat ->
+     (exists a, newest_arrival mB ctxB tpB i = Some a /\ In (Epublish (tp_name tpA) (ar_msg a)) (evsA j)) ->
+     kept_fresh mB ctxB tpB ir i ->
+     exists uA yA restA uB yB restB v,
+        evsA j = Estep uA yA :: restA
+     /\ ctx_step ctxA (sA j) uA = (sA (S j), yA)
+     /\ evsB i = Estep uB yB :: restB
+     /\ mval_get yA (Sfield (or_output o) :: path_steps (or_elem o)) = Some (MVscalar v)
+     /\ mval_get uB (input_leaf ir) = Some (MVscalar v).
+
+(** The link theorem: the two nodes' T2 ([node_ddc], proved for each
+    generated node as [<node>_ddc]) and the link's facts give
+    [link_holds]. *)
+Theorem system_link:
+  forall gA gB mA pA mB pB tpA o tpB ir,
+  node_ddc mA pA -> node_ddc mB pB ->
+  link_ok gA mA tpA o gB mB tpB ir = true ->
+  link_holds mA pA tpA o mB pB tpB ir.
+Proof.
+  intros gA gB mA pA mB pB tpA o tpB ir DA DB L.
+  intros CSA ctxA nA tA CSB ctxB nB tB WA CA WB CB BA BB.
+  destruct (DA CSA ctxA nA WA CA) as [_ RA]. destruct (RA tA BA) as (sA & evsA & SA0 & TA & CyA).
+  destruct (DB CSB ctxB nB WB CB) as [_ RB]. destruct (RB tB BB) as (sB & evsB & SB0 & TB & CyB).
+  exists sA, evsA, sB, evsB. repeat split; auto.
+  intros i j Hi Hj (a & NA & IP) KF.
+  destruct (cycle_publication _ _ _ _ _ _ _ _ _ (CyA j Hj) IP)
+    as (uA & yA & restA & tp & mv & EA & StA & Tp & Nm & Msg & PV).
+  (* the publishing topic is [tpA] as far as the message goes *)
+  assert (L' := L). unfold link_ok in L'. repeat rewrite andb_true_iff in L'.
+  destruct L' as [[[[[[[[[[[[_ PU] _] _] _] _] _] _] _] _] _] _] _].
+  assert (Tin : In tp (nm_topics mA) /\ is_published tp = true)
+    by (unfold published in Tp; apply filter_In in Tp; exact Tp).
+  destruct Tin as [Tin Pub].
+  rewrite forallb_forall in PU. specialize (PU tp Tin). rewrite Pub in PU.
+  assert (Nt : topic_eqb (tp_name tp) (tp_name tpA) = true)
+    by (unfold topic_eqb; destruct (string_dec (tp_name tp) (tp_name tpA)); congruence).
+  rewrite Nt in PU. simpl in PU. rewrite andb_true_iff in PU. destruct PU as [Ce Me].
+  apply String.eqb_eq in Ce. apply String.eqb_eq in Me.
+  assert (PV' : published_value mA yA (ctx_time ctxA (S j)) (newest_by mA ctxA j) tpA mv)
+    by (eapply published_value_ext; eauto).
+  assert (DF : delivered_from mB ctxB tpB i mA tpA mv).
+  { exists a. split; auto. rewrite Msg. apply sent_ext. exact Me. }
+  destruct (CyB i Hi) as (uB & yB & mvsB & EB & IVB & StB & _).
+  destruct (link_value gA gB mA mB CSB ctxB i uB tpA tpB o ir yA _ _ mv L WB IVB PV' DF KF) as (v & Gy & Gu).
+  exists uA, yA, restA, uB, yB, (publish_events mB (published mB) mvsB ++ [Esleep (nm_period_ms mB)]), v.
+  split; [exact EA|]. split; [exact StA|]. split; [exact EB|]. split; [exact Gy|exact Gu].
+Qed.
+
+(** ** Chains *)
+
+(** A chain input topic -> node -> topic -> ... -> output topic, over an
+    abstract interface of its nodes: per node [l] of the chain (from 0),
+    at its cycle [k], [input l k] is the value its controller receives
+    on the chain's relation, [output l k] what it computes on the
+    chain's output relation, [published l k] the field its message
+    carries; [latest l k] is the cycle of node [l - 1] whose message
+    node [l] received last at its cycle [k] ([None]: none yet), given
+    by the transport.  The interface T2 gives each node is [node_links]
+    (the link just proved, [link_value]) and [last_published] (T2's
+    [published_value] of the last node). *)
+Section Chains.
+
+Variable V : Type.
+Variable zero : V.
+
+Record chain_iface : Type := mkchain {
+  ch_input : nat -> nat -> V;          (**r node, cycle: the value received *)
+  ch_output : nat -> nat -> V;         (**r node, cycle: the value computed *)
+  ch_published : nat -> nat -> V;      (**r node, cycle: the value published *)
+  ch_latest : nat -> nat -> option nat (**r node, cycle: the upstream cycle delivered *)
+}.
+
+(** Each link of a chain of [n] nodes: node [S l]'s input is node [l]'s
+    output at the latest delivered cycle (zero before any message). *)
+Definition node_links (c : chain_iface) (n : nat) : Prop :=
+  forall l k, (S l < n)%nat ->
+  ch_input c (S l) k = match ch_latest c (S l) k with Some j => ch_output c l j | None => zero end.
+
+(** The last node publishes what its controller computed. *)
+Definition last_published (c : chain_iface) (n : nat) : Prop :=
+  forall k, ch_published c (pred n) k = ch_output c (pred n) k.
+
+(** The cycles of the nodes upstream of node [l] at its cycle [k]
+    through which a value reaches it: [trace_back c l k] is the list of
+    cycles of nodes [l - 1], [l - 2], ..., 0 (stopping at the first
+    node that had received nothing yet). *)
+Fixpoint trace_back (c : chain_iface) (l k : nat) : list nat :=
+  match l with
+  | O => []
+  | S l' => match ch_latest c (S l') k with
+            | Some j => j :: trace_back c l' j
+            | None => []
+            end
+  end.
+
+(** The composition: along a chain whose links hold, every node's input
+    at every cycle is the output of the node upstream at the cycle the
+    transport delivered (the latest whose message was received), and the
+    last node publishes what its controller computed on those inputs. *)
+Theorem chain_value:
+  forall c n, node_links c n -> last_published c n ->
+     (forall l k, (S l < n)%nat ->
+        (exists j, ch_latest c (S l) k = Some j /\ ch_input c (S l) k = ch_output c l j)
+        \/ (ch_latest c (S l) k = None /\ ch_input c (S l) k = zero))
+  /\ (forall k, ch_published c (pred n) k = ch_output c (pred n) k).
+Proof.
+  intros c n NL LP. split; auto.
+  intros l k Hl. rewrite (NL l k Hl).
+  destruct (ch_latest c (S l) k) as [j|]; [left; exists j; auto|right; auto].
+Qed.
+
+(** The cycles [trace_back] lists are exactly the delivered ones: the
+    first is the cycle of node [l - 1] that node [l] received last. *)
+Lemma trace_back_head:
+  forall c l k j, ch_latest c (S l) k = Some j -> trace_back c (S l) k = j :: trace_back c l j.
+Proof. intros c l k j H. simpl. rewrite H. reflexivity. Qed.
+
+End Chains.

@@ -1,0 +1,38 @@
+"""The system theorems of coq/theories/sys/System.v are closed under the
+global context, and the system mutation catalogue (coq/tests/SystemMutants.v)
+builds: a link proved from two nodes' T2, the wiring mutants refused."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+
+
+def coqc(repo_root, tmp_path, text: str) -> str:
+    f = tmp_path / "Check.v"
+    f.write_text(text)
+    r = subprocess.run(["coqc", "-R", str(repo_root / "coq/theories"), "ROSGen", "-R", str(repo_root / "coq/tests"),
+                        "ROSGenTests", str(f)], capture_output=True, text=True, cwd=tmp_path, timeout=600)
+    assert r.returncode == 0, r.stderr + r.stdout
+    return r.stdout
+
+
+def test_system_theorems_closed(repo_root, tmp_path):
+    out = coqc(repo_root, tmp_path, "From ROSGen Require Import System.\n"
+               + "".join(f"Print Assumptions System.{t}.\n" for t in ("link_value", "system_link", "chain_value")))
+    assert out.splitlines() == ["Closed under the global context"] * 3
+
+
+def test_system_mutants(repo_root, tmp_path):
+    src = (repo_root / "coq/tests/SystemMutants.v").read_text()
+    refuted = re.findall(r"^Theorem ([a-z0-9_]+_refuted)\s*:\s*link_ok [^.]*= false\.", src, re.M)
+    assert refuted == ["crossed_inputs_refuted", "crossed_fields_refuted", "wrong_remap_refuted",
+                       "no_remap_refuted", "from_subscription_refuted"]
+    out = coqc(repo_root, tmp_path, src + "\nPrint Assumptions cascade_link.\n"
+               + "".join(f"Check {t}.\n" for t in refuted))
+    assert "Closed under the global context" in out
+    for t in refuted:
+        assert re.search(rf"^{t}\s*:\s*link_ok [^:]*=\s*false$", out, re.M), out
+    # the mutant file is part of the Coq tests and of `make mutants`
+    assert "tests/" "SystemMutants.v" in (repo_root / "coq/Makefile").read_text()   # as coq/Makefile names it
+    assert "coq/tests/SystemMutants.v" in (repo_root / "Makefile").read_text()
