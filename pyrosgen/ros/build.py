@@ -75,7 +75,7 @@ from pyrosgen.errors import Context, DetailedFailure, UserError, escape
 from pyrosgen.proof.modeltext import parse_model_text
 from pyrosgen.verify.certificate import certificate_files, write_certificate
 from pyrosgen.verify.wrapper_check import check_glue_externals, check_wrapper
-from pyrosgen.generate import GenerateResult, OutputDirError, generate_model
+from pyrosgen.generate import GenerateResult, OutputDirError, _check_out_dir, generate_model
 from pyrosgen.proof.coqmodel import node_file_names
 from pyrosgen.frontend import csource, msgdeb
 from pyrosgen.frontend.coder import find_period
@@ -605,6 +605,7 @@ def build(model_path: str | Path, controller_dir: str | Path, out_dir: str | Pat
     """
     say = progress or (lambda _line: None)
     t0 = time.monotonic()
+    _check_out_dir(out_dir)  # -o "" is refused, as generate refuses it
     say(f"[1/{STEPS}] front end: reading {model_path}")
     model = load_model(model_path)
     return build_model(model, controller_dir, out_dir, progress=progress, keep_work=keep_work,
@@ -620,7 +621,7 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
     say = progress or (lambda _line: None)
     t_start = _t_start if _t_start is not None else time.monotonic()
     times: dict[str, float] = {}
-    out_dir = Path(out_dir)
+    out_dir = _check_out_dir(out_dir)
     if out_dir.exists() and not out_dir.is_dir():
         raise OutputDirError(f"{out_dir}: exists and is not a directory")
     opts = options or ControllerOptions()

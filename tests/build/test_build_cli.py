@@ -243,3 +243,15 @@ def test_help_lists_build():
     r = pyrosgen("build", "--help")
     assert r.returncode == 0 and "--controller DIR" in r.stdout
     assert ROOT.is_dir()
+
+
+def test_empty_output_folder_exit_1(tmp_path):
+    """``build -o ""`` is refused as ``generate -o ""`` is (it was read as
+    the current folder), before anything is read or written."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    for empty in ("", " "):
+        r = pyrosgen("build", LANDSHARK, "--controller", LANDSHARK_CTL, "-o", empty, env=env, cwd=tmp_path)
+        assert r.returncode == 1, r.stderr
+        assert f"the output folder '{empty}' is empty; give a folder name (-o . for the current folder)" in r.stderr
+        assert "Traceback" not in r.stderr and "[1/8]" not in r.stderr
+    assert list(tmp_path.iterdir()) == []
