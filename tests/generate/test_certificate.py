@@ -183,3 +183,22 @@ def test_trusted_table_matches_the_design_trust_base(landshark):
     _, d = landshark
     cert = (d / f"{NODE}.certificate.md").read_text()
     assert sorted(_first_cells(cert, header)) == sorted(want)
+
+
+def test_first_screen_says_proved_assumed_not_covered(landshark):
+    """The certificate opens, before the verdict and within one screen,
+    with what is proved, what is assumed and what is not covered: the
+    controller's logic, timing, the transport, the controller's flags and
+    the operating system."""
+    _, d = landshark
+    cert = (d / f"{NODE}.certificate.md").read_text()
+    assert cert.index("## In one screen") < cert.index("## Verdict")
+    screen = cert.split("## In one screen\n", 1)[1].split("\n## ", 1)[0]
+    assert len(screen.strip().splitlines()) <= 40
+    flat = " ".join(screen.split())
+    assert "**Proved**" in flat and f"`{NODE}_ddc` (T2)" in flat and "sleep of 20 ms" in flat
+    assert "the 3 input relations" in flat and "the 1 output relation" in flat
+    assert "**Assumed**" in flat and "**Not covered**" in flat
+    for item in ("- the controller's logic: `Controller_step` is hand-written", "- timing:", "- the transport:",
+                 "- the compile flags of the hand-written controller", "- the operating system"):
+        assert item in flat, item
