@@ -26,8 +26,10 @@ $(COMPLETION): pyrosgen/cli.py pyrosgen/completion.py $(VENV)/.installed
 ros2-deps:
 	@scripts/ros2-deps.sh
 
+# VIEWERS=1: rviz too (scripts/deps.sh)
+VIEWERS ?= 0
 apt:
-	@scripts/deps.sh
+	@VIEWERS=$(VIEWERS) scripts/deps.sh
 
 # The venv is made from Debian's interpreter with --system-site-packages so that
 # Debian's rospy and message modules are importable from it.
@@ -36,7 +38,7 @@ venv: $(VENV)/.installed
 $(VENV)/.installed: pyproject.toml | apt
 	@test -x $(PY) || /usr/bin/python3 -m venv --system-site-packages $(VENV)
 	@echo "deps: installing pyrosgen and its test extras into $(VENV)"
-	@$(PY) -m pip install -q --disable-pip-version-check -e '.[test]'
+	@PIP_ROOT_USER_ACTION=ignore $(PY) -m pip install -q --disable-pip-version-check --no-warn-script-location -e '.[test]'
 	@touch $@
 
 ## proofs: the Coq library, coqchk, and the no-admit check

@@ -262,6 +262,14 @@ def _print_and_validate(drv: CoqDriver, model: NodeModel, module: str, lib: tupl
     return proved_model, validation
 
 
+def theorem_kind(ddc: bool) -> str:
+    """What the main theorem states, for the summary (``ddc``: whether it
+    is the node DDC theorem T2)."""
+    return ("node data delivery correctness, T2 (DDC.node_ddc)" if ddc else
+            "well-formedness, T4 (Wellformed.wf); fallback: the node DDC theorem T2 "
+            "(Loopproof.generate_node_ddc) is not in the ROSGen library")
+
+
 #: How the certificate writes the conjunction of the node's theorems.
 CONJ = " /\\ "
 
@@ -314,12 +322,7 @@ def generate_model(
         # comes after the node's theorems)
         theorems += [f"Ctrl.{names.theorem_ctrl_wf}", f"Ctrl.{names.theorem_e2e}", f"Ctrl.{names.theorem_linked}"]
     main_thm = theorems[0]
-    kind = (
-        "node data delivery correctness, T2 (DDC.node_ddc)"
-        if ddc
-        else "well-formedness, T4 (Wellformed.wf); fallback: the node DDC theorem T2 "
-        "(Loopproof.generate_node_ddc) is not in the ROSGen library"
-    )
+    kind = theorem_kind(ddc)
     times["front end"] = time.monotonic() - t_start
 
     base = _existing_ancestor(out_dir.parent if out_dir.name else out_dir)

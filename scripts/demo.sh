@@ -15,18 +15,20 @@
 # diagram of examples/landshark/landshark_diagram.yaml: Coq generates and
 # proves it too, and the node is built without a controller folder.
 set -euo pipefail
+# `python -m pyrosgen` from the repository root: this checkout's pyrosgen, whatever
+# the venv's console script was installed from
 cd "$(dirname "$0")/.."
 if [ "${DIAGRAM:-0}" = 1 ]; then
   MODEL=examples/landshark/landshark_diagram.yaml
   OUT=build/landshark_diagram
   echo "demo: pyrosgen build $MODEL -o $OUT   (the controller: a block diagram, generated and proved)"
-  .venv/bin/pyrosgen build "$MODEL" -o "$OUT"
+  .venv/bin/python -m pyrosgen build "$MODEL" -o "$OUT"
 else
   MODEL=examples/landshark/landshark_controller.yaml
   CONTROLLER=examples/landshark/controller
   OUT=build/landshark
   echo "demo: pyrosgen build $MODEL --controller $CONTROLLER -o $OUT"
-  .venv/bin/pyrosgen build "$MODEL" --controller "$CONTROLLER" -o "$OUT"
+  .venv/bin/python -m pyrosgen build "$MODEL" --controller "$CONTROLLER" -o "$OUT"
 fi
 echo "demo: running $OUT/bin/landshark_controller against a simulated LandShark"
 .venv/bin/python -m pyrosgen.ros.demo "$OUT"
@@ -35,7 +37,7 @@ GUARD=examples/velocity_guard/velocity_guard.yaml
 GUARD_OUT=build/velocity_guard
 echo
 echo "demo: pyrosgen build $GUARD -o $GUARD_OUT   (timeouts: a silent source is replaced, rule 4.12)"
-.venv/bin/pyrosgen build "$GUARD" -o "$GUARD_OUT"
+.venv/bin/python -m pyrosgen build "$GUARD" -o "$GUARD_OUT"
 echo "demo: running $GUARD_OUT/bin/velocity_guard: teleop falls silent at 2 s, nav at 4 s"
 .venv/bin/python -m pyrosgen.ros.demo_guard "$GUARD_OUT"
 

@@ -29,6 +29,13 @@ PKGS=(
   # pictures, python venv
   graphviz python3-venv
 )
+# Optional, `make deps VIEWERS=1`: rviz, to look at a running node's messages
+# (a large Qt/OGRE tree, so not by default). rqt_graph is not packaged by
+# Debian (its ROS 1 has no rqt): `rosnode info`, `rostopic list -v` and
+# `pyrosgen diagram` show a node's graph instead (README, section 5).
+if [ "${VIEWERS:-0}" = 1 ]; then
+  PKGS+=(rviz)
+fi
 
 missing=()
 for p in "${PKGS[@]}"; do
@@ -52,5 +59,7 @@ if [ "$(id -u)" -ne 0 ]; then
 fi
 export DEBIAN_FRONTEND=noninteractive
 # The package lists may be empty on a fresh machine; update once.
-$SUDO apt-get update -q >/dev/null
-$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+$SUDO apt-get update -qq >/dev/null
+# -qq: apt's errors only (dpkg's unpacking lines are not the user's business)
+$SUDO apt-get install -y -qq -o Dpkg::Use-Pty=0 --no-install-recommends "${missing[@]}" >/dev/null
+echo "deps: installed ${#missing[@]} Debian package(s)"

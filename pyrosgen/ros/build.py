@@ -73,9 +73,10 @@ from pyrosgen.ros import layout
 from pyrosgen.ros import wrapper as ros
 from pyrosgen.errors import Context, DetailedFailure, UserError, escape
 from pyrosgen.proof.modeltext import parse_model_text
-from pyrosgen.verify.certificate import certificate_files, write_certificate
+from pyrosgen.verify.certificate import ManifestError, certificate_files, read_manifest, sha256_file, write_certificate
 from pyrosgen.verify.wrapper_check import check_glue_externals, check_wrapper
-from pyrosgen.generate import GenerateResult, OutputDirError, generate_model
+from pyrosgen.generate import GenerateResult, OutputDirError, _check_out_dir, generate_model, theorem_kind
+from pyrosgen.proof.coqdriver import CoqDriver
 from pyrosgen.proof.coqmodel import node_file_names
 from pyrosgen.frontend import csource, msgdeb
 from pyrosgen.frontend.coder import find_period
@@ -466,6 +467,8 @@ class _Cache:
         except (OSError, ValueError):
             pass
         self.entries: dict[str, str] = {}
+        #: the digest of what the proof in ``OUT`` was made from (:func:`_proof_key`)
+        self.proof: str | None = None
 
     @property
     def old_files(self) -> list[str]:
@@ -485,8 +488,61 @@ class _Cache:
         return True
 
     def stamp(self, files: list[str]) -> str:
-        return json.dumps({"version": _STAMP_VERSION, "entries": self.entries, "files": files},
+        return json.dumps({"version": _STAMP_VERSION, "entries": self.entries, "files": files,
+                           **({"proof": self.proof} if self.proof else {})},
                           indent=1, sort_keys=True) + "\n"
+
+
+# -- reusing the proof of the previous build ------------------------------------------
+
+def _proof_key(model: NodeModel, drv: CoqDriver) -> str | None:
+    """The digest of everything the proof folder is made from: the model
+    file's name and bytes, the front end's reading of it (the model text,
+    which holds every message type it uses, field by field), the library's
+    digest and pyrosgen's version.  A controller-only change leaves it
+    unchanged."""
+    from pyrosgen import __version__
+    from pyrosgen.proof.modeltext import model_text
+
+    h = hashlib.sha256()
+    src = Path(model.source)
+    try:
+        parts = (b"pyrosgen-proof-1", __version__.encode(), drv.library_digest().encode(), src.name.encode(),
+                 src.read_bytes() if src.is_file() else b"", model_text(model).encode())
+    except OSError:
+        return None  # no library, an unreadable model file: generate proves (and says what is wrong)
+    for part in parts:
+        h.update(_sha(part).encode())
+    return h.hexdigest()
+
+
+def _reuse_proof(model: NodeModel, out_dir: Path, stage: Path, cache: "_Cache", key: str) -> GenerateResult | None:
+    """The previous build's proof, copied from ``OUT`` into ``stage``, when
+    ``OUT``'s stamp records the same :func:`_proof_key` and every file of
+    the proof in ``OUT`` has the digest its manifest records; else
+    ``None`` (then ``generate`` proves again)."""
+    if cache.old.get("proof") != key:
+        return None
+    try:
+        rec, digests = read_manifest(out_dir / certificate_files(model.name)[1])
+    except (ManifestError, ValueError, OSError):
+        return None
+    if rec.node != model.name or rec.wp is not None:
+        return None
+    covered = [rec.node_v, rec.types_h, rec.glue_c, rec.sexp, rec.model_file]
+    if rec.controller:
+        covered += [rec.controller["c"], rec.controller["sexp"], rec.controller["text"]]
+    for name in covered:
+        p = out_dir / name
+        if p.is_symlink() or not p.is_file() or digests.get(name) != sha256_file(p):
+            return None
+    for name in covered:
+        shutil.copyfile(out_dir / name, stage / name)
+    rec.build = None
+    return GenerateResult(
+        model=model, out_dir=out_dir, files=[(out_dir / name, False) for name in covered], theorem=rec.theorem,
+        theorem_kind=theorem_kind(rec.ddc), theorems=list(rec.theorems), ddc=rec.ddc,
+        proved_model=(stage / rec.model_file).read_text(encoding="utf-8"), record=rec, covered=covered)
 
 
 def _key(argv: Sequence[str], stage: Path, identity: str, inputs: Sequence[Path], extra: Sequence[str] = ()) -> str:
@@ -605,6 +661,7 @@ def build(model_path: str | Path, controller_dir: str | Path, out_dir: str | Pat
     """
     say = progress or (lambda _line: None)
     t0 = time.monotonic()
+    _check_out_dir(out_dir)  # -o "" is refused, as generate refuses it
     say(f"[1/{STEPS}] front end: reading {model_path}")
     model = load_model(model_path)
     return build_model(model, controller_dir, out_dir, progress=progress, keep_work=keep_work,
@@ -620,7 +677,7 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
     say = progress or (lambda _line: None)
     t_start = _t_start if _t_start is not None else time.monotonic()
     times: dict[str, float] = {}
-    out_dir = Path(out_dir)
+    out_dir = _check_out_dir(out_dir)
     if out_dir.exists() and not out_dir.is_dir():
         raise OutputDirError(f"{out_dir}: exists and is not a directory")
     opts = options or ControllerOptions()
@@ -684,7 +741,16 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         def sub(line: str) -> None:
             say(f"[2/{STEPS}] generate: " + re.sub(r"^\[\d+/\d+\] ", "", line).replace(str(stage), str(out_dir)))
 
-        gen = generate_model(model, stage, progress=sub, keep_work=keep_work, driver=driver, wp=wp)
+        # the proof of the previous build, when the model, its messages, the
+        # library and pyrosgen are unchanged (a controller-only change)
+        drv = driver or CoqDriver()
+        cache.proof = _proof_key(model, drv)
+        gen = None if wp or cache.proof is None else _reuse_proof(model, out_dir, stage, cache, cache.proof)
+        if gen is not None:
+            say(f"[2/{STEPS}] generate: proof reused from {out_dir} (the model, its messages, the library "
+                "and pyrosgen are unchanged)")
+        else:
+            gen = generate_model(model, stage, progress=sub, keep_work=keep_work, driver=drv, wp=wp)
         times["generate"] = time.monotonic() - t
         types_h = (stage / names.types_header).read_text(encoding="ascii")
         if diagram:

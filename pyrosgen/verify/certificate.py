@@ -484,7 +484,79 @@ def _relations(pm: ProvedModel, c_text: str) -> tuple[list[dict], list[dict]]:
             "function": t.output_glue,
             "lines": _copy_lines(lines, _span(spans, t.output_glue), f"(*command).{path}"),
         })
-    return inputs, outputs
+    return _runs(inputs), _runs(outputs)
+
+
+#: The last index of a relation's end (``ranges.data[12]``, ``Scan[3]``).
+_LAST_INDEX = re.compile(r"\[(0|[1-9][0-9]*)\](?=[^\[]*$)")
+
+
+def _split_index(text: str) -> tuple[str, int, str] | None:
+    """``text`` as (before, index, after) around its last index, else ``None``."""
+    m = _LAST_INDEX.search(text)
+    return (text[:m.start()], int(m.group(1)), text[m.end():]) if m else None
+
+
+def _element_of(first: dict, row: dict, k: int, step: int = 1) -> bool:
+    """Whether ``row`` is element ``k`` of the run that ``first`` starts:
+    its ends are ``first``'s with the controller's last index ``k``
+    further and the message's ``step * k`` (``step`` 1, or -1 for a
+    reversed array), of the same type, copied by the same function, and
+    its C lines are ``first``'s with those indices changed (the same copy
+    form)."""
+    a, b = _split_index(first["src"]), _split_index(first["dst"])
+    c, d = _split_index(row["src"]), _split_index(row["dst"])
+    if None in (a, b, c, d) or (c[0], c[2], d[0], d[2]) != (a[0], a[2], b[0], b[2]) \
+            or (c[1], d[1]) != ((a[1] + step * k, b[1] + k) if first["src"].startswith("/")
+                                else (a[1] + k, b[1] + step * k)):
+        return False
+    if any(row.get(key) != first.get(key) for key in ("type", "callback", "function", "direct")):
+        return False
+    # the C lines: the message side (a path after ".") and the controller
+    # side (``var.field``) of the first element, with their indices moved
+    src_path = first["src"].split(" ", 1)[1] if first["src"].startswith("/") else first["src"]
+    dst_path = first["dst"].split(" ", 1)[1] if first["dst"].startswith("/") else first["dst"]
+    msg_first = first["src"].startswith("/")  # an input relation: the message is the source
+    moves = [(p, f"{_split_index(p)[0]}[{_split_index(p)[1] + (step if is_msg else 1) * k}]{_split_index(p)[2]}")
+             for p, is_msg in ((src_path, msg_first), (dst_path, not msg_first))]
+
+    def moved(text: str) -> str:
+        # both ends replaced in one pass (one end's new index may be the other's old one)
+        pattern = "|".join(r"(?<![0-9A-Za-z_])" + re.escape(old) for old, _ in moves)
+        table = dict(moves)
+        return re.sub(pattern, lambda m: table[m.group(0)], text)
+
+    for key in ("cb_lines", "lines"):
+        mine, theirs = row.get(key, []), first.get(key, [])
+        if len(mine) != len(theirs) or any(t != moved(f) for (_, t), (_, f) in zip(mine, theirs)):
+            return False
+    return True
+
+
+def _runs(rows: list[dict]) -> list[dict]:
+    """The relation rows with every run of two or more elements of one
+    whole-array relation (rule 4.15: consecutive elements, same copy form)
+    made one row: ``first`` and ``last`` (the rows of its first and last
+    elements), ``count``, and ``src``/``dst`` with the index ranges.  Every
+    element's copy was looked up in the C (:func:`_relations`) and is
+    checked here to be the first's with the indices changed."""
+    out: list[dict] = []
+    i = 0
+    while i < len(rows):
+        j = i + 1
+        step = 1 if j < len(rows) and _element_of(rows[i], rows[j], 1, 1) else -1
+        while j < len(rows) and _element_of(rows[i], rows[j], j - i, step):
+            j += 1
+        if j - i >= 2:
+            first, last = rows[i], rows[j - 1]
+            a, b = _split_index(first["src"]), _split_index(last["src"])
+            c, d = _split_index(first["dst"]), _split_index(last["dst"])
+            out.append({**first, "count": j - i, "first": first, "last": last,
+                        "src": f"{a[0]}[{a[1]}..{b[1]}]{a[2]}", "dst": f"{c[0]}[{c[1]}..{d[1]}]{c[2]}"})
+        else:
+            out.append({**rows[i], "count": 0})
+        i = j
+    return out
 
 
 def _hashes(folder: Path, files: list[str]) -> list[tuple[str, str]]:

@@ -243,3 +243,51 @@ def test_help_lists_build():
     r = pyrosgen("build", "--help")
     assert r.returncode == 0 and "--controller DIR" in r.stdout
     assert ROOT.is_dir()
+
+
+def test_empty_output_folder_exit_1(tmp_path):
+    """``build -o ""`` is refused as ``generate -o ""`` is (it was read as
+    the current folder), before anything is read or written."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    for empty in ("", " "):
+        r = pyrosgen("build", LANDSHARK, "--controller", LANDSHARK_CTL, "-o", empty, env=env, cwd=tmp_path)
+        assert r.returncode == 1, r.stderr
+        assert f"the output folder '{empty}' is empty; give a folder name (-o . for the current folder)" in r.stderr
+        assert "Traceback" not in r.stderr and "[1/8]" not in r.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_controller_only_change_reuses_the_proof(tmp_path):
+    """A build after a change of the controller alone reuses the proof
+    folder (the model file, its messages, the library and pyrosgen are
+    unchanged: the stamp's digest says so) and the node still verifies;
+    a change of the model proves again."""
+    ctl = tmp_path / "ctl"
+    shutil.copytree(LANDSHARK_CTL, ctl)
+    model = tmp_path / "landshark_controller.yaml"
+    shutil.copyfile(LANDSHARK, model)
+    out = tmp_path / "out"
+    first = pyrosgen("build", model, "--controller", ctl, "-o", out)
+    assert first.returncode == 0, first.stderr
+    assert "proof reused" not in first.stderr and "[2/8] generate: coqc:" in first.stderr
+    key = json.loads((out / STAMP).read_text())["proof"]
+    assert re.fullmatch(r"[0-9a-f]{64}", key)
+    src = ctl / "Controller.c"
+    src.write_text(src.read_text() + "\nint Controller_marker(void);\nint Controller_marker(void) { return 7; }\n")
+    second = pyrosgen("build", model, "--controller", ctl, "-o", out)
+    assert second.returncode == 0, second.stderr
+    assert "[2/8] generate: proof reused from" in second.stderr
+    assert "generate: coqc" not in second.stderr and "generate: printing" not in second.stderr
+    assert "compiled  obj/controller_Controller.o, bin/landshark_controller" in second.stdout
+    assert json.loads((out / STAMP).read_text())["proof"] == key
+    assert (out / "controller" / "Controller.c").read_bytes() == src.read_bytes()
+    check = pyrosgen("verify", out, "--model", model)
+    assert check.returncode == 0, check.stdout + check.stderr
+    # a changed model (another period) is proved again
+    model.write_text(model.read_text().replace("period_ms: 20", "period_ms: 25"))
+    assert "period_ms: 25" in model.read_text()
+    third = pyrosgen("build", model, "--controller", ctl, "-o", out)
+    assert third.returncode == 0, third.stderr
+    assert "proof reused" not in third.stderr and "[2/8] generate: coqc:" in third.stderr
+    assert json.loads((out / STAMP).read_text())["proof"] != key
+    assert "period_ms 25" in (out / f"{NODE}.model").read_text()

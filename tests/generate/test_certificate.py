@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import re
 import shutil
 import subprocess
 from dataclasses import replace
@@ -145,3 +146,59 @@ def test_recheck_commands_run_as_written(landshark, tmp_path):
     assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
     assert r.stdout.count("Closed under the global context") == 1  # the conjunction of res.theorems
     assert r.stdout.count(": OK") == len(res.covered)
+
+
+def _first_cells(table_text: str, header: str) -> list[str]:
+    """The first cells of the Markdown table that starts with ``header``,
+    normalised: Jinja tags, parenthesised remarks and backticks removed,
+    lower case, one space between words."""
+    rows = table_text.split(header, 1)[1].split("\n")[2:]
+    out = []
+    for row in rows:
+        if not row.startswith("| "):
+            break
+        cell = row[2:].split(" | ", 1)[0]
+        cell = re.sub(r"\{[%{].*?[%}]\}", "", cell)
+        while re.search(r"\([^()]*\)", cell):
+            cell = re.sub(r"\([^()]*\)", "", cell)
+        out.append(" ".join(cell.replace("`", "").lower().split()))
+    return out
+
+
+def test_trusted_table_matches_the_design_trust_base(landshark):
+    """Every row of DESIGN.md section 7's trust base has its row in the
+    certificate's "Trusted, not proved" table, and the certificate trusts
+    nothing that section does not list (rows matched by their first cell,
+    normalised); a rendered certificate holds every row."""
+    root = Path(__file__).resolve().parents[2]
+    design = (root / "DESIGN.md").read_text(encoding="utf-8")
+    section = design.split("\n## 7. The trust base\n", 1)[1].split("\n## 8.", 1)[0]
+    want = _first_cells(section, "| trusted part | how it is checked |")
+    assert len(want) >= 15 and len(set(want)) == len(want)
+    template = (root / "pyrosgen" / "templates" / "CERTIFICATE.md.j2").read_text(encoding="utf-8")
+    header = "| trusted part | what is assumed | how it is checked |"
+    got = _first_cells(template, header)
+    assert [w for w in want if w not in got] == [], "DESIGN.md section 7 rows missing from the certificate"
+    assert [g for g in got if g not in want] == [], "certificate rows that DESIGN.md section 7 does not list"
+    _, d = landshark
+    cert = (d / f"{NODE}.certificate.md").read_text()
+    assert sorted(_first_cells(cert, header)) == sorted(want)
+
+
+def test_first_screen_says_proved_assumed_not_covered(landshark):
+    """The certificate opens, before the verdict and within one screen,
+    with what is proved, what is assumed and what is not covered: the
+    controller's logic, timing, the transport, the controller's flags and
+    the operating system."""
+    _, d = landshark
+    cert = (d / f"{NODE}.certificate.md").read_text()
+    assert cert.index("## In one screen") < cert.index("## Verdict")
+    screen = cert.split("## In one screen\n", 1)[1].split("\n## ", 1)[0]
+    assert len(screen.strip().splitlines()) <= 40
+    flat = " ".join(screen.split())
+    assert "**Proved**" in flat and f"`{NODE}_ddc` (T2)" in flat and "sleep of 20 ms" in flat
+    assert "the 3 input relations" in flat and "the 1 output relation" in flat
+    assert "**Assumed**" in flat and "**Not covered**" in flat
+    for item in ("- the controller's logic: `Controller_step` is hand-written", "- timing:", "- the transport:",
+                 "- the compile flags of the hand-written controller", "- the operating system"):
+        assert item in flat, item

@@ -35,6 +35,7 @@ from pyrosgen import cli, load_model
 from pyrosgen.proof.coqdriver import CLOSED
 from pyrosgen.ros.layout import LayoutMismatch, check_layout, render_layout_check
 from pyrosgen.verify.acsl import contracts, run_wp
+from pyrosgen.verify.certificate import read_manifest, write_certificate
 from pyrosgen.verify.difftest import GCC_STRICT, Message, NodeDump, Schedule, leaf_token, run_side
 
 from support.generate import (
@@ -124,9 +125,15 @@ def test_model_text_certificate_and_verify(arrays, capsys):
         *(f"output_relation Echo[{i}] echo data.data[{i}]" for i in range(N)), "output_relation NEcho echo data.len",
         "output_relation Pt[0] pt x", "output_relation Pt[1] pt y", "output_relation Pt[2] pt z"]
     cert = (out / f"{NODE}.certificate.md").read_text()
-    assert "### `/scan ranges.data[3]` → `ScanArr_U.Scan[3]` (float32)" in cert
-    assert "### `/scan ranges.data[7]` → `ScanArr_U.Last[0]` (float32)" in cert
-    assert "### `ScanArr_Y.Echo[5]` → `/echo data.data[5]` (float32)" in cert
+    # a whole-array relation is one section: its count, its first and last copies
+    scan = _section(cert, f"### `/scan ranges.data[0..{N - 1}]` → `ScanArr_U.Scan[0..{N - 1}]` (float32)")
+    assert f"one section for its {N} elements" in scan
+    assert "_t_float = (*msg).ranges.data[0];" in scan and f"ScanArr_U.Scan[{N - 1}] = _t_float;" in scan
+    assert "ranges.data[3]" not in scan  # the middle elements: checked, not quoted
+    last = _section(cert, "### `/scan ranges.data[7..6]` → `ScanArr_U.Last[0..1]` (float32)")  # reversed
+    assert "one section for its 2 elements" in last and "ScanArr_U.Last[1] = _t_float;" in last
+    echo = _section(cert, f"### `ScanArr_Y.Echo[0..{N - 1}]` → `/echo data.data[0..{N - 1}]` (float32)")
+    assert f"(*command).data.data[{N - 1}] = _t_float;" in echo
     assert "### `ScanArr_Y.Pt[2]` → `/pt z` (float32)" in cert
     assert cli.main(["verify", str(out), "--model", str(MODEL)]) == 0, capsys.readouterr().err
 
@@ -305,3 +312,29 @@ def test_difftest_random(sides):
     sched = Schedule(tuple(cycles)).text()
     steps, pubs = _trace(sides_agree(sides, sched))
     assert len(steps) == 30 and len(pubs) == 30
+
+
+def _section(cert: str, head: str) -> str:
+    assert head in cert, head
+    return cert.split(head, 1)[1].split("\n## ", 1)[0].split("\n### ", 1)[0]
+
+
+def test_a_whole_array_section_holds_every_element(arrays, tmp_path):
+    """The one section of a whole-array relation stands for every element
+    only when each is copied in the first one's form: printed C in which
+    element 5 of Echo is copied from Echo[4] breaks the run there, and
+    the odd copy is quoted in a section of its own."""
+    out, _ = arrays
+    c = tmp_path / "copy"
+    shutil.copytree(out, c)
+    glue = c / f"{NODE}_glue.c"
+    text = glue.read_text()
+    assert text.count("_t_float = ScanArr_Y.Echo[5];") == 1
+    glue.write_text(text.replace("_t_float = ScanArr_Y.Echo[5];", "_t_float = ScanArr_Y.Echo[4];"))
+    rec, files = read_manifest(c / f"{NODE}.manifest.json")
+    write_certificate(rec, c, list(files))
+    cert = (c / f"{NODE}.certificate.md").read_text()
+    assert "### `ScanArr_Y.Echo[0..4]` → `/echo data.data[0..4]` (float32)" in cert
+    odd = _section(cert, "### `ScanArr_Y.Echo[5]` → `/echo data.data[5]` (float32)")
+    assert "_t_float = ScanArr_Y.Echo[4];" in odd and "(*command).data.data[5] = _t_float;" in odd
+    assert f"### `ScanArr_Y.Echo[6..{N - 1}]` → `/echo data.data[6..{N - 1}]` (float32)" in cert
