@@ -22,6 +22,10 @@ PKGS=(
   python3-std-msgs python3-geometry-msgs python3-nav-msgs python3-sensor-msgs
   # C++ classes for custom .msg types (msg_paths)
   python3-gencpp python3-genmsg ros-std-msgs ros-geometry-msgs ros-nav-msgs ros-sensor-msgs
+  # the .msg definitions of every standard message package the front end knows, read
+  # by the second, independent reading of a model (pyrosgen/nversion, DESIGN.md section 7)
+  ros-actionlib-msgs ros-diagnostic-msgs ros-shape-msgs ros-stereo-msgs ros-trajectory-msgs
+  ros-visualization-msgs ros-rosgraph-msgs ros-roscpp-msg
   # message packages of custom messages in the catkin workspace (message_generation)
   ros-message-generation ros-message-runtime python3-genpy
   # second verifier of the printed C

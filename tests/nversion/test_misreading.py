@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from pyrosgen import cli
-from pyrosgen.frontend import validate
+from pyrosgen.frontend import rule_freshness, validate
 from pyrosgen.frontend.validate import load_model
 from pyrosgen.nversion.check import NVersionMismatch, check_model_file
 from pyrosgen.proof.modeltext import diagram_text, model_text
@@ -25,23 +25,23 @@ GUARD = REPO / "examples" / "velocity_guard" / "velocity_guard.yaml"
 
 
 def _timeout_times_ten(monkeypatch):
-    real = validate._timeout
+    real = rule_freshness._timeout
 
     def misread(*args, **kw):
         v = real(*args, **kw)
         return None if v is None else v * 10
 
-    monkeypatch.setattr(validate, "_timeout", misread)
+    monkeypatch.setattr(rule_freshness, "_timeout", misread)
 
 
 def _period_plus_one(monkeypatch):
-    real = validate._Checker.node_section
+    real = validate.node_section
 
-    def misread(self, m):
-        name, period = real(self, m)
+    def misread(ck, m):
+        name, period = real(ck, m)
         return name, None if period is None else period + 1
 
-    monkeypatch.setattr(validate._Checker, "node_section", misread)
+    monkeypatch.setattr(validate, "node_section", misread)
 
 
 def _topic_c_name_wrong(monkeypatch):
