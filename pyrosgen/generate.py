@@ -221,7 +221,7 @@ def generate(
 
 
 def _print_and_validate(drv: CoqDriver, model: NodeModel, module: str, lib: tuple[Path, str], names, work: Path,
-                        stage: Path, has_diagram: bool):
+                        stage: Path, has_diagram: bool, msg_root: Path | None = None):
     """Step 4: print the texts of the compiled ``module`` into ``stage``
     (the model text into ``work``), hold the model text to the YAML's and
     the C to the AST dump; returns (the proved model text, the validation
@@ -247,7 +247,8 @@ def _print_and_validate(drv: CoqDriver, model: NodeModel, module: str, lib: tupl
     # ... and of the YAML file as a second reading, which shares no code
     # with the front end, understands it (N-version, DESIGN.md section 7;
     # raises NVersionMismatch, exit 2, naming the differing items).
-    check_model_file(model.source, proved_model, proved_diagram, vfile=names.v_file)
+    check_model_file(model.source, proved_model, proved_diagram, vfile=names.v_file,
+                     **({"standard_root": msg_root} if msg_root is not None else {}))
     from pyrosgen.verify.printer_validation import validate_glue  # raises PrinterValidationError (a CoqError)
 
     validation = validate_glue(
@@ -283,9 +284,15 @@ def generate_model(
     driver: CoqDriver | None = None,
     ddc_available: bool | None = None,
     wp: bool = False,
+    msg_root: Path | None = None,
     _t_start: float | None = None,
 ) -> GenerateResult:
     """The pipeline after the front end, on an already built ``model``.
+
+    ``msg_root``: the folder of the target's standard ``<pkg>/msg/*.msg``
+    files that the second reading of the model file reads (``None``:
+    Debian's ROS 1 packages in ``/usr/share``; the target ROS 2 passes its
+    installation's ``share`` folder, rule 4.17).
 
     ``model`` is trusted for printability only (the emitter re-checks every
     name lexically); whether it is well formed is decided by Coq's
@@ -356,7 +363,7 @@ def generate_model(
             t1 = time.monotonic()
             try:
                 proved_model, validation = _print_and_validate(drv, model, module, lib, names, work, stage,
-                                                              has_diagram)
+                                                              has_diagram, msg_root)
             except Exception:
                 # coqchk's verdict is the earlier step's: it comes first
                 chk.result()

@@ -247,6 +247,8 @@ def check_package(folder: str | Path, rec: ProofRecord, files: dict[str, str], p
         return None
     if proved_text is None:
         return Check("package", False, "not run: no proved model text")
+    if f"{rec.node}.target" in files:
+        return _check_ros2_folder(folder, rec, files, proved_text)
     build = rec.build
     if not isinstance(build, dict) or not isinstance(build.get("package"), dict):
         return Check("package", False, "the folder holds a build but the manifest has no build record "
@@ -335,3 +337,44 @@ def check_package(folder: str | Path, rec: ProofRecord, files: dict[str, str], p
     return Check("package", True, f"{problems.compared} files of the node rendered again from the proved model and equal; "
                  "the glue" + (" and the generated controller" if generated else "") + " compiled with "
                  + " ".join(ros.IEEE_CFLAGS))
+
+
+#: What ``<node>.target`` of a ROS 2 build says (pyrosgen.ros2.build.TARGET_TEXT).
+_ROS2_TARGET = "target: ros2 (ROS 2 Kilted, rcl, rmw_fastrtps_cpp)\n"
+
+
+def _check_ros2_folder(folder: Path, rec: ProofRecord, files: dict[str, str], proved_text: str) -> Check:
+    """A folder of ``pyrosgen build --ros2`` (rule 4.17): its ``<node>.target``
+    says so, it holds none of a ROS 1 build's wrapper and catkin files (a
+    ``.target`` cannot excuse them from the checks above), and its rcl
+    wrapper takes and publishes exactly the proved model's topics, types,
+    history depths and period (``check_rcl_wrapper``, the check every
+    ``build --ros2`` runs)."""
+    from pyrosgen.ros2.wrapper import Ros2WrapperMismatch, check_rcl_wrapper
+
+    target = f"{rec.node}.target"
+    problems = _Problems()
+    text = _read(folder, target, problems)
+    if text is not None and text != _ROS2_TARGET.encode("ascii"):
+        problems.add(target, f"says {text[:200]!r}, not {_ROS2_TARGET!r}")
+    ros1 = sorted(n for n in files if n.endswith(("_ros.cpp", "/package.xml", "/CMakeLists.txt", ".launch")))
+    for n in ros1:
+        problems.add(n, "a ROS 1 build's file in a folder built for ROS 2")
+    if rec.build is not None:
+        problems.add(rec.node + ".manifest.json", "a ROS 1 build record (build) in a folder built for ROS 2")
+    rcl = f"{rec.node}_rcl.c"
+    if rcl not in files:
+        problems.add(rcl, "missing: a ROS 2 build's wrapper")
+    else:
+        data = _read(folder, rcl, problems)
+        wrapper = data.decode("utf-8", errors="replace") if data is not None else None
+        if wrapper is not None:
+            try:
+                check_rcl_wrapper(wrapper, proved_text, wrapper_name=rcl)
+                problems.compared += 1
+            except Ros2WrapperMismatch as exc:
+                problems.add(rcl, exc.summary + ("; " + "; ".join(x.strip() for x in exc.lines) if exc.lines else ""))
+    if problems:
+        return Check("package", False, f"{len(problems)} problems with the files of the ROS 2 node", list(problems))
+    return Check("package", True, "a ROS 2 build (target file as written by build --ros2): its rcl wrapper takes, "
+                 "publishes and sleeps as the proved model says; no ROS 1 file")

@@ -219,3 +219,28 @@ def test_verify_covers_the_ros2_files(tmp_path, ros2_install):
         (bad / name).write_text(edit(text))
         r = _cli("verify", "-q", str(bad))
         assert r.returncode == 1 and name in r.stdout + r.stderr, (name, r.stdout, r.stderr)
+        # the same edit with its digest rewritten in the three records: the
+        # package check refuses it (the rcl wrapper check, the target's text)
+        _digests(bad, name)
+        r = _cli("verify", "-q", str(bad))
+        assert r.returncode == 1 and "package" in r.stdout and name in r.stdout, (name, r.stdout, r.stderr)
+        assert "hashes    " in r.stdout and " FAILED  hashes" not in r.stdout, r.stdout
+
+
+def _digests(copy, name: str) -> None:
+    """Rewrite the digest of ``name`` in the manifest, the digest file and
+    the certificate of the folder ``copy`` (a forger who edits a file)."""
+    import hashlib
+    import json
+
+    node = "landshark_controller"
+    m = copy / f"{node}.manifest.json"
+    data = json.loads(m.read_text())
+    cert = copy / f"{node}.certificate.md"
+    text = cert.read_text()
+    new = hashlib.sha256((copy / name).read_bytes()).hexdigest()
+    text = text.replace(f"| `{name}` | `{data['files'][name]}` |", f"| `{name}` | `{new}` |")
+    data["files"][name] = new
+    cert.write_text(text)
+    m.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
+    (copy / f"{node}.sha256").write_text("".join(f"{v}  {n}\n" for n, v in sorted(data["files"].items())))
