@@ -402,6 +402,7 @@ only if the node's DDC theorem was checked and is closed under the global contex
     "verify": """examples:
   pyrosgen verify build/landshark                       # hashes, coqc/coqchk, re-printed C, wrapper
   pyrosgen verify build/landshark --model examples/landshark/landshark_controller.yaml --wp
+  pyrosgen verify build/landshark --rebuild             # also rebuild bin/<node>, compare bit for bit
 
 exit codes: 0 every check holds, 1 a check failed (each is named) or not an
 output folder, 2 a tool is missing.""",

@@ -7,7 +7,7 @@ certificate.  The folder is hostile input: every file is read through
 file, no link on the way, bounded size), the manifest is validated field
 by field (:func:`pyrosgen.verify.certificate.read_manifest`), everything
 verify writes is in its temporary folder under names it checked, and every
-tool runs with a timeout.  The checks, from the folder's manifest
+tool runs with a timeout and an address-space limit.  The checks, from the folder's manifest
 (``<node>.manifest.json``, :mod:`pyrosgen.verify.certificate`):
 
 1. **hashes**: every file the manifest covers is present and has its
@@ -40,7 +40,11 @@ tool runs with a timeout.  The checks, from the folder's manifest
 9. **WP** (with ``--wp``): Frama-C WP proves the folder's ACSL contracts
    file on the folder's C, every goal; with ``--model`` too, the contracts
    file must be the one generated from that model (without it, only its
-   digest vouches that the contracts were not weakened).
+   digest vouches that the contracts were not weakened);
+10. **rebuild** (with ``--rebuild``, a ``build`` folder): the binary is
+    compiled again from the folder's files with the recorded commands
+    (checked word by word first) and equals ``bin/<node>`` bit for bit
+    (:func:`_check_rebuild`).
 
 Each check reports ``ok`` or ``FAILED`` with its reasons; a failed check
 does not stop the others.  Exit status: 0 when every check holds, 1 when
