@@ -378,6 +378,12 @@ def _check_rebuild(folder: Path, rec: ProofRecord, files: dict[str, str], work: 
     cmds = [(k, c) for k, c in enumerate(cmds) if isinstance(c, list) and "-o" in c]
     made: set[str] = set()
     runs: list[list[str]] = []
+    folders = {str(PurePosixPath(f).parent) for f in files}
+
+    def outside(w: str) -> bool:
+        """An absolute path, not in the folder (nothing of the folder's is read but by its name)."""
+        return bool(_REBUILD_ABS.match(w)) and not Path(w).resolve().is_relative_to(folder.resolve())
+
     for n, (k, c) in enumerate(cmds):
         bad = None if all(isinstance(w, str) for w in c) and c and _REBUILD_TOOL.match(c[0]) else f"{c[:1]!r}"
         argv, i = [shutil.which(c[0]) or c[0]] if bad is None else [], 1
@@ -388,15 +394,14 @@ def _check_rebuild(folder: Path, rec: ProofRecord, files: dict[str, str], work: 
                 made.add(arg)
                 i += 2
                 continue
-            if w in ("-I", "-L", "-isystem", "-iquote") and (_REBUILD_ABS.match(arg) or arg == "." or arg in {
-                    str(PurePosixPath(n).parent) for n in files}):
+            if w in ("-I", "-L", "-isystem", "-iquote") and (outside(arg) or arg in folders):
                 argv += [w, arg]
                 i += 2
                 continue
             if w in ("-ffile-prefix-map=.=.", "-ffile-prefix-map=controller=controller"):
                 local = w.split("=")[1]
                 argv.append(f"-ffile-prefix-map={(work / local) if local != '.' else work}={local}")
-            elif _REBUILD_OPTION.match(w) or _REBUILD_ABS.match(w) and w.endswith((".so", ".a")) or (
+            elif _REBUILD_OPTION.match(w) or outside(w) and w.endswith((".so", ".a")) or (
                     w in made or w in files and not w.startswith(("bin/", "-"))):
                 argv.append(w)
             else:
