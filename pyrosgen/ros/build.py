@@ -439,21 +439,25 @@ def write_catkin_packages(model: NodeModel, node: ros.ProvedNode, stage: Path, c
 PREFIX_MAP = "-ffile-prefix-map="
 
 
-def _reproducible(argv: Sequence[str], stage: Path, controller: Path, *, compile: bool) -> list[str]:
+def _reproducible(argv: Sequence[str], stage: Path, controller: Path | None, *, compile: bool) -> list[str]:
     """A compile (or link) command that gives the same object (or binary),
     bit for bit, wherever the staging folder and the controller folder are,
     so that ``verify --rebuild`` can compare the binary: the command runs
     in the staging folder and names its files relative to it; a compile
     command ends with ``-ffile-prefix-map`` options that write the staging
-    folder as ``.`` and the controller folder as ``controller`` (its copy
-    in ``OUT``, compiled under that name by ``verify --rebuild``).  The rest
+    folder as ``.`` and, for a source of the ``controller`` folder, that
+    folder as ``controller`` (its copy in ``OUT``, compiled under that name
+    by ``verify --rebuild``; only there, so that the glue's and the
+    wrapper's objects are reused when the controller folder moves).  The rest
     is deterministic already: no generated file uses ``__DATE__`` or
     ``__TIME__``, the objects are linked in a fixed order, and the linker's
     build-id is a hash of the binary's contents."""
     s = str(stage)
     out = [a[len(s) + 1:] if a.startswith(s + "/") else "." if a == s else a for a in argv]
     if compile:
-        out += [f"{PREFIX_MAP}{s}=.", f"{PREFIX_MAP}{controller.absolute()}=controller"]
+        out.append(f"{PREFIX_MAP}{s}=.")
+    if compile and controller is not None:
+        out.append(f"{PREFIX_MAP}{controller.absolute()}=controller")
     return out
 
 
@@ -794,7 +798,8 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         def compile_one(step: int, what: str, tool: list[str], ident: str, flags: Sequence[str],
                         src: Path, out_name: str, inputs: Sequence[Path], user: bool) -> None:
             out = obj / out_name
-            argv = _reproducible([*tool, *flags, "-c", str(src), "-o", str(out)], stage, ctl.path, compile=True)
+            argv = _reproducible([*tool, *flags, "-c", str(src), "-o", str(out)], stage,
+                                 ctl.path if user else None, compile=True)
             commands.append(_shown_argv(argv, stage, ctl.path))
             key = _key(argv, stage, ident, [src, *inputs])
             keys.append(key)
@@ -845,7 +850,7 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         (stage / "bin").mkdir()
         binary = stage / "bin" / node
         argv = _reproducible([*cxx, *LDFLAGS, *opts.ldflags, *(str(o) for o in objects), "-o", str(binary), *pc_libs,
-                              *opts.libs, *LDLIBS], stage, ctl.path, compile=False)
+                              *opts.libs, *LDLIBS], stage, None, compile=False)
         commands.append(_shown_argv(argv, stage, ctl.path))
         key = _key(argv, stage, cxx_id, [], extra=keys)
         if cache.reuse(f"bin/{node}", key, binary):
