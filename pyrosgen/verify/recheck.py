@@ -378,7 +378,7 @@ def _check_rebuild(folder: Path, rec: ProofRecord, files: dict[str, str], work: 
     cmds = [(k, c) for k, c in enumerate(cmds) if isinstance(c, list) and "-o" in c]
     made: set[str] = set()
     runs: list[list[str]] = []
-    folders = {str(PurePosixPath(f).parent) for f in files}
+    folders = {str(d) for f in files for d in PurePosixPath(f).parents}
 
     def outside(w: str) -> bool:
         """An absolute path, not in the folder (nothing of the folder's is read but by its name)."""

@@ -8,7 +8,7 @@ import hashlib
 import json
 import shutil
 
-from .conftest import LANDSHARK, LANDSHARK_CTL, pyrosgen
+from .conftest import LANDSHARK, LANDSHARK_CTL, MULTI, MULTI_CTL, pyrosgen
 
 NODE = "landshark_controller"
 BIN = f"bin/{NODE}"
@@ -52,6 +52,20 @@ def test_verify_rebuild_of_a_build_folder(landshark_build):
     assert run.returncode == 0, run.stdout + run.stderr
     assert (f"  ok      rebuild   {BIN} rebuilt from the folder's files with the 4 recorded commands: "
             "the same, bit for bit") in run.stdout
+
+
+def test_verify_rebuild_with_custom_messages(tmp_path):
+    """The wrapper of a node with a message package of its own includes the
+    gencpp headers of ``include/``: rebuilt from the folder's copies."""
+    out = tmp_path / "multi"
+    run = pyrosgen("build", MULTI, "--controller", MULTI_CTL, "-o", out, "-q")
+    assert run.returncode == 0, run.stderr
+    wrapper = next(c for c in json.loads((out / "multi_node.manifest.json").read_text())["build"]["commands"]
+                   if "multi_node_ros.cpp" in c)
+    assert wrapper[wrapper.index("include") - 1] == "-I"
+    run = pyrosgen("verify", out, "--rebuild", "-q")
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "  ok      rebuild   bin/multi_node rebuilt from the folder's files" in run.stdout
 
 
 def test_a_patched_binary_is_refused(landshark_build, tmp_path):
