@@ -81,7 +81,7 @@ mutants: deps proofs
 	@echo "mutants: $$(grep -c '^Theorem [a-z_]*_refuted' coq/tests/MutantsDiagram.v) controller generator mutations refuted by T6 (coq/tests/MutantsDiagram.v)"
 	@echo "mutants: $$(grep -c '^Theorem [a-z0-9_]*_refuted' coq/tests/Linked.v) controller mutations of the linked program refuted by T8 (coq/tests/Linked.v)"
 	@echo "mutants: $$(grep -c '^Theorem [a-z0-9_]*_refuted' coq/tests/SystemMutants.v) system wiring mutations refused by System.link_ok (coq/tests/SystemMutants.v)"
-	@$(PY) -m pytest -q -p no:cacheprovider tests/generate/test_seam.py tests/build/test_wrapper_check.py tests/build/test_elem_seq_wrapper_check.py tests/generate/test_verify.py tests/generate/test_verify_hostile.py tests/validation/test_printer_mutation.py tests/nversion/test_misreading.py tests/build/test_verify_package.py tests/build/test_verify_custom_msgs.py tests/build/test_build_flags.py
+	@$(PY) -m pytest -q -p no:cacheprovider tests/generate/test_seam.py tests/build/test_wrapper_check.py tests/build/test_elem_seq_wrapper_check.py tests/generate/test_verify.py tests/generate/test_verify_hostile.py tests/validation/test_printer_mutation.py tests/nversion/test_misreading.py tests/build/test_verify_package.py tests/build/test_verify_custom_msgs.py tests/build/test_build_flags.py tests/build/test_rebuild.py
 
 ## test: everything, in PYTEST_JOBS processes (pytest-xdist; a test file
 ## stays in one process, so its module fixtures are built once)

@@ -274,7 +274,8 @@ def cmd_verify(args: argparse.Namespace) -> int:
     try:
         with _stopped_by_signals():
             report = verify_folder(args.folder, node=args.node, model=args.model, wp=args.wp,
-                                   kernel=args.kernel, progress=_progress(args), timeout=args.timeout)
+                                   kernel=args.kernel, progress=_progress(args), timeout=args.timeout,
+                                   rebuild=args.rebuild)
     except VerifyFailed as exc:
         print(f"pyrosgen: {exc.verify_report.folder} does NOT verify (node {exc.verify_report.node})")
         _print_checks(exc.verify_report)
@@ -411,6 +412,7 @@ only if the node's DDC theorem was checked and is closed under the global contex
     "verify": """examples:
   pyrosgen verify build/landshark                       # hashes, coqc/coqchk, re-printed C, wrapper
   pyrosgen verify build/landshark --model examples/landshark/landshark_controller.yaml --wp
+  pyrosgen verify build/landshark --rebuild             # also rebuild bin/<node>, compare bit for bit
 
 exit codes: 0 every check holds, 1 a check failed (each is named) or not an
 output folder, 2 a tool is missing.""",
@@ -544,6 +546,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--timeout", metavar="SECONDS", type=_positive_seconds, default=600.0,
                    help="stop each tool run (coqc, coqchk, the OCaml compiler, the printer) after SECONDS "
                         "and fail its check (default 600)")
+    p.add_argument("--rebuild", action="store_true",
+                   help="also compile the node's binary again from the folder's files with the recorded "
+                        "compile commands (checked word by word first) and compare it with bin/NODE bit for bit")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     p.set_defaults(func=cmd_verify)
 

@@ -17,7 +17,15 @@ import tempfile
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-__all__ = ["run", "start", "Started", "stop_group"]
+__all__ = ["run", "start", "Started", "stop_group", "DEFAULT_MAX_MEMORY", "out_of_memory"]
+
+#: The default address-space limit of a tool ``verify`` runs,
+#: in bytes: 8 GiB.  ``verify`` of the largest model of BENCHMARKS.md's
+#: controller arrays (two arrays of 8,192 elements) passes with every tool
+#: limited to 1 GiB (coqc, coqchk, ocamlopt, the printer; the largest
+#: resident size 502 MiB) and fails at 0.6 GiB (coqc "Out of memory"):
+#: 8 GiB leaves a margin of 8 for larger nodes.
+DEFAULT_MAX_MEMORY = 8 << 30
 
 
 def stop_group(proc: subprocess.Popen, grace: float = 2.0) -> None:
@@ -41,29 +49,57 @@ def stop_group(proc: subprocess.Popen, grace: float = 2.0) -> None:
         return
 
 
-def _raise_stack_limit() -> None:
-    """In the child: the stack's soft limit raised to its hard limit."""
-    import resource
+def _limits(big_stack: bool, max_memory: int | None):
+    """What the child runs before the tool (``preexec_fn``), or ``None``:
+    the stack's soft limit raised to its hard limit (``big_stack``), the
+    address space limited to ``max_memory`` bytes (``RLIMIT_AS``: an
+    allocation beyond it fails in the tool, which stops, instead of the
+    machine swapping)."""
+    if not big_stack and max_memory is None:
+        return None
 
-    _soft, hard = resource.getrlimit(resource.RLIMIT_STACK)
-    resource.setrlimit(resource.RLIMIT_STACK, (hard, hard))
+    def preexec() -> None:
+        import resource
+
+        if big_stack:
+            _soft, hard = resource.getrlimit(resource.RLIMIT_STACK)
+            resource.setrlimit(resource.RLIMIT_STACK, (hard, hard))
+        if max_memory is not None:
+            _soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+            limit = max_memory if hard == resource.RLIM_INFINITY else min(max_memory, hard)
+            resource.setrlimit(resource.RLIMIT_AS, (limit, hard))
+
+    return preexec
+
+
+def out_of_memory(returncode: int, output: str) -> bool:
+    """Whether a tool run under an address-space limit stopped for want of
+    memory, as far as its exit shows: OCaml's ``Out of memory`` (coqc,
+    coqchk, ocamlopt, the extracted printer), C's ``std::bad_alloc`` or
+    ``virtual memory exhausted`` (gcc), ``Cannot allocate memory``, or
+    killed by SIGSEGV/SIGABRT/SIGKILL (a failed allocation not checked)."""
+    return returncode in (-signal.SIGSEGV, -signal.SIGABRT, -signal.SIGKILL) or any(
+        s in output for s in ("Out of memory", "Out_of_memory", "bad_alloc", "memory exhausted",
+                              "Cannot allocate memory", "out of memory"))
 
 
 def run(argv: Sequence[str], *, cwd: str | Path | None = None, timeout: float | None = None,
         env: Mapping[str, str] | None = None, input: str | None = None,
-        big_stack: bool = False) -> subprocess.CompletedProcess:
+        big_stack: bool = False, max_memory: int | None = None) -> subprocess.CompletedProcess:
     """``subprocess.run(argv, capture_output=True, text=True,
     errors="replace", check=False)`` with standard input from ``input`` (or
     ``/dev/null``), in a process group of its own that is stopped on any
     exception (``KeyboardInterrupt``, ``subprocess.TimeoutExpired``, ...).
     ``big_stack``: the child's stack limit raised to the hard limit (the
     OCaml compilers recurse on the depth of the extracted terms: 8 MB is
-    not enough for a diagram of 5,000 blocks, BENCHMARKS.md section 7)."""
+    not enough for a diagram of 5,000 blocks, BENCHMARKS.md section 7).
+    ``max_memory``: the child's address space limited to that many bytes
+    (:func:`out_of_memory` tells whether it ran out)."""
     with subprocess.Popen(
         [str(a) for a in argv], cwd=None if cwd is None else str(cwd), env=None if env is None else dict(env),
         stdin=subprocess.PIPE if input is not None else subprocess.DEVNULL,
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, errors="replace",
-        start_new_session=True, preexec_fn=_raise_stack_limit if big_stack else None,
+        start_new_session=True, preexec_fn=_limits(big_stack, max_memory),
     ) as proc:
         try:
             out, err = proc.communicate(input, timeout=timeout)
@@ -121,7 +157,7 @@ class Started:
             self.stop()
 
 
-def start(argv: Sequence[str], *, cwd: str | Path | None = None) -> Started:
+def start(argv: Sequence[str], *, cwd: str | Path | None = None, max_memory: int | None = None) -> Started:
     """Start ``argv`` as :func:`run` would run it (standard input from
     ``/dev/null``, a process group of its own), its outputs kept in
     temporary files (a pipe nobody reads while pyrosgen does something
@@ -131,7 +167,7 @@ def start(argv: Sequence[str], *, cwd: str | Path | None = None) -> Started:
     try:
         proc = subprocess.Popen(
             [str(a) for a in argv], cwd=None if cwd is None else str(cwd), stdin=subprocess.DEVNULL,
-            stdout=out, stderr=err, start_new_session=True,
+            stdout=out, stderr=err, start_new_session=True, preexec_fn=_limits(False, max_memory),
         )
     except BaseException:
         out.close()

@@ -319,13 +319,26 @@ _DRIVER_CTRL_ML = _DRIVER_ML.replace(
       prerr_endline "usage: print_job OUT.h OUT.c OUT.sexp OUT.model CTRL.c CTRL.sexp CTRL.diagram";""")
 
 
+def _check_memory(argv: Sequence[str], proc, max_memory: int | None) -> None:
+    """:class:`CoqError` if the tool ``argv`` stopped for want of memory
+    under the address-space limit ``max_memory``
+    (:func:`pyrosgen.procs.out_of_memory`)."""
+    if max_memory is not None and proc.returncode != 0 and procs.out_of_memory(
+            proc.returncode, (proc.stdout or "") + (proc.stderr or "")):
+        size = f"{max_memory >> 30} GiB" if max_memory % (1 << 30) == 0 else f"{max_memory >> 20} MiB"
+        output = (proc.stdout or "") + (proc.stderr or "")
+        raise CoqError(f"{Path(argv[0]).name} ran out of memory: it stopped at the limit of {size} of address "
+                       f"space (exit status {proc.returncode})", [_one_line(output)])
+
+
 class Running:
     """A tool the driver started in the background
     (:meth:`CoqDriver.coqchk_start`)."""
 
     def __init__(self, started: "procs.Started", t0: float, timeout: float | None,
-                 verdict: Callable[[CoqcResult], CoqcResult]):
+                 verdict: Callable[[CoqcResult], CoqcResult], max_memory: int | None = None):
         self._started, self._t0, self._timeout, self._verdict = started, t0, timeout, verdict
+        self._max_memory = max_memory
 
     def result(self) -> CoqcResult:
         """Wait for the tool; its result, or :class:`CoqError` if it failed
@@ -339,6 +352,7 @@ class Running:
             raise CoqError(f"{Path(argv[0]).name} did not finish within {self._timeout} s") from None
         seconds = time.monotonic() - self._t0
         console.trace_result(argv, proc.returncode, seconds)
+        _check_memory(argv, proc, self._max_memory)
         return self._verdict(CoqcResult(tuple(argv), proc.returncode, proc.stdout, proc.stderr, seconds))
 
     def __enter__(self) -> "Running":
@@ -357,12 +371,15 @@ class CoqDriver:
     Tools are looked up in ``PATH`` when first needed.
     """
 
-    def __init__(self, theories: str | Path | None = None, *, timeout: float | None = None):
+    def __init__(self, theories: str | Path | None = None, *, timeout: float | None = None,
+                 max_memory: int | None = None):
         if theories is None:
             env = os.environ.get(COQLIB_ENV)
             theories = Path(env) if env else self._default_theories()
         self.theories = Path(theories).absolute()
         self.timeout = timeout
+        #: the address-space limit of every tool run, in bytes (``None``: none)
+        self.max_memory = max_memory
         self._tools: dict[str, str] = {}
 
     @staticmethod
@@ -487,12 +504,13 @@ class CoqDriver:
         t0 = time.monotonic()
         console.trace_command(argv)
         try:
-            proc = procs.run(argv, cwd=cwd, timeout=self.timeout, big_stack=big_stack)
+            proc = procs.run(argv, cwd=cwd, timeout=self.timeout, big_stack=big_stack, max_memory=self.max_memory)
         except OSError as exc:
             raise CoqError(f"cannot run {argv[0]}: {exc.strerror or exc}") from None
         except subprocess.TimeoutExpired:
             raise CoqError(f"{Path(argv[0]).name} did not finish within {self.timeout} s") from None
         console.trace_result(argv, proc.returncode, time.monotonic() - t0)
+        _check_memory(argv, proc, self.max_memory)
         return CoqcResult(tuple(argv), proc.returncode, proc.stdout, proc.stderr, time.monotonic() - t0)
 
     def load_path(self, extra: Sequence[tuple[Path, str]] = ()) -> list[str]:
@@ -618,10 +636,10 @@ class CoqDriver:
         console.trace_command(argv)
         t0 = time.monotonic()
         try:
-            started = procs.start(argv, cwd=lib[0])
+            started = procs.start(argv, cwd=lib[0], max_memory=self.max_memory)
         except OSError as exc:
             raise CoqError(f"cannot run {argv[0]}: {exc.strerror or exc}") from None
-        return Running(started, t0, self.timeout, lambda res: self._coqchk_verdict(module, res))
+        return Running(started, t0, self.timeout, lambda res: self._coqchk_verdict(module, res), self.max_memory)
 
     def print_texts(self, module: str, lib: tuple[Path, str], outputs: tuple[Path, ...], *,
                     relations: int = 0) -> dict[str, float]:

@@ -435,12 +435,44 @@ def write_catkin_packages(model: NodeModel, node: ros.ProvedNode, stage: Path, c
     return record
 
 
+#: The option that maps a folder's name in what the compiler writes into the
+#: object (``__FILE__``, debugging information) to another (GCC 8).
+PREFIX_MAP = "-ffile-prefix-map="
+
+
+def _reproducible(argv: Sequence[str], stage: Path, controller: Path | None, *, compile: bool) -> list[str]:
+    """A compile (or link) command that gives the same object (or binary),
+    bit for bit, wherever the staging folder and the controller folder are,
+    so that ``verify --rebuild`` can compare the binary: the command runs
+    in the staging folder and names its files relative to it; a compile
+    command ends with ``-ffile-prefix-map`` options that write the staging
+    folder as ``.`` and, for a source of the ``controller`` folder, that
+    folder as ``controller`` (its copy in ``OUT``, compiled under that name
+    by ``verify --rebuild``; only there, so that the glue's and the
+    wrapper's objects are reused when the controller folder moves).  The rest
+    is deterministic already: no generated file uses ``__DATE__`` or
+    ``__TIME__``, the objects are linked in a fixed order, and the linker's
+    build-id is a hash of the binary's contents."""
+    s = str(stage)
+    out = [a[len(s) + 1:] if a.startswith(s + "/") else "." if a == s else a for a in argv]
+    if compile:
+        out.append(f"{PREFIX_MAP}{s}=.")
+    if compile and controller is not None:
+        out.append(f"{PREFIX_MAP}{controller.absolute()}=controller")
+    return out
+
+
 def _shown_argv(argv: Sequence[str], stage: Path, controller: Path) -> list[str]:
     """A compiler command as the certificate shows it: paths in the staging
     folder relative to ``OUT`` (the command runs in it), the controller
-    folder as ``OUT``'s copy ``controller``."""
+    folder as ``OUT``'s copy ``controller`` (in a ``-ffile-prefix-map``
+    option too)."""
     out = []
     for a in argv:
+        if a.startswith(PREFIX_MAP) and "=" in a[len(PREFIX_MAP):]:
+            old, new = a[len(PREFIX_MAP):].rsplit("=", 1)
+            out.append(PREFIX_MAP + _shown_argv([old], stage, controller)[0] + "=" + new)
+            continue
         for folder, shown in ((str(stage), "."), (str(controller.absolute()), "controller")):
             if a == folder:
                 a = shown
@@ -832,7 +864,8 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         def compile_one(step: int, what: str, tool: list[str], ident: str, flags: Sequence[str],
                         src: Path, out_name: str, inputs: Sequence[Path], user: bool) -> None:
             out = obj / out_name
-            argv = [*tool, *flags, "-c", str(src), "-o", str(out)]
+            argv = _reproducible([*tool, *flags, "-c", str(src), "-o", str(out)], stage,
+                                 ctl.path if user else None, compile=True)
             commands.append(_shown_argv(argv, stage, ctl.path))
             key = _key(argv, stage, ident, [src, *inputs])
             keys.append(key)
@@ -882,8 +915,8 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         t = time.monotonic()
         (stage / "bin").mkdir()
         binary = stage / "bin" / node
-        argv = [*cxx, *LDFLAGS, *opts.ldflags, *(str(o) for o in objects), "-o", str(binary), *pc_libs,
-                *opts.libs, *LDLIBS]
+        argv = _reproducible([*cxx, *LDFLAGS, *opts.ldflags, *(str(o) for o in objects), "-o", str(binary), *pc_libs,
+                              *opts.libs, *LDLIBS], stage, None, compile=False)
         commands.append(_shown_argv(argv, stage, ctl.path))
         key = _key(argv, stage, cxx_id, [], extra=keys)
         if cache.reuse(f"bin/{node}", key, binary):

@@ -481,12 +481,15 @@ def run_wp(model: NodeModel, glue: str | Path, header: str | Path, work: str | P
 
 
 def run_wp_file(wrapper: Path, frames: list[tuple[str, str | None, tuple[str, ...]]], *,
-                timeout: int = 10, jobs: int = 2, provers: tuple[str, ...] | None = None) -> WPResult:
+                timeout: int = 10, jobs: int = 2, provers: tuple[str, ...] | None = None,
+                limit: float = 3600.0) -> WPResult:
     """Prove the contracts of the contracts file ``wrapper`` (which
     includes the glue and its header, next to it) on the functions of
     ``frames`` (:func:`contract_frame`); the folder of ``wrapper`` is the
     work folder.  Raises :class:`WPError` unless every goal is proved and
-    every memory-model hypothesis WP used is stated by a contract."""
+    every memory-model hypothesis WP used is stated by a contract.
+    ``timeout`` is WP's limit per goal; ``limit`` stops Frama-C as a whole
+    after that many seconds (``verify --timeout``)."""
     frama_c = _tool("frama-c", "install Frama-C (Debian package frama-c-base) for --wp")
     work = wrapper.parent
     conf, found = _why3_config(work)
@@ -502,9 +505,9 @@ def run_wp_file(wrapper: Path, frames: list[tuple[str, str | None, tuple[str, ..
     env = dict(os.environ, WHY3CONFIG=str(conf), PWD=str(work.resolve()))
     t0 = time.monotonic()
     try:
-        proc = procs.run(argv, cwd=work, env=env, timeout=3600)
+        proc = procs.run(argv, cwd=work, env=env, timeout=limit)
     except subprocess.TimeoutExpired:
-        raise WPError("frama-c did not finish within an hour") from None
+        raise WPError(f"frama-c did not finish within {limit:g} s") from None
     seconds = time.monotonic() - t0
     output = proc.stdout + proc.stderr
     m = _PROVED.search(output)

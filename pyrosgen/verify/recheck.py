@@ -7,7 +7,7 @@ certificate.  The folder is hostile input: every file is read through
 file, no link on the way, bounded size), the manifest is validated field
 by field (:func:`pyrosgen.verify.certificate.read_manifest`), everything
 verify writes is in its temporary folder under names it checked, and every
-tool runs with a timeout.  The checks, from the folder's manifest
+tool runs with a timeout and an address-space limit.  The checks, from the folder's manifest
 (``<node>.manifest.json``, :mod:`pyrosgen.verify.certificate`):
 
 1. **hashes**: every file the manifest covers is present and has its
@@ -40,7 +40,11 @@ tool runs with a timeout.  The checks, from the folder's manifest
 9. **WP** (with ``--wp``): Frama-C WP proves the folder's ACSL contracts
    file on the folder's C, every goal; with ``--model`` too, the contracts
    file must be the one generated from that model (without it, only its
-   digest vouches that the contracts were not weakened).
+   digest vouches that the contracts were not weakened);
+10. **rebuild** (with ``--rebuild``, a ``build`` folder): the binary is
+    compiled again from the folder's files with the recorded commands
+    (checked word by word first) and equals ``bin/<node>`` bit for bit
+    (:func:`_check_rebuild`).
 
 Each check reports ``ok`` or ``FAILED`` with its reasons; a failed check
 does not stop the others.  Exit status: 0 when every check holds, 1 when
@@ -53,13 +57,15 @@ import contextlib
 import hashlib
 import re
 import shutil
+import subprocess
 import tempfile
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 
 from pyrosgen.errors import PyrosgenError, UserError
+from pyrosgen.procs import DEFAULT_MAX_MEMORY
 from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
 from pyrosgen.proof.coqmodel import node_file_names
 from pyrosgen.proof.modeltext import ModelMismatch, compare_model_texts, model_text
@@ -332,27 +338,138 @@ def _reprint(drv: CoqDriver, folder: Path, rec: ProofRecord, module: str, lib: t
                         **texts)
 
 
+#: The compilers ``verify --rebuild`` runs: the first word of a recorded
+#: command, looked up in ``PATH`` (GCC's, as ``build`` runs them).
+_REBUILD_TOOL = re.compile(r"^(gcc|g\+\+|cc|c\+\+)(-[0-9]+)?$")
+#: The options of a recorded command that ``verify --rebuild`` passes on;
+#: any other word (``-fplugin``, ``-wrapper``, ``-B``, ``-specs``,
+#: ``@file``, ``-Wl,--plugin``, an output file outside ``obj/`` and
+#: ``bin/``, ...) is refused, so that nothing of the folder's choosing
+#: runs a program, loads a plugin or writes outside the temporary folder.
+_REBUILD_OPTION = re.compile(
+    r"^(-c|-pthread|-pedantic|-std=[a-z0-9+]+|-O[0-3sgz]?|-g[a-z0-9]*|-W(?![lap],)[a-z0-9=+-]+"
+    r"|-f(?!plugin|dump|opt-info|module|use-ld|profile|auto-profile|save|callgraph|stack-usage|lto|ltrans"
+    r"|[a-z-]*prefix-map)[a-z0-9=+,.-]+"
+    r"|-m[a-z0-9=+,.-]+|-[DU][A-Za-z_][A-Za-z0-9_]*(=[A-Za-z0-9_.+-]*)?|-l[A-Za-z0-9_.+-]+|-l:[A-Za-z0-9_.+-]+"
+    r"|-Wl,-rpath,/[A-Za-z0-9_./+-]+|-Wl,--(no-)?as-needed|-Wl,-O[0-3])$")
+#: An absolute path a recorded command may name (an include or library
+#: folder, a library of ``pkg-config --libs``: read by the compiler only).
+_REBUILD_ABS = re.compile(r"^/(?!.*/\.\.?(/|$))[A-Za-z0-9_./+-]+$")
+
+
+def _check_rebuild(folder: Path, rec: ProofRecord, files: dict[str, str], work: Path, timeout: float,
+                   max_memory: int | None) -> Check:
+    """``verify --rebuild``: the folder's files (those the manifest covers,
+    read through :func:`folder.read_file`) copied into ``work``, the
+    recorded commands that make ``obj/*.o`` and ``bin/<node>``
+    (``build.commands``) checked word by word (:data:`_REBUILD_TOOL`,
+    :data:`_REBUILD_OPTION`, :data:`_REBUILD_ABS`, names of the folder),
+    run in ``work`` (``-ffile-prefix-map=.=.`` and
+    ``-ffile-prefix-map=controller=controller`` naming ``work``'s folders,
+    as ``build`` named its staging folder's), and the binary compared with
+    the folder's ``bin/<node>`` byte for byte (``build`` is reproducible,
+    :func:`pyrosgen.ros.build._reproducible`)."""
+    from pyrosgen import procs
+
+    binary = f"bin/{rec.node}"
+    cmds = rec.build.get("commands") if isinstance(rec.build, dict) else None
+    if binary not in files or not isinstance(cmds, list):
+        return Check("rebuild", False, f"not run: the folder has no {binary} and build.commands to rebuild it from")
+    cmds = [(k, c) for k, c in enumerate(cmds) if isinstance(c, list) and "-o" in c]
+    made: set[str] = set()
+    runs: list[list[str]] = []
+    folders = {str(d) for f in files for d in PurePosixPath(f).parents}
+
+    def outside(w: str) -> bool:
+        """An absolute path, not in the folder (nothing of the folder's is read but by its name)."""
+        return bool(_REBUILD_ABS.match(w)) and not Path(w).resolve().is_relative_to(folder.resolve())
+
+    for n, (k, c) in enumerate(cmds):
+        bad = None if all(isinstance(w, str) for w in c) and c and _REBUILD_TOOL.match(c[0]) else f"{c[:1]!r}"
+        argv, i = [shutil.which(c[0]) or c[0]] if bad is None else [], 1
+        while bad is None and i < len(c):
+            w, arg = c[i], c[i + 1] if i + 1 < len(c) else ""
+            if w == "-o" and (re.fullmatch(r"obj/[A-Za-z0-9_.+-]+\.o", arg) or arg == binary and n == len(cmds) - 1):
+                argv += [w, arg]
+                made.add(arg)
+                i += 2
+                continue
+            if w in ("-I", "-L", "-isystem", "-iquote") and (outside(arg) or arg in folders):
+                argv += [w, arg]
+                i += 2
+                continue
+            if w in ("-ffile-prefix-map=.=.", "-ffile-prefix-map=controller=controller"):
+                local = w.split("=")[1]
+                argv.append(f"-ffile-prefix-map={(work / local) if local != '.' else work}={local}")
+            elif _REBUILD_OPTION.match(w) or outside(w) and w.endswith((".so", ".a")) or (
+                    w in made or w in files and not w.startswith(("bin/", "-"))):
+                argv.append(w)
+            else:
+                bad = repr(w)
+            i += 1
+        if bad is not None:
+            return Check("rebuild", False, f"not run: build.commands[{k}] has {bad}, which verify does not run", [
+                "  " + " ".join(map(str, c))])
+        runs.append(argv)
+    if binary not in made:
+        return Check("rebuild", False, f"not run: no recorded command links {binary}")
+    for name in files:
+        if not name.startswith("bin/"):
+            dest = _inside(work, name)
+            dest.parent.mkdir(parents=True, exist_ok=True)
+            dest.write_bytes(read_file(folder, name))
+    (work / "obj").mkdir(exist_ok=True)
+    (work / "bin").mkdir(exist_ok=True)
+    for argv in runs:
+        try:
+            r = procs.run(argv, cwd=work, timeout=timeout, max_memory=max_memory)
+        except OSError as exc:
+            return Check("rebuild", False, f"cannot run {argv[0]}: {exc.strerror or exc}")
+        except subprocess.TimeoutExpired:
+            return Check("rebuild", False, f"{Path(argv[0]).name} did not finish within {timeout:g} s")
+        if r.returncode != 0:
+            return Check("rebuild", False, f"{Path(argv[0]).name} failed (exit status {r.returncode}) on "
+                         f"{argv[argv.index('-o') + 1]}", ["  " + line for line in (r.stderr + r.stdout)
+                                                          .replace(str(work), ".").splitlines()[:20]])
+    have, want = read_file(folder, binary), _inside(work, binary).read_bytes()
+    if have != want:
+        at = next((i for i in range(min(len(have), len(want))) if have[i] != want[i]), min(len(have), len(want)))
+        return Check("rebuild", False, f"{binary} is not the binary its recorded commands build from the folder's "
+                     f"files", [f"  {binary}: {len(have)} bytes, rebuilt {len(want)} bytes, first difference at "
+                                f"byte {at} (another compiler or library than the build's, or the binary was "
+                                "changed)"])
+    return Check("rebuild", True, f"{binary} rebuilt from the folder's files with the {len(runs)} recorded "
+                 "commands: the same, bit for bit")
+
+
 def verify_folder(folder: str | Path, *, node: str | None = None, model: str | Path | None = None,
                   wp: bool = False, kernel: bool = False, driver: CoqDriver | None = None,
                   progress: Callable[[str], None] | None = None,
-                  timeout: float = DEFAULT_TIMEOUT) -> VerifyReport:
+                  timeout: float = DEFAULT_TIMEOUT, max_memory: int | None = DEFAULT_MAX_MEMORY,
+                  rebuild: bool = False) -> VerifyReport:
     """Run the checks of the module documentation on ``folder``; raise
     :class:`VerifyFailed` unless all hold (the report is its
     ``verify_report``).  Every tool run (coqc, coqchk, the OCaml compiler,
     the extracted printer) is stopped after ``timeout`` seconds, and its
-    check fails ("did not finish within N s").  A file of the folder that
+    check fails ("did not finish within N s"), and may use at most
+    ``max_memory`` bytes of address space (its check fails: "ran out of
+    memory"); Frama-C (``wp``) is stopped after ``timeout`` seconds too.
+    ``rebuild``: the node's binary is compiled again from the folder's
+    files with the recorded commands and compared bit for bit
+    (:func:`_check_rebuild`).  A file of the folder that
     is not a plain regular file of it (a link, a FIFO, a device, too
     large: :mod:`pyrosgen.verify.folder`) stops the run at once with
     :class:`UnsafeFile` naming it (exit 1)."""
     try:
         return _verify_folder(Path(folder), node=node, model=model, wp=wp, kernel=kernel, driver=driver,
-                              progress=progress, timeout=timeout)
+                              progress=progress, timeout=timeout, max_memory=max_memory, rebuild=rebuild)
     except UnsafeFile as exc:
         raise UnsafeFile(f"{folder}: refusing the folder: {exc}") from None
 
 
 def _verify_folder(folder: Path, *, node: str | None, model: str | Path | None, wp: bool, kernel: bool,
-                   driver: CoqDriver | None, progress: Callable[[str], None] | None, timeout: float) -> VerifyReport:
+                   driver: CoqDriver | None, progress: Callable[[str], None] | None, timeout: float,
+                   max_memory: int | None, rebuild: bool) -> VerifyReport:
     say = progress or (lambda _line: None)
     folder = Path(folder)
     t0 = time.monotonic()
@@ -363,7 +480,7 @@ def _verify_folder(folder: Path, *, node: str | None, model: str | Path | None, 
         raise NotAnOutputFolder(f"{folder}: unreadable manifest: {exc}") from None
     report = VerifyReport(folder, rec.node)
     checks = report.checks
-    total = 6 + (model is not None) + (wp is True) + any(n.endswith("_ros.cpp") for n in files) \
+    total = 6 + (model is not None) + (wp is True) + rebuild + any(n.endswith("_ros.cpp") for n in files) \
         + is_build_folder(rec, files)
     step = 0
 
@@ -375,9 +492,11 @@ def _verify_folder(folder: Path, *, node: str | None, model: str | Path | None, 
     begin("hashes")
     checks.append(_check_hashes(folder, rec, files))
 
-    drv = driver or CoqDriver(timeout=timeout)
+    drv = driver or CoqDriver(timeout=timeout, max_memory=max_memory)
     if drv.timeout is None:
         drv.timeout = timeout
+    if drv.max_memory is None:
+        drv.max_memory = max_memory
     drv.check_tools()
     drv.check_library()
     begin("library identity")
@@ -501,6 +620,10 @@ def _verify_folder(folder: Path, *, node: str | None, model: str | Path | None, 
             begin("package: every file of the node rendered again from the proof")
             checks.append(check_package(folder, rec, files, proved_text))
 
+        if rebuild:
+            begin(f"rebuild: bin/{rec.node} compiled again and compared bit for bit")
+            checks.append(_check_rebuild(folder, rec, files, work / "rebuild", timeout, max_memory))
+
         if wp:
             begin("Frama-C WP")
             if not rec.wp:
@@ -526,7 +649,7 @@ def _verify_folder(folder: Path, *, node: str | None, model: str | Path | None, 
                     if frames != [contract_frame(c) for c in cs]:
                         problems.append(f"  the manifest's WP functions are not those of {Path(model).name}")
                 try:
-                    r = run_wp_file(_inside(wdir, rec.wp["contracts"]), frames)
+                    r = run_wp_file(_inside(wdir, rec.wp["contracts"]), frames, limit=timeout)
                     if problems:
                         checks.append(Check("wp", False, r.summary(), problems))
                     else:

@@ -533,3 +533,54 @@ def test_timeout_must_be_positive(copy):
     code, out = _verify(copy, "--timeout", "0", timeout=60)
     assert code == 1, out
     assert "not a positive number of seconds" in out
+
+
+# -- memory -------------------------------------------------------------------------------------
+
+
+def test_a_tool_over_the_memory_limit_is_stopped(copy, tmp_path, monkeypatch):
+    """Every tool verify runs has an address-space limit: coqc under
+    256 MiB (LandShark needs more; the largest model of BENCHMARKS.md
+    passes under 1 GiB, the default is 8 GiB) stops with "Out of memory",
+    and its check fails naming the limit, instead of the machine swapping."""
+    import tempfile
+
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    with pytest.raises(VerifyFailed) as info:
+        verify_folder(copy, max_memory=256 << 20)
+    failed = {c.name: c for c in info.value.verify_report.checks if not c.ok}
+    assert failed["coqc"].summary.startswith("coqc ran out of memory: it stopped at the limit of 256 MiB "
+                                             "of address space"), failed["coqc"]
+    assert "Out of memory" in failed["coqc"].details[0]
+
+
+def test_procs_run_limits_the_address_space():
+    from pyrosgen import procs
+
+    grab = [sys.executable, "-c", "x = bytearray(512 << 20); print(len(x))"]
+    r = procs.run(grab, max_memory=128 << 20)
+    assert r.returncode != 0 and "MemoryError" in r.stderr
+    r = procs.run(grab, max_memory=2 << 30)
+    assert r.returncode == 0 and r.stdout.strip() == str(512 << 20)
+    assert not procs.out_of_memory(r.returncode, r.stderr + r.stdout)
+    assert procs.out_of_memory(2, "Fatal error: exception Out_of_memory")
+
+
+def test_frama_c_is_stopped_by_the_timeout(tmp_path, monkeypatch):
+    """verify --wp --timeout N: Frama-C stopped after N s (coqc given the
+    usual time by the driver), its check failed with the limit named."""
+    import tempfile
+
+    from pyrosgen.generate import generate
+
+    require_library()
+    if shutil.which("frama-c") is None:
+        pytest.fail("Frama-C is not installed (make deps)")
+    d = tmp_path / "wp"
+    generate(LANDSHARK, d, wp=True)
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    with pytest.raises(VerifyFailed) as info:
+        verify_folder(d, wp=True, timeout=0.5, driver=CoqDriver(timeout=300))
+    failed = {c.name: c for c in info.value.verify_report.checks if not c.ok}
+    assert set(failed) == {"wp"}, failed
+    assert failed["wp"].summary == "frama-c did not finish within 0.5 s"
