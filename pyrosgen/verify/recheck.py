@@ -234,6 +234,30 @@ def _statements(rec: ProofRecord) -> list[tuple[str, str]]:
     return out
 
 
+#: What ``<node>.target`` of a ROS 2 build says (pyrosgen.ros2.build.TARGET_TEXT).
+_ROS2_TARGET = b"target: ros2 (ROS 2 Kilted, rcl, rmw_fastrtps_cpp)\n"
+
+
+def _load_for_target(folder: Path, rec: ProofRecord, model: str | Path):
+    """The front end's reading of ``model`` for the folder's target (rule
+    4.17: ROS 2's message definitions when the folder's ``<node>.target``
+    says ros2, which the hashes cover) and the folder of the target's
+    standard ``.msg`` files for the second reading (``None``: ROS 1's)."""
+    from pyrosgen.frontend.validate import load_model
+
+    try:
+        ros2 = read_file(folder, f"{rec.node}.target", limit=4096) == _ROS2_TARGET
+    except (FileNotFoundError, UnsafeFile):
+        ros2 = False
+    if not ros2:
+        return load_model(model), None
+    from pyrosgen.ros2.env import find_ros2
+    from pyrosgen.ros2.frontend import load_model_ros2
+
+    inst = find_ros2()
+    return load_model_ros2(model, inst), inst.share_dir
+
+
 def _check_vfile(folder: Path, rec: ProofRecord, drv: CoqDriver, model: str | Path | None) -> tuple[Check, str | None]:
     """The folder's ``.v`` is the template's, with only its literal bodies
     free (:func:`vfile.check_structure`), and with ``model`` the one
@@ -260,11 +284,10 @@ def _check_vfile(folder: Path, rec: ProofRecord, drv: CoqDriver, model: str | Pa
     if model is None:
         return Check("v-file", True, f"the template's .v of node {rec.node} ({n} tokens), "
                                      "literals only in its model"), text
-    from pyrosgen.frontend.validate import load_model
     from pyrosgen.proof.coqmodel import render_node_file
 
     try:
-        loaded = load_model(model)
+        loaded, _ = _load_for_target(folder, rec, model)
         diagram = ""
         if loaded.controller.diagram is not None:
             from pyrosgen.proof.coqdiagram import emit_diagram
@@ -576,10 +599,8 @@ def _verify_folder(folder: Path, *, node: str | None, model: str | Path | None, 
             if proved_text is None:
                 checks.append(Check("model", False, "not run: no proved model text"))
             else:
-                from pyrosgen.frontend.validate import load_model
-
                 try:
-                    loaded = load_model(model)
+                    loaded, msg_root = _load_for_target(folder, rec, model)
                     compare_model_texts(model_text(loaded), proved_text, vfile=rec.node_v)
                     if proved_diagram is not None:
                         from pyrosgen.proof.modeltext import compare_diagram_texts, diagram_text
@@ -589,7 +610,8 @@ def _verify_folder(folder: Path, *, node: str | None, model: str | Path | None, 
                                                 f"but {rec.node_v} proves one", [])
                         compare_diagram_texts(diagram_text(loaded), proved_diagram, vfile=rec.node_v)
                     # the second, independent reading of the model file (N-version, DESIGN.md section 7)
-                    check_model_file(model, proved_text, proved_diagram, vfile=rec.node_v)
+                    check_model_file(model, proved_text, proved_diagram, vfile=rec.node_v,
+                                     **({"standard_root": msg_root} if msg_root is not None else {}))
                     checks.append(Check("model", True, f"the proved model is the model of {Path(model).name}, "
                                         "read by the front end and read independently"))
                 except PyrosgenError as exc:

@@ -210,6 +210,10 @@ def test_verify_covers_the_ros2_files(tmp_path, ros2_install):
     build_ros2(rosutil.LANDSHARK, rosutil.CONTROLLERS / "landshark_echo", out, install=ros2_install)
     ok = _cli("verify", "-q", str(out))
     assert ok.returncode == 0, ok.stdout + ok.stderr
+    # --model: the model file read for the folder's target (ROS 2's messages)
+    ok = _cli("verify", str(out), "--model", str(rosutil.LANDSHARK))
+    assert ok.returncode == 0, ok.stdout + ok.stderr
+    assert "read by the front end and read independently" in ok.stdout, ok.stdout
     for name, edit in (("landshark_controller_rcl.c", lambda t: t.replace("options.qos.depth = 1;", "options.qos.depth = 2;", 1)),
                        ("landshark_controller.target", lambda t: t.replace("ros2", "ros1"))):
         bad = tmp_path / f"bad_{name}"
