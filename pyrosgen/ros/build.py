@@ -700,6 +700,29 @@ def build(model_path: str | Path, controller_dir: str | Path, out_dir: str | Pat
                        driver=driver, wp=wp, options=options, _t_start=t0)
 
 
+def check_build_request(model: NodeModel, out_dir: str | Path, controller_dir: str | Path | None,
+                        options: "ControllerOptions | None") -> tuple[Path, "ControllerOptions", bool]:
+    """What every target's ``build`` checks before anything runs: the output
+    folder (``-o ""`` refused, as ``generate`` does), the options (the
+    floating-point flags of DESIGN.md section 7), and that a block-diagram
+    controller takes no ``--controller`` and a C one needs it.  Returns the
+    output folder, the options and whether the controller is a diagram."""
+    out_dir = _check_out_dir(out_dir)
+    if out_dir.exists() and not out_dir.is_dir():
+        raise OutputDirError(f"{out_dir}: exists and is not a directory")
+    opts = options or ControllerOptions()
+    opts.check()
+    diagram = getattr(model.controller, "diagram", None) is not None
+    # what was proved with IEEE 754 semantics runs with them
+    check_flags(opts, generated=diagram)
+    if diagram and controller_dir is not None:
+        raise BuildError(f"{model.source}: the controller is a block diagram (controller.blocks): "
+                         "pyrosgen generates its C; --controller is for a controller written in C")
+    if not diagram and controller_dir is None:
+        raise BuildError("--controller DIR is required: the model's controller is not a block diagram")
+    return out_dir, opts, diagram
+
+
 def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Path, *,
                 progress: Callable[[str], None] | None = None, keep_work: bool = False,
                 driver=None, wp: bool = False, options: ControllerOptions | None = None,
@@ -709,18 +732,7 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
     say = progress or (lambda _line: None)
     t_start = _t_start if _t_start is not None else time.monotonic()
     times: dict[str, float] = {}
-    out_dir = _check_out_dir(out_dir)
-    if out_dir.exists() and not out_dir.is_dir():
-        raise OutputDirError(f"{out_dir}: exists and is not a directory")
-    opts = options or ControllerOptions()
-    opts.check()
-    diagram = getattr(model.controller, "diagram", None) is not None
-    check_flags(opts, generated=diagram)
-    if diagram and controller_dir is not None:
-        raise BuildError(f"{model.source}: the controller is a block diagram (controller.blocks): "
-                         "pyrosgen generates its C; --controller is for a controller written in C")
-    if not diagram and controller_dir is None:
-        raise BuildError("--controller DIR is required: the model's controller is not a block diagram")
+    out_dir, opts, diagram = check_build_request(model, out_dir, controller_dir, options)
     missing = msgdeb.missing_headers(model)
     if missing:
         # refused before proving: the wrapper could not be compiled

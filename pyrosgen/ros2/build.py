@@ -43,14 +43,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from pyrosgen.frontend.model import NodeModel
-from pyrosgen.generate import GenerateResult, OutputDirError, generate_model
+from pyrosgen.generate import GenerateResult, generate_model
 from pyrosgen.proof.coqmodel import node_file_names
 from pyrosgen.proof.modeltext import parse_model_text
 from pyrosgen.ros import layout
 from pyrosgen.ros.wrapper import IEEE_CFLAGS
 from pyrosgen.ros.build import (
     CONTROLLER_CFLAGS, CONTROLLER_CXXFLAGS, CXX_SUFFIXES, GLUE_CFLAGS, BuildError, BuildToolError,
-    ControllerError, ControllerOptions, check_flags, _all_files, _clip, _existing_ancestor, _install, _run, _tool,
+    ControllerError, ControllerOptions, check_build_request, _all_files, _clip, _existing_ancestor, _install, _run, _tool,
     find_controller,
 )
 from pyrosgen.ros2.env import Ros2Install, find_ros2
@@ -106,19 +106,7 @@ def build_ros2(model_path: str | Path, controller_dir: str | Path | None, out_di
     say(f"[1/{STEPS}] front end: reading {model_path} for the target ros2")
     inst = install or find_ros2()
     model = load_model_ros2(model_path, inst)
-    out_dir = Path(out_dir)
-    if out_dir.exists() and not out_dir.is_dir():
-        raise OutputDirError(f"{out_dir}: exists and is not a directory")
-    opts = options or ControllerOptions()
-    opts.check()
-    diagram = getattr(model.controller, "diagram", None) is not None
-    # what was proved with IEEE 754 semantics runs with them (DESIGN.md section 7, compile flags)
-    check_flags(opts, generated=diagram)
-    if diagram and controller_dir is not None:
-        raise BuildError(f"{model.source}: the controller is a block diagram (controller.blocks): "
-                         "pyrosgen generates its C; --controller is for a controller written in C")
-    if not diagram and controller_dir is None:
-        raise BuildError("--controller DIR is required: the model's controller is not a block diagram")
+    out_dir, opts, diagram = check_build_request(model, out_dir, controller_dir, options)
     ctl = find_controller(model, controller_dir) if not diagram else None
     cc, cxx = _tool("CC", "gcc"), _tool("CXX", "g++")
     names = ros2_wrapper_files(model)

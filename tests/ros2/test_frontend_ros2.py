@@ -248,3 +248,16 @@ def _digests(copy, name: str) -> None:
     cert.write_text(text)
     m.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
     (copy / f"{node}.sha256").write_text("".join(f"{v}  {n}\n" for n, v in sorted(data["files"].items())))
+
+
+def test_build_ros2_refuses_an_empty_output_folder(tmp_path, ros2_install, monkeypatch):
+    """``-o ""`` is refused for ROS 2 as for ROS 1 (the one check of every
+    target's build, ``ros.build.check_build_request``): nothing is written
+    into the current folder."""
+    from pyrosgen.generate import OutputDirError
+    from pyrosgen.ros2.build import build_ros2
+
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(OutputDirError):
+        build_ros2(rosutil.LANDSHARK, rosutil.CONTROLLERS / "landshark_echo", "", install=ros2_install)
+    assert list(tmp_path.iterdir()) == []
