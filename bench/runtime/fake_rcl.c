@@ -1,0 +1,204 @@
+/* fake_rcl.c: a fake rcl layer for bench/ros2.py's instruction counts (no
+ * DDS, no rmw, no threads).  Linked into a ROS 2 node (the generated one:
+ * its glue, its rcl wrapper <node>_rcl.c and its controller; or a
+ * hand-written rcl node), before the real librcl, whose functions these
+ * definitions replace for the executable (the others, rcl_clock_init,
+ * rcl_clock_get_now, rcl_get_default_allocator, the rosidl __init/__fini
+ * and __copy functions, stay the real ones):
+ *
+ * - rcl_init, rcl_node_init, rcl_subscription_init, rcl_publisher_init and
+ *   their __fini, rcl_shutdown, rcl_context_fini, rcl_init_options_*: do
+ *   nothing but remember each subscription's and publisher's topic;
+ *   rcl_context_is_valid: true until rcl_shutdown;
+ * - rcl_take: stands for the middleware's delivery and deserialization: at
+ *   most one message per subscription and cycle, built in process by the
+ *   node's driver (bench_take: a rosidl message __copy'd into the node's),
+ *   with a received_timestamp; RCL_RET_SUBSCRIPTION_TAKE_FAILED otherwise;
+ * - rcl_publish: stands for serialization and sending: hands the message
+ *   to the driver (bench_published, which folds it into a checksum);
+ * - clock_nanosleep (libc's, replaced for the executable): returns at once;
+ *   each call ends a cycle; after BENCH_CYCLES cycles (environment, default
+ *   1000) it raises SIGTERM, which both kinds of node handle by leaving
+ *   their loop and finalizing.
+ *
+ * At exit the driver prints its checksum (bench_report), so that the two
+ * nodes can be checked to compute the same outputs.  bench/ros2.py counts
+ * every instruction of the process (callgrind) except, inclusively,
+ * rcl_take, rcl_publish and clock_nanosleep (the middleware and the sleep)
+ * and the controller's step function (the same code on both sides). */
+#define _POSIX_C_SOURCE 200809L
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <rcl/rcl.h>
+
+#include "fake_rcl.h"
+
+#define FAKE_RCL_MAX 16
+
+struct fake_endpoint {
+    int topic;       /* the driver's index of the topic (bench_topic) */
+    long taken_at;   /* the cycle of the last message taken, -1 before */
+};
+
+static struct fake_endpoint g_subs[FAKE_RCL_MAX], g_pubs[FAKE_RCL_MAX];
+static int g_nsubs = 0, g_npubs = 0, g_valid = 0;
+static long g_cycle = 0, g_cycles = -1;
+
+long fake_rcl_cycle(void)
+{
+    return g_cycle;
+}
+
+static void at_exit_report(void)
+{
+    bench_report(g_cycle);
+}
+
+rcl_ret_t rcl_init_options_init(rcl_init_options_t *init_options, rcl_allocator_t allocator)
+{
+    (void)init_options;
+    (void)allocator;
+    return RCL_RET_OK;
+}
+
+rcl_ret_t rcl_init_options_fini(rcl_init_options_t *init_options)
+{
+    (void)init_options;
+    return RCL_RET_OK;
+}
+
+rcl_ret_t rcl_init(int argc, char const *const *argv, const rcl_init_options_t *options, rcl_context_t *context)
+{
+    (void)argc;
+    (void)argv;
+    (void)options;
+    (void)context;
+    const char *s = getenv("BENCH_CYCLES");
+    g_cycles = s && *s ? atol(s) : 1000;
+    g_valid = 1;
+    atexit(at_exit_report);
+    return RCL_RET_OK;
+}
+
+bool rcl_context_is_valid(const rcl_context_t *context)
+{
+    (void)context;
+    return g_valid != 0;
+}
+
+rcl_ret_t rcl_shutdown(rcl_context_t *context)
+{
+    (void)context;
+    g_valid = 0;
+    return RCL_RET_OK;
+}
+
+rcl_ret_t rcl_context_fini(rcl_context_t *context)
+{
+    (void)context;
+    return RCL_RET_OK;
+}
+
+rcl_ret_t rcl_node_init(rcl_node_t *node, const char *name, const char *namespace_, rcl_context_t *context,
+                        const rcl_node_options_t *options)
+{
+    (void)node;
+    (void)name;
+    (void)namespace_;
+    (void)context;
+    (void)options;
+    return RCL_RET_OK;
+}
+
+rcl_ret_t rcl_node_fini(rcl_node_t *node)
+{
+    (void)node;
+    return RCL_RET_OK;
+}
+
+static struct fake_endpoint *endpoint(struct fake_endpoint *table, int *n, const char *topic)
+{
+    if (*n >= FAKE_RCL_MAX) {
+        fprintf(stderr, "fake_rcl: more than %d endpoints\n", FAKE_RCL_MAX);
+        exit(3);
+    }
+    table[*n].topic = bench_topic(topic);
+    table[*n].taken_at = -1;
+    return &table[(*n)++];
+}
+
+rcl_ret_t rcl_subscription_init(rcl_subscription_t *subscription, const rcl_node_t *node,
+                                const rosidl_message_type_support_t *type_support, const char *topic_name,
+                                const rcl_subscription_options_t *options)
+{
+    (void)node;
+    (void)type_support;
+    (void)options;
+    subscription->impl = (rcl_subscription_impl_t *)(void *)endpoint(g_subs, &g_nsubs, topic_name);
+    return RCL_RET_OK;
+}
+
+rcl_ret_t rcl_subscription_fini(rcl_subscription_t *subscription, rcl_node_t *node)
+{
+    (void)node;
+    subscription->impl = NULL;
+    return RCL_RET_OK;
+}
+
+rcl_ret_t rcl_publisher_init(rcl_publisher_t *publisher, const rcl_node_t *node,
+                             const rosidl_message_type_support_t *type_support, const char *topic_name,
+                             const rcl_publisher_options_t *options)
+{
+    (void)node;
+    (void)type_support;
+    (void)options;
+    publisher->impl = (rcl_publisher_impl_t *)(void *)endpoint(g_pubs, &g_npubs, topic_name);
+    return RCL_RET_OK;
+}
+
+rcl_ret_t rcl_publisher_fini(rcl_publisher_t *publisher, rcl_node_t *node)
+{
+    (void)node;
+    publisher->impl = NULL;
+    return RCL_RET_OK;
+}
+
+rcl_ret_t rcl_take(const rcl_subscription_t *subscription, void *ros_message, rmw_message_info_t *message_info,
+                   rmw_subscription_allocation_t *allocation)
+{
+    (void)allocation;
+    struct fake_endpoint *e = (struct fake_endpoint *)(void *)subscription->impl;
+    unsigned long long rx = 0;
+    if (e->taken_at == g_cycle || !bench_take(e->topic, ros_message, g_cycle, &rx))
+        return RCL_RET_SUBSCRIPTION_TAKE_FAILED;
+    e->taken_at = g_cycle;
+    if (message_info != NULL) {
+        message_info->received_timestamp = (rmw_time_point_value_t)rx;
+        message_info->source_timestamp = (rmw_time_point_value_t)rx;
+    }
+    return RCL_RET_OK;
+}
+
+rcl_ret_t rcl_publish(const rcl_publisher_t *publisher, const void *ros_message,
+                      rmw_publisher_allocation_t *allocation)
+{
+    (void)allocation;
+    const struct fake_endpoint *e = (const struct fake_endpoint *)(const void *)publisher->impl;
+    bench_published(e->topic, ros_message, g_cycle);
+    return RCL_RET_OK;
+}
+
+int clock_nanosleep(clockid_t clock_id, int flags, const struct timespec *request, struct timespec *remain)
+{
+    (void)clock_id;
+    (void)flags;
+    (void)request;
+    (void)remain;
+    if (++g_cycle == g_cycles)
+        raise(SIGTERM);
+    return 0;
+}
