@@ -61,7 +61,7 @@ demo-ros2: deps proofs
 docs: venv
 	@$(MAKE) --no-print-directory -C coq docs PYTHON=$(abspath $(PY)) DOCDIR=$(abspath build/docs)
 
-## bench: the benchmarks of BENCHMARKS.md (rewrites its tables, plots in bench/results/);
+## bench: the benchmarks of BENCHMARKS.md, ROS 2 (bench/ros2.py) included (rewrites its tables, plots in bench/results/);
 ## `make bench BENCH_ARGS=--quick` for a short run
 .PHONY: bench
 BENCH_ARGS ?=

@@ -537,6 +537,14 @@ def plots(load_json, log) -> list[str]:
     return made
 
 
+def block_ros2(load_json) -> str:
+    """BENCHMARKS.md section 13: ROS 2 against hand-written rcl nodes
+    (bench/ros2.py, which renders the block)."""
+    import ros2
+
+    return ros2.report_block(load_json("ros2.json"))
+
+
 BLOCKS = {
     "machine": block_machine,
     "pipeline-targets": block_pipeline_targets,
@@ -548,6 +556,7 @@ BLOCKS = {
     "runtime": block_runtime,
     "laserscan": block_laserscan,
     "scan_guard": block_scan_guard,
+    "ros2": block_ros2,
 }
 
 

@@ -1,7 +1,7 @@
 """``make bench``: every benchmark of BENCHMARKS.md, then its tables and the
 plots in bench/results/.
 
-usage: run.py [--quick] [--only proofs,pipeline,runtime,laserscan,scan_guard] [--report-only]
+usage: run.py [--quick] [--only proofs,pipeline,runtime,laserscan,scan_guard,ros2] [--report-only]
 
 - ``proofs``: ``make proofs`` from clean in a private copy of coq/
   (bench/proofs.py); the copy is the library the other benchmarks use;
@@ -15,7 +15,11 @@ usage: run.py [--quick] [--only proofs,pipeline,runtime,laserscan,scan_guard] [-
   1 ms period (bench/laserscan.py);
 - ``scan_guard``: the same for the scan guard (the whole scan into a
   controller array), with the wrapper's conversions counted too
-  (bench/scan_guard.py).
+  (bench/scan_guard.py);
+- ``ros2``: LandShark and the scan guard over rcl (ROS 2) against the same
+  nodes written by hand over rcl: instructions per cycle of glue and
+  wrapper, round trip at 1 ms, and ``pyrosgen build --ros2`` against ROS
+  1's ``pyrosgen build`` (bench/ros2.py).
 
 ``--quick`` is for iteration: N up to 400, one run each, a short latency
 run; the library copy is rebuilt only when the sources changed; its
@@ -39,7 +43,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import common  # noqa: E402
 from common import WORK, load_json, loadavg, machine, save_json  # noqa: E402
 
-ALL = ("proofs", "pipeline", "runtime", "laserscan", "scan_guard")
+ALL = ("proofs", "pipeline", "runtime", "laserscan", "scan_guard", "ros2")
 
 
 def log(msg: str) -> None:
@@ -116,6 +120,12 @@ def main(argv: list[str] | None = None) -> int:
                                           more_instructions=scan_guard.more_instructions)
             res["machine"] = mach
             save_json("scan_guard.json", res)
+        if "ros2" in only:
+            import ros2
+
+            res = ros2.run_ros2(env, quick=a.quick)
+            res["machine"] = mach
+            save_json("ros2.json", res)
         mach["load_at_end"] = loadavg()
         mach["bench_seconds"] = time.monotonic() - t0
         save_json("machine.json", mach)

@@ -16,17 +16,24 @@
  *   with a received_timestamp; RCL_RET_SUBSCRIPTION_TAKE_FAILED otherwise;
  * - rcl_publish: stands for serialization and sending: hands the message
  *   to the driver (bench_published, which folds it into a checksum);
- * - clock_nanosleep (libc's, replaced for the executable): returns at once;
- *   each call ends a cycle; after BENCH_CYCLES cycles (environment, default
+ * - clock_nanosleep (libc's, replaced for the executable): returns at once,
+ *   having set the steady clock to the requested end of the period; each
+ *   call ends a cycle; after BENCH_CYCLES cycles (environment, default
  *   1000) it raises SIGTERM, which both kinds of node handle by leaving
- *   their loop and finalizing.
+ *   their loop and finalizing;
+ * - clock_gettime (libc's, replaced for the executable and the libraries):
+ *   calls the real one (its cost is counted), then answers, for
+ *   CLOCK_MONOTONIC, the steady clock of the simulation (which starts at
+ *   1000 s and moves only in clock_nanosleep), so that a node is never late
+ *   and every cycle runs the same code, whatever valgrind's slowness.
  *
  * At exit the driver prints its checksum (bench_report), so that the two
  * nodes can be checked to compute the same outputs.  bench/ros2.py counts
  * every instruction of the process (callgrind) except, inclusively,
  * rcl_take, rcl_publish and clock_nanosleep (the middleware and the sleep)
  * and the controller's step function (the same code on both sides). */
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE
+#include <dlfcn.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -192,12 +199,30 @@ rcl_ret_t rcl_publish(const rcl_publisher_t *publisher, const void *ros_message,
     return RCL_RET_OK;
 }
 
+static struct timespec g_steady = {1000, 0};
+static int (*g_real_clock_gettime)(clockid_t, struct timespec *) = 0;
+
+int clock_gettime(clockid_t clock_id, struct timespec *tp)
+{
+    if (g_real_clock_gettime == 0) {
+        g_real_clock_gettime = (int (*)(clockid_t, struct timespec *))dlsym(RTLD_NEXT, "clock_gettime");
+        if (g_real_clock_gettime == 0) {
+            fprintf(stderr, "fake_rcl: no clock_gettime after this one\n");
+            exit(3);
+        }
+    }
+    int rc = g_real_clock_gettime(clock_id, tp);
+    if (rc == 0 && clock_id == CLOCK_MONOTONIC)
+        *tp = g_steady;
+    return rc;
+}
+
 int clock_nanosleep(clockid_t clock_id, int flags, const struct timespec *request, struct timespec *remain)
 {
-    (void)clock_id;
-    (void)flags;
-    (void)request;
     (void)remain;
+    if (clock_id == CLOCK_MONOTONIC && (flags & TIMER_ABSTIME) != 0 &&
+        (request->tv_sec > g_steady.tv_sec || (request->tv_sec == g_steady.tv_sec && request->tv_nsec > g_steady.tv_nsec)))
+        g_steady = *request;
     if (++g_cycle == g_cycles)
         raise(SIGTERM);
     return 0;

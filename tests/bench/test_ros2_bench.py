@@ -1,0 +1,95 @@
+"""bench/ros2.py's parsing and aggregation (fast, nothing timed): the
+callgrind_annotate reader, the per-cycle difference of two runs, the
+latency summary and the BENCHMARKS.md block rendered from a result."""
+
+import sys
+from pathlib import Path
+
+import pytest
+
+BENCH = Path(__file__).resolve().parents[2] / "bench"
+sys.path.insert(0, str(BENCH))
+
+import ros2  # noqa: E402
+
+ANNOTATE = """\
+--------------------------------------------------------------------------------
+Ir                 
+--------------------------------------------------------------------------------
+980,570 (100.0%)  PROGRAM TOTALS
+
+--------------------------------------------------------------------------------
+Ir                file:function
+--------------------------------------------------------------------------------
+546,004 (55.68%)  ???:ros_spinOnce [/tmp/x/gen]
+ 76,000 ( 7.75%)  ???:ros_rate_sleep [/tmp/x/gen]
+ 20,020 ( 2.04%)  ./time/../sysdeps/unix/sysv/linux/clock_gettime.c:clock_gettime@@GLIBC_2.17 [/usr/lib/libc.so.6]
+     12 ( 0.00%)  ./string/a.S:memcpy [/usr/lib/libc.so.6]
+      8 ( 0.00%)  ./string/b.S:memcpy [/usr/lib/libc.so.6]
+  6,144 ( 0.63%)  ./elf/../sysdeps/generic/dl-new-hash.h:_dl_lookup_symbol_x
+      .           ./csu/../csu/libc-start.c:__libc_start_main@@GLIBC_2.34 [/usr/lib/libc.so.6]
+"""
+
+
+def test_parse_annotate_reads_self_counts_and_sums_a_function_over_files():
+    got = ros2.parse_annotate(ANNOTATE)
+    assert got == {"ros_spinOnce": 546004, "ros_rate_sleep": 76000, "clock_gettime@@GLIBC_2.17": 20020,
+                   "memcpy": 20, "_dl_lookup_symbol_x": 6144}
+    assert ros2.program_total(ANNOTATE) == 980570
+
+
+def test_program_total_missing_is_an_error():
+    with pytest.raises(ValueError, match="PROGRAM TOTALS"):
+        ros2.program_total("nothing here\n")
+
+
+def test_per_cycle_is_the_difference_over_the_cycles_and_drops_fixed_costs():
+    short = {"loop": 21010, "ros_spinOnce": 273004, "do_lookup_x": 22718}
+    long = {"loop": 42010, "ros_spinOnce": 546004, "do_lookup_x": 22718, "late": 500}
+    got = ros2.per_cycle(short, long, 1000, 2000)
+    assert got["functions"] == {"ros_spinOnce": 273.0, "loop": 21.0, "late": 0.5}
+    assert list(got["functions"]) == ["ros_spinOnce", "loop", "late"]
+    assert got["total"] == pytest.approx(294.5)
+
+
+def test_per_cycle_refuses_a_function_cheaper_in_the_longer_run():
+    with pytest.raises(ValueError, match="loop: 10 instructions in 2000 cycles, 20 in 1000"):
+        ros2.per_cycle({"loop": 20}, {"loop": 10}, 1000, 2000)
+    with pytest.raises(ValueError, match="longer"):
+        ros2.per_cycle({}, {}, 2000, 2000)
+
+
+def test_latency_summary():
+    s = ros2.latency_summary([3.0, 1.0, 2.0, 4.0], 5)
+    assert (s["rounds"], s["answered"], s["median"], s["p10"], s["p90"], s["max"]) == (5, 4, 2.5, 1.0, 4.0, 4.0)
+    with pytest.raises(ValueError):
+        ros2.latency_summary([], 5)
+
+
+def _result(gen_total, hw_total, lat_ratio):
+    side = {"rounds": 10, "answered": 10, "median": 1.0, "p10": 0.9, "p90": 1.1, "p99": 1.2, "max": 2.0}
+    row = {"generated": {"total": gen_total, "functions": {"ros_spinOnce": gen_total}},
+           "handwritten": {"total": hw_total, "functions": {"main": hw_total}}, "ratio": gen_total / hw_total}
+    return {"when": "2026-11-28 20:00 UTC", "mode": "full", "load_at_start": "1.00 1.00 1.00",
+            "load_at_end": "2.00 2.00 2.00",
+            "build_s": {"ros2": {"median": 3.0, "runs": [3.0]}, "ros1": {"median": 6.0, "runs": [6.0]}, "ratio": 0.5},
+            "nodes": {"landshark": {"model": "m.yaml", "stamp_dropped": False, "instructions": {"mixed": row},
+                                    "latency": {"generated": side, "handwritten": side,
+                                                "turns": [{"generated": 1.0, "handwritten": 1.0}],
+                                                "ratio_of_medians": lat_ratio}}}}
+
+
+def test_report_block_says_met_or_missed_from_the_figures():
+    text = ros2.report_block(_result(465, 111, 1.001))
+    assert "| landshark: round-trip ratio generated / hand-written (medians, 1 ms period) | ≤ 1.05 | 1.001 | met |" \
+        in text
+    assert "465 / 111 = 4.19 | missed |" in text
+    assert "3.00 s / 6.00 s = 0.50" in text
+    assert "load 1.00 1.00 1.00 at the start and 2.00 2.00 2.00 at the end" in text
+    text = ros2.report_block(_result(100, 111, 1.06))
+    assert "1.060 | missed |" in text and "100 / 111 = 0.90 | met |" in text
+
+
+def test_report_block_without_a_run():
+    assert "No ROS 2 run recorded" in ros2.report_block(None)
+    assert "No ROS 2 run recorded" in ros2.report_block({"round_trip_ms_1ms_period": {}})
