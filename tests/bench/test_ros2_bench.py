@@ -59,6 +59,13 @@ def test_per_cycle_refuses_a_function_cheaper_in_the_longer_run():
         ros2.per_cycle({}, {}, 2000, 2000)
 
 
+def test_without_fake_leaves_out_the_fake_layers_own_instructions():
+    res = ros2.per_cycle({}, {"clock_gettime": 40000, "clock_gettime@@GLIBC_2.17": 20000, "loop": 21000}, 1000, 2000)
+    got = ros2.without_fake(res)
+    assert got["functions"] == {"clock_gettime@@GLIBC_2.17": 20.0, "loop": 21.0}
+    assert (got["total"], got["fake_left_out"]) == (41.0, 40.0)
+
+
 def test_latency_summary():
     s = ros2.latency_summary([3.0, 1.0, 2.0, 4.0], 5)
     assert (s["rounds"], s["answered"], s["median"], s["p10"], s["p90"], s["max"]) == (5, 4, 2.5, 1.0, 4.0, 4.0)
