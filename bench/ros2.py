@@ -45,8 +45,9 @@ time and checked to differ in the period and that key only.
 
 Every ROS 2 process runs in the environment of
 ``pyrosgen.ros2.env.ros2_env`` (loopback discovery, a domain of its own)
-and is stopped by its PID; the Fast DDS segments it leaves in /dev/shm, if
-any, are removed.  Results: bench/results/ros2.json (``--quick``: fewer
+and is stopped by its PID; the Fast DDS segments that appeared during the
+run and that no live process maps (``leftover_segments``: other people's
+running nodes keep theirs) are removed.  Results: bench/results/ros2.json (``--quick``: fewer
 rounds and builds, into build/bench/results-quick/); the ``ros2`` block of
 BENCHMARKS.md is rewritten from them (``report_block``)."""
 
@@ -314,6 +315,26 @@ def _segments() -> set[str]:
     return {p.name for p in [*SHM.glob("fastdds_*"), *SHM.glob("sem.fastdds_*")]}
 
 
+def _mapped() -> set[str]:
+    """The /dev/shm files some live process has mapped (others' running
+    ROS 2 processes: their segments are not ours to remove)."""
+    names = set()
+    for maps in Path("/proc").glob("[0-9]*/maps"):
+        try:
+            text = maps.read_text()
+        except OSError:
+            continue
+        names.update(m.group(1) for m in re.finditer(r"/dev/shm/(\S+)", text))
+    return names
+
+
+def leftover_segments(before: set[str]) -> list[str]:
+    """The Fast DDS segments that appeared since ``before`` and that no live
+    process maps: those our stopped nodes and peers left."""
+    mapped = _mapped()
+    return sorted(n for n in _segments() - before if n not in mapped and n.removeprefix("sem.") not in mapped)
+
+
 def latency(node: Node, exes: dict, inst, rounds: int, turns: int) -> dict:
     """The round trip of both real nodes, alternating (see the module documentation)."""
     from pyrosgen.ros2.env import ros2_env
@@ -407,7 +428,7 @@ def run_ros2(env: dict | None = None, *, quick: bool = False, rounds: int | None
         return result
     finally:
         shutil.rmtree(work, ignore_errors=True)
-        for name in _segments() - before:
+        for name in leftover_segments(before):
             try:
                 (SHM / name).unlink()
             except OSError:

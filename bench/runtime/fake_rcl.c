@@ -29,9 +29,10 @@
  *
  * At exit the driver prints its checksum (bench_report), so that the two
  * nodes can be checked to compute the same outputs.  bench/ros2.py counts
- * every instruction of the process (callgrind) except, inclusively,
+ * every instruction from main on (callgrind --toggle-collect) except inside
  * rcl_take, rcl_publish and clock_nanosleep (the middleware and the sleep)
- * and the controller's step function (the same code on both sides). */
+ * and the controller's step function (the same code on both sides), and
+ * the own instructions of clock_gettime here (libc's are counted). */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <signal.h>

@@ -111,3 +111,12 @@ def test_report_block_says_met_or_missed_from_the_figures():
 def test_report_block_without_a_run():
     assert "No ROS 2 run recorded" in ros2.report_block(None)
     assert "No ROS 2 run recorded" in ros2.report_block({"round_trip_ms_1ms_period": {}})
+
+
+def test_leftover_segments_are_the_new_unmapped_fast_dds_ones(tmp_path, monkeypatch):
+    for name in ("fastdds_old", "fastdds_ours", "fastdds_ours_el", "sem.fastdds_port7_mutex", "fastdds_port7",
+                 "fastdds_theirs", "other"):
+        (tmp_path / name).write_text("")
+    monkeypatch.setattr(ros2, "SHM", tmp_path)
+    monkeypatch.setattr(ros2, "_mapped", lambda: {"fastdds_theirs", "fastdds_port7_mutex"})
+    assert ros2.leftover_segments({"fastdds_old"}) == ["fastdds_ours", "fastdds_ours_el", "fastdds_port7"]
