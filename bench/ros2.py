@@ -4,6 +4,7 @@ rcl, and ``pyrosgen build --ros2`` against ROS 1's ``pyrosgen build``, in
 one run.
 
 usage: .venv/bin/python bench/ros2.py [--quick] [--rounds N] [--turns N] [--builds N] [--no-report]
+       .venv/bin/python bench/ros2.py --what-if
 
 - **instructions per cycle, glue + rcl wrapper together** (callgrind,
   exact): each node linked with bench/runtime/fake_rcl.c (a fake rcl
@@ -49,7 +50,12 @@ and is stopped by its PID; the Fast DDS segments that appeared during the
 run and that no live process maps (``leftover_segments``: other people's
 running nodes keep theirs) are removed.  Results: bench/results/ros2.json (``--quick``: fewer
 rounds and builds, into build/bench/results-quick/); the ``ros2`` block of
-BENCHMARKS.md is rewritten from them (``report_block``)."""
+BENCHMARKS.md is rewritten from them (``report_block``).
+
+``--what-if``: only the instruction counts of the generated nodes with the
+changes to the rcl wrapper that section 13 proposes (``WHAT_IF``, applied
+to the generated ``<node>_rcl.c``), each and all together, into
+bench/results/ros2_what_if.json."""
 
 from __future__ import annotations
 
@@ -260,7 +266,11 @@ def build_pair(node: Node, model: Path, dropped: bool, work: Path, inst, env: di
     _run(["gcc", objs["hw"], *ctl_objs, *fake, "-o", exes["handwritten"], *lf, "-lm"])
     _run(["gcc", objs["hw"], *ctl_objs, "-o", exes["handwritten_real"], *lf, "-lm"])
     exes["generated_real"] = out / "bin" / m.name
-    return {k: Path(v) for k, v in exes.items()}
+    res = {k: Path(v) for k, v in exes.items()}
+    # what what_if needs to link the generated node again with another wrapper
+    res["parts"] = {"rcl_source": out / f"{m.name}_rcl.c", "include": out, "cflags": cf, "lflags": lf,
+                    "objects": [objs["glue"], *ctl_objs, *fake]}
+    return res
 
 
 # ---------------------------------------------------------------------------
@@ -306,6 +316,80 @@ def instructions(node: Node, exes: dict, cycles: int) -> dict:
         row["ratio"] = row["generated"]["total"] / row["handwritten"]["total"]
         res[regime] = row
     return res
+
+
+# ---------------------------------------------------------------------------
+# What if: changes to the rcl wrapper proposed, measured on the generated file
+
+#: Changes to ``<node>_rcl.c`` proposed for pyrosgen/templates/rcl_api.c.j2
+#: (not made there): name -> (regular expression, replacement).
+WHAT_IF = {
+    "no memset of the take buffer before to_c": (
+        r"\n[ \t]*memset\(&g_buf_\w+\[g_n_\w+\], 0, sizeof g_buf_\w+\[0\]\);", ""),
+    "message info: only received_timestamp zeroed before the take": (
+        r"rmw_message_info_t info = rmw_get_zero_initialized_message_info\(\);",
+        "rmw_message_info_t info;\n        info.received_timestamp = 0;"),
+}
+
+
+def patched(text: str, names: list[str]) -> str:
+    """``text`` with the changes ``names`` of WHAT_IF; an error if one of
+    them does not apply (the wrapper changed: the proposal is stale)."""
+    for name in names:
+        pat, rep = WHAT_IF[name]
+        text, n = re.subn(pat, rep, text)
+        if n == 0:
+            raise ValueError(f"what-if change {name!r} does not apply to this wrapper")
+    return text
+
+
+def what_if(node: Node, pair: dict, cycles: int) -> dict:
+    """Instructions per cycle of the generated node with each WHAT_IF change
+    and with all of them, against the unchanged node and the hand-written
+    one (the scan guard with scans of 1,081 ranges); same checksums."""
+    from pyrosgen.ros.wrapper import GLUE_CFLAGS
+
+    parts = pair["parts"]
+    extra = {"BENCH_SCAN_LENGTH": "1081"} if node is SCAN_GUARD else {}
+    hw = count(pair["handwritten"], node, cycles, extra)
+    res = {"handwritten": hw["total"], "unchanged": count(pair["generated"], node, cycles, extra)["total"]}
+    text = parts["rcl_source"].read_text()
+    for label, names in [*((n, [n]) for n in WHAT_IF), ("all of them", list(WHAT_IF))]:
+        try:
+            src = patched(text, names)
+        except ValueError as exc:
+            res[label] = str(exc)
+            continue
+        tag = re.sub(r"\W+", "_", label)
+        c, o, exe = (pair["generated"].parent / f"what_if_{tag}{ext}" for ext in (".c", ".o", ""))
+        c.write_text(src)
+        _run(["gcc", *GLUE_CFLAGS, "-I", parts["include"], *parts["cflags"], "-c", c, "-o", o])
+        _run(["gcc", o, *parts["objects"], "-o", exe, *parts["lflags"], "-lm"])
+        got = count(exe, node, cycles, extra)
+        if got["check"] != hw["check"]:
+            raise SystemExit(f"{node.tag}, {label}: the changed node publishes other messages")
+        res[label] = got["total"]
+        log(f"{node.tag} what if {label}: {got['total']:.0f} (unchanged {res['unchanged']:.0f})")
+    return res
+
+
+def run_what_if(cycles: int = 1000) -> dict:
+    """``--what-if``: both nodes built, then only ``what_if``; saved as
+    ros2_what_if.json (ros2.json is left alone)."""
+    from pyrosgen.ros2.env import find_ros2
+
+    inst = find_ros2()
+    work = Path(tempfile.mkdtemp(prefix="pyrosgen-bench-ros2-"))
+    try:
+        out = {"when": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "load": loadavg(), "nodes": {}}
+        for node in NODES:
+            model, dropped = derive_model(node, work, inst)
+            out["nodes"][node.tag] = what_if(node, build_pair(node, model, dropped, work, inst, dict(os.environ)),
+                                             cycles)
+        save_json("ros2_what_if.json", out)
+        return out
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
 
 
 # ---------------------------------------------------------------------------
@@ -499,9 +583,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--turns", type=int, default=None)
     ap.add_argument("--builds", type=int, default=None)
     ap.add_argument("--no-report", action="store_true", help="do not rewrite the ros2 block of BENCHMARKS.md")
+    ap.add_argument("--what-if", action="store_true",
+                    help="only the instruction counts of the proposed wrapper changes (ros2_what_if.json)")
     a = ap.parse_args(argv)
     import common
 
+    if a.what_if:
+        print(json.dumps(run_what_if(), indent=1))
+        return 0
     if a.quick:
         common.use_results(common.WORK / "results-quick")
     res = run_ros2(quick=a.quick, rounds=a.rounds, turns=a.turns, builds=a.builds)

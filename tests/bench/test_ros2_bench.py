@@ -120,3 +120,18 @@ def test_leftover_segments_are_the_new_unmapped_fast_dds_ones(tmp_path, monkeypa
     monkeypatch.setattr(ros2, "SHM", tmp_path)
     monkeypatch.setattr(ros2, "_mapped", lambda: {"fastdds_theirs", "fastdds_port7_mutex"})
     assert ros2.leftover_segments({"fastdds_old"}) == ["fastdds_ours", "fastdds_ours_el", "fastdds_port7"]
+
+
+WRAPPER = """\
+        rmw_message_info_t info = rmw_get_zero_initialized_message_info();
+        memset(&g_buf_scan[g_n_scan], 0, sizeof g_buf_scan[0]);
+        to_c_sensor_msgs_LaserScan(&g_take_scan, &g_buf_scan[g_n_scan]);
+"""
+
+
+def test_what_if_changes_apply_or_say_they_are_stale():
+    got = ros2.patched(WRAPPER, list(ros2.WHAT_IF))
+    assert "memset" not in got and "rmw_get_zero_initialized_message_info" not in got
+    assert "info.received_timestamp = 0;" in got and "to_c_sensor_msgs_LaserScan(&g_take_scan" in got
+    with pytest.raises(ValueError, match="does not apply"):
+        ros2.patched(got, ["no memset of the take buffer before to_c"])
