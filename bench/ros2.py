@@ -573,6 +573,8 @@ def report_block(res: dict | None) -> str:
     for tag, n in res["nodes"].items():
         lines.append("")
         lines.append(f"{tag}: model {n['model']}.")
+    if res.get("note"):
+        lines += ["", f"Note: {res['note']}."]
     return "\n".join(lines) + "\n"
 
 
