@@ -206,7 +206,8 @@ static int (*g_real_clock_gettime)(clockid_t, struct timespec *) = 0;
 int clock_gettime(clockid_t clock_id, struct timespec *tp)
 {
     if (g_real_clock_gettime == 0) {
-        g_real_clock_gettime = (int (*)(clockid_t, struct timespec *))dlsym(RTLD_NEXT, "clock_gettime");
+        void *sym = dlsym(RTLD_NEXT, "clock_gettime");
+        memcpy(&g_real_clock_gettime, &sym, sizeof sym);   /* POSIX's way from object to function pointer */
         if (g_real_clock_gettime == 0) {
             fprintf(stderr, "fake_rcl: no clock_gettime after this one\n");
             exit(3);
