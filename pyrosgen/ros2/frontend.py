@@ -105,9 +105,13 @@ def _msg_folders(path: Path) -> list[Path]:
     return out
 
 
-def _msg_file_problems(f: Path) -> list[Diagnostic]:
+def _msg_file_problems(f: Path, installed: frozenset[str]) -> list[Diagnostic]:
     shown = _display(f)
     out: list[Diagnostic] = []
+    if f.parent.parent.name in installed:
+        out.append(Diagnostic(shown, None, None, f"package {f.parent.parent.name!r} is a package of the ROS 2 "
+                              "installation: rosidl builds one library per package, and the node would load the "
+                              "installed one; name the custom package otherwise (target ros2)", rule=TARGET_RULE))
     if not _ROS2_MESSAGE.fullmatch(f.stem):
         out.append(Diagnostic(shown, None, None, f"message name {f.stem!r} is not a ROS 2 message name "
                               "(an upper-case letter, then letters and digits)", rule=TARGET_RULE))
@@ -138,14 +142,16 @@ def _msg_file_problems(f: Path) -> list[Diagnostic]:
     return out
 
 
-def ros2_msg_problems(path: Path) -> list[Diagnostic]:
+def ros2_msg_problems(path: Path, installed: frozenset[str] = frozenset()) -> list[Diagnostic]:
     """What the custom ``.msg`` files of the model's ``msg_paths`` say that
-    ROS 1 accepts and ROS 2 (rosidl) does not, at its place (rule 4.17)."""
+    ROS 1 accepts and ROS 2 (rosidl) does not, at its place (rule 4.17);
+    ``installed``: the message packages of the ROS 2 installation, which a
+    custom package must not be."""
     out: list[Diagnostic] = []
     for folder in _msg_folders(path):
         for f in sorted(folder.glob("*/msg/*.msg")):
             if f.is_file():
-                out.extend(_msg_file_problems(f))
+                out.extend(_msg_file_problems(f, installed))
     return out
 
 
@@ -157,7 +163,7 @@ def load_model_ros2(path: str | Path, install: Ros2Install | None = None) -> Nod
     installation."""
     path = Path(path)
     defs = ros2_standard_defs(install)
-    pre = ros2_msg_problems(path)
+    pre = ros2_msg_problems(path, frozenset(name.split("/", 1)[0] for name in defs))
     try:
         model = load_model(path, standard_msgs=defs)
     except InvalidNodeModel as exc:

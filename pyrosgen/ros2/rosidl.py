@@ -44,6 +44,7 @@ from __future__ import annotations
 import json
 import re
 import shutil
+import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -347,3 +348,156 @@ def peer_env(out: Path, inst: Ros2Install) -> dict[str, str]:
     env["PYTHONPATH"] = ":".join([str(out / PYTHON_DIR), *([old] if old else [])])
     return env
 
+
+
+# --------------------------------------------------------------------------
+# pyrosgen verify: the generated files again, and the carried fields
+
+#: rosidl's C type of each primitive
+_C_TYPES = {"bool": "bool", "int8": "int8_t", "uint8": "uint8_t", "int16": "int16_t", "uint16": "uint16_t",
+            "int32": "int32_t", "uint32": "uint32_t", "int64": "int64_t", "uint64": "uint64_t",
+            "float32": "float", "float64": "double"}
+_INTERFACE = re.compile(rf"{ROSIDL_DIR}/interfaces/([a-z][a-z0-9_]*)/msg/([A-Z][A-Za-z0-9]*)\.msg")
+_MEMBER = re.compile(r"^  (\w+) (\w+)(?:\[(\d+)\])?;$", re.M)
+
+
+def _rosidl_member(pm, ftype: str) -> tuple[str, str | None] | None:
+    """The rosidl C member (type, array size) of a proved field type, or
+    ``None`` when the type is not one pyrosgen prints."""
+    from pyrosgen.frontend.msgmodel import is_bounded_type
+    from pyrosgen.proof.modeltext import MalformedModelText
+    from pyrosgen.ros.wrapper import _proved_msg_name
+    from pyrosgen.ros2.wrapper import ROSIDL_SEQ, rosidl_c_type
+
+    m = re.fullmatch(r"(?:array ([1-9][0-9]*) )?(?:msg (\w+)|(\w+))", ftype)
+    if m is None:
+        return None
+    size, struct, prim = m.group(1), m.group(2), m.group(3)
+    if prim is not None:
+        return (_C_TYPES[prim], size) if prim in _C_TYPES else None
+    if not is_bounded_type(struct):
+        try:
+            return rosidl_c_type(_proved_msg_name(struct)), size
+        except (MalformedModelText, ValueError):
+            return None
+    if struct.startswith(("ros_string", "ros_rstring")):
+        return "rosidl_runtime_c__String", size
+    data = dict(pm.messages.get(struct, [])).get("data", "")
+    elem = re.fullmatch(r"array [1-9][0-9]* (?:msg (\w+)|(\w+))", data)
+    if elem is None:
+        return None
+    if elem.group(2) is not None:
+        return (f"rosidl_runtime_c__{ROSIDL_SEQ[elem.group(2)]}__Sequence", size) if elem.group(2) in ROSIDL_SEQ \
+            else None
+    if elem.group(1).startswith(("ros_string", "ros_rstring")):
+        return "rosidl_runtime_c__String__Sequence", size
+    inner = _rosidl_member(pm, f"msg {elem.group(1)}")
+    return (f"{inner[0]}__Sequence", size) if inner else None
+
+
+def _check_structs(folder: Path, pm, custom: dict[str, str]) -> list[tuple[str, str]]:
+    """Each carried field of each custom message the proved model holds is
+    declared by rosidl's C struct with the proved type (a field whose type
+    the ``.msg`` changed would still compile: C converts ``double`` to
+    ``float`` silently)."""
+    from pyrosgen.ros2.wrapper import rosidl_c_type, snake
+
+    problems = []
+    for struct, name in sorted(custom.items()):
+        pkg, typ = name.split("/", 1)
+        header = f"{ROSIDL_DIR}/c/{pkg}/msg/detail/{snake(typ)}__struct.h"
+        try:
+            text = (folder / header).read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            problems.append((header, f"cannot read it: {getattr(exc, 'strerror', None) or exc}"))
+            continue
+        c = rosidl_c_type(name)
+        body = re.search(rf"^typedef struct {c}\n\{{\n(.*?)^\}} {c};$", text, re.M | re.S)
+        members = {n: (t, s) for t, n, s in _MEMBER.findall(body.group(1))} if body else {}
+        if body is None:
+            problems.append((header, f"declares no struct {c}"))
+            continue
+        for fname, ftype in pm.messages[struct]:
+            want = _rosidl_member(pm, ftype)
+            got = members.get(fname)
+            if want is None:
+                problems.append((header, f"the proved field {fname} has type {ftype!r}"))
+            elif got is None or (got[0], got[1] or None) != want:
+                shown = "not declared" if got is None else f"declared {got[0]}{f'[{got[1]}]' if got[1] else ''}"
+                problems.append((header, f"{c}.{fname}: {shown}, the proved model carries {ftype} "
+                                         f"({want[0]}{f'[{want[1]}]' if want[1] else ''})"))
+    return problems
+
+
+def check_rosidl_folder(folder: str | Path, files, proved_text: str,
+                        install: Ros2Install | None = None) -> list[tuple[str, str]]:
+    """The problems, as (file, why), with the custom messages of the ROS 2
+    build folder ``folder`` (``files``: the names its manifest lists): the
+    generated sources not those rosidl's generators make again from the
+    folder's copies of the ``.msg`` files (``rosidl/interfaces``), a
+    generated file the generators do not make, a custom message the proved
+    model carries without its ``.msg`` file, a carried field that rosidl's
+    C struct declares with another type (:func:`_check_structs`).  None
+    without custom messages; :class:`Ros2Missing` (exit 2) without the
+    ROS 2 installation or its generators when there are some."""
+    from pyrosgen.errors import InvalidNodeModel
+    from pyrosgen.frontend.msgmodel import is_bounded_type
+    from pyrosgen.proof.modeltext import parse_model_text
+    from pyrosgen.ros.wrapper import _proved_msg_name
+    from pyrosgen.ros2.env import find_ros2
+
+    folder = Path(folder)
+    names = sorted(files)
+    msgs = [n for n in names if _INTERFACE.fullmatch(n)]
+    pm = parse_model_text(proved_text)
+    generated = [n for n in names if n.startswith((f"{ROSIDL_DIR}/", f"{PYTHON_DIR}/")) and n not in msgs
+                 and not n.endswith(".so")]
+    declared = {_INTERFACE.fullmatch(n).group(1) for n in msgs}
+    if not msgs and not generated:
+        return []
+    inst = install or find_ros2()
+    _check_generators(inst)
+    custom = {s: _proved_msg_name(s) for s in pm.messages if not is_bounded_type(s)
+              and _proved_msg_name(s).split("/", 1)[0] in declared}
+    problems: list[tuple[str, str]] = []
+    for s, name in custom.items():
+        pkg, typ = name.split("/", 1)
+        if f"{ROSIDL_DIR}/interfaces/{pkg}/msg/{typ}.msg" not in msgs:
+            problems.append((f"{ROSIDL_DIR}/interfaces/{pkg}/msg/{typ}.msg",
+                             f"missing: the proved model carries {name}"))
+    with tempfile.TemporaryDirectory(prefix="pyrosgen-rosidl-") as tmp:
+        src, out = Path(tmp) / "src", Path(tmp) / "out"
+        packages: dict[str, list[Path]] = {}
+        for n in msgs:
+            m = _INTERFACE.fullmatch(n)
+            dest = src / m.group(1) / "msg" / f"{m.group(2)}.msg"
+            dest.parent.mkdir(parents=True, exist_ok=True)
+            try:
+                shutil.copyfile(folder / n, dest)
+            except OSError as exc:
+                problems.append((n, f"cannot read it: {exc.strerror or exc}"))
+                continue
+            packages.setdefault(m.group(1), []).append(dest)
+        try:
+            order, _deps = _order(packages)
+            out.mkdir()
+            generate_sources(inst, packages, order, out)
+        except (InvalidNodeModel, BuildToolError) as exc:
+            return [*problems, (f"{ROSIDL_DIR}/interfaces", f"rosidl's generators fail on the folder's .msg files: "
+                                f"{' '.join(str(exc).split())[:300]}")]
+        again = {p.relative_to(out).as_posix(): p for p in out.rglob("*") if p.is_file()}
+        for n in sorted(set(again) - set(msgs)):
+            if n not in names:
+                problems.append((n, "missing: rosidl's generators make it from the folder's .msg files"))
+                continue
+            try:
+                same = (folder / n).read_bytes() == again[n].read_bytes()
+            except OSError as exc:
+                problems.append((n, f"cannot read it: {exc.strerror or exc}"))
+                continue
+            if not same:
+                problems.append((n, "differs from what rosidl's generators make from the folder's .msg files"))
+        for n in generated:
+            if n not in again:
+                problems.append((n, "not a file rosidl's generators make from the folder's .msg files"))
+    return problems + _check_structs(folder, pm, custom)
