@@ -218,6 +218,8 @@ def build_ros2(model_path: str | Path, controller_dir: str | Path | None, out_di
         # 7. wrapper (and the custom messages' code, from rosidl's generators)
         t = time.monotonic()
         custom = build_custom_types(model, inst, stage, cc=cc, cxx=cxx, say=lambda line: say(f"[7/{STEPS}] {line}"))
+        if custom:
+            times["rosidl"], t = time.monotonic() - t, time.monotonic()
         say(f"[7/{STEPS}] compile wrapper: {' '.join(cc)} {names.api_source}")
         o = obj / f"{node}_rcl.o"
         run_compiler([*cc, *GLUE_CFLAGS, "-I", str(stage), *(custom.compile_flags if custom else ()),
