@@ -5,8 +5,9 @@ on Fast DDS by an rclpy peer that imports the Python types the build made
 (``OUT/python``).  Every command is checked bit for bit against the
 diagram computed here in IEEE binary64: speed = sat(0.5 range, 0, 0.5),
 zero and stop when range < 0.2 or the link level is 0; the beacon's id,
-its quality into ``seen[0]`` (``seen[1]`` zero), its first 3 samples into
-``trace`` (lengths 0, 1, N-1, N, N+1 and 2N).  Then ``verify`` of the
+its quality into ``seen[0]`` (``seen[1]`` zero) and into ``links`` (a
+sequence of one custom message), its first 3 samples into ``trace``
+(lengths 0, 1, N-1, N, N+1 and 2N).  Then ``verify`` of the
 folder (the generated sources made again from its ``.msg`` copies; a
 carried field whose rosidl type changed is found), and bad input: what a
 ROS 1 ``.msg`` may say and ROS 2 may not, refused at its place."""
@@ -59,7 +60,7 @@ def command(rng: float, ident: int, level: int, snr: float, samples: list[float]
     speed = 0.0 if stop_now else min(max(0.5 * rng, 0.0), 0.5)
     return {"speed": bits(speed), "stop": stop_now, "beacon_id": ident,
             "seen": [{"level": level, "snr": bits(snr)}, {"level": 0, "snr": 0}],
-            "trace": [bits(x) for x in samples[:3]]}
+            "trace": [bits(x) for x in samples[:3]], "links": [{"level": level, "snr": bits(snr)}]}
 
 
 @pytest.fixture(scope="module")
