@@ -36,7 +36,7 @@ from pyrosgen.errors import Diagnostic, InvalidNodeModel
 from pyrosgen.frontend.model import NodeModel
 from pyrosgen.frontend.msgload import _display
 from pyrosgen.frontend.validate import load_model
-from pyrosgen.frontend.yamlsrc import YMap, load_yaml
+from pyrosgen.frontend.yamlsrc import YMap, load_yaml, read_text
 from pyrosgen.ros2.env import Ros2Install
 from pyrosgen.ros2.msgdefs import ros2_standard_defs
 
@@ -119,8 +119,8 @@ def _msg_file_problems(f: Path, installed: frozenset[str]) -> list[Diagnostic]:
         out.append(Diagnostic(shown, None, None, f"package name {f.parent.parent.name!r} is not a ROS 2 package "
                               "name (lower case, digits and '_', no '__', not ending with '_')", rule=TARGET_RULE))
     try:
-        text = f.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):
+        text = read_text(f, what="message definition", rule="4.5", regular_only=True)
+    except InvalidNodeModel:
         return out  # reported by the model's reading (rule 4.5)
     for i, line in enumerate(text.split("\n"), start=1):
         code = line.split("#", 1)[0].rstrip()

@@ -442,19 +442,31 @@ def check_rosidl_folder(folder: str | Path, files, proved_text: str,
     ROS 2 installation or its generators when there are some."""
     from pyrosgen.errors import InvalidNodeModel
     from pyrosgen.frontend.msgmodel import is_bounded_type
-    from pyrosgen.proof.modeltext import parse_model_text
+    from pyrosgen.proof.modeltext import MalformedModelText, parse_model_text
     from pyrosgen.ros.wrapper import _proved_msg_name
     from pyrosgen.ros2.env import find_ros2
 
     folder = Path(folder)
     names = sorted(files)
     msgs = [n for n in names if _INTERFACE.fullmatch(n)]
-    pm = parse_model_text(proved_text)
+    try:
+        pm = parse_model_text(proved_text or "")
+    except MalformedModelText:
+        return []  # the proved model is reported by the other checks
     generated = [n for n in names if n.startswith((f"{ROSIDL_DIR}/", f"{PYTHON_DIR}/")) and n not in msgs
                  and not n.endswith(".so")]
     declared = {_INTERFACE.fullmatch(n).group(1) for n in msgs}
     if not msgs and not generated:
-        return []
+        # no custom message in the folder: none may be in the proved model either
+        try:
+            inst = install or find_ros2()
+        except Ros2Missing:
+            return []
+        installed = {p.parent.name for p in inst.share_dir.glob("*/msg")}
+        return [(f"{ROSIDL_DIR}/interfaces/{n.split('/')[0]}/msg/{n.split('/')[1]}.msg",
+                 f"missing: the proved model carries {n}, which is not a type of the ROS 2 installation")
+                for n in sorted({_proved_msg_name(s) for s in pm.messages if not is_bounded_type(s)})
+                if "/" in n and n.split("/")[0] not in installed]
     inst = install or find_ros2()
     _check_generators(inst)
     custom = {s: _proved_msg_name(s) for s in pm.messages if not is_bounded_type(s)

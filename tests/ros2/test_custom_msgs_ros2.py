@@ -123,6 +123,10 @@ def test_dock_ros2_tampered_rosidl_files_found(dock2, tmp_path, ros2_install):
     shutil.copytree(dock2.out_dir, folder, symlinks=True)
     _rec, files = read_manifest(folder / "dock.manifest.json")
     assert check_rosidl_folder(folder, files, (folder / "dock.model").read_text(), ros2_install) == []
+    # the custom messages' files left out of the manifest: the proved model still carries their types
+    bare = [n for n in files if not n.startswith(("rosidl/", "python/"))]
+    assert dict(check_rosidl_folder(folder, bare, (folder / "dock.model").read_text(), ros2_install)).keys() == \
+        {f"rosidl/interfaces/dock_msgs/msg/{t}.msg" for t in ("Beacon", "DockCommand", "Quality")}
     # rosidl's C struct declares `range` as a float: the carried float64 would be narrowed silently
     header = folder / "rosidl" / "c" / "dock_msgs" / "msg" / "detail" / "beacon__struct.h"
     header.write_text(header.read_text().replace("  double range;", "  float range;"))
