@@ -222,3 +222,15 @@ def test_missing_generators_is_exit_2(tmp_path):
     with pytest.raises(Ros2Missing) as info:
         _check_generators(Ros2Install(tmp_path))
     assert "make ros2-deps" in str(info.value) and "rosidl_adapter" in str(info.value)
+
+
+def test_custom_message_with_ros2_types(tmp_path, ros2_install):
+    """A custom message that uses ROS 2's builtin_interfaces/Time (which
+    rosbags' ROS 1 parser takes for ROS 1's time) and geometry_msgs/Twist:
+    read with ROS 2's definitions, nanosec and all."""
+    model = _dock_copy(tmp_path, "builtin_interfaces/Time stamp\ngeometry_msgs/Twist cmd")
+    m = load_model_ros2(model, ros2_install)
+    by = {t.name: {f.name: (f.prim or f.msg) for f in t.fields} for t in m.messages}
+    assert by["dock_msgs/Quality"] == {"level": "uint32", "snr": "float32", "stamp": "builtin_interfaces/Time",
+                                       "cmd": "geometry_msgs/Twist"}
+    assert by["builtin_interfaces/Time"] == {"sec": "int32", "nanosec": "uint32"}
