@@ -26,9 +26,9 @@ as ``colcon build`` would build an interface package with
    folders.
 
 The node links the type supports directly (``--no-as-needed``): rmw asks
-``rosidl_typesupport_c`` for the Fast DDS type support, which ``dlopen``\\ s
-``lib<pkg>__rosidl_typesupport_fastrtps_c.so`` by name; already loaded, it
-is found without a search path.  An rclpy peer imports the Python types
+``rosidl_typesupport_c`` for the Fast DDS type support, which loads
+``lib<pkg>__rosidl_typesupport_fastrtps_c.so`` by name (``dlopen``); already
+loaded, it is found without a search path.  An rclpy peer imports the Python types
 with ``PYTHONPATH=OUT/python`` (:func:`peer_env`).
 
 The generated sources are a function of the ``.msg`` files and the
@@ -194,8 +194,7 @@ def _share_dirs(inst: Ros2Install, custom: set[str]) -> list[str]:
             and any(p.glob("*.idl"))]
 
 
-def generate_sources(inst: Ros2Install, packages: dict[str, list[Path]], order: list[str], out: Path,
-                     files: dict[str, list[Path]] | None = None) -> None:
+def generate_sources(inst: Ros2Install, packages: dict[str, list[Path]], order: list[str], out: Path) -> None:
     """Copy the ``.msg`` files into ``out/rosidl/interfaces`` and run the
     generators (:data:`GENERATE_SCRIPT`) into ``out``.  A ``.msg`` file
     that rosidl refuses is a user error (exit 1) naming it."""
@@ -245,7 +244,8 @@ def _python_info(inst: Ros2Install) -> tuple[list[str], str]:
             "sysconfig.get_config_var('EXT_SUFFIX')]))")
     r = _run([str(inst.python), "-c", code], "asking the ROS 2 interpreter for its headers")
     if r.returncode != 0:
-        raise BuildToolError("the ROS 2 installation's interpreter cannot tell its headers", _clip(r.stderr).splitlines())
+        raise BuildToolError("the ROS 2 installation's interpreter cannot tell its headers",
+                             _clip(r.stderr).splitlines())
     py_inc, np_inc, suffix = json.loads(r.stdout)
     if not (Path(py_inc) / "Python.h").is_file():
         raise Ros2Missing(f"no Python.h in {py_inc}: the Python types of the custom messages need Python's "
@@ -260,7 +260,8 @@ def _lib(pkg: str, kind: str) -> str:
 def _compile(argv: list[str], what: str, cwd: Path) -> None:
     r = _run(argv, what, cwd=cwd)
     if r.returncode != 0:
-        raise BuildToolError(f"{argv[0]} failed {what} (exit status {r.returncode})", _clip(r.stderr + r.stdout).splitlines())
+        raise BuildToolError(f"{argv[0]} failed {what} (exit status {r.returncode})",
+                             _clip(r.stderr + r.stdout).splitlines())
 
 
 def _compile_package(pkg: str, deps: set[str], inst: Ros2Install, out: Path, cc: list[str], cxx: list[str],
@@ -297,13 +298,14 @@ def _compile_package(pkg: str, deps: set[str], inst: Ros2Install, out: Path, cc:
              f"compiling {pkg}'s C type support", out)
     py_inc, suffix = python
     pydir = out / PYTHON_DIR / pkg
-    _compile([*cc, *c_flags, *inc, *py_inc, *sorted(p.relative_to(out).as_posix() for p in (pydir / "msg").glob("*_s.c")),
+    py_sources = sorted(p.relative_to(out).as_posix() for p in (pydir / "msg").glob("*_s.c"))
+    _compile([*cc, *c_flags, *inc, *py_inc, *py_sources,
               *so(_lib(pkg, "generator_py")), *flags("$ORIGIN"), f"-l{_lib(pkg, 'generator_c')}",
               f"-l{_lib(pkg, 'typesupport_c')}", *dl("generator_py"), *dl("generator_c"), "-lrosidl_runtime_c"],
              f"compiling {pkg}'s Python support", out)
     ext = pydir / f"{pkg}_s__rosidl_typesupport_c{suffix}"
-    _compile([*cc, *c_flags, *inc, *py_inc, f"{PYTHON_DIR}/{pkg}/_{pkg}_s.ep.rosidl_typesupport_c.c", "-fPIC", "-shared",
-              "-o", str(ext), *flags("$ORIGIN/../../lib"), "-Wl,--no-as-needed",
+    _compile([*cc, *c_flags, *inc, *py_inc, f"{PYTHON_DIR}/{pkg}/_{pkg}_s.ep.rosidl_typesupport_c.c", "-fPIC",
+              "-shared", "-o", str(ext), *flags("$ORIGIN/../../lib"), "-Wl,--no-as-needed",
               *(f"-l{_lib(pkg, k)}" for k in ("generator_py", "typesupport_c", "typesupport_fastrtps_c",
                                               "typesupport_introspection_c", "generator_c")),
               "-Wl,--as-needed", "-lrosidl_runtime_c"], f"compiling {pkg}'s Python extension", out)
