@@ -178,6 +178,15 @@ def test_ros1_only_msg_refused_for_ros2(tmp_path, ros2_install, line, col, says)
         r.stderr
 
 
+def test_check_ros2_of_dock(ros2_install):
+    """``check --ros2`` of examples/dock: ok, and no note about ROS 1's C++
+    headers (a ROS 2 build uses rosidl's, from the wheels)."""
+    r = subprocess.run([sys.executable, "-m", "pyrosgen", "check", "--ros2", str(MODEL)], capture_output=True,
+                       text=True, cwd=str(rosutil.ROOT))
+    assert r.returncode == 0 and "ok: node dock" in r.stdout, r.stderr
+    assert r.stderr == "", r.stderr
+
+
 def test_header_seq_of_custom_message_refused_for_ros2(tmp_path, ros2_install):
     model = _dock_copy(tmp_path, model_edit=("field: samples, derived: length, input: NS",
                                              "field: header.seq, input: NS"))
