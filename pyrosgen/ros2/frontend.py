@@ -12,8 +12,8 @@ rosidl's generators (:mod:`pyrosgen.ros2.rosidl`); what a ``.msg`` file may
 say for ROS 1 but not for ROS 2 is refused first, at its place, under rule
 4.17 (:func:`ros2_msg_problems`): ROS 1's built-in ``time`` and
 ``duration`` (ROS 2's ``builtin_interfaces/Time`` is ``int32 sec``,
-``uint32 nanosec``), ``byte`` and ``char`` (their meanings differ between
-the two), a bare ``Header`` (ROS 2 reads it as a type of the message's own
+``uint32 nanosec``), ``byte`` (an ``int8`` in ROS 1, an octet in ROS 2)
+and ``char`` (deprecated in ROS 2), a bare ``Header`` (ROS 2 reads it as a type of the message's own
 package: write ``std_msgs/Header``), and the names rosidl refuses (field
 names in lower case without ``__`` or a trailing ``_``, constant names in
 upper case, message names starting with an upper-case letter).  Then the
@@ -81,7 +81,8 @@ _ROS1_ONLY = {
     "duration": "ROS 1's built-in type duration does not exist in ROS 2: use builtin_interfaces/Duration "
                 "(int32 sec, uint32 nanosec)",
     "byte": "byte is an int8 in ROS 1 and an unsigned octet in ROS 2: write int8 or uint8",
-    "char": "char is a uint8 in ROS 1 and a character in ROS 2: write uint8 or int8",
+    "char": "char is deprecated in ROS 2 (rosidl reads it as uint8 in a .msg file, as a character in IDL): "
+            "write uint8",
     "Header": "a bare Header is std_msgs/Header in ROS 1 but a type of the message's own package in ROS 2: "
               "write std_msgs/Header",
 }

@@ -162,7 +162,7 @@ def _dock_copy(tmp_path, msg_line: str | None = None, model_edit: tuple[str, str
     ("duration[2] held", 1, "builtin_interfaces/Duration"),
     ("  Header header", 3, "write std_msgs/Header"),
     ("byte b", 1, "write int8 or uint8"),
-    ("char c", 1, "write uint8 or int8"),
+    ("char c", 1, "deprecated in ROS 2"),
     ("float64 lastSeen", 9, "not a ROS 2 field name"),
 ], ids=["time", "duration", "Header", "byte", "char", "camelCase"])
 def test_ros1_only_msg_refused_for_ros2(tmp_path, ros2_install, line, col, says):
