@@ -29,7 +29,7 @@ The node links the type supports directly (``--no-as-needed``): rmw asks
 ``rosidl_typesupport_c`` for the Fast DDS type support, which loads
 ``lib<pkg>__rosidl_typesupport_fastrtps_c.so`` by name (``dlopen``); already
 loaded, it is found without a search path.  An rclpy peer imports the Python types
-with ``PYTHONPATH=OUT/python`` (:func:`peer_env`).
+with ``PYTHONPATH=OUT/python`` and nothing else (:func:`peer_env`).
 
 The generated sources are a function of the ``.msg`` files and the
 installed generators: ``pyrosgen verify`` generates them again from the
@@ -339,17 +339,16 @@ def build_custom_types(model: NodeModel, inst: Ros2Install, out: Path, *, cc: li
                         "-Wl,--no-as-needed", *preload, "-Wl,--as-needed"))
 
 
-def peer_env(out: Path, inst: Ros2Install) -> dict[str, str]:
+def peer_env(out: Path, inst: Ros2Install | None = None) -> dict[str, str]:
     """The environment of an rclpy process that uses the custom types of
     the build in ``out``: :func:`pyrosgen.ros2.env.ros2_env` with
-    ``PYTHONPATH`` to ``out/python`` and ``LD_LIBRARY_PATH`` to ``out/lib``
-    and the installation's libraries."""
+    ``PYTHONPATH`` to ``out/python``.  Nothing else: the Python extension
+    finds the package's libraries by its DT_RPATH (``$ORIGIN/../../lib``)
+    and loads its type supports, which rosidl's dispatch then finds loaded."""
     env = ros2_env(install=inst)
-    env["LD_LIBRARY_PATH"] = ":".join([str(out / LIB_DIR), env["LD_LIBRARY_PATH"]])
     old = env.get("PYTHONPATH", "")
     env["PYTHONPATH"] = ":".join([str(out / PYTHON_DIR), *([old] if old else [])])
     return env
-
 
 
 # --------------------------------------------------------------------------

@@ -94,7 +94,7 @@ def test_dock_ros2_custom_messages_round_trip(dock2, ros2_install, tmp_path, shm
     node = spawn([dock2.binary], tmp_path / "node.log")
     try:
         peer = spawn([ros2_install.python, PEER, tmp_path / "peer.plan.json", tmp_path / "peer.result.json"],
-                     tmp_path / "peer.log", peer_env(out, ros2_install))
+                     tmp_path / "peer.log", peer_env(out))  # PYTHONPATH only, no LD_LIBRARY_PATH
         result = run_peer(plan, tmp_path, ros2_install, started=peer)
     finally:
         status = stop(node, signal.SIGTERM)
