@@ -84,8 +84,8 @@ def cmd_check(args: argparse.Namespace) -> int:
             f"{side} {f.name} ({f.type_text})" for side, f in arrays)
     from pyrosgen.frontend.msgdeb import missing_headers
 
-    for m in missing_headers(model):
-        # the model is valid; building it needs the headers
+    # the model is valid; building it for ROS 1 needs roscpp's headers (not for ROS 2: rosidl's from the wheels)
+    for m in ([] if getattr(args, "ros2", False) else missing_headers(model)):
         _print_err(f"{args.model}:{m.pos.line}:{m.pos.col}: note: {m.message()} (pyrosgen build needs it)")
     print(
         f"{args.model}: ok: node {model.name}, {_plural(len(model.topics), 'topic')}, "

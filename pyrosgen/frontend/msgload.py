@@ -37,6 +37,7 @@ reason it is not carried.
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
@@ -370,7 +371,12 @@ class MsgRegistry:
             if occurrence:
                 self._diag(path, line, col, f"field {show(fname)} is defined twice in {name}")
                 continue
-            raw.append(_convert_field(fname, desc, line, col))
+            f = _convert_field(fname, desc, line, col)
+            if self.standard is not None and f.base in _RAW_PSEUDO:
+                # the target ROS 2 (rule 4.17): rosbags reads builtin_interfaces/Time as ROS 1's
+                # time; ROS 2's is the message (int32 sec, uint32 nanosec)
+                f = dataclasses.replace(f, base=f"builtin_interfaces/{f.base.capitalize()}")
+            raw.append(f)
         if any(n > 1 for n in seen.values()):
             self.failed.add(name)
             return

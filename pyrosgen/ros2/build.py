@@ -55,6 +55,7 @@ from pyrosgen.ros.build import (
 )
 from pyrosgen.ros2.env import Ros2Install, find_ros2
 from pyrosgen.ros2.frontend import load_model_ros2
+from pyrosgen.ros2.rosidl import build_custom_types
 from pyrosgen.ros2.wrapper import check_rcl_wrapper, message_packages, render_rcl_wrapper, ros2_wrapper_files
 from pyrosgen.verify.certificate import certificate_files, write_certificate
 from pyrosgen.verify.wrapper_check import check_glue_externals
@@ -214,11 +215,15 @@ def build_ros2(model_path: str | Path, controller_dir: str | Path | None, out_di
                          f"compiling {src.name}", ctl.path / ctl.rel(src), user=True)
             objects.append(o)
         times["controller"] = time.monotonic() - t
-        # 7. wrapper
+        # 7. wrapper (and the custom messages' code, from rosidl's generators)
         t = time.monotonic()
+        custom = build_custom_types(model, inst, stage, cc=cc, cxx=cxx, say=lambda line: say(f"[7/{STEPS}] {line}"))
+        if custom:
+            times["rosidl"], t = time.monotonic() - t, time.monotonic()
         say(f"[7/{STEPS}] compile wrapper: {' '.join(cc)} {names.api_source}")
         o = obj / f"{node}_rcl.o"
-        run_compiler([*cc, *GLUE_CFLAGS, "-I", str(stage), *compile_flags(inst), "-c", str(stage / names.api_source),
+        run_compiler([*cc, *GLUE_CFLAGS, "-I", str(stage), *(custom.compile_flags if custom else ()),
+                      *compile_flags(inst), "-c", str(stage / names.api_source),
                       "-o", str(o)], f"compiling {names.api_source}", stage / names.api_source, user=False)
         objects.append(o)
         times["wrapper compile"] = time.monotonic() - t
@@ -229,7 +234,7 @@ def build_ros2(model_path: str | Path, controller_dir: str | Path | None, out_di
         linker = cxx if any(s.suffix in CXX_SUFFIXES for s in ctl.sources) else cc
         say(f"[8/{STEPS}] link: bin/{node}")
         argv = [*linker, "-pthread", *opts.ldflags, *(str(x) for x in objects), "-o", str(binary),
-                *link_flags(inst, model), *opts.libs, "-lm"]
+                *(custom.link_flags if custom else ()), *link_flags(inst, model), *opts.libs, "-lm"]
         r = _run(argv, f"linking {node}", cwd=stage)
         if r.returncode != 0:
             msg = _clip(shown(r.stderr + r.stdout))

@@ -64,9 +64,13 @@ def build_ros2_command(args: argparse.Namespace, options, progress: Callable[[st
     print(f"  theorem   {g.theorem}: {g.theorem_kind}")
     print(f"            checked by coqc and coqchk; Print Assumptions: {g.assumptions}")
     print(f"  layout    {res.model.controller.name}.h agrees with the glue (sizes, offsets, types)")
+    if (res.out_dir / "python").is_dir():  # custom messages (msg_paths), pyrosgen/ros2/rosidl.py
+        print(f"  messages  custom types by rosidl in {res.out_dir / 'lib'}; for rclpy: "
+              f"PYTHONPATH={shlex.quote(str(res.out_dir / 'python'))}")
     t = res.times
     phases = ", ".join(f"{k} {t[k]:.2f} s" for k in (
-        "generate", "wrapper", "layout check", "glue", "controller", "wrapper compile", "link and install") if k in t)
+        "generate", "wrapper", "layout check", "glue", "controller", "rosidl", "wrapper compile", "link and install")
+        if k in t)
     print(f"  time      {phases}; total {t.get('total', 0.0):.2f} s")
     env = ros2_env()
     print(f"  run       ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST ROS_DOMAIN_ID={env['ROS_DOMAIN_ID']} "

@@ -5,10 +5,21 @@ The same model file is read with ROS 2's message definitions
 section 4 applies unchanged.  A problem that the ROS 2 reading finds and the
 ROS 1 reading does not (``header.seq``, ``stamp.nsec``, a type ROS 2 does not
 have, ``stamp: now`` on a ``builtin_interfaces/Time`` stamp) is reported
-under rule 4.17, with the rule it breaks for ROS 2.  Then the features this
-version does not yet build for ROS 2 are refused, each at its place:
+under rule 4.17, with the rule it breaks for ROS 2.
 
-- custom messages (``msg_paths``): they would need rosidl's generators;
+Custom messages (``msg_paths``) are read as for ROS 1 and built with
+rosidl's generators (:mod:`pyrosgen.ros2.rosidl`); what a ``.msg`` file may
+say for ROS 1 but not for ROS 2 is refused first, at its place, under rule
+4.17 (:func:`ros2_msg_problems`): ROS 1's built-in ``time`` and
+``duration`` (ROS 2's ``builtin_interfaces/Time`` is ``int32 sec``,
+``uint32 nanosec``), ``byte`` (an ``int8`` in ROS 1, an octet in ROS 2)
+and ``char`` (deprecated in ROS 2), a bare ``Header`` (ROS 2 reads it as a type of the message's own
+package: write ``std_msgs/Header``), and the names rosidl refuses (field
+names in lower case without ``__`` or a trailing ``_``, constant names in
+upper case, message names starting with an upper-case letter).  Then the
+features this version does not yet build for ROS 2 are refused, each at
+its place:
+
 - stamps (rule 4.13): the proved glue stores ``ros_time_sec()`` (an
   ``unsigned int``) into ``stamp.sec``, which is ROS 2's ``int32``, and the
   nanoseconds into ``nsec``, which ROS 2 calls ``nanosec``: the library
@@ -18,16 +29,18 @@ version does not yet build for ROS 2 are refused, each at its place:
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from pyrosgen.errors import Diagnostic, InvalidNodeModel
 from pyrosgen.frontend.model import NodeModel
+from pyrosgen.frontend.msgload import _display
 from pyrosgen.frontend.validate import load_model
-from pyrosgen.frontend.yamlsrc import YMap, load_yaml
+from pyrosgen.frontend.yamlsrc import YMap, load_yaml, read_text
 from pyrosgen.ros2.env import Ros2Install
 from pyrosgen.ros2.msgdefs import ros2_standard_defs
 
-__all__ = ["TARGET_RULE", "load_model_ros2"]
+__all__ = ["TARGET_RULE", "load_model_ros2", "ros2_msg_problems"]
 
 #: The rule of DESIGN.md section 4 on the two targets.
 TARGET_RULE = "4.17"
@@ -55,19 +68,92 @@ def _relabel(exc: InvalidNodeModel, path: Path) -> InvalidNodeModel:
     return InvalidNodeModel(out)
 
 
-def _msg_paths_refusal(path: Path) -> list[Diagnostic]:
-    """A non-empty ``msg_paths``: custom messages are not built for ROS 2
-    in this version (rule 4.17)."""
+#: rosidl_adapter's patterns (``rosidl_adapter/parser.py``): what ROS 2
+#: accepts as a package, field, constant and message name.
+_ROS2_FIELD = re.compile(r"(?!.*__)(?!.*_$)[a-z][a-z0-9_]*")
+_ROS2_CONSTANT = re.compile(r"[A-Z]([A-Z0-9_]?[A-Z0-9]+)*")
+_ROS2_MESSAGE = re.compile(r"[A-Z][A-Za-z0-9]*")
+_LINE = re.compile(r"(\s*)([A-Za-z0-9_/]+)((?:\[[^\]]*\])?)(\s+)([A-Za-z0-9_]+)")
+#: ROS 1 base types with no ROS 2 counterpart of the same meaning
+_ROS1_ONLY = {
+    "time": "ROS 1's built-in type time does not exist in ROS 2: use builtin_interfaces/Time "
+            "(int32 sec, uint32 nanosec)",
+    "duration": "ROS 1's built-in type duration does not exist in ROS 2: use builtin_interfaces/Duration "
+                "(int32 sec, uint32 nanosec)",
+    "byte": "byte is an int8 in ROS 1 and an unsigned octet in ROS 2: write int8 or uint8",
+    "char": "char is deprecated in ROS 2 (rosidl reads it as uint8 in a .msg file, as a character in IDL): "
+            "write uint8",
+    "Header": "a bare Header is std_msgs/Header in ROS 1 but a type of the message's own package in ROS 2: "
+              "write std_msgs/Header",
+}
+
+
+def _msg_folders(path: Path) -> list[Path]:
+    """The folders the model's ``msg_paths`` names that exist (the others
+    are reported by the model's reading, rule 4.5)."""
     try:
         root = load_yaml(path).root
     except InvalidNodeModel:
         return []  # reported by the model's reading
     mp = root.get("msg_paths") if isinstance(root, YMap) else None
-    if mp is None or not getattr(mp, "items", None):
-        return []
-    return [Diagnostic(str(path), mp.line, mp.col,
-                       "msg_paths: custom message types are not built for the target ros2 yet "
-                       "(they need rosidl's C generators); use ROS 2's standard types", rule=TARGET_RULE)]
+    out = []
+    for item in getattr(mp, "items", None) or []:
+        text = getattr(item, "value", None)
+        if isinstance(text, str) and text and "\x00" not in text:
+            folder = Path(text) if Path(text).is_absolute() else path.parent / text
+            if folder.is_dir():
+                out.append(folder)
+    return out
+
+
+def _msg_file_problems(f: Path, installed: frozenset[str]) -> list[Diagnostic]:
+    shown = _display(f)
+    out: list[Diagnostic] = []
+    if f.parent.parent.name in installed:
+        out.append(Diagnostic(shown, None, None, f"package {f.parent.parent.name!r} is a package of the ROS 2 "
+                              "installation: rosidl builds one library per package, and the node would load the "
+                              "installed one; name the custom package otherwise (target ros2)", rule=TARGET_RULE))
+    if not _ROS2_MESSAGE.fullmatch(f.stem):
+        out.append(Diagnostic(shown, None, None, f"message name {f.stem!r} is not a ROS 2 message name "
+                              "(an upper-case letter, then letters and digits)", rule=TARGET_RULE))
+    if not _ROS2_FIELD.fullmatch(f.parent.parent.name):
+        out.append(Diagnostic(shown, None, None, f"package name {f.parent.parent.name!r} is not a ROS 2 package "
+                              "name (lower case, digits and '_', no '__', not ending with '_')", rule=TARGET_RULE))
+    try:
+        text = read_text(f, what="message definition", rule="4.5", regular_only=True)
+    except InvalidNodeModel:
+        return out  # reported by the model's reading (rule 4.5)
+    for i, line in enumerate(text.split("\n"), start=1):
+        code = line.split("#", 1)[0].rstrip()
+        m = _LINE.match(code)
+        if m is None:
+            continue
+        typ, name = m.group(2), m.group(5)
+        const = "=" in code[m.end(5):].lstrip()[:1]
+        tcol, ncol = len(m.group(1)) + 1, m.start(5) + 1
+        if typ in _ROS1_ONLY:
+            out.append(Diagnostic(shown, i, tcol, f"field {name!r}: {_ROS1_ONLY[typ]} (target ros2; the ROS 1 "
+                                  "target accepts it)", rule=TARGET_RULE))
+        elif const and not _ROS2_CONSTANT.fullmatch(name):
+            out.append(Diagnostic(shown, i, ncol, f"constant name {name!r} is not a ROS 2 constant name (upper "
+                                  "case, digits and '_'; target ros2)", rule=TARGET_RULE))
+        elif not const and not _ROS2_FIELD.fullmatch(name):
+            out.append(Diagnostic(shown, i, ncol, f"field name {name!r} is not a ROS 2 field name (lower case, "
+                                  "digits and '_', no '__', not ending with '_'; target ros2)", rule=TARGET_RULE))
+    return out
+
+
+def ros2_msg_problems(path: Path, installed: frozenset[str] = frozenset()) -> list[Diagnostic]:
+    """What the custom ``.msg`` files of the model's ``msg_paths`` say that
+    ROS 1 accepts and ROS 2 (rosidl) does not, at its place (rule 4.17);
+    ``installed``: the message packages of the ROS 2 installation, which a
+    custom package must not be."""
+    out: list[Diagnostic] = []
+    for folder in _msg_folders(path):
+        for f in sorted(folder.glob("*/msg/*.msg")):
+            if f.is_file():
+                out.extend(_msg_file_problems(f, installed))
+    return out
 
 
 def load_model_ros2(path: str | Path, install: Ros2Install | None = None) -> NodeModel:
@@ -78,12 +164,14 @@ def load_model_ros2(path: str | Path, install: Ros2Install | None = None) -> Nod
     installation."""
     path = Path(path)
     defs = ros2_standard_defs(install)
-    pre = _msg_paths_refusal(path)
+    pre = ros2_msg_problems(path, frozenset(name.split("/", 1)[0] for name in defs))
     try:
         model = load_model(path, standard_msgs=defs)
     except InvalidNodeModel as exc:
-        relabelled = _relabel(exc, path).diagnostics
-        raise InvalidNodeModel(sorted([*pre, *relabelled], key=lambda d: (d.file != str(path), d.line or 0,
+        # a line of a .msg file that ROS 2 refuses is reported once, as ROS 2 refuses it
+        seen = {(d.file, d.line) for d in pre}
+        relabelled = [d for d in _relabel(exc, path).diagnostics if (d.file, d.line) not in seen]
+        raise InvalidNodeModel(sorted([*pre, *relabelled], key=lambda d: (d.file != str(path), d.file, d.line or 0,
                                                                           d.col or 0))) from None
     if pre:
         raise InvalidNodeModel(pre)

@@ -136,7 +136,10 @@ def _context(model: NodeModel, proved: ProvedModel) -> dict:
         "header_name": files.api_header,
         "types_header": files.types_header,
         "guard": f"PYROSGEN_{model.name.upper()}_ROS_H",
-        "rosidl_headers": sorted({rosidl_header(t["type_name"]) for t in topics}),
+        # the topics' types, and the element types of sequences of messages (their __Sequence functions)
+        "rosidl_headers": sorted({rosidl_header(t["type_name"]) for t in topics}
+                                 | {rosidl_header(m.seq_of[0]) for m in model.messages
+                                    if m.is_seq and "/" in m.seq_of[0]}),
         "messages": messages,
         "subs": subs,
         "pubs": pubs,

@@ -374,6 +374,11 @@ def _check_ros2_folder(folder: Path, rec: ProofRecord, files: dict[str, str], pr
                 problems.compared += 1
             except Ros2WrapperMismatch as exc:
                 problems.add(rcl, exc.summary + ("; " + "; ".join(x.strip() for x in exc.lines) if exc.lines else ""))
+    # custom messages: generated again by rosidl from the folder's .msg files (K7, pyrosgen/ros2/rosidl.py)
+    from pyrosgen.ros2.rosidl import check_rosidl_folder
+
+    for name, why in check_rosidl_folder(folder, files, proved_text):
+        problems.add(name, why)
     if problems:
         return Check("package", False, f"{len(problems)} problems with the files of the ROS 2 node", list(problems))
     return Check("package", True, "a ROS 2 build (target file as written by build --ros2): its rcl wrapper takes, "

@@ -107,9 +107,14 @@ def test_sequence_of_numbers_accepted_for_ros2(tmp_path, ros2_install):
     assert any(t.is_seq and t.seq_of == ("float32", 128) for t in m.messages)
 
 
-def test_msg_paths_refused_for_ros2(ros2_install):
+def test_msg_paths_ros1_only_types_refused_for_ros2(ros2_install):
+    """msg_paths is read for ROS 2 (rosidl builds the custom messages,
+    tests/ros2/test_custom_msgs_ros2.py); multi's say what only ROS 1
+    accepts: a bare Header, ROS 1's duration, each at its place."""
     diags = _refused(rosutil.MULTI, ros2_install)
-    assert any(d.rule == "4.17" and "msg_paths" in d.message and d.line is not None for d in diags)
+    estop = [d for d in diags if d.file.endswith("EStop.msg")]
+    assert [(d.line, d.col, d.rule) for d in estop] == [(2, 1, "4.17"), (8, 1, "4.17")]
+    assert "std_msgs/Header" in estop[0].message and "builtin_interfaces/Duration" in estop[1].message
 
 
 def _cli(*args, env_extra=None):
