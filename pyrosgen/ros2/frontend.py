@@ -18,6 +18,7 @@ version does not yet build for ROS 2 are refused, each at its place:
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 from pyrosgen.errors import Diagnostic, InvalidNodeModel
@@ -87,6 +88,7 @@ def load_model_ros2(path: str | Path, install: Ros2Install | None = None) -> Nod
                                                                           d.col or 0))) from None
     if pre:
         raise InvalidNodeModel(pre)
-    return model
+    # rule 4.18: the QoS is the ROS 2 target's; the ROS 1 reading's warning that it is ignored does not apply
+    return dataclasses.replace(model, warnings=())
 
 
