@@ -279,9 +279,13 @@ def _qos_problems(fn: str, t, got: list[tuple[str, str]], q: Qos) -> list[str]:
     depth = dict(got).get("qos.depth")
     if depth is not None and depth != str(t.queue) and [k for k, _ in got] == [k for k, _ in want]:
         return [f"  {fn}: history depth {depth}, the proved queue size is {t.queue}"]
-    shown = ", ".join(f"{k} = {v}" for k, v in got) or "none"
-    return [f"  {fn}: sets options {shown}; the QoS of {t.name} is KEEP_LAST {t.queue}, {q.reliability}, "
-            f"{q.durability} ({', '.join(f'{k} = {v}' for k, v in want)})"]
+    if [k for k, _ in got] == [k for k, _ in want]:
+        shown = "; ".join(f"options {k} is {g}, not {w}" for (k, g), (_, w) in zip(got, want) if g != w)
+    else:
+        shown = "sets options " + (", ".join(f"{k} = {v}" for k, v in got) or "none") + ", not " + \
+            ", ".join(f"{k} = {v}" for k, v in want)
+    return [f"  {fn}: {shown} (the QoS of {t.name}: KEEP_LAST {t.queue}, {q.reliability}, {q.durability}, "
+            "rule 4.18)"]
 
 
 def check_rcl_wrapper(text: str, proved_model_text: str, *, wrapper_name: str, qos_record: str | None = None) -> None:
