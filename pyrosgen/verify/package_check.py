@@ -413,4 +413,4 @@ def _check_ros2_folder(folder: Path, rec: ProofRecord, files: dict[str, str], pr
     if problems:
         return Check("package", False, f"{len(problems)} problems with the files of the ROS 2 node", list(problems))
     return Check("package", True, "a ROS 2 build (target file as written by build --ros2): its rcl wrapper takes, "
-                 "publishes and sleeps as the proved model says; no ROS 1 file")
+                 f"publishes and sleeps as the proved model says, with the QoS of {rec.node}.qos; no ROS 1 file")

@@ -613,10 +613,12 @@ def _verify_folder(folder: Path, *, node: str | None, model: str | Path | None, 
                     # the second, independent reading of the model file (N-version, DESIGN.md section 7)
                     check_model_file(model, proved_text, proved_diagram, vfile=rec.node_v,
                                      **({"standard_root": msg_root} if msg_root is not None else {}))
-                    if msg_root is not None and is_build_folder(rec, files):
+                    qos = msg_root is not None and is_build_folder(rec, files)
+                    if qos:
                         check_qos_of_model(folder, rec, loaded, model)  # rule 4.18: the ROS 2 build's QoS
                     checks.append(Check("model", True, f"the proved model is the model of {Path(model).name}, "
-                                        "read by the front end and read independently"))
+                                        "read by the front end and read independently"
+                                        + (f"; so is the QoS record {rec.node}.qos" if qos else "")))
                 except PyrosgenError as exc:
                     checks.append(Check("model", False, getattr(exc, "summary", str(exc).splitlines()[0]),
                                         list(getattr(exc, "lines", ())) or str(exc).splitlines()[1:]))
