@@ -31,18 +31,19 @@ _VALUES = {"reliability": ("reliable", "best_effort"), "durability": ("volatile"
 
 
 def _one(t: dict) -> tuple[str, str]:
-    q = t.get("qos")
-    if q is None:
+    if "qos" not in t:
         return _PROFILE["default"]
+    q = t["qos"]
     if isinstance(q, str):
         if q not in _PROFILE:
             raise ReadingError(f"topic {t.get('name')}: qos {q!r} is not a profile")
         return _PROFILE[q]
     if not isinstance(q, dict) or set(q) - {"profile", *_VALUES}:
         raise ReadingError(f"topic {t.get('name')}: qos {q!r} is not understood")
-    rel, dur = _PROFILE.get(q.get("profile", "default"), (None, None))
-    if rel is None:
-        raise ReadingError(f"topic {t.get('name')}: qos profile {q.get('profile')!r} is not a profile")
+    prof = q.get("profile", "default")
+    if not isinstance(prof, str) or prof not in _PROFILE:
+        raise ReadingError(f"topic {t.get('name')}: qos profile {prof!r} is not a profile")
+    rel, dur = _PROFILE[prof]
     rel, dur = q.get("reliability", rel), q.get("durability", dur)
     if rel not in _VALUES["reliability"] or dur not in _VALUES["durability"]:
         raise ReadingError(f"topic {t.get('name')}: qos ({rel!r}, {dur!r}) is not understood")

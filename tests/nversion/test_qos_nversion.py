@@ -15,7 +15,9 @@ import yaml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from pyrosgen.errors import InvalidNodeModel
 from pyrosgen.frontend.validate import load_model
+from pyrosgen.nversion.msgs import ReadingError
 from pyrosgen.nversion.check import NVersionMismatch, check_model_file
 from pyrosgen.nversion.qos import check_qos_record, qos_text as second_reading
 from pyrosgen.proof.modeltext import model_text
@@ -81,3 +83,35 @@ def test_a_record_that_says_otherwise_is_a_disagreement(tmp_path, old, new):
         check_qos_record(p, record.replace(old, new), what="the folder's n.qos")
     assert "is not the QoS of m.yaml read independently" in info.value.summary
     assert any(new in line for line in info.value.lines)
+
+
+_SCALARS = st.one_of(st.none(), st.booleans(), st.integers(-3, 3), st.floats(allow_nan=False, width=32),
+                     st.sampled_from(["reliable", "best_effort", "volatile", "transient_local", "default",
+                                      "sensor_data", "profile", "yes", "", "Reliable"]),
+                     st.text(max_size=8))
+_HOSTILE = st.recursive(_SCALARS, lambda inner: st.one_of(
+    st.lists(inner, max_size=3),
+    st.dictionaries(st.sampled_from(["profile", "reliability", "durability", "depth"]) | st.text(max_size=5),
+                    inner, max_size=3)), max_leaves=6)
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(q=_HOSTILE)
+def test_both_readings_accept_and_refuse_the_same_qos(q):
+    """Whatever the ``qos`` value: the front end accepts it exactly when
+    the second reading reads it, and then both give the same record."""
+    with tempfile.TemporaryDirectory() as d:
+        doc = yaml.safe_load(yaml.safe_dump(BASE))
+        doc["topics"][0]["qos"] = q
+        p = Path(d) / "m.yaml"
+        p.write_text(yaml.safe_dump(doc, sort_keys=False, allow_unicode=True), encoding="utf-8")
+        try:
+            record = qos_text(load_model(p))
+        except InvalidNodeModel as exc:
+            assert all(x.rule == "4.18" for x in exc.diagnostics), [str(x) for x in exc.diagnostics]
+            record = None
+        try:
+            second = second_reading(p)
+        except ReadingError:
+            second = None
+        assert record == second, (q, record, second)
