@@ -90,6 +90,10 @@ def cmd_check(args: argparse.Namespace) -> int:
     if arrays:
         ctrl += f"; {_plural(len(arrays), 'controller array')}: " + ", ".join(
             f"{side} {f.name} ({f.type_text})" for side, f in arrays)
+    qos = [t for t in model.topics if not t.qos.is_default]
+    if qos and getattr(args, "ros2", False):  # rule 4.18 (ROS 1: the warnings above)
+        ctrl += "; QoS other than the default: " + ", ".join(
+            f"{t.name} ({t.qos.reliability}, {t.qos.durability})" for t in qos)
     from pyrosgen.frontend.msgdeb import missing_headers
 
     for m in missing_headers(model):

@@ -118,6 +118,10 @@ def test_the_ros2_reading_has_the_qos_and_no_ros1_warning(qos_node, ros2_install
     assert qos_text(m) == RECORD
     r = _cli("check", "--ros2", qos_node.out_dir.parent / "qos_node.yaml")
     assert r.returncode == 0 and "warning" not in r.stderr, r.stderr
+    assert r.stdout.rstrip().endswith(
+        "; QoS other than the default: /qos/be_in (best_effort, volatile), /qos/tl_in (reliable, transient_local), "
+        "/qos/sd_in (best_effort, volatile), /qos/tl_out (reliable, transient_local), "
+        "/qos/sd_out (best_effort, volatile)"), r.stdout
     r = _cli("check", qos_node.out_dir.parent / "qos_node.yaml")  # ROS 1: one warning per qos
     assert r.returncode == 0 and r.stderr.count("warning: ") == 5 and r.stderr.count("[rule 4.18]") == 5, r.stderr
 
