@@ -58,8 +58,8 @@ from pyrosgen.ros.build import (
 )
 from pyrosgen.ros2.env import Ros2Install, find_ros2
 from pyrosgen.ros2.frontend import load_model_ros2
-from pyrosgen.ros2.wrapper import (check_rcl_wrapper, message_packages, qos_file_name, qos_text, render_rcl_wrapper,
-                                   ros2_wrapper_files)
+from pyrosgen.ros2.wrapper import (Ros2WrapperMismatch, check_rcl_wrapper, message_packages, parse_qos_text,
+                                   qos_file_name, qos_text, render_rcl_wrapper, ros2_wrapper_files)
 from pyrosgen.nversion.qos import check_qos_record
 from pyrosgen.verify.certificate import certificate_files, write_certificate
 from pyrosgen.verify.wrapper_check import check_glue_externals
@@ -176,7 +176,11 @@ def build_ros2(model_path: str | Path, controller_dir: str | Path | None, out_di
         qos_record = qos_text(model)
         check_qos_record(model_path, qos_record, what="the front end's QoS record")
         (stage / qos_file_name(node)).write_text(qos_record, encoding="utf-8")
-        for fname, text in render_rcl_wrapper(model, proved).items():
+        try:  # the record read back, as verify renders the wrapper from it
+            qos = parse_qos_text(qos_record, proved)
+        except ValueError as exc:
+            raise Ros2WrapperMismatch(f"{qos_file_name(node)} does not fit the proved model", [f"  {exc}"]) from None
+        for fname, text in render_rcl_wrapper(model, proved, qos=qos).items():
             if fname == names.api_source:
                 check_rcl_wrapper(text, gen.proved_model, wrapper_name=fname, qos_record=qos_record)
             if fname == names.api_header:

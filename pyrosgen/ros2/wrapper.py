@@ -218,13 +218,13 @@ class _T(dict):
     __getattr__ = dict.__getitem__
 
 
-def render_rcl_wrapper(model: NodeModel, proved: ProvedModel, qos: dict[str, Qos] | None = None) -> dict[str, str]:
+def render_rcl_wrapper(model: NodeModel, proved: ProvedModel, *, qos: dict[str, Qos]) -> dict[str, str]:
     """The C API header and its rcl implementation, by file name; the topics
     and the period from ``proved`` (the model Coq printed), the QoS of each
-    topic (rule 4.18) from ``qos`` (by topic name: a QoS record read back,
-    :func:`parse_qos_text`), by default ``model``'s (the front end's)."""
-    if qos is None:
-        qos = {t.name: t.qos for t in model.topics}
+    topic (rule 4.18) from ``qos``, by topic name: the QoS record read back
+    (:func:`parse_qos_text`; a required argument, since the proved model
+    has no QoS: ``build --ros2`` and ``verify`` both render from the
+    record)."""
     missing = [t.name for t in proved.topics if t.name not in qos]
     if missing:
         raise ValueError(f"no QoS for the proved topic {missing[0]}")

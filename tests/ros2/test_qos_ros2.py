@@ -34,6 +34,7 @@ from pathlib import Path
 
 import pytest
 
+from pyrosgen.frontend.model import DEFAULT_QOS
 from pyrosgen.proof.modeltext import parse_model_text
 from pyrosgen.ros2.build import build_ros2
 from pyrosgen.ros2.frontend import load_model_ros2
@@ -204,8 +205,14 @@ def test_render_takes_the_qos_of_a_record_read_back(qos_node, ros2_install):
     model = load_model_ros2(out.parent / "qos_node.yaml", ros2_install)
     plain = {t.name: t.qos for t in model.topics}
     assert parse_qos_text(RECORD, proved) == plain
-    assert render_rcl_wrapper(model, proved, parse_qos_text(RECORD, proved)) == render_rcl_wrapper(model, proved)
-    assert render_rcl_wrapper(model, proved)[f"{NODE}_rcl.c"] == (out / f"{NODE}_rcl.c").read_text()
+    assert render_rcl_wrapper(model, proved, qos=parse_qos_text(RECORD, proved)) == \
+        render_rcl_wrapper(model, proved, qos=plain)
+    assert render_rcl_wrapper(model, proved, qos=plain)[f"{NODE}_rcl.c"] == (out / f"{NODE}_rcl.c").read_text()
+    # the QoS is the record's: another record renders another wrapper, which the check refuses
+    other = render_rcl_wrapper(model, proved, qos={name: DEFAULT_QOS for name in plain})[f"{NODE}_rcl.c"]
+    with pytest.raises(Ros2WrapperMismatch):
+        check_rcl_wrapper(other, (out / f"{NODE}.model").read_text(), wrapper_name="w.c", qos_record=RECORD)
+    check_rcl_wrapper(other, (out / f"{NODE}.model").read_text(), wrapper_name="w.c")
 
 
 def _forge(copy: Path, name: str) -> None:
