@@ -387,3 +387,25 @@ def test_transient_local_subscription_gets_a_sample_published_before_the_node(qo
     x, rel = _values(result, "/qos/x_out"), _values(result, "/qos/rel_out")
     assert x[12.5] > 20, x
     assert set(rel) == {0.0} and sum(rel.values()) >= 60, rel
+
+
+@pytest.mark.parametrize("old, new, fragment", [
+    ("qos: {reliability: best_effort}}", "qos: {reliability: sometimes}}",
+     "topics[1].qos.reliability must be one of reliable, best_effort, got 'sometimes' [rule 4.18]"),
+    ("qos: sensor_data}\n  - {name: /qos/rel_out", "qos: {depth: 5}}\n  - {name: /qos/rel_out",
+     "topics[3].qos: unknown key 'depth'; expected profile, reliability, durability (the history depth is the "
+     "topic's queue_size) [rule 4.18]"),
+])
+def test_check_ros2_refuses_a_bad_qos_under_its_rule(tmp_path, ros2_install, old, new, fragment):
+    """A bad QoS is refused for ROS 2 as for ROS 1, at its place, under
+    rule 4.18 (not relabelled as a target difference, rule 4.17)."""
+    assert MODEL.count(old) == 1
+    p = tmp_path / "bad.yaml"
+    p.write_text(MODEL.replace(old, new), encoding="utf-8")
+    text = p.read_text()
+    line = text[: text.index(new)].count("\n") + 1
+    for args in (("check", "--ros2", p), ("check", p)):
+        r = _cli(*args)
+        assert r.returncode == 1 and r.stdout == "" and "Traceback" not in r.stderr, r.stderr
+        errors = [x for x in r.stderr.splitlines() if ": error: " in x]
+        assert len(errors) == 1 and errors[0].startswith(f"{p}:{line}:") and errors[0].endswith(fragment), r.stderr
