@@ -409,3 +409,26 @@ def test_check_ros2_refuses_a_bad_qos_under_its_rule(tmp_path, ros2_install, old
         assert r.returncode == 1 and r.stdout == "" and "Traceback" not in r.stderr, r.stderr
         errors = [x for x in r.stderr.splitlines() if ": error: " in x]
         assert len(errors) == 1 and errors[0].startswith(f"{p}:{line}:") and errors[0].endswith(fragment), r.stderr
+
+
+def test_verify_refuses_a_folder_without_its_qos_record(qos_node, tmp_path):
+    """The record removed, and from the manifest, the digest file and the
+    certificate too: the package check refuses the folder (a ROS 2 build
+    has one; without it the wrapper's QoS would be held to nothing)."""
+    copy = tmp_path / "copy"
+    shutil.copytree(qos_node.out_dir, copy)
+    name = f"{NODE}.qos"
+    (copy / name).unlink()
+    m = copy / f"{NODE}.manifest.json"
+    data = json.loads(m.read_text())
+    digest = data["files"].pop(name)
+    m.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
+    (copy / f"{NODE}.sha256").write_text("".join(f"{v}  {n}\n" for n, v in sorted(data["files"].items())))
+    cert = copy / f"{NODE}.certificate.md"
+    lines = [x for x in cert.read_text().splitlines(keepends=True) if f"| `{name}` | `{digest}` |" not in x]
+    cert.write_text("".join(lines))
+    r = _cli("verify", "-q", copy)
+    assert r.returncode == 1, r.stdout + r.stderr
+    failed = [line.split()[1] for line in r.stdout.splitlines() if line.lstrip().startswith("FAILED")]
+    assert "package" in failed, r.stdout
+    assert f"{name}: missing (or not covered by the manifest): a ROS 2 build's QoS record" in r.stdout, r.stdout
