@@ -51,11 +51,19 @@ def _rows(relations) -> str:
     return f" (from {_plural(rows, 'row')})" if rows != len(relations) else ""
 
 
+def _print_warnings(model) -> None:
+    """The front end's warnings about a valid model (rule 4.18: a ``qos``
+    that the target ROS 1 ignores), on standard error."""
+    for w in model.warnings:
+        _print_err(str(w))
+
+
 def cmd_check(args: argparse.Namespace) -> int:
     """``pyrosgen check MODEL.yaml``: validate only."""
     from pyrosgen.ros2.cli import load_for_target  # --ros2: ROS 2's messages (rule 4.17)
 
     model = load_for_target(args)
+    _print_warnings(model)
     d = model.controller.diagram
     ctrl = (f"; controller: a block diagram of {_plural(len(d.blocks), 'block')}"
             f" ({_plural(len(d.states), 'state')})" if d is not None else "")
@@ -82,6 +90,10 @@ def cmd_check(args: argparse.Namespace) -> int:
     if arrays:
         ctrl += f"; {_plural(len(arrays), 'controller array')}: " + ", ".join(
             f"{side} {f.name} ({f.type_text})" for side, f in arrays)
+    qos = [t for t in model.topics if not t.qos.is_default]
+    if qos and getattr(args, "ros2", False):  # rule 4.18 (ROS 1: the warnings above)
+        ctrl += "; QoS other than the default: " + ", ".join(
+            f"{t.name} ({t.qos.reliability}, {t.qos.durability})" for t in qos)
     from pyrosgen.frontend.msgdeb import missing_headers
 
     # the model is valid; building it for ROS 1 needs roscpp's headers (not for ROS 2: rosidl's from the wheels)
@@ -166,6 +178,7 @@ def cmd_generate(args: argparse.Namespace) -> int:
         else:
             res = generate(args.model, args.output, progress=_progress(args), keep_work=args.keep_work,
                            wp=args.wp)
+    _print_warnings(res.model)
     print(f"pyrosgen: generated node {res.model.name} into {res.out_dir}")
     for path, rewritten in res.files:
         print(f"  {'written' if rewritten else 'unchanged':<10}{path}")
@@ -221,6 +234,7 @@ def cmd_build(args: argparse.Namespace) -> int:
     with _stopped_by_signals():
         res = build(args.model, args.controller, args.output, progress=_progress(args), keep_work=args.keep_work,
                     wp=args.wp, options=options)
+    _print_warnings(res.model)
     for line in res.warnings:
         _print_err(line)
     print(f"pyrosgen: built node {res.model.name} into {res.out_dir}")

@@ -165,6 +165,10 @@ class Checker:
         for k in m.keys():
             if k not in allowed:
                 kn = m.key_node(k)
+                if k == "qos":  # rule 4.18: a key of a topic only
+                    self.err_rule("4.18", kn, f"{what}: unknown key {show(k)}: qos is a key of a topic "
+                                              "declaration (topics: [{name: ..., qos: ...}])")
+                    continue
                 self.err(
                     kn,
                     f"{what}: unknown key {show(k)}{did_you_mean(k, allowed)}; "

@@ -16,6 +16,7 @@ from functools import cached_property
 from pathlib import Path
 from typing import NamedTuple
 
+from pyrosgen.errors import Diagnostic
 from pyrosgen.frontend.msgmodel import C_TYPES, SIMULINK_TYPES, FieldPath, MsgType, leaf_paths, msg_c_name
 
 __all__ = [
@@ -403,6 +404,28 @@ class StringConstant:
 
 
 @dataclass(frozen=True)
+class Qos:
+    """A topic's quality of service for ROS 2 (rule 4.18): what its
+    subscription or publisher asks of DDS.  The history is always KEEP_LAST
+    of depth the topic's ``queue_size`` (rule 4.4: the one depth); the
+    defaults are rclcpp's (``rmw_qos_profile_default``): reliable,
+    volatile.  ROS 1 has no QoS (roscpp's TCPROS is reliable and volatile):
+    the ROS 1 target ignores it, with a warning."""
+
+    reliability: str = "reliable"    #: ``reliable`` or ``best_effort``
+    durability: str = "volatile"     #: ``volatile`` or ``transient_local``
+
+    @property
+    def is_default(self) -> bool:
+        return self == DEFAULT_QOS
+
+
+#: rclcpp's default QoS (``rmw_qos_profile_default`` but for its depth 10:
+#: the depth is the topic's ``queue_size``).
+DEFAULT_QOS = Qos()
+
+
+@dataclass(frozen=True)
 class Topic(TopicNames):
     """A topic the node subscribes to or publishes.
 
@@ -430,6 +453,9 @@ class Topic(TopicNames):
     #: the constant strings of a published topic (rule 4.14), in the
     #: order the model writes them
     strings: tuple[StringConstant, ...] = ()
+    #: the topic's QoS for ROS 2 (rule 4.18); :data:`DEFAULT_QOS` when the
+    #: model gives none
+    qos: Qos = DEFAULT_QOS
 
     @property
     def is_subscribed(self) -> bool:
@@ -604,6 +630,10 @@ class NodeModel:
     #: derived inputs (rule 4.12), in the model's order; they are not
     #: among :attr:`input_relations`
     derived_relations: tuple[DerivedRelation, ...] = ()
+    #: what the front end warns about without refusing the model (rule 4.18:
+    #: a ``qos`` read for the target ROS 1, which ignores it); the commands
+    #: print them
+    warnings: tuple[Diagnostic, ...] = field(default=(), compare=False)
 
     @property
     def subscribed(self) -> tuple[Topic, ...]:

@@ -39,7 +39,7 @@ def topics_section(ck: Checker, node: YNode | None, registry: MsgRegistry) -> li
         if m is None:
             continue
         ck.keys(m, what, ("name", "direction", "type", "queue_size"),
-                ("timeout_ms", "on_timeout", "stamp", "frame_id", "strings", "max_length", "policy"))
+                ("timeout_ms", "on_timeout", "stamp", "frame_id", "strings", "max_length", "policy", "qos"))
         name_node = m.get("name")
         name = ck.string(name_node, f"{what}.name")
         usable = name is not None

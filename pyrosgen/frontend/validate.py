@@ -13,7 +13,8 @@ of closely related rules, in this order:
 3. the node and the controller (rules 4.2, 4.3: :mod:`~pyrosgen.frontend.rule_node`);
 4. the topics and their message types (rules 4.4, 4.5:
    :mod:`~pyrosgen.frontend.rule_topics`), their ``max_length`` and
-   ``policy`` (rule 4.15: :mod:`~pyrosgen.frontend.rule_sequences`);
+   ``policy`` (rule 4.15: :mod:`~pyrosgen.frontend.rule_sequences`), their
+   ``qos`` (rule 4.18: :mod:`~pyrosgen.frontend.rule_qos`);
 5. the relations and their field paths (rules 4.6, 4.7:
    :mod:`~pyrosgen.frontend.rule_relations`; whole controller arrays, rule
    4.15: :mod:`~pyrosgen.frontend.rule_arrays`);
@@ -39,7 +40,7 @@ from pyrosgen.errors import Diagnostic, InvalidNodeModel
 from pyrosgen.frontend.checker import Checker, Rel, TopicDecl
 from pyrosgen.frontend.model import (
     Controller, ControllerField, DerivedRelation, Diagram, InputRelation, IOStruct, NodeModel, OutputRelation,
-    Pos, Topic,
+    DEFAULT_QOS, Pos, Qos, Topic,
 )
 from pyrosgen.frontend.msgload import MsgRegistry
 from pyrosgen.frontend.names import topic_c_name
@@ -55,6 +56,7 @@ from pyrosgen.frontend.rule_node import (
     MAX_CONTROLLER_FIELDS, MAX_PERIOD_MS, check_controller_diagram, controller_section, node_section,
 )
 from pyrosgen.frontend.rule_relations import relations_section
+from pyrosgen.frontend.rule_qos import check_qos, ros1_qos_warning
 from pyrosgen.frontend.rule_sequences import POLICIES, check_max_length, check_policy, check_published_sequences
 from pyrosgen.frontend.rule_stamps import STAMP_FIELD, check_stamps
 from pyrosgen.frontend.rule_strings import FRAME_ID_FIELD, HEADER_TYPE, check_strings
@@ -84,6 +86,7 @@ class _Checked:
     in_rels: list[Rel] = field(default_factory=list)
     out_rels: list[Rel] = field(default_factory=list)
     diagram: Diagram | None = None
+    qos: dict = field(default_factory=dict)  # topic name -> (Qos, node), rule 4.18
 
     def fields(self, side: str) -> dict[str, ControllerField] | None:
         """The controller's inputs or outputs by name (``None``: refused)."""
@@ -126,6 +129,7 @@ def _run_rules(ck: Checker, root: YMap, registry: MsgRegistry) -> _Checked:
     c.decls = topics_section(ck, root.get("topics"), registry)
     check_max_length(ck, c.decls, registry)
     check_policy(ck, c.decls, registry)
+    c.qos = check_qos(ck, c.decls)
     inputs, outputs = c.fields("inputs"), c.fields("outputs")
     topics = {d.name: d for d in c.decls}
     c.in_rels, c.out_rels = relations_section(ck, root.get("relations"), topics, inputs, outputs, registry)
@@ -146,7 +150,7 @@ def _assemble(c: _Checked, registry: MsgRegistry, path: Path, msg_paths: list[Pa
     """The immutable model of a model file whose every rule passed."""
     assert c.node_name is not None and c.period is not None and c.ctrl_name is not None
     assert c.uvar is not None and c.yvar is not None and c.ufields is not None and c.yfields is not None
-    topic_objs = _topics(c.decls)
+    topic_objs = _topics(c.decls, {name: q for name, (q, _) in c.qos.items()})
     controller = Controller(
         name=c.ctrl_name,
         inputs=IOStruct(c.uvar, f"ExtU_{c.ctrl_name}_T", tuple(f for _, f in c.ufields)),
@@ -166,11 +170,14 @@ def _assemble(c: _Checked, registry: MsgRegistry, path: Path, msg_paths: list[Pa
         source=path,
         msg_paths=tuple(msg_paths),
         derived_relations=drs,
+        # rule 4.18: read here for the target ROS 1, which ignores it (the ROS 2 front end drops these)
+        warnings=tuple(ros1_qos_warning(str(path), name, q, qnode) for name, (q, qnode) in c.qos.items()),
     )
 
 
-def _topics(decls: list[TopicDecl]) -> dict[str, Topic]:
-    """The topics of checked declarations, by name, in model order."""
+def _topics(decls: list[TopicDecl], qos: dict[str, Qos]) -> dict[str, Topic]:
+    """The topics of checked declarations, by name, in model order, with
+    their QoS (rule 4.18)."""
     topic_objs: dict[str, Topic] = {}
     for d in decls:
         assert d.usable and d.msg_type is not None and d.queue_size is not None and d.direction
@@ -186,6 +193,7 @@ def _topics(decls: list[TopicDecl]) -> dict[str, Topic]:
             stamped=d.stamped,
             stamp_from=d.stamp_from,
             strings=tuple(d.strings),
+            qos=qos.get(d.name, DEFAULT_QOS),
         )
     return topic_objs
 

@@ -13,7 +13,10 @@ The steps (each one progress line):
 3. wrapper: the C API over rcl rendered from the model Coq printed
    (:func:`pyrosgen.ros2.wrapper.render_rcl_wrapper`), held to it by
    :func:`pyrosgen.ros2.wrapper.check_rcl_wrapper` and the glue's externals
-   by the ROS 1 build's check;
+   by the ROS 1 build's check; the topics' QoS (rule 4.18) from the model
+   file, read by the front end and again by :mod:`pyrosgen.nversion.qos`,
+   written as the record ``<node>.qos`` that the wrapper check holds the
+   wrapper to;
 4. layout check: the controller header against the structs Coq printed;
 5. compile the glue: the ROS 1 build's flags (``gcc -std=c11 -O2 -Wall
    -Wextra -Werror -pedantic``);
@@ -56,7 +59,9 @@ from pyrosgen.ros.build import (
 from pyrosgen.ros2.env import Ros2Install, find_ros2
 from pyrosgen.ros2.frontend import load_model_ros2
 from pyrosgen.ros2.rosidl import build_custom_types
-from pyrosgen.ros2.wrapper import check_rcl_wrapper, message_packages, render_rcl_wrapper, ros2_wrapper_files
+from pyrosgen.ros2.wrapper import (Ros2WrapperMismatch, check_rcl_wrapper, message_packages, parse_qos_text,
+                                   qos_file_name, qos_text, render_rcl_wrapper, ros2_wrapper_files)
+from pyrosgen.nversion.qos import check_qos_record
 from pyrosgen.verify.certificate import certificate_files, write_certificate
 from pyrosgen.verify.wrapper_check import check_glue_externals
 
@@ -168,9 +173,17 @@ def build_ros2(model_path: str | Path, controller_dir: str | Path | None, out_di
         say(f"[3/{STEPS}] wrapper: C API over rcl ({names.api_source})")
         t = time.monotonic()
         proved = parse_model_text(gen.proved_model)
-        for fname, text in render_rcl_wrapper(model, proved).items():
+        # rule 4.18: the QoS record, read twice (front end, nversion), the wrapper held to it
+        qos_record = qos_text(model)
+        check_qos_record(model_path, qos_record, what="the front end's QoS record")
+        (stage / qos_file_name(node)).write_text(qos_record, encoding="utf-8")
+        try:  # the record read back, as verify renders the wrapper from it
+            qos = parse_qos_text(qos_record, proved)
+        except ValueError as exc:
+            raise Ros2WrapperMismatch(f"{qos_file_name(node)} does not fit the proved model", [f"  {exc}"]) from None
+        for fname, text in render_rcl_wrapper(model, proved, qos=qos).items():
             if fname == names.api_source:
-                check_rcl_wrapper(text, gen.proved_model, wrapper_name=fname)
+                check_rcl_wrapper(text, gen.proved_model, wrapper_name=fname, qos_record=qos_record)
             if fname == names.api_header:
                 check_glue_externals((stage / glue_c).read_text(encoding="utf-8"), text,
                                      glue_name=glue_c, header_name=fname)

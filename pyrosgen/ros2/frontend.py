@@ -29,6 +29,7 @@ its place:
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from pathlib import Path
 
@@ -175,6 +176,7 @@ def load_model_ros2(path: str | Path, install: Ros2Install | None = None) -> Nod
                                                                           d.col or 0))) from None
     if pre:
         raise InvalidNodeModel(pre)
-    return model
+    # rule 4.18: the QoS is the ROS 2 target's; the ROS 1 reading's warning that it is ignored does not apply
+    return dataclasses.replace(model, warnings=())
 
 

@@ -1,13 +1,23 @@
 """The C API over rcl (ROS 2) of a generated node: the same header as the
 roscpp wrapper's (``ros_api.h.j2``: the API the glue calls) and a C
 implementation over rcl (``rcl_api.c.j2``), rendered from the model Coq
-printed (its topics, types, queue sizes and period) and the message
+printed (its topics, types, queue sizes and period), the message
 definitions of the front end's ROS 2 reading (the conversions between the
-rosidl C messages and the glue's structs).
+rosidl C messages and the glue's structs) and the topics' QoS (rule 4.18).
 
 :func:`check_rcl_wrapper` holds the rendered wrapper to the proved model:
 it subscribes and advertises exactly the proved topics, with their rosidl
-types, C structs and queue sizes, and sleeps with the proved period.
+types, C structs and queue sizes, and sleeps with the proved period; and
+to the QoS record (:func:`qos_text`, the file ``<node>.qos`` of a ROS 2
+build): each subscription and publisher has exactly the recorded history
+(KEEP_LAST), depth, reliability and durability.
+
+The QoS is not in the model Coq proves things about (it decides which
+messages arrive: an assumption on the environment, DESIGN.md section 6.1),
+so it reaches the wrapper from the model file: the front end's reading,
+written as the record ``<node>.qos``, which ``build --ros2`` compares with
+the second reading's (:func:`pyrosgen.nversion.qos.qos_text`) and with the
+proved topics (:func:`parse_qos_text`), and ``verify`` re-derives.
 """
 
 from __future__ import annotations
@@ -16,14 +26,15 @@ import re
 from dataclasses import dataclass
 
 from pyrosgen.errors import DetailedFailure
-from pyrosgen.frontend.model import NodeModel
+from pyrosgen.frontend.model import DEFAULT_QOS, NodeModel, Qos
 from pyrosgen.proof.modeltext import ProvedModel, parse_model_text
 from pyrosgen.frontend.msgmodel import PRIMITIVES
 from pyrosgen.render import render, ros_name, source_label
 from pyrosgen.ros.wrapper import _reject_paths
 
 __all__ = ["Ros2WrapperFiles", "ros2_wrapper_files", "render_rcl_wrapper", "rosidl_header",
-           "check_rcl_wrapper", "Ros2WrapperMismatch", "message_packages"]
+           "check_rcl_wrapper", "Ros2WrapperMismatch", "message_packages", "QOS_HEADER", "qos_text",
+           "parse_qos_text", "qos_file_name"]
 
 _C_IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
@@ -35,6 +46,58 @@ ROSIDL_SEQ = {"bool": "boolean", "int8": "int8", "uint8": "uint8", "int16": "int
 
 class Ros2WrapperMismatch(DetailedFailure):
     """The rcl wrapper does not implement the proved model (exit 2)."""
+
+
+# -- the QoS record (rule 4.18) -------------------------------------------
+
+#: The first line of a QoS record (``pyrosgen.nversion.qos.QOS_HEADER``).
+QOS_HEADER = "pyrosgen-qos 1"
+#: rmw's constants (``rmw/types.h``) of each reliability and durability of rule 4.18
+RMW_RELIABILITY = {"reliable": "RMW_QOS_POLICY_RELIABILITY_RELIABLE",
+                   "best_effort": "RMW_QOS_POLICY_RELIABILITY_BEST_EFFORT"}
+RMW_DURABILITY = {"volatile": "RMW_QOS_POLICY_DURABILITY_VOLATILE",
+                  "transient_local": "RMW_QOS_POLICY_DURABILITY_TRANSIENT_LOCAL"}
+_QOS_LINE = re.compile(r"topic (\S+) (subscribe|publish) keep_last ([1-9][0-9]{0,4}) "
+                       r"(reliable|best_effort) (volatile|transient_local)")
+
+
+def qos_file_name(node: str) -> str:
+    """The QoS record of a ROS 2 build, ``<node>.qos``."""
+    return f"{_ident(node)}.qos"
+
+
+def qos_text(model: NodeModel) -> str:
+    """The QoS record of ``model`` (the front end's reading, rule 4.18): a
+    header line, then one line per topic in the model's order, ``topic NAME
+    DIRECTION keep_last DEPTH RELIABILITY DURABILITY`` (the depth is the
+    queue size)."""
+    lines = [QOS_HEADER] + [f"topic {t.name} {t.direction} keep_last {t.queue_size} {t.qos.reliability} "
+                            f"{t.qos.durability}" for t in model.topics]
+    return "".join(line + "\n" for line in lines)
+
+
+def parse_qos_text(text: str, proved: ProvedModel) -> dict[str, Qos]:
+    """The QoS of each proved topic by name, from the record ``text``
+    (:func:`qos_text`); ``ValueError`` unless the record is well formed and
+    names exactly the proved topics, in the proved order, with their
+    directions and their queue sizes as depths."""
+    lines = text.split("\n")
+    if not text.endswith("\n") or lines[0] != QOS_HEADER:
+        raise ValueError(f"not a QoS record: its first line is not {QOS_HEADER!r} or it does not end with a newline")
+    rows = lines[1:-1]
+    if len(rows) != len(proved.topics):
+        raise ValueError(f"{len(rows)} topics, the proved model has {len(proved.topics)}")
+    out: dict[str, Qos] = {}
+    for i, (row, t) in enumerate(zip(rows, proved.topics), start=2):
+        m = _QOS_LINE.fullmatch(row)
+        if m is None:
+            raise ValueError(f"line {i}: {row[:120]!r} is not 'topic NAME DIRECTION keep_last DEPTH "
+                             "RELIABILITY DURABILITY'")
+        if (m.group(1), m.group(2), int(m.group(3))) != (t.name, t.direction, t.queue):
+            raise ValueError(f"line {i}: {m.group(1)} {m.group(2)} depth {m.group(3)}, the proved topic is "
+                             f"{t.name} {t.direction} queue {t.queue}")
+        out[t.name] = Qos(reliability=m.group(4), durability=m.group(5))
+    return out
 
 
 def _ident(name: str) -> str:
@@ -81,7 +144,7 @@ def message_packages(model: NodeModel) -> list[str]:
     return sorted({_ident(m.name.split("/", 1)[0]) for m in model.messages if "/" in m.name})
 
 
-def _context(model: NodeModel, proved: ProvedModel) -> dict:
+def _context(model: NodeModel, proved: ProvedModel, qos: dict[str, Qos]) -> dict:
     files = ros2_wrapper_files(model)
     by_name = {m.name: m for m in model.messages}
     messages = []
@@ -116,6 +179,7 @@ def _context(model: NodeModel, proved: ProvedModel) -> dict:
     topics = []
     for t in proved.topics:
         pkg, typ = t.ros_type.split("/", 1)
+        q = qos[t.name]
         for n in (t.c_name, t.subscribe_fn, t.advertise_fn, t.publish_fn, t.struct):
             _ident(n)
         topics.append({
@@ -125,6 +189,9 @@ def _context(model: NodeModel, proved: ProvedModel) -> dict:
             "subscribe_fn": t.subscribe_fn, "advertise_fn": t.advertise_fn, "publish_fn": t.publish_fn,
             # policy reject (rule 4.15): (C access path, maximum), as the roscpp wrapper's
             "rejects": (_reject_paths(msgs, by_c_name.get(t.struct, "")) if t.direction == "subscribe" else []),
+            # rule 4.18: the QoS (the depth is the queue size)
+            "reliability": RMW_RELIABILITY[q.reliability], "durability": RMW_DURABILITY[q.durability],
+            "qos_text": f"{q.reliability}, {q.durability}",
             # for ros_api.h.j2
             "msg_type": t.ros_type, "queue_size": int(t.queue),
         })
@@ -154,10 +221,17 @@ class _T(dict):
     __getattr__ = dict.__getitem__
 
 
-def render_rcl_wrapper(model: NodeModel, proved: ProvedModel) -> dict[str, str]:
+def render_rcl_wrapper(model: NodeModel, proved: ProvedModel, *, qos: dict[str, Qos]) -> dict[str, str]:
     """The C API header and its rcl implementation, by file name; the topics
-    and the period from ``proved`` (the model Coq printed)."""
-    ctx = _context(model, proved)
+    and the period from ``proved`` (the model Coq printed), the QoS of each
+    topic (rule 4.18) from ``qos``, by topic name: the QoS record read back
+    (:func:`parse_qos_text`; a required argument, since the proved model
+    has no QoS: ``build --ros2`` and ``verify`` both render from the
+    record)."""
+    missing = [t.name for t in proved.topics if t.name not in qos]
+    if missing:
+        raise ValueError(f"no QoS for the proved topic {missing[0]}")
+    ctx = _context(model, proved, qos)
     ctx["subs"] = [_T(t) for t in ctx["subs"]]
     ctx["pubs"] = [_T(t) for t in ctx["pubs"]]
     ctx["messages"] = [_T(m, fields=[_T(f) for f in m["fields"]]) for m in ctx["messages"]]
@@ -172,16 +246,58 @@ _SUB = re.compile(r'rcl_subscription_init\(&g_sub_(\w+), &g_node,\s*ROSIDL_GET_M
                   r'\s*"([^"]*)", &options\)')
 _PUB = re.compile(r'rcl_publisher_init\(&g_pub_(\w+), &g_node,\s*ROSIDL_GET_MSG_TYPE_SUPPORT\((\w+), msg, (\w+)\),'
                   r'\s*"([^"]*)", &options\)')
-_DEPTH = re.compile(r"void (ros_(?:subscribe|advertise)_\w+)\((?:void \(\*cb\)\(struct (\w+) \*\)|void)\)\n\{\n"
-                    r"(?:.*\n)*?    options\.qos\.depth = (\d+);")
+_SETUP = re.compile(r"^void (ros_(?:subscribe|advertise)_\w+)\((?:void \(\*cb\)\(struct (\w+) \*\)|void)\)\n\{\n",
+                    re.M)
+_OPTIONS = re.compile(r"\boptions\.([\w.]+)\s*=\s*([^;]*);")
 _PERIOD = re.compile(r"^#define PYROSGEN_PERIOD_NS (\d+)LL$", re.M)
 
 
-def check_rcl_wrapper(text: str, proved_model_text: str, *, wrapper_name: str) -> None:
+def _setups(text: str) -> dict[str, tuple[str | None, list[tuple[str, str]]]]:
+    """Each ``ros_subscribe_<c>``/``ros_advertise_<c>`` of the wrapper: the
+    struct of its callback and every assignment to its ``options`` (the QoS
+    it asks for), in order, the first being its declaration from rcl's
+    default options (``("init", "rcl_subscription_get_default_options()")``)."""
+    out = {}
+    for m in _SETUP.finditer(text):
+        end = text.find("\n}\n", m.end())
+        body = text[m.end(): end if end >= 0 else len(text)]
+        kind = "subscription" if m.group(1).startswith("ros_subscribe_") else "publisher"
+        init = re.match(rf"    rcl_{kind}_options_t options = (rcl_{kind}_get_default_options\(\));\n", body)
+        out[m.group(1)] = (m.group(2), [("init", init.group(1) if init else "other")]
+                           + [(k, v.strip()) for k, v in _OPTIONS.findall(body)])
+    return out
+
+
+def _qos_problems(fn: str, t, got: list[tuple[str, str]], q: Qos) -> list[str]:
+    """Rule 4.18: the QoS a topic's setup function asks for is exactly the
+    default options' (``rcl_*_get_default_options``, rmw's default profile)
+    with history KEEP_LAST, the proved queue size as depth, and the
+    recorded reliability and durability."""
+    kind = "subscription" if t.direction == "subscribe" else "publisher"
+    want = [("init", f"rcl_{kind}_get_default_options()"),
+            ("qos.history", "RMW_QOS_POLICY_HISTORY_KEEP_LAST"), ("qos.depth", str(t.queue)),
+            ("qos.reliability", RMW_RELIABILITY[q.reliability]), ("qos.durability", RMW_DURABILITY[q.durability])]
+    if got == want:
+        return []
+    depth = dict(got).get("qos.depth")
+    if depth is not None and depth != str(t.queue) and [k for k, _ in got] == [k for k, _ in want]:
+        return [f"  {fn}: history depth {depth}, the proved queue size is {t.queue}"]
+    if [k for k, _ in got] == [k for k, _ in want]:
+        shown = "; ".join(f"options {k} is {g}, not {w}" for (k, g), (_, w) in zip(got, want) if g != w)
+    else:
+        shown = "sets options " + (", ".join(f"{k} = {v}" for k, v in got) or "none") + ", not " + \
+            ", ".join(f"{k} = {v}" for k, v in want)
+    return [f"  {fn}: {shown} (the QoS of {t.name}: KEEP_LAST {t.queue}, {q.reliability}, {q.durability}, "
+            "rule 4.18)"]
+
+
+def check_rcl_wrapper(text: str, proved_model_text: str, *, wrapper_name: str, qos_record: str | None = None) -> None:
     """Raise :class:`Ros2WrapperMismatch` unless the rcl wrapper ``text``
     subscribes and advertises exactly the proved model's topics (names,
     ROS types, C structs of the callbacks, queue sizes as history depths)
-    and sleeps with its period."""
+    with the QoS of ``qos_record`` (:func:`qos_text`; ``None``: every topic
+    the default, reliable and volatile, rule 4.18), and sleeps with its
+    period."""
     pm = parse_model_text(proved_model_text)
     problems: list[str] = []
     want = {(t.direction, t.c_name, t.ros_type, t.name) for t in pm.topics}
@@ -191,15 +307,20 @@ def check_rcl_wrapper(text: str, proved_model_text: str, *, wrapper_name: str) -
         problems.append(f"  the proved topic {w[3]} ({w[0]}, {w[2]}) is not registered so")
     for g in sorted(got - want):
         problems.append(f"  registers {g[3]} ({g[0]}, {g[2]}), which is not a proved topic")
-    depths = {fn: (struct, int(d)) for fn, struct, d in _DEPTH.findall(text)}
+    try:
+        qos = (parse_qos_text(qos_record, pm) if qos_record is not None
+               else {t.name: DEFAULT_QOS for t in pm.topics})
+    except ValueError as exc:
+        raise Ros2WrapperMismatch(f"{wrapper_name}: the QoS record does not fit the proved model", [f"  {exc}"]) \
+            from None
+    setups = _setups(text)
     for t in pm.topics:
         fn = t.subscribe_fn if t.direction == "subscribe" else t.advertise_fn
-        if fn not in depths:
+        if fn not in setups:
             problems.append(f"  no {fn} with a history depth")
             continue
-        struct, depth = depths[fn]
-        if depth != t.queue:
-            problems.append(f"  {fn}: history depth {depth}, the proved queue size is {t.queue}")
+        struct, options = setups[fn]
+        problems += _qos_problems(fn, t, options, qos[t.name])
         if t.direction == "subscribe" and struct != t.struct:
             problems.append(f"  {fn}: callback of struct {struct}, the proved struct is {t.struct}")
     periods = _PERIOD.findall(text)

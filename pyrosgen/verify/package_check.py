@@ -343,12 +343,47 @@ def check_package(folder: str | Path, rec: ProofRecord, files: dict[str, str], p
 _ROS2_TARGET = "target: ros2 (ROS 2 Kilted, rcl, rmw_fastrtps_cpp)\n"
 
 
+def _qos_record(folder: Path, rec: ProofRecord, files: dict[str, str], problems: "_Problems") -> str | None:
+    """The QoS record ``<node>.qos`` of a ROS 2 build folder (rule 4.18),
+    covered by the manifest; ``None`` (a problem) when it is missing."""
+    from pyrosgen.ros2.wrapper import qos_file_name
+
+    name = qos_file_name(rec.node)
+    if name not in files:
+        problems.add(name, "missing (or not covered by the manifest): a ROS 2 build's QoS record")
+        return None
+    data = _read(folder, name, problems)
+    return data.decode("utf-8", errors="replace") if data is not None else None
+
+
+def check_qos_of_model(folder: Path, rec: ProofRecord, model, model_path) -> None:
+    """``verify --model`` of a ROS 2 build folder (rule 4.18): the folder's
+    QoS record is the QoS of the model file, read by the front end
+    (``model``, its :class:`NodeModel`) and read again independently
+    (:func:`pyrosgen.nversion.qos.check_qos_record`).  Raises
+    :class:`pyrosgen.nversion.check.NVersionMismatch` (exit 2)."""
+    from pyrosgen.nversion.check import NVersionMismatch, differing_lines
+    from pyrosgen.nversion.qos import check_qos_record
+    from pyrosgen.ros2.wrapper import qos_file_name, qos_text
+
+    name = qos_file_name(rec.node)
+    try:
+        record = read_file(folder, name, limit=1 << 20).decode("utf-8", errors="replace")
+    except (OSError, PyrosgenError) as exc:  # missing, or verify.folder.UnsafeFile
+        raise NVersionMismatch(f"{name}: cannot read the folder's QoS record: {exc}", []) from None
+    lines = differing_lines(qos_text(model), record, what=f"the folder's {name}")
+    if lines:
+        raise NVersionMismatch(f"the folder's {name} is not the QoS of {Path(model_path).name} (rule 4.18)", lines)
+    check_qos_record(model_path, record, what=f"the folder's {name}")
+
+
 def _check_ros2_folder(folder: Path, rec: ProofRecord, files: dict[str, str], proved_text: str) -> Check:
     """A folder of ``pyrosgen build --ros2`` (rule 4.17): its ``<node>.target``
     says so, it holds none of a ROS 1 build's wrapper and catkin files (a
     ``.target`` cannot excuse them from the checks above), and its rcl
     wrapper takes and publishes exactly the proved model's topics, types,
-    history depths and period (``check_rcl_wrapper``, the check every
+    history depths and period, with the QoS of the folder's record
+    ``<node>.qos`` (rule 4.18; ``check_rcl_wrapper``, the check every
     ``build --ros2`` runs)."""
     from pyrosgen.ros2.wrapper import Ros2WrapperMismatch, check_rcl_wrapper
 
@@ -368,9 +403,10 @@ def _check_ros2_folder(folder: Path, rec: ProofRecord, files: dict[str, str], pr
     else:
         data = _read(folder, rcl, problems)
         wrapper = data.decode("utf-8", errors="replace") if data is not None else None
-        if wrapper is not None:
+        record = _qos_record(folder, rec, files, problems)
+        if wrapper is not None and record is not None:
             try:
-                check_rcl_wrapper(wrapper, proved_text, wrapper_name=rcl)
+                check_rcl_wrapper(wrapper, proved_text, wrapper_name=rcl, qos_record=record)
                 problems.compared += 1
             except Ros2WrapperMismatch as exc:
                 problems.add(rcl, exc.summary + ("; " + "; ".join(x.strip() for x in exc.lines) if exc.lines else ""))
@@ -382,4 +418,4 @@ def _check_ros2_folder(folder: Path, rec: ProofRecord, files: dict[str, str], pr
     if problems:
         return Check("package", False, f"{len(problems)} problems with the files of the ROS 2 node", list(problems))
     return Check("package", True, "a ROS 2 build (target file as written by build --ros2): its rcl wrapper takes, "
-                 "publishes and sleeps as the proved model says; no ROS 1 file")
+                 f"publishes and sleeps as the proved model says, with the QoS of {rec.node}.qos; no ROS 1 file")

@@ -34,7 +34,8 @@ tool runs with a timeout and an address-space limit.  The checks, from the folde
    texts the proof printed and the manifest (its relations' and
    constants' C lines are in the printed C, its digests the recorded ones);
 7. **model** (with ``--model MODEL.yaml``): the model text Coq printed is
-   the front end's reading of that file;
+   the front end's reading of that file; of a ROS 2 build, the QoS record
+   ``<node>.qos`` is that file's QoS (rule 4.18), read by both readings;
 8. **wrapper** (a ``build`` folder): the C++ wrapper registers exactly the
    proved topics, types and queue sizes and sleeps with the proved period;
 9. **WP** (with ``--wp``): Frama-C WP proves the folder's ACSL contracts
@@ -73,7 +74,7 @@ from pyrosgen.verify.certificate import (MANIFEST_MAX_BYTES, ManifestError, Proo
                                          read_manifest)
 from pyrosgen.verify.folder import UnsafeFile, check_name, read_file, read_text
 from pyrosgen.verify.check import Check
-from pyrosgen.verify.package_check import check_package, is_build_folder
+from pyrosgen.verify.package_check import check_package, check_qos_of_model, is_build_folder
 from pyrosgen.nversion.check import check_model_file
 
 #: The default limit of each tool run of ``verify`` (``--timeout``), in
@@ -612,8 +613,12 @@ def _verify_folder(folder: Path, *, node: str | None, model: str | Path | None, 
                     # the second, independent reading of the model file (N-version, DESIGN.md section 7)
                     check_model_file(model, proved_text, proved_diagram, vfile=rec.node_v,
                                      **({"standard_root": msg_root} if msg_root is not None else {}))
+                    qos = msg_root is not None and is_build_folder(rec, files)
+                    if qos:
+                        check_qos_of_model(folder, rec, loaded, model)  # rule 4.18: the ROS 2 build's QoS
                     checks.append(Check("model", True, f"the proved model is the model of {Path(model).name}, "
-                                        "read by the front end and read independently"))
+                                        "read by the front end and read independently"
+                                        + (f"; so is the QoS record {rec.node}.qos" if qos else "")))
                 except PyrosgenError as exc:
                     checks.append(Check("model", False, getattr(exc, "summary", str(exc).splitlines()[0]),
                                         list(getattr(exc, "lines", ())) or str(exc).splitlines()[1:]))

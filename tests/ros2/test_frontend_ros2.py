@@ -184,7 +184,7 @@ def test_rcl_wrapper_check_refuses_a_tampered_wrapper(tmp_path, ros2_install, ta
     model = load_model_ros2(_model(tmp_path), ros2_install)
     from pyrosgen.proof.modeltext import model_text
     assert model_text(model) == PROVED  # the proved text the wrapper is rendered from
-    text = render_rcl_wrapper(model, parse_model_text(PROVED))["n2_rcl.c"]
+    text = render_rcl_wrapper(model, parse_model_text(PROVED), qos={t.name: t.qos for t in model.topics})["n2_rcl.c"]
     check_rcl_wrapper(text, PROVED, wrapper_name="n2_rcl.c")
     old, new = tamper
     assert text.count(old) == 1
