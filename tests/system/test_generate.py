@@ -58,8 +58,12 @@ def test_cold_run(cold):
     assert "Require RosgenNode.a.\nRequire RosgenNode.b." in v
     assert "Theorem sys_link_1 : link_1_holds." in v and "Theorem sys_link_2 : link_2_holds." in v
     assert "RosgenNode.a.a_ddc RosgenNode.b.b_ddc link_2_ok" in v
-    assert "Theorem sys_chain_1 : link_1_holds /\\ link_2_holds." in v
-    assert "theorem `sys_chain_1`: links `sys_link_1`, `sys_link_2`" in cert
+    # the chain's theorem is System.chain_runs over the nodes' runs, not a conjunction of its links
+    assert "Definition chain_1_nodes : list cnode := [node_0; node_1]." in v
+    assert "Theorem sys_chain_1 : chain_holds chain_1_nodes chain_1_links chain_1_outs.\nProof.\n  apply chain_runs." in v
+    assert "Theorem sys_system : sys_links /\\ sys_chains." in v
+    assert "theorem `sys_chain_1`, through links `sys_link_1`, `sys_link_2`" in cert
+    assert "`System.chain_runs`" in cert and "`System.transported`" in cert
     graph = json.loads(names["sys.system.json"])
     assert graph["chains"] == [[{"node": "/a", "from": "/src", "to": "/mid"}, {"node": "/b", "from": "/mid", "to": "/out"}]]
     assert b'<node pkg="a" type="a" name="a"' in names["sys.launch"]
@@ -183,7 +187,7 @@ def test_system_proof_refuses_wrong_wiring(cold, tmp_path, mutant):
     vo = {n.name: cache / n.key / "coq" / f"{n.name}.vo" for n in first.nodes}
     # the right wiring is proved
     text, thms = prove_system(sysm, graph, vo, tmp_path / "ok")
-    assert thms == ["sys_system", "sys_link_1", "sys_link_2"]
+    assert thms == ["sys_system", "sys_link_1", "sys_link_2", "sys_chain_1"]
     l1, l2 = graph.links
     if mutant == "crossed":
         graph.links = [replace(l1, inp=l2.inp), replace(l2, inp=l1.inp)]
@@ -194,6 +198,42 @@ def test_system_proof_refuses_wrong_wiring(cold, tmp_path, mutant):
     assert exc.value.exit_code == 2
     # refused where a link's facts are decided: link_ok computes false
     assert 'Unable to unify "true" with "false"' in str(exc.value)
+
+
+@pytest.mark.parametrize("tamper", ["order", "link", "out", "drop"])
+def test_system_proof_refuses_tampered_chain(cold, tmp_path, monkeypatch, tamper):
+    """The chain's theorem is proved by System.chain_runs from the chain as
+    the certificate lists it: the nodes in another order, a link moved to
+    a pair of nodes it does not join, an output relation of another node,
+    or the chain's theorem stated of a weaker chain while the system
+    theorem claims the real one: Coq refuses each."""
+    from pyrosgen.proof.coqdriver import CoqError
+    from pyrosgen.system import coqsystem
+    from pyrosgen.system.checks import check_system
+    from pyrosgen.system.model import load_system
+
+    p, cache, out, first = cold
+    sysm = load_system(p)
+    graph = check_system(sysm)
+    vo = {n.name: cache / n.key / "coq" / f"{n.name}.vo" for n in first.nodes}
+    good = coqsystem.render_system_file(sysm, graph)
+    edits = {
+        "order": ("[node_0; node_1].", "[node_1; node_0]."),
+        "link": ("  mkclink 0 (mktopic \"/mid\"", "  mkclink 1 (mktopic \"/mid\""),
+        "out": ("exists node_1; split; [reflexivity|exact chain_1_out_1_ok]",
+                "exists node_0; split; [reflexivity|exact chain_1_out_1_ok]"),
+        # a weaker chain theorem (no link, no output), proved: the system theorem no longer follows
+        "drop": (good[good.index("Theorem sys_chain_1 :"):good.index("Qed.", good.index("Theorem sys_chain_1 :")) + 4],
+                 "Theorem sys_chain_1 : chain_holds chain_1_nodes [] [].\nProof.\n  apply chain_runs. split; [|split].\n"
+                 "  - constructor; [exact RosgenNode.a.a_ddc|]. constructor; [exact RosgenNode.b.b_ddc|]. constructor.\n"
+                 "  - constructor.\n  - constructor.\nQed."),
+    }
+    old, new = edits[tamper]
+    assert old in good
+    monkeypatch.setattr(coqsystem, "render_system_file", lambda s, g: good.replace(old, new, 1))
+    with pytest.raises(CoqError) as exc:
+        coqsystem.prove_system(sysm, graph, vo, tmp_path / "bad")
+    assert exc.value.exit_code == 2
 
 
 def test_system_verify(cold, tmp_path, capsys):
@@ -207,7 +247,7 @@ def test_system_verify(cold, tmp_path, capsys):
     o, err = capsys.readouterr()
     assert code == 0, o + err
     assert "verifies (system sys)" in o
-    assert "ok      system proof: 3 theorems (sys_system, sys_link_1, sys_link_2): Closed under the global context" in o
+    assert "ok      system proof: 4 theorems (sys_system, sys_link_1, sys_link_2, ...): Closed under the global context" in o
     bad = tmp_path / "bad"
     shutil.copytree(out, bad)
     v = bad / "sys_system.v"
