@@ -97,9 +97,10 @@ def certificate_text(sysm, graph, stage: Path) -> str:
             "the controller upstream computed in the cycle whose message it received last (unless a fallback "
             "value replaced a stale input, rule 4.12), that controller's own inputs came the same way from "
             "upstream, back to the external input (`System.chain_run_value`), and in every cycle the last node "
-            "publishes on the external output exactly what its controller computed. A wiring mistake (two "
-            "relations crossed between nodes, a remapping to the wrong topic) makes this false for some run "
-            "(`coq/tests/SystemMutants.v`), and the system's proof refuses it.", ""]
+            "publishes on the external output exactly what its controller computed. A wiring mistake cannot be "
+            "proved (the links' facts, `System.link_ok`, are false for it), and the mutation catalogue shows "
+            "such mistakes (two relations crossed between nodes, a remapping to the wrong topic) are wrong on "
+            "a run of the nodes' programs, not only refused (`coq/tests/SystemMutants.v`).", ""]
     if not graph.chains:
         out.append("No chain: no external output is reachable from an external input.")
     from pyrosgen.system.coqsystem import chain_links

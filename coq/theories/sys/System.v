@@ -25,13 +25,23 @@
       cycle, [published_value] of [A]'s), facts about the two models
       that a system's file decides by computation ([link_ok]), and
       freshness (no fallback value replaced the field).
-    - Section "Chains" ([chain_value]): a chain input topic -> node ->
-      topic -> ... -> output topic is a list of links; the generic
-      composition, over an abstract per-node interface (what each
-      controller receives and computes at each cycle), says that each
-      controller along the chain receives what the controller upstream
-      computed at the cycle the transport delivered, and the last node
-      publishes what its controller computed.
+    - Section "Links between whole runs" ([link_cycles],
+      [system_link]): the same over two decomposed runs, and over any
+      runs of the two programs from the nodes' T2 ([link_holds]).
+    - Section "Chains over the nodes' runs" ([chain_runs]): a chain
+      input topic -> node -> topic -> ... -> output topic is its nodes,
+      its links and the last node's output relations; from the nodes'
+      T2 and the chain's facts, for ANY runs of its programs there is
+      one T2 decomposition of each run along which every link holds and
+      the last node publishes what its controller computed
+      ([chain_holds]); a middle node's decomposition is shared by the
+      link into it and the link out of it, so the facts compose.
+    - Section "Chains" ([chain_value]) composes links over an interface
+      of a chain (what each controller receives, computes and publishes
+      at each cycle, the upstream cycle delivered): each controller
+      receives what the controller upstream computed at the delivered
+      cycle, back to the external input; [chain_run_value] builds that
+      interface from the real runs of a [chain_holds].
 
     Definitions and proofs only; no axiom. *)
 
@@ -779,7 +789,9 @@ Definition run_iface (ns : list cnode) (rs : nat -> run) (evs : nat -> nat -> tr
           d
           (fun l => r_n (rs l)).
 
-(** The chain theorem over the real runs, composed: for any runs of the
+(** The chain theorem over the real runs, composed (from any
+    [chain_holds], e.g. a system's [<system>_chain_c]; [co] one of the
+    chain's output relations): for any runs of the
     chain's programs (any environments with well-typed messages and
     controller outputs, any numbers of cycles), there is one T2
     decomposition of each node's run such that, when the transport
@@ -791,7 +803,7 @@ Definition run_iface (ns : list cnode) (rs : nat -> run) (evs : nat -> nat -> tr
     external input ([traced]), and the last node published what its
     controller computed. *)
 Theorem chain_run_value:
-  forall ns ls co (pick : nat -> clink), chain_ok ns ls [co] ->
+  forall ns ls outs co (pick : nat -> clink), chain_holds ns ls outs -> In co outs ->
   (forall l, (S l < length ns)%nat -> In (pick l) ls /\ cl_from (pick l) = l) ->
   forall rs, runs_of ns rs ->
   exists (s : forall l, nat -> r_CS (rs l)) (evs : nat -> nat -> trace),
@@ -805,8 +817,8 @@ Theorem chain_run_value:
            ch_published c (pred (length ns)) k = ch_output c (pred (length ns)) k
         /\ exists v, ch_output c (pred (length ns)) k = Some v).
 Proof.
-  intros ns ls co pick OK P rs R.
-  destruct (chain_runs ns ls [co] OK rs R) as (s & evs & Dec & CL & CO).
+  intros ns ls outs co pick CH Ico P rs R.
+  destruct (CH rs R) as (s & evs & Dec & CL & CO).
   exists s, evs. split; [exact Dec|]. intros d T c.
   assert (NL : node_links _ c (length ns)).
   { intros l k j Hl Hk E. simpl in Hk, E. destruct (T l k j Hl Hk E) as (Hj & Tr & Fr).
@@ -823,7 +835,7 @@ Proof.
                   exists v, ch_output c (pred (length ns)) k = Some v
                          /\ ch_published c (pred (length ns)) k = Some v).
     { split; [intros k Hk|intros k Hk]; destruct (H k Hk) as (v & A & B); [congruence|eauto]. }
-    intros k Hk. destruct (CO co k (or_introl eq_refl) Hk) as (v & Gc & Ex & All).
+    intros k Hk. destruct (CO co k Ico Hk) as (v & Gc & Ex & All).
     exists v. simpl. rewrite Nat.eqb_refl. split; [exact Gc|].
     unfold published_field. destruct (published_on_some _ _ Ex) as (msg & Pm & Im).
     rewrite Pm, (All msg Im). reflexivity. }
