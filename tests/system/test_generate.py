@@ -236,6 +236,52 @@ def test_system_proof_refuses_tampered_chain(cold, tmp_path, monkeypatch, tamper
     assert exc.value.exit_code == 2
 
 
+COMPOSED = """From Coq Require Import String List Lia.
+From ROSGen Require Import NodeModel System.
+Require RosgenNode.sys_system.
+Import ListNotations.
+Local Open Scope string_scope.
+
+Definition no_link : clink := mkclink 0 (mktopic "" "" "" Publish "" 0) (mkoutrel "" "" []) (mktopic "" "" "" Subscribe "" 0) (mkinrel "" [] "").
+Definition pick (_ : nat) : clink := hd no_link RosgenNode.sys_system.chain_1_links.
+Definition co : cout := hd (mkcout (mktopic "" "" "" Publish "" 0) (mkoutrel "" "" [])) RosgenNode.sys_system.chain_1_outs.
+
+(* the system's chain theorem, composed through the chain: /b's input I1 at every cycle is /a's output O1
+   at the delivered cycle, and /b publishes on /out what its controller computed *)
+Definition sys_chain_1_composed :=
+  chain_run_value _ _ _ co pick RosgenNode.sys_system.sys_chain_1 (or_introl eq_refl)
+    (fun l H => match l return (S l < 2)%nat -> In (pick l) RosgenNode.sys_system.chain_1_links /\\ cl_from (pick l) = l with
+                | O => fun _ => conj (or_introl eq_refl) eq_refl
+                | S l' => fun H => ltac:(exfalso; lia)
+                end H).
+Check sys_chain_1_composed.
+Print Assumptions sys_chain_1_composed.
+"""
+
+
+def test_chain_theorem_composes(cold, tmp_path, repo_root):
+    """The system's chain theorem is a System.chain_holds that
+    System.chain_run_value composes along the chain (it would not typecheck
+    if sys_chain_1 were the conjunction of its links, or missing)."""
+    from pyrosgen.system.checks import check_system
+    from pyrosgen.system.coqsystem import prove_system
+    from pyrosgen.system.model import load_system
+
+    p, cache, out, first = cold
+    sysm = load_system(p)
+    graph = check_system(sysm)
+    vo = {n.name: cache / n.key / "coq" / f"{n.name}.vo" for n in first.nodes}
+    prove_system(sysm, graph, vo, tmp_path / "ok")
+    coq = tmp_path / "ok" / "coq"
+    (coq / "Composed.v").write_text(COMPOSED)
+    r = subprocess.run(["coqc", "-R", str(repo_root / "coq/theories"), "ROSGen", "-R", str(coq), "RosgenNode",
+                        str(coq / "Composed.v")], capture_output=True, text=True, cwd=coq, timeout=600)
+    assert r.returncode == 0, r.stderr + r.stdout
+    assert "sys_chain_1_composed\n     : forall rs : nat -> run," in r.stdout
+    assert re.search(r"-> traced \(option (Values\.)?val\) c l k\)", r.stdout), r.stdout
+    assert r.stdout.rstrip().endswith("Closed under the global context")
+
+
 def test_system_verify(cold, tmp_path, capsys):
     """``pyrosgen system verify``: the folder as generated verifies; a
     tampered system .v (an extra line) and a tampered node file fail,
