@@ -103,13 +103,17 @@ def certificate_text(sysm, graph, stage: Path) -> str:
             "a run of the nodes' programs, not only refused (`coq/tests/SystemMutants.v`).", ""]
     if not graph.chains:
         out.append("No chain: no external output is reachable from an external input.")
-    from pyrosgen.system.coqsystem import chain_links
+    from pyrosgen.system.coqsystem import chain_links, chain_path, chain_stages
 
-    for i, (ch, ks) in enumerate(zip(graph.chains, chain_links(graph)), 1):
+    for i, (ch, ks, st) in enumerate(zip(graph.chains, chain_links(graph), chain_stages(graph)), 1):
         head = " -> ".join([md_code(ch.hops[0].src)] + [f"{md_code(h.node.full_name)} -> {md_code(h.dst)}"
                                                         for h in ch.hops])
         links = (", through links " + ", ".join(md_code(f"{sysm.name}_link_{k}") for k in ks)) if ks else ""
-        out += [f"{i}. {head}; theorem {md_code(f'{sysm.name}_chain_{i}')}{links}"]
+        path = chain_path(len(ch.hops), st, ch.hops[-1].outputs)
+        composed = "" if path is None else (
+            f"; composed back to the external input along the first relation of each pair of nodes: "
+            f"{md_code(f'{sysm.name}_chain_{i}_composed')}")
+        out += [f"{i}. {head}; theorem {md_code(f'{sysm.name}_chain_{i}')}{links}{composed}"]
         for h in ch.hops:
             ins = ", ".join(_rel(r) for r in h.inputs) or "(derived inputs only)"
             outs = ", ".join(_orel(o) for o in h.outputs) or "(no output relation)"

@@ -15,7 +15,7 @@ from pyrosgen.proof.coqmodel import coq_comment, coq_ident, coq_nat, coq_path, c
 from pyrosgen.render import render, source_label
 
 __all__ = ["SYSTEM_TEMPLATE", "system_v_name", "system_theorem", "render_system_file", "prove_system", "chain_links",
-           "chain_stages", "chain_theorems"]
+           "chain_stages", "chain_theorems", "chain_path"]
 
 SYSTEM_TEMPLATE = "coq/templates/system.v.j2"
 
@@ -73,10 +73,33 @@ def render_system_file(sysm, graph) -> str:
         nodes = [(gindex[h.node.full_name], h.node.model.name) for h in ch.hops]
         last = ch.hops[-1].node.model.name
         outs = [(q, last, _topic(o.topic), _outrel(o)) for q, o in enumerate(ch.hops[-1].outputs, 1)]
-        chains.append((c, coq_comment(path), nodes, stages, outs))
+        chains.append((c, coq_comment(path), nodes, stages, outs, chain_path(len(nodes), stages, outs)))
+    system = coq_ident(sysm.name, "system name")[1:-1]
+    claims = []
+    for c, _, _, _, outs, cpath in chains:
+        claims.append((f"{system}_chain_{c}", f"chain_holds chain_{c}_nodes chain_{c}_links chain_{c}_outs"))
+        if cpath is not None:
+            claims.append((f"{system}_chain_{c}_composed",
+                           f"chain_composed chain_{c}_nodes (mkcout ({outs[0][2]}) ({outs[0][3]})) "
+                           f"(path_pick chain_{c}_links chain_{c}_path)"))
     return render("system.v.j2", template=SYSTEM_TEMPLATE, source=source_label(sysm.source.name),
-                  system=coq_ident(sysm.name, "system name")[1:-1], modules=modules, graphs=graphs, links=links,
-                  cnodes=cnodes, chains=chains)
+                  system=system, modules=modules, graphs=graphs, links=links, cnodes=cnodes, chains=chains,
+                  claims=claims)
+
+
+def chain_path(n: int, stages: list[tuple[int, int]], outs: list) -> list[int] | None:
+    """The positions, in a chain's links ``stages``, of the first link of
+    each of its ``n - 1`` pairs of nodes; None when a pair has no link or
+    the chain has no output relation (nothing to compose)."""
+    if not outs:
+        return None
+    path = []
+    for pos in range(n - 1):
+        q = next((q for q, (p, _) in enumerate(stages) if p == pos), None)
+        if q is None:
+            return None
+        path.append(q)
+    return path
 
 
 def chain_links(graph) -> list[list[int]]:
@@ -110,7 +133,14 @@ def chain_stages(graph) -> list[list[tuple[int, int]]]:
 
 
 def chain_theorems(system: str, graph) -> list[str]:
-    return [f"{system}_chain_{c}" for c in range(1, len(graph.chains) + 1)]
+    """The chain theorems of the system's file, in order: each chain's, then
+    its composition where it has one."""
+    out = []
+    for c, (ch, stages) in enumerate(zip(graph.chains, chain_stages(graph)), 1):
+        out.append(f"{system}_chain_{c}")
+        if chain_path(len(ch.hops), stages, ch.hops[-1].outputs) is not None:
+            out.append(f"{system}_chain_{c}_composed")
+    return out
 
 
 def prove_system(sysm, graph, vo_files: dict[str, Path], work: Path) -> tuple[str, list[str]]:

@@ -789,7 +789,9 @@ Definition run_iface (ns : list cnode) (rs : nat -> run) (evs : nat -> nat -> tr
           d
           (fun l => r_n (rs l)).
 
-(** The chain theorem over the real runs, composed (from any
+(** [chain_composed ns co pick]: the chain theorem over the real runs,
+    composed along the links [pick 0], [pick 1], ... and ending on the
+    output relation [co].  [chain_run_value] proves it (from any
     [chain_holds], e.g. a system's [<system>_chain_c]; [co] one of the
     chain's output relations): for any runs of the
     chain's programs (any environments with well-typed messages and
@@ -802,9 +804,7 @@ Definition run_iface (ns : list cnode) (rs : nat -> run) (evs : nat -> nat -> tr
     controller upstream computed at the delivered cycle, back to the
     external input ([traced]), and the last node published what its
     controller computed. *)
-Theorem chain_run_value:
-  forall ns ls outs co (pick : nat -> clink), chain_holds ns ls outs -> In co outs ->
-  (forall l, (S l < length ns)%nat -> In (pick l) ls /\ cl_from (pick l) = l) ->
+Definition chain_composed (ns : list cnode) (co : cout) (pick : nat -> clink) : Prop :=
   forall rs, runs_of ns rs ->
   exists (s : forall l, nat -> r_CS (rs l)) (evs : nat -> nat -> trace),
      (forall l c, nth_error ns l = Some c -> decomposed c (rs l) (s l) (evs l))
@@ -816,6 +816,11 @@ Theorem chain_run_value:
      /\ (forall k, (k < r_n (rs (pred (length ns))))%nat ->
            ch_published c (pred (length ns)) k = ch_output c (pred (length ns)) k
         /\ exists v, ch_output c (pred (length ns)) k = Some v).
+
+Theorem chain_run_value:
+  forall ns ls outs co (pick : nat -> clink), chain_holds ns ls outs -> In co outs ->
+  (forall l, (S l < length ns)%nat -> In (pick l) ls /\ cl_from (pick l) = l) ->
+  chain_composed ns co pick.
 Proof.
   intros ns ls outs co pick CH Ico P rs R.
   destruct (CH rs R) as (s & evs & Dec & CL & CO).
@@ -842,4 +847,35 @@ Proof.
   destruct LP as [LP Some_].
   destruct (chain_value _ c (length ns) NL LP) as [Tr Pu].
   split; [exact Tr|]. intros k Hk. split; [exact (Pu k Hk)|exact (Some_ k Hk)].
+Qed.
+
+(** A path of a chain: the link of each pair of consecutive nodes,
+    given by its position in the chain's links [ls] ([idx]); a system's
+    file decides [path_ok] by computation ([n]: the number of nodes). *)
+Definition no_link : clink :=
+  mkclink 0 (mktopic EmptyString EmptyString EmptyString Publish EmptyString 0) (mkoutrel EmptyString EmptyString [])
+          (mktopic EmptyString EmptyString EmptyString Subscribe EmptyString 0) (mkinrel EmptyString [] EmptyString).
+
+Definition path_pick (ls : list clink) (idx : list nat) (l : nat) : clink := nth (nth l idx 0) ls no_link.
+
+Definition path_ok (n : nat) (ls : list clink) (idx : list nat) : bool :=
+  Nat.eqb (length idx) (pred n)
+  && forallb (fun li => Nat.ltb (snd li) (length ls) && Nat.eqb (cl_from (nth (snd li) ls no_link)) (fst li))
+             (combine (seq 0 (length idx)) idx).
+
+Lemma path_pick_ok:
+  forall (ns : list cnode) n ls idx, length ns = n -> path_ok n ls idx = true ->
+  forall l, (S l < length ns)%nat -> In (path_pick ls idx l) ls /\ cl_from (path_pick ls idx l) = l.
+Proof.
+  intros ns n ls idx Ln P l Hl. unfold path_ok in P. apply andb_true_iff in P. destruct P as [Li F].
+  apply Nat.eqb_eq in Li. rewrite forallb_forall in F.
+  assert (Hi : (l < length idx)%nat) by lia.
+  assert (I : In (l, nth l idx 0) (combine (seq 0 (length idx)) idx)).
+  { assert (C : nth l (combine (seq 0 (length idx)) idx) (0, 0)%nat = (nth l (seq 0 (length idx)) 0, nth l idx 0)%nat)
+      by (apply combine_nth; apply seq_length).
+    rewrite seq_nth in C by exact Hi. rewrite Nat.add_0_l in C.
+    rewrite <- C. apply nth_In. rewrite combine_length, seq_length, Nat.min_id. exact Hi. }
+  specialize (F _ I). simpl in F. apply andb_true_iff in F. destruct F as [Lt E].
+  apply Nat.ltb_lt in Lt. apply Nat.eqb_eq in E. unfold path_pick.
+  split; [apply nth_In; exact Lt|exact E].
 Qed.
