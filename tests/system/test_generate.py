@@ -223,7 +223,7 @@ def test_system_proof_refuses_tampered_chain(cold, tmp_path, monkeypatch, tamper
     good = coqsystem.render_system_file(sysm, graph)
     edits = {
         "order": ("[node_0; node_1].", "[node_1; node_0]."),
-        "link": ("  mkclink 0 (mktopic \"/mid\"", "  mkclink 1 (mktopic \"/mid\""),
+        "link": ("[link_1_at 0; link_2_at 0]", "[link_1_at 1; link_2_at 0]"),
         "out": ("exists node_1; split; [reflexivity|exact chain_1_out_1_ok]",
                 "exists node_0; split; [reflexivity|exact chain_1_out_1_ok]"),
         # a weaker chain theorem (no link, no output), proved: the system theorem no longer follows
