@@ -18,12 +18,16 @@ __all__ = ["TRANSPORT", "system_files", "certificate_text"]
 
 #: What the system theorem assumes of the transport (System.delivered_from).
 TRANSPORT = (
-    "Every message a node publishes on a connecting topic is delivered to each subscriber's queue, "
-    "in publication order, at the times the subscriber's environment (its arrival schedule) says; "
-    "the topics are connected by their names after namespaces and remappings as this file resolves "
-    "them (ROS 1 name resolution, as roscpp applies the launch file's `ns` and `remap`); the newest "
-    "message a subscriber's callback received up to a cycle is the message its publisher sent in one "
-    "of its cycles, the latest delivered (`System.delivered_from`)."
+    "What the proofs assume of ROS and the network, for each link (a topic from a publishing node to a "
+    "subscribing node): the newest message the subscriber's callback has received on the topic up to one of "
+    "its cycles is a message the publisher sent in one of its own cycles, carried unchanged from the "
+    "publisher's `publish` to the subscriber's queue; the topics are connected by their names after "
+    "namespaces and remappings as this file resolves them (ROS 1 name resolution, as roscpp applies the "
+    "launch file's `ns` and `remap`) (`System.delivered_from`; `System.transported` in a chain's theorem, "
+    "one per link). When every message is delivered, in publication order, at the times the subscriber's "
+    "environment (its arrival schedule) says, that cycle is the latest one the publisher completed before "
+    "the arrival; a message lost or overwritten in a queue only makes it an older one, and the theorems then "
+    "speak of that older cycle. Nothing is assumed about timing beyond the nodes' own environments."
 )
 
 
@@ -76,26 +80,40 @@ def certificate_text(sysm, graph, stage: Path) -> str:
             "message it received last (unless the topic is stale and the input has a fallback value, rule "
             f"4.12, which it then holds: `System.kept_fresh`). {md_code(vname)} proves each as an instance of "
             "`System.system_link` "
-            "(`System.link_holds`) from the two nodes' T2 (`<node>_ddc`), and their conjunction "
-            f"{md_code(sysm.name + '_system')}: Closed under the global context, re-checked by coqchk.", "",
+            "(`System.link_holds`) from the two nodes' T2 (`<node>_ddc`), each chain below as an instance of "
+            f"`System.chain_runs`, and the conjunction of all {md_code(sysm.name + '_system')}: Closed under the "
+            "global context, re-checked by coqchk.", "",
             "| theorem | topic | publisher: output -> field | subscriber: field -> input |", "|---|---|---|---|"]
     for k, ln in enumerate(graph.links, 1):
         out.append(f"| {md_code(f'{sysm.name}_link_{k}')} | {md_code(ln.topic)} | {md_code(ln.pub.full_name)}: "
                    f"{_orel(ln.out)} | {md_code(ln.sub.full_name)}: {_rel(ln.inp)} |")
     out += ["", "## Chains", "",
             "Every chain from an external input to an external output, with the relations it passes "
-            "through in each node (`System.chain_value`: each controller along a chain receives what the "
-            "controller upstream computed, the last node publishes what its controller computed).", ""]
+            "through in each node. Each chain's theorem (`System.chain_holds`, proved by `System.chain_runs` "
+            "from the nodes' T2 and the links' facts) is about the real programs: for any runs of the chain's "
+            "nodes (any environments with well-typed messages and controller outputs, any numbers of cycles), "
+            "there is one decomposition of each node's run into T2's cycles along which, under the transport "
+            "assumption below, every controller of the chain receives on each of the chain's inputs the value "
+            "the controller upstream computed in the cycle whose message it received last (unless a fallback "
+            "value replaced a stale input, rule 4.12), that controller's own inputs came the same way from "
+            "upstream, back to the external input (`System.chain_run_value`), and in every cycle the last node "
+            "publishes on the external output exactly what its controller computed. A wiring mistake cannot be "
+            "proved (the links' facts, `System.link_ok`, are false for it), and the mutation catalogue shows "
+            "such mistakes (two relations crossed between nodes, a remapping to the wrong topic) are wrong on "
+            "a run of the nodes' programs, not only refused (`coq/tests/SystemMutants.v`).", ""]
     if not graph.chains:
         out.append("No chain: no external output is reachable from an external input.")
-    from pyrosgen.system.coqsystem import chain_links
+    from pyrosgen.system.coqsystem import chain_links, chain_path, chain_stages
 
-    for i, (ch, ks) in enumerate(zip(graph.chains, chain_links(graph)), 1):
+    for i, (ch, ks, st) in enumerate(zip(graph.chains, chain_links(graph), chain_stages(graph)), 1):
         head = " -> ".join([md_code(ch.hops[0].src)] + [f"{md_code(h.node.full_name)} -> {md_code(h.dst)}"
                                                         for h in ch.hops])
-        thm = (f"; theorem {md_code(f'{sysm.name}_chain_{i}')}: links "
-               + ", ".join(md_code(f"{sysm.name}_link_{k}") for k in ks)) if ks else ""
-        out += [f"{i}. {head}{thm}"]
+        links = (", through links " + ", ".join(md_code(f"{sysm.name}_link_{k}") for k in ks)) if ks else ""
+        path = chain_path(len(ch.hops), st, ch.hops[-1].outputs)
+        composed = "" if path is None else (
+            f"; composed back to the external input along the first relation of each pair of nodes: "
+            f"{md_code(f'{sysm.name}_chain_{i}_composed')}")
+        out += [f"{i}. {head}; theorem {md_code(f'{sysm.name}_chain_{i}')}{links}{composed}"]
         for h in ch.hops:
             ins = ", ".join(_rel(r) for r in h.inputs) or "(derived inputs only)"
             outs = ", ".join(_orel(o) for o in h.outputs) or "(no output relation)"

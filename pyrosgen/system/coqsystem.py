@@ -14,7 +14,8 @@ from pyrosgen.frontend.msgmodel import msg_c_name
 from pyrosgen.proof.coqmodel import coq_comment, coq_ident, coq_nat, coq_path, coq_ros_name, coq_string, coq_z
 from pyrosgen.render import render, source_label
 
-__all__ = ["SYSTEM_TEMPLATE", "system_v_name", "system_theorem", "render_system_file", "prove_system", "chain_links"]
+__all__ = ["SYSTEM_TEMPLATE", "system_v_name", "system_theorem", "render_system_file", "prove_system", "chain_links",
+           "chain_stages", "chain_theorems", "chain_path"]
 
 SYSTEM_TEMPLATE = "coq/templates/system.v.j2"
 
@@ -65,15 +66,40 @@ def render_system_file(sysm, graph) -> str:
                               f"{ln.sub.full_name} {ln.inp.field_text} -> {ln.inp.input_target}")
         links.append((k, comment, ln.pub.model.name, gindex[ln.pub.full_name], _topic(ln.pub_topic), _outrel(ln.out),
                       ln.sub.model.name, gindex[ln.sub.full_name], _topic(ln.sub_topic), _inrel(ln.inp)))
+    cnodes = [(i, sn.model.name) for i, sn in enumerate(sysm.nodes)]
     chains = []
-    for c, ks in enumerate(chain_links(graph), 1):
-        if ks:
-            ch = graph.chains[c - 1]
-            path = " -> ".join([ch.hops[0].src] + [f"{h.node.full_name} -> {h.dst}" for h in ch.hops])
-            chains.append((c, coq_comment(path), ks))
+    for c, (ch, stages) in enumerate(zip(graph.chains, chain_stages(graph)), 1):
+        path = " -> ".join([ch.hops[0].src] + [f"{h.node.full_name} -> {h.dst}" for h in ch.hops])
+        nodes = [(gindex[h.node.full_name], h.node.model.name) for h in ch.hops]
+        last = ch.hops[-1].node.model.name
+        outs = [(q, last, _topic(o.topic), _outrel(o)) for q, o in enumerate(ch.hops[-1].outputs, 1)]
+        chains.append((c, coq_comment(path), nodes, stages, outs, chain_path(len(nodes), stages, outs)))
+    system = coq_ident(sysm.name, "system name")[1:-1]
+    claims = []
+    for c, _, _, _, outs, cpath in chains:
+        claims.append((f"{system}_chain_{c}", f"chain_holds chain_{c}_nodes chain_{c}_links chain_{c}_outs"))
+        if cpath is not None:
+            claims.append((f"{system}_chain_{c}_composed",
+                           f"chain_composed chain_{c}_nodes (mkcout ({outs[0][2]}) ({outs[0][3]})) "
+                           f"(path_pick chain_{c}_links chain_{c}_path)"))
     return render("system.v.j2", template=SYSTEM_TEMPLATE, source=source_label(sysm.source.name),
-                  system=coq_ident(sysm.name, "system name")[1:-1], modules=modules, graphs=graphs, links=links,
-                  chains=chains)
+                  system=system, modules=modules, graphs=graphs, links=links, cnodes=cnodes, chains=chains,
+                  claims=claims)
+
+
+def chain_path(n: int, stages: list[tuple[int, int]], outs: list) -> list[int] | None:
+    """The positions, in a chain's links ``stages``, of the first link of
+    each of its ``n - 1`` pairs of nodes; None when a pair has no link or
+    the chain has no output relation (nothing to compose)."""
+    if not outs:
+        return None
+    path = []
+    for pos in range(n - 1):
+        q = next((q for q, (p, _) in enumerate(stages) if p == pos), None)
+        if q is None:
+            return None
+        path.append(q)
+    return path
 
 
 def chain_links(graph) -> list[list[int]]:
@@ -88,6 +114,32 @@ def chain_links(graph) -> list[list[int]]:
                 if ln.topic == h.dst and ln.pub is h.node and ln.sub is nxt.node:
                     ks.append(k)
         out.append(ks)
+    return out
+
+
+def chain_stages(graph) -> list[list[tuple[int, int]]]:
+    """For each chain of ``graph``, its links as ``(pos, k)``: link number
+    ``k`` (from 1) joins the chain's node ``pos`` (from 0) to node
+    ``pos + 1``."""
+    out = []
+    for ch in graph.chains:
+        st = []
+        for pos, (h, nxt) in enumerate(zip(ch.hops, ch.hops[1:])):
+            for k, ln in enumerate(graph.links, 1):
+                if ln.topic == h.dst and ln.pub is h.node and ln.sub is nxt.node:
+                    st.append((pos, k))
+        out.append(st)
+    return out
+
+
+def chain_theorems(system: str, graph) -> list[str]:
+    """The chain theorems of the system's file, in order: each chain's, then
+    its composition where it has one."""
+    out = []
+    for c, (ch, stages) in enumerate(zip(graph.chains, chain_stages(graph)), 1):
+        out.append(f"{system}_chain_{c}")
+        if chain_path(len(ch.hops), stages, ch.hops[-1].outputs) is not None:
+            out.append(f"{system}_chain_{c}_composed")
     return out
 
 
@@ -115,4 +167,5 @@ def prove_system(sysm, graph, vo_files: dict[str, Path], work: Path) -> tuple[st
     thm = system_theorem(sysm.name)
     drv.check_assumptions(res.stdout, [thm])
     drv.coqchk(f"RosgenNode.{vname[:-2]}", lib)
-    return vtext, [thm] + [f"{sysm.name}_link_{k}" for k in range(1, len(graph.links) + 1)]
+    return vtext, ([thm] + [f"{sysm.name}_link_{k}" for k in range(1, len(graph.links) + 1)]
+                   + chain_theorems(sysm.name, graph))

@@ -58,8 +58,16 @@ def test_cold_run(cold):
     assert "Require RosgenNode.a.\nRequire RosgenNode.b." in v
     assert "Theorem sys_link_1 : link_1_holds." in v and "Theorem sys_link_2 : link_2_holds." in v
     assert "RosgenNode.a.a_ddc RosgenNode.b.b_ddc link_2_ok" in v
-    assert "Theorem sys_chain_1 : link_1_holds /\\ link_2_holds." in v
-    assert "theorem `sys_chain_1`: links `sys_link_1`, `sys_link_2`" in cert
+    # the chain's theorem is System.chain_runs over the nodes' runs, not a conjunction of its links
+    assert "Definition chain_1_nodes : list cnode := [node_0; node_1]." in v
+    assert "Theorem sys_chain_1 : chain_holds chain_1_nodes chain_1_links chain_1_outs.\nProof.\n  apply chain_runs." in v
+    assert "Theorem sys_system : sys_links /\\ sys_chains." in v
+    assert "Definition chain_1_path : list nat := [0]." in v
+    assert "Theorem sys_chain_1_composed :\n  chain_composed chain_1_nodes " in v
+    assert "  apply (chain_run_value chain_1_nodes chain_1_links chain_1_outs).\n  - exact sys_chain_1." in v
+    assert "theorem `sys_chain_1`, through links `sys_link_1`, `sys_link_2`; composed back to the external " in cert
+    assert "`sys_chain_1_composed`" in cert
+    assert "`System.chain_runs`" in cert and "`System.transported`" in cert
     graph = json.loads(names["sys.system.json"])
     assert graph["chains"] == [[{"node": "/a", "from": "/src", "to": "/mid"}, {"node": "/b", "from": "/mid", "to": "/out"}]]
     assert b'<node pkg="a" type="a" name="a"' in names["sys.launch"]
@@ -183,7 +191,7 @@ def test_system_proof_refuses_wrong_wiring(cold, tmp_path, mutant):
     vo = {n.name: cache / n.key / "coq" / f"{n.name}.vo" for n in first.nodes}
     # the right wiring is proved
     text, thms = prove_system(sysm, graph, vo, tmp_path / "ok")
-    assert thms == ["sys_system", "sys_link_1", "sys_link_2"]
+    assert thms == ["sys_system", "sys_link_1", "sys_link_2", "sys_chain_1", "sys_chain_1_composed"]
     l1, l2 = graph.links
     if mutant == "crossed":
         graph.links = [replace(l1, inp=l2.inp), replace(l2, inp=l1.inp)]
@@ -194,6 +202,90 @@ def test_system_proof_refuses_wrong_wiring(cold, tmp_path, mutant):
     assert exc.value.exit_code == 2
     # refused where a link's facts are decided: link_ok computes false
     assert 'Unable to unify "true" with "false"' in str(exc.value)
+
+
+@pytest.mark.parametrize("tamper", ["order", "link", "out", "drop"])
+def test_system_proof_refuses_tampered_chain(cold, tmp_path, monkeypatch, tamper):
+    """The chain's theorem is proved by System.chain_runs from the chain as
+    the certificate lists it: the nodes in another order, a link moved to
+    a pair of nodes it does not join, an output relation of another node,
+    or the chain's theorem stated of a weaker chain while the system
+    theorem claims the real one: Coq refuses each."""
+    from pyrosgen.proof.coqdriver import CoqError
+    from pyrosgen.system import coqsystem
+    from pyrosgen.system.checks import check_system
+    from pyrosgen.system.model import load_system
+
+    p, cache, out, first = cold
+    sysm = load_system(p)
+    graph = check_system(sysm)
+    vo = {n.name: cache / n.key / "coq" / f"{n.name}.vo" for n in first.nodes}
+    good = coqsystem.render_system_file(sysm, graph)
+    edits = {
+        "order": ("[node_0; node_1].", "[node_1; node_0]."),
+        "link": ("[link_1_at 0; link_2_at 0]", "[link_1_at 1; link_2_at 0]"),
+        "out": ("exists node_1; split; [reflexivity|exact chain_1_out_1_ok]",
+                "exists node_0; split; [reflexivity|exact chain_1_out_1_ok]"),
+        # a weaker chain theorem (no link, no output), proved: the system theorem no longer follows
+        "drop": (good[good.index("Theorem sys_chain_1 :"):good.index("Qed.", good.index("Theorem sys_chain_1 :")) + 4],
+                 "Theorem sys_chain_1 : chain_holds chain_1_nodes [] [].\nProof.\n  apply chain_runs. split; [|split].\n"
+                 "  - constructor; [exact RosgenNode.a.a_ddc|]. constructor; [exact RosgenNode.b.b_ddc|]. constructor.\n"
+                 "  - constructor.\n  - constructor.\nQed."),
+    }
+    old, new = edits[tamper]
+    assert old in good
+    monkeypatch.setattr(coqsystem, "render_system_file", lambda s, g: good.replace(old, new, 1))
+    with pytest.raises(CoqError) as exc:
+        coqsystem.prove_system(sysm, graph, vo, tmp_path / "bad")
+    assert exc.value.exit_code == 2
+
+
+COMPOSED = """From Coq Require Import String List Lia.
+From ROSGen Require Import NodeModel System.
+Require RosgenNode.sys_system.
+Import ListNotations.
+Local Open Scope string_scope.
+
+Definition pick : nat -> clink := path_pick RosgenNode.sys_system.chain_1_links [0].
+Definition co : cout := hd (mkcout (mktopic "" "" "" Publish "" 0) (mkoutrel "" "" [])) RosgenNode.sys_system.chain_1_outs.
+
+(* the system's chain theorem, composed here through the chain: /b's input I1 at every cycle is /a's output O1
+   at the delivered cycle, and /b publishes on /out what its controller computed *)
+Definition composed_here :=
+  chain_run_value _ _ _ co pick RosgenNode.sys_system.sys_chain_1 (or_introl eq_refl)
+    (fun l H => match l return (S l < 2)%nat -> In (pick l) RosgenNode.sys_system.chain_1_links /\\ cl_from (pick l) = l with
+                | O => fun _ => conj (or_introl eq_refl) eq_refl
+                | S l' => fun H => ltac:(exfalso; lia)
+                end H).
+(* and the system's file proves the same composition itself *)
+Definition same : chain_composed RosgenNode.sys_system.chain_1_nodes co pick := RosgenNode.sys_system.sys_chain_1_composed.
+Check composed_here.
+Print Assumptions composed_here.
+Print Assumptions same.
+"""
+
+
+def test_chain_theorem_composes(cold, tmp_path, repo_root):
+    """The system's chain theorem is a System.chain_holds that
+    System.chain_run_value composes along the chain (it would not typecheck
+    if sys_chain_1 were the conjunction of its links, or missing), and the
+    system's file proves that composition as sys_chain_1_composed."""
+    from pyrosgen.system.checks import check_system
+    from pyrosgen.system.coqsystem import prove_system
+    from pyrosgen.system.model import load_system
+
+    p, cache, out, first = cold
+    sysm = load_system(p)
+    graph = check_system(sysm)
+    vo = {n.name: cache / n.key / "coq" / f"{n.name}.vo" for n in first.nodes}
+    prove_system(sysm, graph, vo, tmp_path / "ok")
+    coq = tmp_path / "ok" / "coq"
+    (coq / "Composed.v").write_text(COMPOSED)
+    r = subprocess.run(["coqc", "-R", str(repo_root / "coq/theories"), "ROSGen", "-R", str(coq), "RosgenNode",
+                        str(coq / "Composed.v")], capture_output=True, text=True, cwd=coq, timeout=600)
+    assert r.returncode == 0, r.stderr + r.stdout
+    assert r.stdout.splitlines() == ["composed_here", "     : chain_composed sys_system.chain_1_nodes co pick",
+                                     "Closed under the global context", "Closed under the global context"], r.stdout
 
 
 def test_system_verify(cold, tmp_path, capsys):
@@ -207,7 +299,7 @@ def test_system_verify(cold, tmp_path, capsys):
     o, err = capsys.readouterr()
     assert code == 0, o + err
     assert "verifies (system sys)" in o
-    assert "ok      system proof: 3 theorems (sys_system, sys_link_1, sys_link_2): Closed under the global context" in o
+    assert "ok      system proof: 5 theorems (sys_system, sys_link_1, sys_link_2, ...): Closed under the global context" in o
     bad = tmp_path / "bad"
     shutil.copytree(out, bad)
     v = bad / "sys_system.v"

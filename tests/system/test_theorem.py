@@ -17,10 +17,13 @@ def coqc(repo_root, tmp_path, text: str) -> str:
     return r.stdout
 
 
+THEOREMS = ("link_value", "system_link", "chain_runs", "chain_value", "chain_run_value")
+
+
 def test_system_theorems_closed(repo_root, tmp_path):
     out = coqc(repo_root, tmp_path, "From ROSGen Require Import System.\n"
-               + "".join(f"Print Assumptions System.{t}.\n" for t in ("link_value", "system_link", "chain_value")))
-    assert out.splitlines() == ["Closed under the global context"] * 3
+               + "".join(f"Print Assumptions System.{t}.\n" for t in THEOREMS))
+    assert out.splitlines() == ["Closed under the global context"] * len(THEOREMS)
 
 
 def test_system_mutants(repo_root, tmp_path):
@@ -33,6 +36,15 @@ def test_system_mutants(repo_root, tmp_path):
     assert "Closed under the global context" in out
     for t in refuted:
         assert re.search(rf"^{t}\s*:\s*link_ok [^:]*=\s*false$", out, re.M), out
+    # the wirings are wrong, not only refused: their semantic property is false on a concrete run
+    semantic = re.findall(r"^Theorem ([a-z0-9_]+_run_refuted)\s*:\s*~ (link_holds|wired_link_holds) ", src, re.M)
+    assert semantic == [("crossed_inputs_run_refuted", "link_holds"), ("crossed_fields_run_refuted", "link_holds"),
+                        ("wrong_remap_run_refuted", "wired_link_holds")]
+    # ... and the same property holds for the right wiring on that run (it is not false of every wiring)
+    assert re.search(r"^Theorem cascade_wired : wired_link_holds g_leader g_follower ", src, re.M)
+    out = coqc(repo_root, tmp_path, src + "".join(f"Print Assumptions {t}.\n" for t, _ in semantic)
+               + "Print Assumptions cascade_wired.\n")
+    assert out.splitlines()[-4:] == ["Closed under the global context"] * 4, out
     # the mutant file is part of the Coq tests and of `make mutants`
     assert "tests/" "SystemMutants.v" in (repo_root / "coq/Makefile").read_text()   # as coq/Makefile names it
     assert "coq/tests/SystemMutants.v" in (repo_root / "Makefile").read_text()
