@@ -31,6 +31,7 @@ content changed.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 import stat
@@ -263,6 +264,14 @@ def _print_and_validate(drv: CoqDriver, model: NodeModel, module: str, lib: tupl
     return proved_model, validation
 
 
+def library_theorems_of(ddc: bool, has_diagram: bool) -> tuple[str, ...]:
+    """The library's theorems that a node's theorems apply
+    (``<theorem>_of_library`` in ``coq/templates/node.v.j2``)."""
+    from pyrosgen.proof.coqdriver import LIBRARY_THEOREMS_CTRL, LIBRARY_THEOREMS_DDC, LIBRARY_THEOREMS_WF
+
+    return (LIBRARY_THEOREMS_DDC if ddc else LIBRARY_THEOREMS_WF) + (LIBRARY_THEOREMS_CTRL if has_diagram else ())
+
+
 def theorem_kind(ddc: bool) -> str:
     """What the main theorem states, for the summary (``ddc``: whether it
     is the node DDC theorem T2)."""
@@ -356,8 +365,12 @@ def generate_model(
         # 3. assumptions, and coqchk in the background while 4. prints
         say(f"[3/{STEPS}] checking: Print Assumptions, coqchk (alongside the printing)")
         t0 = time.monotonic()
-        drv.check_assumptions(res.stdout, theorems, names.theorem_all)
-        with drv.coqchk_start(module, lib) as chk:
+        drv.check_assumptions(res.stdout, theorems, names.theorem_all + "_local")
+        library_theorems = library_theorems_of(ddc, has_diagram)
+        lib_check = (contextlib.nullcontext() if drv.library_assumptions_stamped(library_theorems)
+                     else drv.library_assumptions_start(library_theorems, work / "library",
+                                                    report=(theorems, names.theorem_all)))
+        with drv.coqchk_start(module, lib) as chk, lib_check as lib_chk:
             # 4. printing
             say(f"[4/{STEPS}] printing: extraction, ocamlopt, run; validation against the AST dump")
             t1 = time.monotonic()
@@ -365,10 +378,15 @@ def generate_model(
                 proved_model, validation = _print_and_validate(drv, model, module, lib, names, work, stage,
                                                               has_diagram, msg_root)
             except Exception:
-                # coqchk's verdict is the earlier step's: it comes first
+                # the verdicts of the earlier step come first: the library's
+                # assumptions (printed before coqchk started), then coqchk's
+                if lib_chk is not None:
+                    lib_chk.result()
                 chk.result()
                 raise
             times["printing"] = time.monotonic() - t1
+            if lib_chk is not None:
+                lib_chk.result()
             chk.result()
         times["checking"] = time.monotonic() - t0
         out_h, out_c = stage / names.types_header, stage / names.glue_c
@@ -403,7 +421,10 @@ def generate_model(
         record = ProofRecord(
             node=model.name, model_file=model_file, node_v=names.v_file, types_h=names.types_header,
             glue_c=names.glue_c, sexp=names.sexp, theorem=main_thm, theorems=theorems, ddc=ddc,
-            assumptions=f"Print Assumptions {names.theorem_all}.  (* {CONJ.join(theorems)} *)\n{CLOSED}",
+            assumptions=(f"Print Assumptions {names.theorem_all}_local.  (* {CONJ.join(theorems)}, "
+                         f"each applying one of {', '.join(library_theorems)}: "
+                         f"{'make proofs' if lib_chk is None else 'pyrosgen'} printed their assumptions, closed *)"
+                         f"\n{CLOSED}"),
             library_sha256=drv.library_digest(), pyrosgen_version=__version__,
             source_name=Path(model.source).name, source_sha256=sha256_file(Path(model.source)) if Path(model.source).is_file() else "",
             wp=wp_record, tools=tool_versions(wp=wp_result is not None),

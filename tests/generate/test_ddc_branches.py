@@ -82,7 +82,7 @@ def test_ddc_theorem_instantiated(capsys, tmp_path, monkeypatch):
     assert "From ROSGen Require DDC Loopproof." in v
     assert f"Theorem {NODE}_ddc : DDC.node_ddc model the_program." in v
     assert f"Definition {NODE}_theorems := (conj {NODE}_ddc {NODE}_wf)." in v
-    assert f"Print Assumptions {NODE}_theorems." in v
+    assert f"Print Assumptions {NODE}_theorems_local." in v
     assert (out_dir / f"{NODE}_glue.c").read_bytes() == (GOLDEN / f"{NODE}_glue.c").read_bytes()
 
 
