@@ -75,6 +75,8 @@ class SystemGenerateResult:
     nodes: list[NodeOutcome]
     files: list[str] = field(default_factory=list)
     seconds: float = 0.0
+    #: whether the system's proof came from the cache
+    proof_cached: bool = False
 
     @property
     def hits(self) -> int:
@@ -326,11 +328,17 @@ def _gen_entry(model_path: str, parent: str, key: str) -> tuple[str, float, int,
     return _put_entry(Path(parent), key, lambda tmp: _gen_node(model_path, tmp))
 
 
-def _system_key(node_keys: list[str], vtext: str) -> str:
+def _system_key(vo_files: dict[str, Path], vtext: str) -> str:
+    """The cache key of the system's proof: what it depends on, the
+    environment (library, tools, pyrosgen), the nodes' compiled modules
+    (name and SHA-256 of each ``.vo``: ``coqc`` writes the same bytes for
+    the same ``.v``, so a node proved again to the same module, after a
+    comment in its model, leaves the system's proof a cache hit) and the
+    system's ``.v``."""
     h = hashlib.sha256()
-    h.update(b"pyrosgen-system-proof-1\0" + _environment_digest().encode() + b"\0")
-    for k in node_keys:
-        h.update(k.encode() + b"\0")
+    h.update(b"pyrosgen-system-proof-2\0" + _environment_digest().encode() + b"\0")
+    for name, vo in sorted(vo_files.items()):
+        h.update(name.encode() + b"\0" + _sha_file(vo).encode() + b"\0")
     h.update(vtext.encode())
     return h.hexdigest()
 
@@ -424,8 +432,9 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
 
         vname = system_v_name(sysm.name)
         vtext = render_system_file(sysm, graph)
-        skey = _system_key(sorted({oc.key for oc in outcomes}), vtext)
-        if use_cache and entry_valid(cache / skey, skey):
+        skey = _system_key(vo_files, vtext)
+        proof_cached = use_cache and entry_valid(cache / skey, skey)
+        if proof_cached:
             say(f"  system proof: from the cache ({skey[:16]})")
         else:
             say(f"  system proof: {len(graph.links)} links from the nodes' T2 ...")
@@ -444,18 +453,43 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
         shutil.copyfile(entries / skey / "files" / vname, stage / vname)
         files = [vname] + system_files(sysm, graph, stage)
         if build:
-            # a catkin workspace's source folder: one link per node package
+            # a catkin workspace's source folder: one link per node package,
+            # and one per custom message package (OUT/msgs/<pkg>, shared)
             src = stage / "src"
             src.mkdir()
             for oc in outcomes:
                 pkg = stage / oc.folder / oc.name
                 if pkg.is_dir() and not (src / oc.name).exists():
                     os.symlink(Path("..") / oc.folder / oc.name, src / oc.name)
-            files.append("src")
+            msg_pkgs = _write_message_packages(sysm, stage / "msgs")
+            for pkg in msg_pkgs:
+                os.symlink(Path("..") / "msgs" / pkg, src / pkg)
+            files += (["msgs"] if msg_pkgs else []) + ["src"]
         _install(stage, out, [oc.folder for oc in outcomes] + files)
     finally:
         shutil.rmtree(stage, ignore_errors=True)
-    return SystemGenerateResult(out, outcomes, files, time.monotonic() - t0)
+    return SystemGenerateResult(out, outcomes, files, time.monotonic() - t0, proof_cached)
+
+
+def _write_message_packages(sysm, folder: Path) -> list[str]:
+    """The system's custom message packages (each node's ``msg_paths``,
+    rule 10.10: one definition of each type), each a catkin package
+    ``folder/<pkg>/`` (``message_generation``, as ROS 1 builds messages:
+    ``package.xml``, ``CMakeLists.txt``, ``msg/*.msg``) that the nodes'
+    packages depend on; two nodes sharing a package share this one.
+    Returns the package names."""
+    from pyrosgen.ros.wrapper import render_msg_package
+    from pyrosgen.system.checks import custom_message_packages
+
+    packages = custom_message_packages(sysm)
+    for pkg, files in sorted(packages.items()):
+        texts = {name: f.read_text(encoding="utf-8", errors="replace") for name, (_, f) in sorted(files.items())}
+        (folder / pkg / "msg").mkdir(parents=True)
+        for rel, text in render_msg_package(sysm.source.name, pkg, texts).items():
+            (folder / pkg / rel).write_text(text, encoding="utf-8")
+        for name, (_, f) in sorted(files.items()):
+            shutil.copyfile(f, folder / pkg / "msg" / name)
+    return sorted(packages)
 
 
 def _install(stage: Path, out: Path, names: list[str]) -> None:
