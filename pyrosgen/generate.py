@@ -200,9 +200,16 @@ def generate(
     driver: CoqDriver | None = None,
     ddc_available: bool | None = None,
     wp: bool = False,
+    defer_coqchk: bool = False,
 ) -> GenerateResult:
     """Run the whole pipeline on the model file ``model_path``; see the
     module documentation.
+
+    ``defer_coqchk``: do not run ``coqchk`` here; the caller re-checks the
+    compiled module (kept with ``keep_work``) before it trusts or installs
+    anything (``pyrosgen system generate`` checks every new node of a run
+    in one ``coqchk``, which loads the library once,
+    :meth:`~pyrosgen.proof.coqdriver.CoqDriver.coqchk_many`).
 
     ``progress`` receives one line per step.  ``ddc_available`` forces the
     choice of the main theorem (default: whether the library has it).
@@ -217,7 +224,7 @@ def generate(
     model = load_model(model_path)
     return generate_model(
         model, out_dir, progress=progress, keep_work=keep_work, driver=driver,
-        ddc_available=ddc_available, wp=wp, _t_start=t_start,
+        ddc_available=ddc_available, wp=wp, defer_coqchk=defer_coqchk, _t_start=t_start,
     )
 
 
@@ -294,6 +301,7 @@ def generate_model(
     ddc_available: bool | None = None,
     wp: bool = False,
     msg_root: Path | None = None,
+    defer_coqchk: bool = False,
     _t_start: float | None = None,
 ) -> GenerateResult:
     """The pipeline after the front end, on an already built ``model``.
@@ -370,7 +378,8 @@ def generate_model(
         lib_check = (contextlib.nullcontext() if drv.library_assumptions_stamped(library_theorems)
                      else drv.library_assumptions_start(library_theorems, work / "library",
                                                     report=(theorems, names.theorem_all)))
-        with drv.coqchk_start(module, lib) as chk, lib_check as lib_chk:
+        chk_run = contextlib.nullcontext() if defer_coqchk else drv.coqchk_start(module, lib)
+        with chk_run as chk, lib_check as lib_chk:
             # 4. printing
             say(f"[4/{STEPS}] printing: extraction, ocamlopt, run; validation against the AST dump")
             t1 = time.monotonic()
@@ -382,12 +391,14 @@ def generate_model(
                 # assumptions (printed before coqchk started), then coqchk's
                 if lib_chk is not None:
                     lib_chk.result()
-                chk.result()
+                if chk is not None:
+                    chk.result()
                 raise
             times["printing"] = time.monotonic() - t1
             if lib_chk is not None:
                 lib_chk.result()
-            chk.result()
+            if chk is not None:
+                chk.result()
         times["checking"] = time.monotonic() - t0
         out_h, out_c = stage / names.types_header, stage / names.glue_c
         out_m = work / f"{model.name}.model"

@@ -84,3 +84,24 @@ def test_a_complete_entry_is_trusted_and_a_changed_one_is_not(tmp_path):
     assert not entry_valid(tmp_path / KEY, "j" * 64)          # another key
     (tmp_path / KEY / "files" / "extra.v").write_text("y")     # a file added
     assert not entry_valid(tmp_path / KEY, KEY)
+
+
+def test_one_coqchk_for_several_modules_names_the_rejected_one(tmp_path):
+    """The run's new node modules are re-checked by one coqchk
+    (:meth:`CoqDriver.coqchk_many`): it accepts closed modules, and when it
+    rejects the batch, the error names the module that uses an axiom."""
+    import pytest
+
+    from pyrosgen.proof.coqdriver import CoqDriver, CoqError
+
+    (tmp_path / "Good.v").write_text("Definition x := 1.\nTheorem t : x = 1. Proof. reflexivity. Qed.\n")
+    (tmp_path / "Bad.v").write_text("Ax" + "iom cheat : False.\nTheorem u : 1 = 2. Proof. destruct cheat. Qed.\n")
+    for f in ("Good.v", "Bad.v"):
+        subprocess.run(["coqc", "-R", str(tmp_path), "L", f], cwd=tmp_path, check=True, capture_output=True)
+    drv = CoqDriver()
+    lib = (tmp_path, "L")
+    assert drv.coqchk_many(["L.Good"], lib).ok
+    with pytest.raises(CoqError) as e:
+        drv.coqchk_many(["L.Good", "L.Bad"], lib)
+    assert "L.Bad" in e.value.summary and "L.Good" not in e.value.summary
+    assert any("L.Bad.cheat" in line for line in e.value.lines), e.value.lines

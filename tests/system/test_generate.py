@@ -137,11 +137,16 @@ def test_killed_run_leaves_nothing_trusted(cold, tmp_path):
                              "--cache", str(c3), "-j", "2", "-q"],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     try:
-        # kill it while a node is being proved (its temporary entry exists)
+        # kill it while a node is being proved (its folder in the run's
+        # staging area exists: entries are written after the run's coqchk)
+        def proving() -> bool:
+            return (any(x.name.startswith(".tmp-") for x in c3.iterdir())
+                    or any(tmp_path.glob(".pyrosgen-system-*/.pending/*")))
+
         deadline = time.monotonic() + 120
-        while time.monotonic() < deadline and not any(x.name.startswith(".tmp-") for x in c3.iterdir()):
+        while time.monotonic() < deadline and not proving():
             time.sleep(0.05)
-        assert any(x.name.startswith(".tmp-") for x in c3.iterdir()), "no node started"
+        assert proving(), "no node started"
         time.sleep(1.0)
         os.killpg(proc.pid, signal.SIGKILL)
     finally:
