@@ -19,6 +19,11 @@ key and every file's digest matches, so a killed run leaves nothing a
 later run trusts (its temporary folders are removed by the next run, whose
 lock they no longer hold).  A corrupted entry is a miss (the node is proved again).
 
+A node is proved into the run's staging area (``.pending/<key>``) without
+its ``coqchk``; the modules of every node proved in the run are re-checked
+by one ``coqchk`` (:meth:`~pyrosgen.proof.coqdriver.CoqDriver.coqchk_many`,
+which loads the library once), and only then are their entries written.
+
 Nothing is written into ``OUT`` unless every node succeeded: the nodes are
 staged next to ``OUT`` and moved in at the end.
 """
@@ -343,12 +348,22 @@ def _check_pending(pending: Path, proved: list[tuple[str, str]], work: Path) -> 
     rejected."""
     from pyrosgen.proof.coqdriver import CoqDriver
 
-    work.mkdir()
+    # one batch per folder of distinct module names (a node model run with
+    # two controller folders has two keys and one name)
+    batches: list[dict[str, str]] = []
     for key, name in proved:
-        shutil.copyfile(pending / key / "coq" / f"{name}.vo", work / f"{name}.vo")
+        batch = next((b for b in batches if name not in b), None)
+        if batch is None:
+            batches.append(batch := {})
+        batch[name] = key
     drv = CoqDriver()
     drv.check_tools()
-    drv.coqchk_many([f"RosgenNode.{name}" for _, name in proved], (work, "RosgenNode"))
+    for i, batch in enumerate(batches):
+        folder = work / str(i)
+        folder.mkdir(parents=True)
+        for name, key in batch.items():
+            shutil.copyfile(pending / key / "coq" / f"{name}.vo", folder / f"{name}.vo")
+        drv.coqchk_many([f"RosgenNode.{name}" for name in batch], (folder, "RosgenNode"))
 
 
 def _system_key(vo_files: dict[str, Path], vtext: str) -> str:

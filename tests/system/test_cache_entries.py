@@ -105,3 +105,25 @@ def test_one_coqchk_for_several_modules_names_the_rejected_one(tmp_path):
         drv.coqchk_many(["L.Good", "L.Bad"], lib)
     assert "L.Bad" in e.value.summary and "L.Good" not in e.value.summary
     assert any("L.Bad.cheat" in line for line in e.value.lines), e.value.lines
+
+
+def test_two_modules_of_one_name_are_both_checked(tmp_path):
+    """A node model run with two controller folders is two keys and one
+    module name: each of its modules is re-checked (two batches), so a bad
+    second one is refused, not hidden under the first's name."""
+    import pytest
+
+    from pyrosgen.proof.coqdriver import CoqError
+    from pyrosgen.system.generate import _check_pending
+
+    texts = {"k1": "Definition x := 1.\n", "k2": "Ax" + "iom cheat : False.\nDefinition x := 1.\n"}
+    for key, text in texts.items():
+        d = tmp_path / "pending" / key / "coq"
+        d.mkdir(parents=True)
+        (d / "A.v").write_text(text)
+        subprocess.run(["coqc", "-R", str(d), "RosgenNode", "A.v"], cwd=d, check=True, capture_output=True)
+    _check_pending(tmp_path / "pending", [("k1", "A")], tmp_path / "w1")
+    with pytest.raises(CoqError) as e:
+        _check_pending(tmp_path / "pending", [("k1", "A"), ("k2", "A")], tmp_path / "w2")
+    assert "RosgenNode.A" in e.value.summary
+    assert sorted(p.name for p in (tmp_path / "w2").iterdir()) == ["0", "1"]
