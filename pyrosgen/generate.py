@@ -279,6 +279,44 @@ def library_theorems_of(ddc: bool, has_diagram: bool) -> tuple[str, ...]:
     return (LIBRARY_THEOREMS_DDC if ddc else LIBRARY_THEOREMS_WF) + (LIBRARY_THEOREMS_CTRL if has_diagram else ())
 
 
+def _check_and_print(drv: CoqDriver, model: NodeModel, module: str, lib: tuple[Path, str], names, work: Path,
+                     stage: Path, has_diagram: bool, msg_root: Path | None, *, theorems: list[str],
+                     library_theorems: tuple[str, ...], defer_coqchk: bool, say, times: dict[str, float]):
+    """Steps 3 and 4 after the node's own ``Print Assumptions``: ``coqchk``
+    of the module (unless ``defer_coqchk``) and, when ``make proofs``'s
+    stamp does not cover them, the assumptions of the ``library_theorems``,
+    both in the background while the texts are printed and validated
+    (:func:`_print_and_validate`); every verdict is awaited before
+    returning (proved model text, validation report, whether pyrosgen
+    printed the library theorems' assumptions itself)."""
+    with contextlib.ExitStack() as running:
+        # each background tool is stopped on leaving, however it is left
+        chk = None if defer_coqchk else running.enter_context(drv.coqchk_start(module, lib))
+        lib_chk = (None if drv.library_assumptions_stamped(library_theorems) else running.enter_context(
+            drv.library_assumptions_start(library_theorems, work / "library",
+                                          report=(theorems, names.theorem_all))))
+        # 4. printing
+        say(f"[4/{STEPS}] printing: extraction, ocamlopt, run; validation against the AST dump")
+        t1 = time.monotonic()
+        try:
+            proved_model, validation = _print_and_validate(drv, model, module, lib, names, work, stage,
+                                                          has_diagram, msg_root)
+        except Exception:
+            # the verdicts of the earlier step come first: the library's
+            # assumptions (the step before coqchk), then coqchk's
+            if lib_chk is not None:
+                lib_chk.result()
+            if chk is not None:
+                chk.result()
+            raise
+        times["printing"] = time.monotonic() - t1
+        if lib_chk is not None:
+            lib_chk.result()
+        if chk is not None:
+            chk.result()
+    return proved_model, validation, lib_chk is not None
+
+
 def theorem_kind(ddc: bool) -> str:
     """What the main theorem states, for the summary (``ddc``: whether it
     is the node DDC theorem T2)."""
@@ -375,30 +413,9 @@ def generate_model(
         t0 = time.monotonic()
         drv.check_assumptions(res.stdout, theorems, names.theorem_all + "_local")
         library_theorems = library_theorems_of(ddc, has_diagram)
-        lib_check = (contextlib.nullcontext() if drv.library_assumptions_stamped(library_theorems)
-                     else drv.library_assumptions_start(library_theorems, work / "library",
-                                                    report=(theorems, names.theorem_all)))
-        chk_run = contextlib.nullcontext() if defer_coqchk else drv.coqchk_start(module, lib)
-        with chk_run as chk, lib_check as lib_chk:
-            # 4. printing
-            say(f"[4/{STEPS}] printing: extraction, ocamlopt, run; validation against the AST dump")
-            t1 = time.monotonic()
-            try:
-                proved_model, validation = _print_and_validate(drv, model, module, lib, names, work, stage,
-                                                              has_diagram, msg_root)
-            except Exception:
-                # the verdicts of the earlier step come first: the library's
-                # assumptions (printed before coqchk started), then coqchk's
-                if lib_chk is not None:
-                    lib_chk.result()
-                if chk is not None:
-                    chk.result()
-                raise
-            times["printing"] = time.monotonic() - t1
-            if lib_chk is not None:
-                lib_chk.result()
-            if chk is not None:
-                chk.result()
+        proved_model, validation, library_printed = _check_and_print(
+            drv, model, module, lib, names, work, stage, has_diagram, msg_root, theorems=theorems,
+            library_theorems=library_theorems, defer_coqchk=defer_coqchk, say=say, times=times)
         times["checking"] = time.monotonic() - t0
         out_h, out_c = stage / names.types_header, stage / names.glue_c
         out_m = work / f"{model.name}.model"
@@ -434,7 +451,7 @@ def generate_model(
             glue_c=names.glue_c, sexp=names.sexp, theorem=main_thm, theorems=theorems, ddc=ddc,
             assumptions=(f"Print Assumptions {names.theorem_all}_local.  (* {CONJ.join(theorems)}, "
                          f"each applying one of {', '.join(library_theorems)}: "
-                         f"{'make proofs' if lib_chk is None else 'pyrosgen'} printed their assumptions, closed *)"
+                         f"{'pyrosgen' if library_printed else 'make proofs'} printed their assumptions, closed *)"
                          f"\n{CLOSED}"),
             library_sha256=drv.library_digest(), pyrosgen_version=__version__,
             source_name=Path(model.source).name, source_sha256=sha256_file(Path(model.source)) if Path(model.source).is_file() else "",
