@@ -31,6 +31,7 @@ content changed.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 import stat
@@ -199,9 +200,16 @@ def generate(
     driver: CoqDriver | None = None,
     ddc_available: bool | None = None,
     wp: bool = False,
+    defer_coqchk: bool = False,
 ) -> GenerateResult:
     """Run the whole pipeline on the model file ``model_path``; see the
     module documentation.
+
+    ``defer_coqchk``: do not run ``coqchk`` here; the caller re-checks the
+    compiled module (kept with ``keep_work``) before it trusts or installs
+    anything (``pyrosgen system generate`` checks every new node of a run
+    in one ``coqchk``, which loads the library once,
+    :meth:`~pyrosgen.proof.coqdriver.CoqDriver.coqchk_many`).
 
     ``progress`` receives one line per step.  ``ddc_available`` forces the
     choice of the main theorem (default: whether the library has it).
@@ -216,7 +224,7 @@ def generate(
     model = load_model(model_path)
     return generate_model(
         model, out_dir, progress=progress, keep_work=keep_work, driver=driver,
-        ddc_available=ddc_available, wp=wp, _t_start=t_start,
+        ddc_available=ddc_available, wp=wp, defer_coqchk=defer_coqchk, _t_start=t_start,
     )
 
 
@@ -263,6 +271,52 @@ def _print_and_validate(drv: CoqDriver, model: NodeModel, module: str, lib: tupl
     return proved_model, validation
 
 
+def library_theorems_of(ddc: bool, has_diagram: bool) -> tuple[str, ...]:
+    """The library's theorems that a node's theorems apply
+    (``<theorem>_of_library`` in ``coq/templates/node.v.j2``)."""
+    from pyrosgen.proof.coqdriver import LIBRARY_THEOREMS_CTRL, LIBRARY_THEOREMS_DDC, LIBRARY_THEOREMS_WF
+
+    return (LIBRARY_THEOREMS_DDC if ddc else LIBRARY_THEOREMS_WF) + (LIBRARY_THEOREMS_CTRL if has_diagram else ())
+
+
+def _check_and_print(drv: CoqDriver, model: NodeModel, module: str, lib: tuple[Path, str], names, work: Path,
+                     stage: Path, has_diagram: bool, msg_root: Path | None, *, theorems: list[str],
+                     library_theorems: tuple[str, ...], defer_coqchk: bool, say, times: dict[str, float]):
+    """Steps 3 and 4 after the node's own ``Print Assumptions``: ``coqchk``
+    of the module (unless ``defer_coqchk``) and, when ``make proofs``'s
+    stamp does not cover them, the assumptions of the ``library_theorems``,
+    both in the background while the texts are printed and validated
+    (:func:`_print_and_validate`); every verdict is awaited before
+    returning (proved model text, validation report, whether pyrosgen
+    printed the library theorems' assumptions itself)."""
+    with contextlib.ExitStack() as running:
+        # each background tool is stopped on leaving, however it is left
+        chk = None if defer_coqchk else running.enter_context(drv.coqchk_start(module, lib))
+        lib_chk = (None if drv.library_assumptions_stamped(library_theorems) else running.enter_context(
+            drv.library_assumptions_start(library_theorems, work / "library",
+                                          report=(theorems, names.theorem_all))))
+        # 4. printing
+        say(f"[4/{STEPS}] printing: extraction, ocamlopt, run; validation against the AST dump")
+        t1 = time.monotonic()
+        try:
+            proved_model, validation = _print_and_validate(drv, model, module, lib, names, work, stage,
+                                                          has_diagram, msg_root)
+        except Exception:
+            # the verdicts of the earlier step come first: the library's
+            # assumptions (the step before coqchk), then coqchk's
+            if lib_chk is not None:
+                lib_chk.result()
+            if chk is not None:
+                chk.result()
+            raise
+        times["printing"] = time.monotonic() - t1
+        if lib_chk is not None:
+            lib_chk.result()
+        if chk is not None:
+            chk.result()
+    return proved_model, validation, lib_chk is not None
+
+
 def theorem_kind(ddc: bool) -> str:
     """What the main theorem states, for the summary (``ddc``: whether it
     is the node DDC theorem T2)."""
@@ -285,6 +339,7 @@ def generate_model(
     ddc_available: bool | None = None,
     wp: bool = False,
     msg_root: Path | None = None,
+    defer_coqchk: bool = False,
     _t_start: float | None = None,
 ) -> GenerateResult:
     """The pipeline after the front end, on an already built ``model``.
@@ -356,20 +411,11 @@ def generate_model(
         # 3. assumptions, and coqchk in the background while 4. prints
         say(f"[3/{STEPS}] checking: Print Assumptions, coqchk (alongside the printing)")
         t0 = time.monotonic()
-        drv.check_assumptions(res.stdout, theorems, names.theorem_all)
-        with drv.coqchk_start(module, lib) as chk:
-            # 4. printing
-            say(f"[4/{STEPS}] printing: extraction, ocamlopt, run; validation against the AST dump")
-            t1 = time.monotonic()
-            try:
-                proved_model, validation = _print_and_validate(drv, model, module, lib, names, work, stage,
-                                                              has_diagram, msg_root)
-            except Exception:
-                # coqchk's verdict is the earlier step's: it comes first
-                chk.result()
-                raise
-            times["printing"] = time.monotonic() - t1
-            chk.result()
+        drv.check_assumptions(res.stdout, theorems, names.theorem_all + "_local")
+        library_theorems = library_theorems_of(ddc, has_diagram)
+        proved_model, validation, library_printed = _check_and_print(
+            drv, model, module, lib, names, work, stage, has_diagram, msg_root, theorems=theorems,
+            library_theorems=library_theorems, defer_coqchk=defer_coqchk, say=say, times=times)
         times["checking"] = time.monotonic() - t0
         out_h, out_c = stage / names.types_header, stage / names.glue_c
         out_m = work / f"{model.name}.model"
@@ -403,7 +449,10 @@ def generate_model(
         record = ProofRecord(
             node=model.name, model_file=model_file, node_v=names.v_file, types_h=names.types_header,
             glue_c=names.glue_c, sexp=names.sexp, theorem=main_thm, theorems=theorems, ddc=ddc,
-            assumptions=f"Print Assumptions {names.theorem_all}.  (* {CONJ.join(theorems)} *)\n{CLOSED}",
+            assumptions=(f"Print Assumptions {names.theorem_all}_local.  (* {CONJ.join(theorems)}, "
+                         f"each applying one of {', '.join(library_theorems)}: "
+                         f"{'pyrosgen' if library_printed else 'make proofs'} printed their assumptions, closed *)"
+                         f"\n{CLOSED}"),
             library_sha256=drv.library_digest(), pyrosgen_version=__version__,
             source_name=Path(model.source).name, source_sha256=sha256_file(Path(model.source)) if Path(model.source).is_file() else "",
             wp=wp_record, tools=tool_versions(wp=wp_result is not None),

@@ -1,4 +1,4 @@
-"""The checks across the nodes of a system (DESIGN.md rules 10.3 to 10.9)
+"""The checks across the nodes of a system (DESIGN.md rules 10.3 to 10.10)
 and what they establish: the connections (links) and the chains.
 
 A *link* is an output relation of a publisher and an input relation of a
@@ -19,7 +19,8 @@ from pyrosgen.errors import Diagnostic, InvalidNodeModel, show
 from pyrosgen.frontend.model import InputRelation, OutputRelation, Topic
 from pyrosgen.system.model import SystemModel, SystemNode
 
-__all__ = ["Link", "Hop", "Chain", "SystemGraph", "check_system", "MAX_CHAINS"]
+__all__ = ["Link", "Hop", "Chain", "SystemGraph", "check_system", "MAX_CHAINS", "custom_message_packages",
+           "msg_definition"]
 
 #: Most chains a certificate lists (the number of simple paths can grow
 #: exponentially with the nodes; past it, the certificate says so).
@@ -83,7 +84,7 @@ def _where(sn: SystemNode, t: Topic) -> str:
 
 
 def check_system(sysm: SystemModel) -> SystemGraph:
-    """Run rules 10.3 to 10.9 on a loaded system; raise
+    """Run rules 10.3 to 10.10 on a loaded system; raise
     :class:`InvalidNodeModel` with every problem, else return the graph."""
     file = str(sysm.source)
     diags: list[Diagnostic] = []
@@ -123,6 +124,9 @@ def check_system(sysm: SystemModel) -> SystemGraph:
             seen[g] = t
             (gr.publishers if t.is_published else gr.subscribers).setdefault(g, []).append((sn, t))
         del names
+
+    # rule 10.10: one definition of each custom message across the nodes
+    _check_custom_messages(sysm, err)
 
     # rule 10.5: every subscription is fed
     for g, subs in sorted(gr.subscribers.items()):
@@ -246,3 +250,66 @@ def _chains(gr: SystemGraph) -> tuple[list[Chain], bool]:
     for g in sysm.inputs:
         walk(g, [], set())
     return out, truncated
+
+
+def msg_definition(text: str) -> tuple[str, ...]:
+    """What a ``.msg`` file defines, as ``genmsg`` reads it: its lines
+    without comments and blank lines, the blanks of each line collapsed
+    (a string constant's value, after ``=``, kept as written)."""
+    out = []
+    for line in text.splitlines():
+        head, eq, value = line.partition("=")
+        if eq and head.split() and head.split()[0] == "string":
+            out.append(" ".join(head.split()) + "=" + value.strip())
+            continue
+        line = line.split("#", 1)[0]
+        if line.strip():
+            out.append(" ".join(line.replace("=", " = ").split()))
+    return tuple(out)
+
+
+def custom_message_packages(sysm: SystemModel) -> dict[str, dict[str, tuple[SystemNode, Path]]]:
+    """The custom message packages of the system's nodes (those of their
+    ``msg_paths``, :func:`pyrosgen.ros.wrapper.custom_message_packages`):
+    package -> ``.msg`` file name -> (the first node whose package has it,
+    the file).  The workspace of ``system build`` holds one catkin package
+    per name, with every file (rule 10.10 makes them agree)."""
+    from pyrosgen.ros.wrapper import custom_message_packages as node_packages
+
+    out: dict[str, dict[str, tuple[SystemNode, Path]]] = {}
+    for sn in sysm.nodes:
+        for pkg, folder in sorted(node_packages(sn.model).items()):
+            files = out.setdefault(pkg, {})
+            for f in sorted(Path(folder).glob("*.msg")):
+                files.setdefault(f.name, (sn, f))
+    return out
+
+
+def _check_custom_messages(sysm: SystemModel, err) -> None:
+    """Rule 10.10: a catkin workspace holds one package per name, so two
+    nodes whose ``msg_paths`` define the same ``pkg/Type`` define it alike
+    (the same fields and constants; comments and blanks aside), and no
+    custom message package has the name of a node's package."""
+    from pyrosgen.ros.wrapper import custom_message_packages as node_packages
+
+    first: dict[str, tuple[SystemNode, Path, tuple[str, ...]]] = {}
+    node_pkgs = {sn.model.name for sn in sysm.nodes}
+    for sn in sysm.nodes:
+        for pkg, folder in sorted(node_packages(sn.model).items()):
+            if pkg in node_pkgs:
+                err(sn.model_node, f"nodes[{sn.index}]: the custom message package {show(pkg)} of node "
+                                   f"{show(sn.full_name)} ({folder}) has the name of a node's package; a catkin "
+                                   "workspace holds one package of each name: rename one", "10.10")
+            for f in sorted(Path(folder).glob("*.msg")):
+                try:
+                    text = f.read_text(encoding="utf-8", errors="replace")
+                except OSError as exc:
+                    err(sn.model_node, f"nodes[{sn.index}]: cannot read {f}: {exc.strerror or exc}", "10.10")
+                    continue
+                key = f"{pkg}/{f.stem}"
+                seen = first.setdefault(key, (sn, f, msg_definition(text)))
+                if seen[0] is not sn and seen[2] != msg_definition(text):
+                    err(sn.model_node, f"nodes[{sn.index}]: node {show(sn.full_name)} defines the message "
+                                       f"{show(key)} ({f}) otherwise than node {show(seen[0].full_name)} "
+                                       f"({seen[1]}); the system's workspace holds one package {show(pkg)}: give "
+                                       "both nodes the same definition", "10.10")

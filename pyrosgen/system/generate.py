@@ -19,6 +19,11 @@ key and every file's digest matches, so a killed run leaves nothing a
 later run trusts (its temporary folders are removed by the next run, whose
 lock they no longer hold).  A corrupted entry is a miss (the node is proved again).
 
+A node is proved into the run's staging area (``.pending/<key>``) without
+its ``coqchk``; the modules of every node proved in the run are re-checked
+by one ``coqchk`` (:meth:`~pyrosgen.proof.coqdriver.CoqDriver.coqchk_many`,
+which loads the library once), and only then are their entries written.
+
 Nothing is written into ``OUT`` unless every node succeeded: the nodes are
 staged next to ``OUT`` and moved in at the end.
 """
@@ -75,6 +80,8 @@ class SystemGenerateResult:
     nodes: list[NodeOutcome]
     files: list[str] = field(default_factory=list)
     seconds: float = 0.0
+    #: whether the system's proof came from the cache
+    proof_cached: bool = False
 
     @property
     def hits(self) -> int:
@@ -215,18 +222,21 @@ def _clean_dead_temps(cache: Path) -> None:
             os.close(fd)
 
 
-def _gen_node(model_path: str, tmp: Path) -> tuple[str, float, int, list[str]]:
+def _gen_node(model_path: str, tmp: Path, defer_coqchk: bool = False) -> tuple[str, float, int, list[str]]:
     """Worker: the node pipeline into ``tmp/files`` (its output folder)
     and the compiled per-node module into ``tmp/coq/<node>.vo`` (for the
     system's proof).  Returns (status, seconds, exit code, report
-    lines); never raises."""
+    lines); never raises.  ``defer_coqchk``: the module is not re-checked
+    here (:func:`_check_pending` does it for every node of the run at
+    once, before anything is trusted)."""
     from pyrosgen.errors import Context
     from pyrosgen.generate import generate
 
     t0 = time.monotonic()
     lines: list[str] = []
     try:
-        res = generate(model_path, str(tmp / "files"), keep_work=True, progress=lines.append)
+        res = generate(model_path, str(tmp / "files"), keep_work=True, progress=lines.append,
+                       defer_coqchk=defer_coqchk)
         kept = [ln.split(": ", 1)[1] for ln in lines if ln.startswith("work directory kept: ")]
         if len(kept) != 1:
             return ("error", time.monotonic() - t0, 2, ["pyrosgen: error: the node's work directory was not kept"])
@@ -320,17 +330,53 @@ def _put_entry(parent: Path, key: str, fill) -> tuple[str, float, int, list[str]
         os.close(lock)
 
 
-def _gen_entry(model_path: str, parent: str, key: str) -> tuple[str, float, int, list[str]]:
-    """Worker: the node's entry ``key`` of ``parent``: ``files/`` (the
-    node's output folder), ``coq/`` (its compiled module)."""
-    return _put_entry(Path(parent), key, lambda tmp: _gen_node(model_path, tmp))
+def _gen_pending(model_path: str, folder: str) -> tuple[str, float, int, list[str]]:
+    """Worker: the node into ``folder`` (``files/``, ``coq/``), a folder of
+    the run's staging area, its module not yet re-checked by ``coqchk``."""
+    Path(folder).mkdir()
+    return _gen_node(model_path, Path(folder), defer_coqchk=True)
 
 
-def _system_key(node_keys: list[str], vtext: str) -> str:
+def _check_pending(pending: Path, proved: list[tuple[str, str]], work: Path) -> None:
+    """``coqchk`` of every node proved in this run (``proved``: (key,
+    node name), their folders in ``pending``) in one process, which loads
+    the library once (one per node loads it again for each: 1.1 s of CPU
+    every time, BENCHMARKS.md section 14); the same check as ``pyrosgen
+    generate``'s (``-norec``, the bytecode machine, the context summary),
+    done before any of them enters the cache or ``OUT``.  Raises
+    :class:`~pyrosgen.proof.coqdriver.CoqError` naming the module
+    rejected."""
+    from pyrosgen.proof.coqdriver import CoqDriver
+
+    # one batch per folder of distinct module names (a node model run with
+    # two controller folders has two keys and one name)
+    batches: list[dict[str, str]] = []
+    for key, name in proved:
+        batch = next((b for b in batches if name not in b), None)
+        if batch is None:
+            batches.append(batch := {})
+        batch[name] = key
+    drv = CoqDriver()
+    drv.check_tools()
+    for i, batch in enumerate(batches):
+        folder = work / str(i)
+        folder.mkdir(parents=True)
+        for name, key in batch.items():
+            shutil.copyfile(pending / key / "coq" / f"{name}.vo", folder / f"{name}.vo")
+        drv.coqchk_many([f"RosgenNode.{name}" for name in batch], (folder, "RosgenNode"))
+
+
+def _system_key(vo_files: dict[str, Path], vtext: str) -> str:
+    """The cache key of the system's proof: what it depends on, the
+    environment (library, tools, pyrosgen), the nodes' compiled modules
+    (name and SHA-256 of each ``.vo``: ``coqc`` writes the same bytes for
+    the same ``.v``, so a node proved again to the same module, after a
+    comment in its model, leaves the system's proof a cache hit) and the
+    system's ``.v``."""
     h = hashlib.sha256()
-    h.update(b"pyrosgen-system-proof-1\0" + _environment_digest().encode() + b"\0")
-    for k in node_keys:
-        h.update(k.encode() + b"\0")
+    h.update(b"pyrosgen-system-proof-2\0" + _environment_digest().encode() + b"\0")
+    for name, vo in sorted(vo_files.items()):
+        h.update(name.encode() + b"\0" + _sha_file(vo).encode() + b"\0")
     h.update(vtext.encode())
     return h.hexdigest()
 
@@ -391,25 +437,7 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
         verb = "build" if build else "prove"
         say(f"system {sysm.name}: {len(outcomes)} nodes, {len(outcomes) - len(todo)} from the cache, "
             f"{len(todo)} to {verb} ({min(jobs, max(len(todo), 1))} in parallel)")
-        failures: list[str] = []
-        code = 0
-        if todo:
-            with ProcessPoolExecutor(max_workers=min(jobs, len(todo))) as pool:
-                futs = [pool.submit(_gen_entry, str(sn.model_path), str(entries), oc.key) if not build else
-                        pool.submit(_build_entry, str(sn.model_path), str(sn.controller) if sn.controller else None,
-                                    str(entries), oc.key)
-                        for oc, sn in todo]
-                for (oc, sn), fut in zip(todo, futs):
-                    status, secs, ec, lines = fut.result()
-                    oc.seconds = secs
-                    if status != "ok":
-                        code = max(code, ec)
-                        failures.append(f"pyrosgen: node {sn.full_name} ({sn.model_path}):")
-                        failures.extend("  " + ln for ln in lines)
-                    else:
-                        say(f"  {sn.full_name}: {'built' if build else 'proved'} in {secs:.1f} s")
-        if failures:
-            raise SystemNodeFailure(failures, code or 2)
+        _run_nodes(todo, entries, stage, jobs, build, say)
         vo_files: dict[str, Path] = {}
         for oc in outcomes:
             entry = entries / oc.key
@@ -424,8 +452,9 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
 
         vname = system_v_name(sysm.name)
         vtext = render_system_file(sysm, graph)
-        skey = _system_key(sorted({oc.key for oc in outcomes}), vtext)
-        if use_cache and entry_valid(cache / skey, skey):
+        skey = _system_key(vo_files, vtext)
+        proof_cached = use_cache and entry_valid(cache / skey, skey)
+        if proof_cached:
             say(f"  system proof: from the cache ({skey[:16]})")
         else:
             say(f"  system proof: {len(graph.links)} links from the nodes' T2 ...")
@@ -444,18 +473,91 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
         shutil.copyfile(entries / skey / "files" / vname, stage / vname)
         files = [vname] + system_files(sysm, graph, stage)
         if build:
-            # a catkin workspace's source folder: one link per node package
-            src = stage / "src"
-            src.mkdir()
-            for oc in outcomes:
-                pkg = stage / oc.folder / oc.name
-                if pkg.is_dir() and not (src / oc.name).exists():
-                    os.symlink(Path("..") / oc.folder / oc.name, src / oc.name)
-            files.append("src")
+            files += _workspace(sysm, outcomes, stage)
         _install(stage, out, [oc.folder for oc in outcomes] + files)
     finally:
         shutil.rmtree(stage, ignore_errors=True)
-    return SystemGenerateResult(out, outcomes, files, time.monotonic() - t0)
+    return SystemGenerateResult(out, outcomes, files, time.monotonic() - t0, proof_cached)
+
+
+def _run_nodes(todo: list, entries: Path, stage: Path, jobs: int, build: bool, say) -> None:
+    """Prove (or build) the nodes of ``todo`` in ``jobs`` processes; a
+    proved node's module is re-checked by one ``coqchk`` for all of them
+    (:func:`_check_pending`) before its entry is written into ``entries``;
+    a built node writes its own (``pyrosgen build`` checks its module).
+    Raises :class:`SystemNodeFailure` naming every node that failed."""
+    failures: list[str] = []
+    code = 0
+    pending = stage / ".pending"
+    pending.mkdir()
+    if not todo:
+        return
+    with ProcessPoolExecutor(max_workers=min(jobs, len(todo))) as pool:
+        futs = [pool.submit(_gen_pending, str(sn.model_path), str(pending / oc.key)) if not build else
+                pool.submit(_build_entry, str(sn.model_path), str(sn.controller) if sn.controller else None,
+                            str(entries), oc.key)
+                for oc, sn in todo]
+        for (oc, sn), fut in zip(todo, futs):
+            status, secs, ec, lines = fut.result()
+            oc.seconds = secs
+            if status != "ok":
+                code = max(code, ec)
+                failures.append(f"pyrosgen: node {sn.full_name} ({sn.model_path}):")
+                failures.extend("  " + ln for ln in lines)
+            else:
+                say(f"  {sn.full_name}: {'built' if build else 'proved'} in {secs:.1f} s")
+    if failures:
+        raise SystemNodeFailure(failures, code or 2)
+    if not build:
+        say(f"  coqchk: the {len(todo)} new node module(s) in one run")
+        _check_pending(pending, [(oc.key, oc.name) for oc, _ in todo], stage / ".check")
+        for oc, _ in todo:
+            _put_entry(entries, oc.key, lambda tmp, src=pending / oc.key: _copy_into(src, tmp))
+
+
+def _workspace(sysm, outcomes: list, stage: Path) -> list[str]:
+    """``stage/src``, a catkin workspace's source folder: one link per node
+    package, and one per custom message package (``msgs/<pkg>``, shared by
+    the nodes, rule 10.10).  Returns the names to install."""
+    src = stage / "src"
+    src.mkdir()
+    for oc in outcomes:
+        pkg = stage / oc.folder / oc.name
+        if pkg.is_dir() and not (src / oc.name).exists():
+            os.symlink(Path("..") / oc.folder / oc.name, src / oc.name)
+    msg_pkgs = _write_message_packages(sysm, stage / "msgs")
+    for pkg in msg_pkgs:
+        os.symlink(Path("..") / "msgs" / pkg, src / pkg)
+    return (["msgs"] if msg_pkgs else []) + ["src"]
+
+
+def _copy_into(src: Path, tmp: Path) -> tuple[str, float, int, list[str]]:
+    """Fill an entry's temporary folder with the checked node folder
+    ``src`` (``files/``, ``coq/``)."""
+    for part in ("files", "coq"):
+        shutil.copytree(src / part, tmp / part)
+    return ("ok", 0.0, 0, [])
+
+
+def _write_message_packages(sysm, folder: Path) -> list[str]:
+    """The system's custom message packages (each node's ``msg_paths``,
+    rule 10.10: one definition of each type), each a catkin package
+    ``folder/<pkg>/`` (``message_generation``, as ROS 1 builds messages:
+    ``package.xml``, ``CMakeLists.txt``, ``msg/*.msg``) that the nodes'
+    packages depend on; two nodes sharing a package share this one.
+    Returns the package names."""
+    from pyrosgen.ros.wrapper import render_msg_package
+    from pyrosgen.system.checks import custom_message_packages
+
+    packages = custom_message_packages(sysm)
+    for pkg, files in sorted(packages.items()):
+        texts = {name: f.read_text(encoding="utf-8", errors="replace") for name, (_, f) in sorted(files.items())}
+        (folder / pkg / "msg").mkdir(parents=True)
+        for rel, text in render_msg_package(sysm.source.name, pkg, texts).items():
+            (folder / pkg / rel).write_text(text, encoding="utf-8")
+        for name, (_, f) in sorted(files.items()):
+            shutil.copyfile(f, folder / pkg / "msg" / name)
+    return sorted(packages)
 
 
 def _install(stage: Path, out: Path, names: list[str]) -> None:

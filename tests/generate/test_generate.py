@@ -106,9 +106,13 @@ def test_v_file(generated, key):
     assert f"Theorem {node}_wf : Wellformed.wf model = true." in text
     if ddc_in_coqproject():
         assert f"Theorem {node}_ddc : DDC.node_ddc model the_program." in text
-        assert f"exact (Loopproof.generate_node_ddc model the_program generate_ok)" in text
-        assert f"Print Assumptions {node}_theorems." in text
+        assert f"Proof. exact ({node}_ddc_of_library Loopproof.generate_node_ddc). Qed." in text
+        assert f"(T2 : forall m p, Generator.generate m = OK p -> DDC.node_ddc m p)" in text
+        assert "  T2 model the_program generate_ok." in text
+        assert f"Print Assumptions {node}_theorems_local." in text
         assert f"Definition {node}_theorems := (conj {node}_ddc {node}_wf)." in text
+        assert (f"Definition {node}_theorems_local := (conj {node}_ddc_of_library {node}_wf_of_library)."
+                in text)
     for word in ("Admitted", "admit", "Axiom", "Parameter", "Conjecture"):
         assert not re.search(rf"\b{word}\b", text), word
 

@@ -97,7 +97,18 @@ def test_one_node_changed(cold, tmp_path):
     (src / "b.yaml").write_text("# changed\n" + (src / "b.yaml").read_text())
     res = generate_system(src / "system.yaml", tmp_path / "out", jobs=2, cache=cache)
     assert [(n.folder, n.cached) for n in res.nodes] == [("a", True), ("b", False)]
-    assert len(entries(cache)) == 5   # b's and the system proof's new entries
+    # b's module is the same (coqc writes the same .vo for the same .v):
+    # the system's proof, keyed by the modules, is a cache hit
+    assert res.proof_cached
+    assert len(entries(cache)) == 4   # b's new entry
+    assert (tmp_path / "out" / "sys_system.v").read_bytes() == (out / "sys_system.v").read_bytes()
+    # b's period changes: b proved again to another module, the system's
+    # proof redone; a still from the cache
+    (src / "b.yaml").write_text((src / "b.yaml").read_text().replace("period_ms: 20", "period_ms: 25"))
+    res = generate_system(src / "system.yaml", tmp_path / "out2", jobs=2, cache=cache)
+    assert [(n.folder, n.cached) for n in res.nodes] == [("a", True), ("b", False)]
+    assert not res.proof_cached
+    assert len(entries(cache)) == 6   # b's and the system proof's new entries
 
 
 def test_corrupted_and_partial_entries_are_not_trusted(cold, tmp_path):
@@ -134,11 +145,16 @@ def test_killed_run_leaves_nothing_trusted(cold, tmp_path):
                              "--cache", str(c3), "-j", "2", "-q"],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     try:
-        # kill it while a node is being proved (its temporary entry exists)
+        # kill it while a node is being proved (its folder in the run's
+        # staging area exists: entries are written after the run's coqchk)
+        def proving() -> bool:
+            return (any(x.name.startswith(".tmp-") for x in c3.iterdir())
+                    or any(tmp_path.glob(".pyrosgen-system-*/.pending/*")))
+
         deadline = time.monotonic() + 120
-        while time.monotonic() < deadline and not any(x.name.startswith(".tmp-") for x in c3.iterdir()):
+        while time.monotonic() < deadline and not proving():
             time.sleep(0.05)
-        assert any(x.name.startswith(".tmp-") for x in c3.iterdir()), "no node started"
+        assert proving(), "no node started"
         time.sleep(1.0)
         os.killpg(proc.pid, signal.SIGKILL)
     finally:
