@@ -205,6 +205,15 @@ Theorem generate_node_ddc:
   forall m p, generate m = OK p -> node_ddc m p.
 Proof. exact Loopproof.generate_node_ddc. Qed.
 
+(** T2 holds on both targets (rule 4.17): [node_ddc] quantifies over
+    every context, whatever its [ctx_target] (ROS 1's [deliverable] or
+    ROS 2's [rcl_deliverable], [Environment.spin_messages]); the per-node
+    file restates it for the target it was generated for
+    ([<node>_ddc_target : DDC.node_ddc_on target model the_program]). *)
+Theorem generate_node_ddc_on:
+  forall tg m p, generate m = OK p -> DDC.node_ddc_on tg m p.
+Proof. intros tg m p G. apply DDC.node_ddc_on_target, Loopproof.generate_node_ddc, G. Qed.
+
 (** ** T3: the paper's Section 6 properties *)
 
 (** Relation consistency for [input_glue] (the paper's Figure 15): for any

@@ -229,6 +229,28 @@ def test_verify_covers_the_ros2_files(tmp_path, ros2_install):
         r = _cli("verify", "-q", str(bad))
         assert r.returncode == 1 and "package" in r.stdout and name in r.stdout, (name, r.stdout, r.stderr)
         assert "hashes    " in r.stdout and " FAILED  hashes" not in r.stdout, r.stdout
+    # the .v names the target ROS 2 (rule 4.17); a .v naming ROS 1 instead,
+    # its digest rewritten, is refused by the template check (the manifest's
+    # target is ros2), and so is a manifest that says ros1 with it (the
+    # folder's <node>.target says ros2)
+    v = (out / "landshark_controller.v").read_text()
+    assert "Definition target : Environment.target := Environment.Ros2." in v
+    assert "Theorem landshark_controller_ddc_target : DDC.node_ddc_on target model the_program." in v
+    bad = tmp_path / "bad_v"
+    shutil.copytree(out, bad)
+    (bad / "landshark_controller.v").write_text(v.replace("Environment.Ros2.", "Environment.Ros1."))
+    _digests(bad, "landshark_controller.v")
+    r = _cli("verify", "-q", str(bad))
+    assert r.returncode == 1 and "FAILED  v-file" in r.stdout, (r.stdout, r.stderr)
+    assert "ident 'Environment.Ros1' where the template has ident 'Environment.Ros2'" in r.stdout, r.stdout
+    import json
+    m = bad / "landshark_controller.manifest.json"
+    data = json.loads(m.read_text())
+    assert data["target"] == "ros2"
+    m.write_text(json.dumps({**data, "target": "ros1"}))
+    r = _cli("verify", "-q", str(bad))
+    assert r.returncode == 1 and "FAILED  v-file" in r.stdout, (r.stdout, r.stderr)
+    assert "landshark_controller.target says ros2, but the manifest's target is ros1" in r.stdout, r.stdout
 
 
 def _digests(copy, name: str) -> None:
