@@ -88,6 +88,18 @@ def test_type_missing_from_ros2_refused(tmp_path, ros2_install):
     assert any(d.line == 7 and "std_msgs/Time" in d.message for d in diags)
 
 
+def test_queue_size_zero_refused_for_ros2(tmp_path, ros2_install):
+    """A history of depth 0 would hold nothing (Environment.rcl_deliverable,
+    the wrapper takes at most 0 messages; rcl would read 0 as the
+    middleware's default depth): queue_size 0 is refused for ROS 2 as for
+    ROS 1 (rule 4.4), at its place."""
+    path = _model(tmp_path)
+    path.write_text(path.read_text().replace("queue_size: 3}", "queue_size: 0}"), encoding="utf-8")
+    diags = _refused(path, ros2_install)
+    assert [(d.line, d.rule) for d in diags] == [(7, "4.4")], [str(d) for d in diags]
+    assert "queue_size" in diags[0].message and str(diags[0]).startswith(f"{path}:7:")
+
+
 def test_stamp_now_refused_for_ros2(tmp_path, ros2_install):
     path = _model(tmp_path, extra=", stamp: now")
     load_model(path)
