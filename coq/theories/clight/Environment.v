@@ -692,6 +692,88 @@ Fixpoint merge_time (l1 : list (subscription * arrival)) : list (subscription * 
 Definition rcl_deliverable (subs : list subscription) (msgs : list arrival) : list (subscription * arrival) :=
   fold_right (fun s acc => merge_time (taken s msgs) acc) [] subs.
 
+(** The wrapper's loop itself: [pick] takes the head of smallest receipt
+    time, scanning the subscriptions' lists in order and moving to a later
+    one only when its head is strictly earlier (the first of the minimal
+    heads), and removes it; [wrapper_merge] picks until every list is
+    empty.  It computes [rcl_deliverable]'s merge ([wrapper_merge_spec]). *)
+Fixpoint pick (ls : list (list (subscription * arrival)))
+  : option ((subscription * arrival) * list (list (subscription * arrival))) :=
+  match ls with
+  | [] => None
+  | [] :: rest =>
+      match pick rest with
+      | Some (y, r) => Some (y, [] :: r)
+      | None => None
+      end
+  | (x :: l) :: rest =>
+      match pick rest with
+      | Some (y, r) => if Z.ltb (ar_time (snd y)) (ar_time (snd x)) then Some (y, (x :: l) :: r) else Some (x, l :: rest)
+      | None => Some (x, l :: rest)
+      end
+  end.
+
+Fixpoint wrapper_merge (fuel : nat) (ls : list (list (subscription * arrival))) : list (subscription * arrival) :=
+  match fuel with
+  | O => []
+  | S f => match pick ls with Some (x, ls') => x :: wrapper_merge f ls' | None => [] end
+  end.
+
+Lemma merge_time_nil_l: forall l, merge_time [] l = l.
+Proof. destruct l; reflexivity. Qed.
+
+Lemma merge_time_nil_r: forall l, merge_time l [] = l.
+Proof. destruct l; reflexivity. Qed.
+
+Lemma pick_merge:
+  forall ls,
+  match fold_right merge_time [] ls with
+  | [] => pick ls = None
+  | x :: r => exists ls', pick ls = Some (x, ls') /\ fold_right merge_time [] ls' = r
+  end.
+Proof.
+  induction ls as [|l rest IH]; [reflexivity|]. cbn [fold_right].
+  destruct l as [|x l].
+  - rewrite merge_time_nil_l. cbn [pick].
+    destruct (fold_right merge_time [] rest) as [|y r].
+    + rewrite IH. reflexivity.
+    + destruct IH as (ls' & P & F). rewrite P. exists ([] :: ls'). split; [reflexivity|].
+      cbn [fold_right]. rewrite merge_time_nil_l. exact F.
+  - cbn [pick]. destruct (fold_right merge_time [] rest) as [|y r] eqn:E.
+    + rewrite IH. rewrite merge_time_nil_r. exists (l :: rest). split; [reflexivity|].
+      cbn [fold_right]. rewrite E, merge_time_nil_r. reflexivity.
+    + destruct IH as (ls' & P & F). rewrite P. cbn [merge_time].
+      destruct (ar_time (snd y) <? ar_time (snd x))%Z.
+      * exists ((x :: l) :: ls'). split; [reflexivity|]. cbn [fold_right]. rewrite F. reflexivity.
+      * exists (l :: rest). split; [reflexivity|]. cbn [fold_right]. rewrite E. reflexivity.
+Qed.
+
+(** The wrapper's loop, given at least as many steps as messages, runs
+    the callbacks in the order of the merge. *)
+Lemma wrapper_merge_spec:
+  forall n ls, (length (fold_right merge_time [] ls) <= n)%nat ->
+  wrapper_merge n ls = fold_right merge_time [] ls.
+Proof.
+  induction n as [|n IH]; intros ls L.
+  - destruct (fold_right merge_time [] ls); [reflexivity|simpl in L; lia].
+  - cbn [wrapper_merge]. generalize (pick_merge ls).
+    destruct (fold_right merge_time [] ls) as [|x r] eqn:E.
+    + intros ->. reflexivity.
+    + intros (ls' & -> & F). rewrite IH; [congruence|]. rewrite F. simpl in L. lia.
+Qed.
+
+(** [rcl_deliverable] is the wrapper's loop on the lists taken from the
+    subscriptions in registration order. *)
+Theorem rcl_deliverable_wrapper:
+  forall subs msgs n, (length (rcl_deliverable subs msgs) <= n)%nat ->
+  rcl_deliverable subs msgs = wrapper_merge n (map (fun s => taken s msgs) subs).
+Proof.
+  intros subs msgs n L.
+  assert (E: rcl_deliverable subs msgs = fold_right merge_time [] (map (fun s => taken s msgs) subs)).
+  { clear L. unfold rcl_deliverable. induction subs as [|s subs IHs]; [reflexivity|]. simpl. rewrite IHs. reflexivity. }
+  rewrite E in *. symmetry. apply wrapper_merge_spec. exact L.
+Qed.
+
 (** ** The external functions *)
 
 (** The two fields of a ROS time given in nanoseconds (as [ros::Time]
