@@ -131,6 +131,30 @@ def _cli(*args, env_extra=None):
                           cwd=str(rosutil.ROOT))
 
 
+def test_generate_ros2_names_the_target_and_verifies(tmp_path, ros2_install):
+    """``generate --ros2``: the .v names the target ROS 2 (``target :=
+    Environment.Ros2``, ``<node>_ddc_target``), the manifest records it, and
+    ``verify`` (with and without the model, read for ROS 2) passes; the
+    same model generated for ROS 1 names Ros1."""
+    import json
+    out2, out1 = tmp_path / "g2", tmp_path / "g1"
+    r = _cli("generate", "--ros2", "-q", str(rosutil.LANDSHARK), "-o", str(out2))
+    assert r.returncode == 0, r.stdout + r.stderr
+    v = (out2 / "landshark_controller.v").read_text()
+    assert "Definition target : Environment.target := Environment.Ros2." in v
+    assert "Theorem landshark_controller_ddc_target : DDC.node_ddc_on target model the_program." in v
+    assert json.loads((out2 / "landshark_controller.manifest.json").read_text())["target"] == "ros2"
+    assert "Target: ROS 2 (rcl)" in (out2 / "landshark_controller.certificate.md").read_text()
+    for extra in ([], ["--model", str(rosutil.LANDSHARK)]):
+        ok = _cli("verify", "-q", str(out2), *extra)
+        assert ok.returncode == 0, ok.stdout + ok.stderr
+    r = _cli("generate", "-q", str(rosutil.LANDSHARK), "-o", str(out1))
+    assert r.returncode == 0, r.stdout + r.stderr
+    v1 = (out1 / "landshark_controller.v").read_text()
+    assert "Definition target : Environment.target := Environment.Ros1." in v1
+    assert "Target: ROS 1 (roscpp)" in (out1 / "landshark_controller.certificate.md").read_text()
+
+
 def test_check_cli_ros2(tmp_path, ros2_install):
     ok = _cli("check", "--ros2", str(rosutil.LANDSHARK))
     assert ok.returncode == 0 and "ok: node landshark_controller" in ok.stdout
