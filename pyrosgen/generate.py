@@ -340,6 +340,7 @@ def generate_model(
     wp: bool = False,
     msg_root: Path | None = None,
     defer_coqchk: bool = False,
+    target: str = "ros1",
     _t_start: float | None = None,
 ) -> GenerateResult:
     """The pipeline after the front end, on an already built ``model``.
@@ -347,7 +348,9 @@ def generate_model(
     ``msg_root``: the folder of the target's standard ``<pkg>/msg/*.msg``
     files that the second reading of the model file reads (``None``:
     Debian's ROS 1 packages in ``/usr/share``; the target ROS 2 passes its
-    installation's ``share`` folder, rule 4.17).
+    installation's ``share`` folder, rule 4.17).  ``target``: ``"ros1"`` or
+    ``"ros2"``, the target named by the ``.v`` (``target``,
+    ``<node>_ddc_target``) and the manifest.
 
     ``model`` is trusted for printability only (the emitter re-checks every
     name lexically); whether it is well formed is decided by Coq's
@@ -376,8 +379,8 @@ def generate_model(
         from pyrosgen.proof.coqdiagram import emit_diagram
 
         diagram = emit_diagram(model)
-    vtext = render_node_file(model, ddc_available=ddc, diagram=diagram)
-    theorems = [names.theorem_ddc, names.theorem_wf] if ddc else [names.theorem_wf]
+    vtext = render_node_file(model, ddc_available=ddc, diagram=diagram, target=target)
+    theorems = [names.theorem_ddc, names.theorem_target, names.theorem_wf] if ddc else [names.theorem_wf]
     has_diagram = getattr(model.controller, "diagram", None) is not None
     if has_diagram:
         # printed in this order by coq/templates/node.v.j2 (the Ctrl module
@@ -448,7 +451,7 @@ def generate_model(
 
         record = ProofRecord(
             node=model.name, model_file=model_file, node_v=names.v_file, types_h=names.types_header,
-            glue_c=names.glue_c, sexp=names.sexp, theorem=main_thm, theorems=theorems, ddc=ddc,
+            glue_c=names.glue_c, sexp=names.sexp, theorem=main_thm, theorems=theorems, ddc=ddc, target=target,
             assumptions=(f"Print Assumptions {names.theorem_all}_local.  (* {CONJ.join(theorems)}, "
                          f"each applying one of {', '.join(library_theorems)}: "
                          f"{'pyrosgen' if library_printed else 'make proofs'} printed their assumptions, closed *)"

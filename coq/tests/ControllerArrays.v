@@ -82,7 +82,7 @@ Definition ectx : ros_context unit :=
                   | Some (l, xs) => [mkarrival "/scan" (scan_msg l xs) 0]
                   | None => []
                   end)
-        (fun _ => 0%Z) tt (fun _ u => (tt, echo_y u)).
+        (fun _ => 0%Z) tt (fun _ u => (tt, echo_y u)) Ros1.
 
 Lemma ectx_arrivals_wt: arrivals_wt echo ectx.
 Proof.
@@ -100,7 +100,7 @@ Definition ectx_typed : ros_context unit :=
         (fun _ u => (tt, let y := echo_y u in
                          if mval_typecheck (composites echo) (Tstruct "ExtY_Controller_T") y then y
                          else MVstruct [("Cmd", MVarray (repeat (MVscalar (Vsingle (f32 0))) 4));
-                                        ("NC", MVscalar (Vint 0))])).
+                                        ("NC", MVscalar (Vint 0))])) Ros1.
 
 Lemma ectx_controller_wt: controller_wt echo ectx_typed.
 Proof.

@@ -131,7 +131,7 @@ Definition ctx : ros_context unit :=
                   | O => [mkarrival (tp_name left_wheel) (msg_x f_zero) 0; mkarrival (tp_name right_wheel) (msg_x f_inf) 0]
                   | S _ => []
                   end)
-        (fun _ => 0%Z) tt (fun _ _ => (tt, y_out)).
+        (fun _ => 0%Z) tt (fun _ _ => (tt, y_out)) Ros1.
 
 Lemma ctx_arrivals_wt: arrivals_wt landshark ctx.
 Proof.

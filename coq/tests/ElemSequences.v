@@ -126,7 +126,7 @@ Definition fctx : ros_context unit :=
                   | Some mv => [mkarrival "/path" mv 0]
                   | None => []
                   end)
-        (fun _ => 0%Z) tt (fun _ _ => (tt, y_out)).
+        (fun _ => 0%Z) tt (fun _ _ => (tt, y_out)) Ros1.
 
 Lemma fctx_arrivals_wt: arrivals_wt follower fctx.
 Proof.

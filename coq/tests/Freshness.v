@@ -114,7 +114,7 @@ Definition fctx : ros_context unit :=
                   | 3%nat => [mkarrival (tp_name gps) (msg_x three) (ms 300)]
                   | _ => []
                   end)
-        (fun k => ms (60 * Z.of_nat k)) tt (fun _ _ => (tt, MVstruct [("Out1", MVscalar four)])).
+        (fun k => ms (60 * Z.of_nat k)) tt (fun _ _ => (tt, MVstruct [("Out1", MVscalar four)])) Ros1.
 
 Lemma fctx_arrivals_wt: arrivals_wt fresh fctx.
 Proof.

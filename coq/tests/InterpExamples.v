@@ -31,7 +31,7 @@ Definition run_and_read {CS : Type} (p : program) (ctx : ros_context CS) (n : na
 
 (** A context without messages and with a controller that does nothing. *)
 Definition quiet_ctx : ros_context unit :=
-  mkctx (fun _ => []) (fun _ => 0%Z) tt (fun s u => (s, u)).
+  mkctx (fun _ => []) (fun _ => 0%Z) tt (fun s u => (s, u)) Ros1.
 
 Definition sc (v : val) : mval := MVscalar v.
 Definition ndouble : float64 := B754_zero 53 1024 true.   (**r -0.0 *)
@@ -338,7 +338,7 @@ Definition arrivals (k : nat) : list arrival :=
 (** The ROS time of cycle [k]. *)
 Definition clock (k : nat) : Z := 100 * Z.of_nat k.
 
-Definition node_ctx : ros_context Z := mkctx arrivals clock 0 counter_step.
+Definition node_ctx : ros_context Z := mkctx arrivals clock 0 counter_step Ros1.
 
 Definition U (in1 : Z) : mval := MVstruct [("In1", sc (Vint in1)); ("In2", sc (Vint 0))].
 Definition Y (out1 : Z) : mval := MVstruct [("Out1", sc (Vint out1))].
@@ -397,7 +397,7 @@ Proof. vm_compute. reflexivity. Qed.
 (** A controller whose output does not have the type of [Controller_Y]
     makes the step undefined. *)
 Definition bad_ctx : ros_context unit :=
-  mkctx arrivals clock tt (fun s u => (s, MVstruct [("Out1", sc (Vlong 1))])).
+  mkctx arrivals clock tt (fun s u => (s, MVstruct [("Out1", sc (Vlong 1))])) Ros1.
 
 Example node_bad_controller: run_trace 1000 (node 1) bad_ctx 3 = None.
 Proof. vm_compute. reflexivity. Qed.

@@ -91,7 +91,7 @@ Definition arrivals (k : nat) : list arrival :=
 Definition clock (k : nat) : Z := Z.of_nat k * 10.
 
 (** Any environment: its controller is never called by the linked program. *)
-Definition ctxL : ros_context unit := mkctx arrivals clock tt (fun s u => (s, u)).
+Definition ctxL : ros_context unit := mkctx arrivals clock tt (fun s u => (s, u)) Ros1.
 
 Definition expected : trace :=
   [Esubscribe "/in" "geometry_msgs_Twist" 1; Eadvertise "/out" "geometry_msgs_Twist" 1;
@@ -115,14 +115,14 @@ Definition t8_for (q : program) : Prop :=
   /\ forall i, (i < 3)%nat ->
        exists u y mvs,
           evs i = publish_events relay (published relay) mvs ++ [Esleep (nm_period_ms relay)]
-       /\ input_values relay (diagram_ctx relay delay arrivals clock) i u
+       /\ input_values relay (diagram_ctx relay delay arrivals clock Ros1) i u
        /\ dg_step delay (s i) u = (s (S i), y)
-       /\ Forall2 (published_value relay y (clock (S i)) (newest_by relay (diagram_ctx relay delay arrivals clock) i))
+       /\ Forall2 (published_value relay y (clock (S i)) (newest_by relay (diagram_ctx relay delay arrivals clock Ros1) i))
                   (published relay) mvs.
 
 Lemma t8_linked : t8_for (link relay_prog delay).
 Proof.
-  intros t B. destruct (relay_linked arrivals clock 3 unit ctxL eq_refl eq_refl) as [_ H].
+  intros t B. destruct (relay_linked arrivals clock Ros1 3 unit ctxL eq_refl eq_refl eq_refl) as [_ H].
   - intros k a tp Ha Htp E. destruct k as [|[|k]]; simpl in Ha; try contradiction;
       destruct Ha as [<-|[]]; simpl in Htp; destruct Htp as [<-|[]]; vm_compute; repeat econstructor.
   - exact (H t B).

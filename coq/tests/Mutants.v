@@ -287,7 +287,7 @@ Definition ctx : ros_context unit :=
                   | 1%nat => [mkarrival (tp_name left_wheel) (msg_x five) 0]
                   | _ => []
                   end)
-        (fun _ => 0%Z) tt (fun _ _ => (tt, MVstruct [("Out1", MVscalar four)])).
+        (fun _ => 0%Z) tt (fun _ _ => (tt, MVstruct [("Out1", MVscalar four)])) Ros1.
 
 Lemma ctx_arrivals_wt: arrivals_wt landshark ctx.
 Proof.

@@ -98,7 +98,7 @@ Definition m_sum_order (e : equation) : statement :=
 
 (** ** Runs *)
 
-Definition quiet : ros_context unit := mkctx (fun _ => []) (fun _ => 0%Z) tt (fun s u => (s, u)).
+Definition quiet : ros_context unit := mkctx (fun _ => []) (fun _ => 0%Z) tt (fun s u => (s, u)) Ros1.
 Definition w0 : world unit := initial_world quiet 0.
 
 Definition inputs (a b : Z) : mval := MVstruct [("a", MVscalar (f64 a)); ("b", MVscalar (f64 b))].

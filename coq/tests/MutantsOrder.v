@@ -64,7 +64,7 @@ Definition ctx2 : ros_context unit :=
                           mkarrival (tp_name gps) (msg_x three) 0]
                   | _ => []
                   end)
-        (fun _ => 0%Z) tt (fun _ _ => (tt, MVstruct [("Out1", MVscalar four); ("Out2", MVscalar five)])).
+        (fun _ => 0%Z) tt (fun _ _ => (tt, MVstruct [("Out1", MVscalar four); ("Out2", MVscalar five)])) Ros1.
 
 Lemma ctx2_arrivals_wt: arrivals_wt landshark2 ctx2.
 Proof.

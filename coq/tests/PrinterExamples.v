@@ -344,7 +344,7 @@ Fixpoint render_mval (path : string) (mv : mval) : list string :=
          end) 0 es
   end.
 
-Definition quiet_ctx : ros_context unit := mkctx (fun _ => []) (fun _ => 0%Z) tt (fun s u => (s, u)).
+Definition quiet_ctx : ros_context unit := mkctx (fun _ => []) (fun _ => 0%Z) tt (fun s u => (s, u)) Ros1.
 
 (** Run [run_all] ([ros_ok] answers false at once), then render every
     global variable, in the order of [prog_defs]. *)

@@ -96,7 +96,7 @@ Definition sctx : ros_context unit :=
                   | Some (l, xs) => [mkarrival "/scan" (scan_msg l xs) 0]
                   | None => []
                   end)
-        (fun _ => 0%Z) tt (fun _ _ => (tt, y_out)).
+        (fun _ => 0%Z) tt (fun _ _ => (tt, y_out)) Ros1.
 
 Lemma sctx_arrivals_wt: arrivals_wt scanner sctx.
 Proof.
@@ -240,7 +240,7 @@ Definition y_of (k : nat) : mval :=
             ("E2", MVscalar (Vsingle r7))].
 
 Definition pctx : ros_context nat :=
-  mkctx (fun _ => []) (fun _ => 0%Z) O (fun k _ => (S k, y_of k)).
+  mkctx (fun _ => []) (fun _ => 0%Z) O (fun k _ => (S k, y_of k)) Ros1.
 
 Lemma pctx_arrivals_wt: arrivals_wt publisher pctx.
 Proof. intros k a tp H. contradiction. Qed.
@@ -451,7 +451,7 @@ Definition rctx : ros_context unit :=
                          | None => []
                          end
                   end)
-        (fun _ => 0%Z) tt (fun _ _ => (tt, y_out)).
+        (fun _ => 0%Z) tt (fun _ _ => (tt, y_out)) Ros1.
 
 Lemma rctx_arrivals_wt: arrivals_wt rejector rctx.
 Proof.

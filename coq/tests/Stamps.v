@@ -103,7 +103,7 @@ Definition ctx : ros_context unit :=
                   | O => [mkarrival (tp_name left_wheel) (msg_x f_one) 7]
                   | _ => []
                   end)
-        clock tt (fun _ _ => (tt, y_one)).
+        clock tt (fun _ _ => (tt, y_one)) Ros1.
 
 Lemma ctx_arrivals_wt: arrivals_wt stamped ctx.
 Proof.
@@ -329,7 +329,7 @@ Definition cctx : ros_context unit :=
                   | 1%nat => [mkarrival (tp_name gps) (msg_stamp 6 8) 5]
                   | _ => []
                   end)
-        clock tt (fun _ _ => (tt, y_one)).
+        clock tt (fun _ _ => (tt, y_one)) Ros1.
 
 Lemma cctx_arrivals_wt: arrivals_wt copied cctx.
 Proof.

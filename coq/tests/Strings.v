@@ -148,7 +148,7 @@ Definition ctx : ros_context unit :=
                   | O => [mkarrival (tp_name left_wheel) (msg_x f_one) 7]
                   | _ => []
                   end)
-        (fun k => (Z.of_nat k * 1000000000)%Z) tt (fun _ _ => (tt, y_one)).
+        (fun k => (Z.of_nat k * 1000000000)%Z) tt (fun _ _ => (tt, y_one)) Ros1.
 
 Lemma ctx_arrivals_wt: arrivals_wt framed ctx.
 Proof.

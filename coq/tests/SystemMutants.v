@@ -93,7 +93,7 @@ Proof. vm_compute. reflexivity. Qed.
     a field added to [Environment.ros_context] is one more argument,
     [(ctx_... c)], on the [mkctx] line.) *)
 Definition with_arrivals {CS : Type} (c : ros_context CS) (arr : nat -> list arrival) : ros_context CS :=
-  mkctx arr (ctx_time c) (ctx_init c) (ctx_step c).
+  mkctx arr (ctx_time c) (ctx_init c) (ctx_step c) (ctx_target c).
 
 (** The leader [A] runs one cycle in [Mutants.ctx]: its controller
     computes [Out1 = 4.0], and it publishes [msgA] on its base velocity. *)

@@ -205,6 +205,15 @@ Theorem generate_node_ddc:
   forall m p, generate m = OK p -> node_ddc m p.
 Proof. exact Loopproof.generate_node_ddc. Qed.
 
+(** T2 holds on both targets (rule 4.17): [node_ddc] quantifies over
+    every context, whatever its [ctx_target] (ROS 1's [deliverable] or
+    ROS 2's [rcl_deliverable], [Environment.spin_messages]); the per-node
+    file restates it for the target it was generated for
+    ([<node>_ddc_target : DDC.node_ddc_on target model the_program]). *)
+Theorem generate_node_ddc_on:
+  forall tg m p, generate m = OK p -> DDC.node_ddc_on tg m p.
+Proof. intros tg m p G. apply DDC.node_ddc_on_target, Loopproof.generate_node_ddc, G. Qed.
+
 (** ** T3: the paper's Section 6 properties *)
 
 (** Relation consistency for [input_glue] (the paper's Figure 15): for any
@@ -460,8 +469,8 @@ Qed.
     whose controller is the diagram [d] ([Endtoend.diagram_ctx]).  For
     every node model [m] and diagram [d] accepted by [generate] and
     [dg_wf], [d] having [m]'s controller interface, every schedule of
-    well-typed messages and every number [n] of cycles: the node
-    terminates, and its trace is its start followed by [n] cycles in each
+    well-typed messages, either target [tg] and every number [n] of
+    cycles: the node terminates, and its trace is its start followed by [n] cycles in each
     of which the diagram steps once, from the state its previous step left
     ([dg_init] at first), on the related fields of the newest messages
     ([DDC.input_values]), and the node publishes the related fields of the
@@ -472,18 +481,18 @@ Qed.
 Theorem diagram_node_ddc:
   forall m p (d : Diagram.diagram), generate m = OK p -> Diagram.dg_wf d = true ->
   Endtoend.dg_matches m d = true ->
-  forall arrivals clock n, arrivals_wt m (Endtoend.diagram_ctx m d arrivals clock) ->
-     (exists t, program_behaves p (Endtoend.diagram_ctx m d arrivals clock) n t)
-  /\ (forall t, program_behaves p (Endtoend.diagram_ctx m d arrivals clock) n t ->
+  forall arrivals clock tg n, arrivals_wt m (Endtoend.diagram_ctx m d arrivals clock tg) ->
+     (exists t, program_behaves p (Endtoend.diagram_ctx m d arrivals clock tg) n t)
+  /\ (forall t, program_behaves p (Endtoend.diagram_ctx m d arrivals clock tg) n t ->
       exists (s : nat -> mval) (evs : nat -> trace),
          s O = Diagram.dg_init d
       /\ t = start_events m ++ concat (map evs (seq 0 n))
       /\ forall i, (i < n)%nat ->
            exists u y mvs,
               evs i = Estep u y :: publish_events m (published m) mvs ++ [Esleep (nm_period_ms m)]
-           /\ input_values m (Endtoend.diagram_ctx m d arrivals clock) i u
+           /\ input_values m (Endtoend.diagram_ctx m d arrivals clock tg) i u
            /\ Diagram.dg_step d (s i) u = (s (S i), y)
-           /\ Forall2 (published_value m y (clock (S i)) (newest_by m (Endtoend.diagram_ctx m d arrivals clock) i)) (published m) mvs).
+           /\ Forall2 (published_value m y (clock (S i)) (newest_by m (Endtoend.diagram_ctx m d arrivals clock tg) i)) (published m) mvs).
 Proof. exact Endtoend.diagram_node_ddc. Qed.
 
 (** The whole node as one program, its controller linked in (T8): [Link.link p d] is the
@@ -507,9 +516,9 @@ Proof. exact Endtoend.diagram_node_ddc. Qed.
 Theorem linked_node_ddc:
   forall m p (d : Diagram.diagram), generate m = OK p -> Diagram.dg_wf d = true ->
   Endtoend.dg_matches m d = true -> Link.link_fresh m d = true ->
-  forall arrivals clock n (CSL : Type) (ctxL : ros_context CSL),
-  ctx_arrivals ctxL = arrivals -> ctx_time ctxL = clock ->
-  arrivals_wt m (Endtoend.diagram_ctx m d arrivals clock) ->
+  forall arrivals clock tg n (CSL : Type) (ctxL : ros_context CSL),
+  ctx_arrivals ctxL = arrivals -> ctx_time ctxL = clock -> ctx_target ctxL = tg ->
+  arrivals_wt m (Endtoend.diagram_ctx m d arrivals clock tg) ->
      (exists t, program_behaves (Link.link p d) ctxL n t)
   /\ (forall t, program_behaves (Link.link p d) ctxL n t ->
       exists (s : nat -> mval) (evs : nat -> trace),
@@ -518,9 +527,9 @@ Theorem linked_node_ddc:
       /\ forall i, (i < n)%nat ->
            exists u y mvs,
               evs i = publish_events m (published m) mvs ++ [Esleep (nm_period_ms m)]
-           /\ input_values m (Endtoend.diagram_ctx m d arrivals clock) i u
+           /\ input_values m (Endtoend.diagram_ctx m d arrivals clock tg) i u
            /\ Diagram.dg_step d (s i) u = (s (S i), y)
-           /\ Forall2 (published_value m y (clock (S i)) (newest_by m (Endtoend.diagram_ctx m d arrivals clock) i)) (published m) mvs).
+           /\ Forall2 (published_value m y (clock (S i)) (newest_by m (Endtoend.diagram_ctx m d arrivals clock tg) i)) (published m) mvs).
 Proof. exact Link.linked_node_ddc. Qed.
 
 (** ** The semantics *)
@@ -576,6 +585,25 @@ Theorem last_delivered_deliverable:
   forall subs s msgs, In s subs -> (1 <= sub_queue s)%nat ->
   Loopfacts.last_delivered s (deliverable subs msgs) = last_on (sub_topic s) msgs.
 Proof. exact Loopfacts.last_delivered_deliverable. Qed.
+
+(** The same on ROS 2 ([Environment.rcl_deliverable]: each subscription's
+    KEEP_LAST history of depth [sub_queue s], merged on the receipt
+    times): for distinct subscriptions, the last message that one spin
+    delivers to [s] is the last arrival on its topic. *)
+Theorem last_delivered_rcl_deliverable:
+  forall subs s msgs, NoDup subs -> In s subs -> (1 <= sub_queue s)%nat ->
+  Loopfacts.last_delivered s (rcl_deliverable subs msgs) = last_on (sub_topic s) msgs.
+Proof. exact Loopfacts.last_delivered_rcl_deliverable. Qed.
+
+(** [rcl_deliverable] is the ROS 2 wrapper's loop ([rcl_api.c.j2]'s
+    [ros_spinOnce]): given at least as many steps as messages, repeatedly
+    running the callback of the first head of smallest receipt time among
+    the subscriptions' taken lists, in registration order
+    ([Environment.wrapper_merge]), runs them in [rcl_deliverable]'s order. *)
+Theorem rcl_deliverable_wrapper:
+  forall subs msgs n, (length (rcl_deliverable subs msgs) <= n)%nat ->
+  rcl_deliverable subs msgs = wrapper_merge n (map (fun s => taken s msgs) subs).
+Proof. exact Environment.rcl_deliverable_wrapper. Qed.
 
 (** ** The shape of the generated program (used by T1 and T2) *)
 

@@ -58,6 +58,8 @@ __all__ = [
     "NodeFile",
     "node_file_names",
     "render_node_file",
+    "coq_target",
+    "TARGETS",
     "render_model_definitions",
     "template_env",
 ]
@@ -582,6 +584,7 @@ class NodeFile:
     guard: str            #: include guard of the types header
     theorem_wf: str       #: ``<node>_wf`` (T4 instance)
     theorem_ddc: str      #: ``<node>_ddc`` (T2 instance)
+    theorem_target: str   #: ``<node>_ddc_target`` (T2 on the target the node was generated for)
     theorem_ctrl_wf: str  #: ``<node>_controller_wf`` (the diagram is well formed)
     theorem_e2e: str      #: ``<node>_e2e`` (T2 with the diagram as the controller)
     theorem_linked: str   #: ``<node>_linked`` (T8: the glue and the generated controller linked)
@@ -604,6 +607,7 @@ def node_file_names(node: str) -> NodeFile:
         guard=f"PYROSGEN_{node.upper()}_TYPES_H",
         theorem_wf=f"{node}_wf",
         theorem_ddc=f"{node}_ddc",
+        theorem_target=f"{node}_ddc_target",
         theorem_ctrl_wf=f"{node}_controller_wf",
         theorem_e2e=f"{node}_e2e",
         theorem_linked=f"{node}_linked",
@@ -614,8 +618,19 @@ def node_file_names(node: str) -> NodeFile:
     )
 
 
+#: The targets (rule 4.17) and their constructors of ``Environment.target``.
+TARGETS = {"ros1": "Ros1", "ros2": "Ros2"}
+
+
+def coq_target(target: str) -> str:
+    """The constructor of ``Environment.target`` for ``target`` (``"ros1"`` or ``"ros2"``)."""
+    if target not in TARGETS:
+        raise EmitError(f"unknown target {target!r}: not one of {', '.join(sorted(TARGETS))}")
+    return TARGETS[target]
+
+
 def render_node_file(model: NodeModel, *, ddc_available: bool, source: str | None = None,
-                     diagram: str = "") -> str:
+                     diagram: str = "", target: str = "ros1") -> str:
     """The per-node Coq file of ``model`` (``coq/templates/node.v.j2``).
 
     ``diagram`` is the controller's block diagram as the Coq definition
@@ -625,7 +640,9 @@ def render_node_file(model: NodeModel, *, ddc_available: bool, source: str | Non
     ``<node>_ddc`` (T2, from ``ROSGen.DDC`` / ``ROSGen.Loopproof``) when true;
     otherwise only ``<node>_wf`` (T4's soundness instance) is proved.
     ``source`` is the model file shown in the first line (default: the
-    model's file name).
+    model's file name).  ``target``: ``"ros1"`` or ``"ros2"``, the target
+    the node is generated for (rule 4.17), which the file's ``target`` and
+    ``<node>_ddc_target`` name.
     """
     m = emit_model(model)
     names = node_file_names(model.name)
@@ -638,6 +655,7 @@ def render_node_file(model: NodeModel, *, ddc_available: bool, source: str | Non
         guard=coq_string(names.guard, "include guard"),
         ddc_available=bool(ddc_available),
         diagram=diagram,
+        target=coq_target(target),
     )
 
 

@@ -152,7 +152,7 @@ def build_ros2(model_path: str | Path, controller_dir: str | Path | None, out_di
             say(f"[2/{STEPS}] generate: " + re.sub(r"^\[\d+/\d+\] ", "", line).replace(str(stage), str(out_dir)))
 
         gen = generate_model(model, stage, progress=sub, keep_work=keep_work, driver=driver, wp=wp,
-                             msg_root=inst.share_dir)
+                             msg_root=inst.share_dir, target="ros2")
         times["generate"] = time.monotonic() - t
         types_h = (stage / names.types_header).read_text(encoding="ascii")
         if diagram:

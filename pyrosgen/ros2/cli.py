@@ -41,7 +41,7 @@ def generate_ros2(args: argparse.Namespace, progress: Callable[[str], None] | No
     from pyrosgen.ros2.env import find_ros2
 
     return generate_model(model, args.output, progress=progress, keep_work=args.keep_work, wp=args.wp,
-                          msg_root=find_ros2().share_dir, _t_start=t0)
+                          msg_root=find_ros2().share_dir, target="ros2", _t_start=t0)
 
 
 def build_ros2_command(args: argparse.Namespace, options, progress: Callable[[str], None] | None) -> int:

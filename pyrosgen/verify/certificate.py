@@ -90,6 +90,8 @@ class ProofRecord:
     #: and ``commands``, the argv of every compiler call (paths relative to
     #: the output folder)
     build: dict | None = None
+    #: the target the node was generated for (rule 4.17): ``ros1`` or ``ros2``
+    target: str = "ros1"
 
 
 def sha256_file(path: Path) -> str:
@@ -740,6 +742,9 @@ def read_manifest(path: Path) -> tuple[ProofRecord, dict[str, str]]:
         if v != want:
             raise bad(key, f"{v!r}, not the node's file {want!r}")
     ddc = get("ddc", bool, "true or false")
+    target = data.get("target", "ros1")
+    if target not in ("ros1", "ros2"):
+        raise bad("target", f"{str(target)[:80]!r}, not ros1 or ros2")
     theorems = get("theorems", list, "a list of theorem names")
     for key in ("theorem", "assumptions", "pyrosgen_version", "source_name"):
         short(key, get(key, str, "a string"), 1 << 16)
@@ -759,7 +764,7 @@ def read_manifest(path: Path) -> tuple[ProofRecord, dict[str, str]]:
                       if controller.get(k) != want_ctrl.get(k)), "?")
             got = controller.get(k)
             raise bad(f"controller.{k}", f"{str(got)[:80]!r}, not the node's {want_ctrl.get(k)!r}")
-    want_thms = ([names.theorem_ddc] if ddc else []) + [names.theorem_wf] + (
+    want_thms = ([names.theorem_ddc, names.theorem_target] if ddc else []) + [names.theorem_wf] + (
         [controller["wf"], controller["e2e"], controller["linked"]] if controller else [])
     if theorems != want_thms:
         raise bad("theorems", f"{str(theorems)[:200]}, not the node's theorems {want_thms}")

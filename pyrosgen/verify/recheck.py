@@ -68,7 +68,7 @@ from pathlib import Path, PurePosixPath
 from pyrosgen.errors import PyrosgenError, UserError
 from pyrosgen.procs import DEFAULT_MAX_MEMORY
 from pyrosgen.proof.coqdriver import CLOSED, CoqDriver, CoqError
-from pyrosgen.proof.coqmodel import node_file_names
+from pyrosgen.proof.coqmodel import coq_target, node_file_names
 from pyrosgen.proof.modeltext import ModelMismatch, compare_model_texts, model_text
 from pyrosgen.verify.certificate import (MANIFEST_MAX_BYTES, ManifestError, ProofRecord, certificate_files,
                                          read_manifest)
@@ -210,7 +210,7 @@ class _NotRun(Exception):
 #: What the statements of :func:`_statements` need.
 _CONFIRM_IMPORTS = ("From Coq Require Import String List ZArith.\n"
                     "From ROSGen Require Import Errors Syntax NodeModel Wellformed Generator.\n"
-                    "From ROSGen Require DDC Loopproof.\n")
+                    "From ROSGen Require Environment DDC Loopproof.\n")
 _CONFIRM_IMPORTS_CTRL = "From ROSGen Require Diagram Endtoend Link.\n"
 
 
@@ -226,6 +226,9 @@ def _statements(rec: ProofRecord) -> list[tuple[str, str]]:
     out = [("generate_ok", f"Generator.generate {m}.model = OK {m}.the_program")]
     if rec.ddc:
         out.append((names.theorem_ddc, f"DDC.node_ddc {m}.model {m}.the_program"))
+        # the target stated, not the .v's [target]: a .v of another target is refused
+        out.append((names.theorem_target,
+                    f"DDC.node_ddc_on Environment.{coq_target(rec.target)} {m}.model {m}.the_program"))
     out.append((names.theorem_wf, f"Wellformed.wf {m}.model = true"))
     if rec.controller:
         d = f"{m}.Ctrl.the_diagram"
@@ -239,18 +242,22 @@ def _statements(rec: ProofRecord) -> list[tuple[str, str]]:
 _ROS2_TARGET = b"target: ros2 (ROS 2 Kilted, rcl, rmw_fastrtps_cpp)\n"
 
 
+def _target_file_ros2(folder: Path, rec: ProofRecord) -> bool:
+    """Whether the folder's ``<node>.target`` says ros2 (a ROS 2 build)."""
+    try:
+        return read_file(folder, f"{rec.node}.target", limit=4096) == _ROS2_TARGET
+    except (FileNotFoundError, UnsafeFile):
+        return False
+
+
 def _load_for_target(folder: Path, rec: ProofRecord, model: str | Path):
     """The front end's reading of ``model`` for the folder's target (rule
     4.17: ROS 2's message definitions when the folder's ``<node>.target``
-    says ros2, which the hashes cover) and the folder of the target's
+    or its manifest's ``target`` says ros2, which the hashes cover) and the folder of the target's
     standard ``.msg`` files for the second reading (``None``: ROS 1's)."""
     from pyrosgen.frontend.validate import load_model
 
-    try:
-        ros2 = read_file(folder, f"{rec.node}.target", limit=4096) == _ROS2_TARGET
-    except (FileNotFoundError, UnsafeFile):
-        ros2 = False
-    if not ros2:
+    if not (_target_file_ros2(folder, rec) or rec.target == "ros2"):
         return load_model(model), None
     from pyrosgen.ros2.env import find_ros2
     from pyrosgen.ros2.frontend import load_model_ros2
@@ -278,8 +285,12 @@ def _check_vfile(folder: Path, rec: ProofRecord, drv: CoqDriver, model: str | Pa
     if rec.ddc != ddc:
         return Check("v-file", False, f"the manifest says ddc={str(rec.ddc).lower()}, but the library "
                      f"{'has' if ddc else 'has not'} the node DDC theorem"), None
+    if _target_file_ros2(folder, rec) and rec.target != "ros2":
+        return Check("v-file", False, f"{rec.node}.target says ros2, but the manifest's target is "
+                                      f"{rec.target}: the .v must name the target ros2"), None
     try:
-        n = check_structure(text, rec.node_v, rec.node, ddc_available=ddc, diagram=rec.controller is not None)
+        n = check_structure(text, rec.node_v, rec.node, ddc_available=ddc, diagram=rec.controller is not None,
+                            target=rec.target)
     except VFileError as exc:
         return Check("v-file", False, exc.summary, list(exc.lines)), None
     if model is None:
@@ -295,7 +306,8 @@ def _check_vfile(folder: Path, rec: ProofRecord, drv: CoqDriver, model: str | Pa
 
             diagram = emit_diagram(loaded)
         # line 1 names the model file generate read: the manifest's record of it
-        rendered = render_node_file(loaded, ddc_available=ddc, source=rec.source_name, diagram=diagram)
+        rendered = render_node_file(loaded, ddc_available=ddc, source=rec.source_name, diagram=diagram,
+                                    target=rec.target)
         check_rendering(text, rec.node_v, str(model), rendered)
     except VFileError as exc:
         return Check("v-file", False, exc.summary, list(exc.lines)), None

@@ -194,10 +194,11 @@ _STUB = ('{% macro messages(m) %}PYROSGEN_FREE_MESSAGES{% endmacro %}\n'
          '{% macro node_model(m, msgs) %}PYROSGEN_FREE_MODEL{% endmacro %}\n')
 
 
-def skeleton(node: str, *, ddc_available: bool, diagram: bool) -> str:
-    """``coq/templates/node.v.j2`` rendered for ``node`` with a sentinel in
-    place of each free body."""
-    from pyrosgen.proof.coqmodel import NODE_TEMPLATE, coq_string, node_file_names, template_env
+def skeleton(node: str, *, ddc_available: bool, diagram: bool, target: str = "ros1") -> str:
+    """``coq/templates/node.v.j2`` rendered for ``node`` and ``target``
+    (``ros1`` or ``ros2``: the ``.v`` names it) with a sentinel in place of
+    each free body."""
+    from pyrosgen.proof.coqmodel import NODE_TEMPLATE, coq_string, coq_target, node_file_names, template_env
 
     base = template_env()
     env = base.overlay(loader=jinja2.ChoiceLoader([jinja2.DictLoader({"node_model.v.j2": _STUB}), base.loader]))
@@ -205,6 +206,7 @@ def skeleton(node: str, *, ddc_available: bool, diagram: bool) -> str:
     return env.get_template("node.v.j2").render(
         template=NODE_TEMPLATE, source="x", m=None, names=names,
         guard=coq_string(names.guard, "include guard"), ddc_available=bool(ddc_available),
+        target=coq_target(target),
         diagram="Definition the_diagram : diagram := mkdiagram PYROSGEN_FREE_DIAGRAM.\n" if diagram else "")
 
 
@@ -212,11 +214,14 @@ def _code(toks: Iterator[Token]) -> list[Token]:
     return [t for t in toks if t.kind != "comment"]
 
 
-def check_structure(text: str, name: str, node: str, *, ddc_available: bool, diagram: bool) -> int:
+def check_structure(text: str, name: str, node: str, *, ddc_available: bool, diagram: bool,
+                    target: str = "ros1") -> int:
     """Require ``text`` (the folder's ``.v``, shown as ``name``) to be the
-    template rendered for ``node`` with only the literal bodies free (see
-    the module's documentation); return the number of tokens checked."""
-    want = _code(tokens(skeleton(node, ddc_available=ddc_available, diagram=diagram), "the template"))
+    template rendered for ``node`` and ``target`` with only the literal
+    bodies free (see the module's documentation); return the number of
+    tokens checked."""
+    want = _code(tokens(skeleton(node, ddc_available=ddc_available, diagram=diagram, target=target),
+                        "the template"))
     have = _code(tokens(text, name))
     k = 0
 

@@ -25,8 +25,11 @@ DDC_MODULES = ("DDC", "Copyproof", "Glueproof", "Loopproof")
 
 STUB_DDC = """\
 (* A stand-in for ROSGen.DDC, for tests only: same name and type. *)
-From ROSGen Require Import Errors Syntax NodeModel Generator.
+From ROSGen Require Import Errors Syntax NodeModel Generator Environment.
 Definition node_ddc (m : node_model) (p : program) : Prop := generate m = OK p.
+Definition node_ddc_on (tg : target) (m : node_model) (p : program) : Prop := generate m = OK p.
+Lemma node_ddc_on_target : forall tg m p, node_ddc m p -> node_ddc_on tg m p.
+Proof. intros tg m p H. exact H. Qed.
 """
 
 STUB_LOOPPROOF = """\
@@ -81,7 +84,7 @@ def test_ddc_theorem_instantiated(capsys, tmp_path, monkeypatch):
     v = (out_dir / f"{NODE}.v").read_text()
     assert "From ROSGen Require DDC Loopproof." in v
     assert f"Theorem {NODE}_ddc : DDC.node_ddc model the_program." in v
-    assert f"Definition {NODE}_theorems := (conj {NODE}_ddc {NODE}_wf)." in v
+    assert f"Definition {NODE}_theorems := (conj {NODE}_ddc (conj {NODE}_ddc_target {NODE}_wf))." in v
     assert f"Print Assumptions {NODE}_theorems_local." in v
     assert (out_dir / f"{NODE}_glue.c").read_bytes() == (GOLDEN / f"{NODE}_glue.c").read_bytes()
     # the stand-in library has no make proofs stamp: pyrosgen printed the
@@ -101,7 +104,7 @@ def test_theorem_resting_on_an_axiom_is_refused(capsys, tmp_path, monkeypatch):
     code, out, err = run(capsys, "generate", LANDSHARK, "-o", out_dir, "-q")
     assert code == 2
     assert out == ""
-    assert f"the theorems {NODE}_ddc, {NODE}_wf (their conjunction {NODE}_theorems) depend on axioms" in err
+    assert f"the theorems {NODE}_ddc, {NODE}_ddc_target, {NODE}_wf (their conjunction {NODE}_theorems) depend on axioms" in err
     assert "generate_node_ddc" in err  # the axiom is named
     assert list(out_dir.iterdir()) == []
     assert not list(tmp_path.glob(".pyrosgen-*"))

@@ -55,12 +55,12 @@ def test_files_theorems_and_certificate(folder):
                 f"Theorem {NODE}_linked : Link.linked_node_ok model the_program the_diagram."):
         assert thm in v
     manifest = json.loads((folder / f"{NODE}.manifest.json").read_text())
-    assert manifest["theorems"] == [f"{NODE}_ddc", f"{NODE}_wf", f"Ctrl.{NODE}_controller_wf",
+    assert manifest["theorems"] == [f"{NODE}_ddc", f"{NODE}_ddc_target", f"{NODE}_wf", f"Ctrl.{NODE}_controller_wf",
                                     f"Ctrl.{NODE}_e2e", f"Ctrl.{NODE}_linked"]
     assert manifest["controller"]["linked"] == f"Ctrl.{NODE}_linked"
     assert manifest["controller"]["c"] in manifest["files"]
     assert manifest["assumptions"].count("Closed under the global context") == 1
-    assert manifest["assumptions"].count(" /\\ ") == 4  # the conjunction of the 5 theorems
+    assert manifest["assumptions"].count(" /\\ ") == 5  # the conjunction of the 6 theorems
     cert = (folder / f"{NODE}.certificate.md").read_text()
     assert f"`Ctrl.{NODE}_e2e : Endtoend.diagram_node_ok model the_program" in cert
     assert f"`Ctrl.{NODE}_linked : Link.linked_node_ok model the_program" in cert

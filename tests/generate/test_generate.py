@@ -5,6 +5,7 @@ the C text."""
 
 from __future__ import annotations
 
+import json
 import re
 import shutil
 
@@ -82,7 +83,13 @@ def test_files_written_and_theorem(generated, key):
     assert all(rewritten for _, rewritten in res.files)
     # the main theorem: T2 when the library has it, else the T4 fallback
     if ddc_in_coqproject():
-        assert res.ddc and res.theorem == f"{node}_ddc" and res.theorems == [f"{node}_ddc", f"{node}_wf"]
+        assert res.ddc and res.theorem == f"{node}_ddc" and res.theorems == [f"{node}_ddc", f"{node}_ddc_target",
+                                                                            f"{node}_wf"]
+        # the .v names the target it was generated for (rule 4.17): ROS 1 here
+        v = (d / f"{node}.v").read_text()
+        assert "Definition target : Environment.target := Environment.Ros1." in v
+        assert f"Theorem {node}_ddc_target : DDC.node_ddc_on target model the_program." in v
+        assert json.loads((d / f"{node}.manifest.json").read_text())["target"] == "ros1"
     else:
         assert not res.ddc and res.theorem == f"{node}_wf" and res.theorems == [f"{node}_wf"]
     assert res.assumptions == CLOSED
@@ -107,12 +114,13 @@ def test_v_file(generated, key):
     if ddc_in_coqproject():
         assert f"Theorem {node}_ddc : DDC.node_ddc model the_program." in text
         assert f"Proof. exact ({node}_ddc_of_library Loopproof.generate_node_ddc). Qed." in text
+        assert f"Proof. exact ({node}_ddc_target_of_library Loopproof.generate_node_ddc). Qed." in text
         assert f"(T2 : forall m p, Generator.generate m = OK p -> DDC.node_ddc m p)" in text
         assert "  T2 model the_program generate_ok." in text
         assert f"Print Assumptions {node}_theorems_local." in text
-        assert f"Definition {node}_theorems := (conj {node}_ddc {node}_wf)." in text
-        assert (f"Definition {node}_theorems_local := (conj {node}_ddc_of_library {node}_wf_of_library)."
-                in text)
+        assert f"Definition {node}_theorems := (conj {node}_ddc (conj {node}_ddc_target {node}_wf))." in text
+        assert (f"Definition {node}_theorems_local := (conj {node}_ddc_of_library "
+                f"(conj {node}_ddc_target_of_library {node}_wf_of_library)).") in text
     for word in ("Admitted", "admit", "Axiom", "Parameter", "Conjecture"):
         assert not re.search(rf"\b{word}\b", text), word
 

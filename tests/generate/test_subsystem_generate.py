@@ -59,10 +59,10 @@ def test_theorems_are_closed(folders):
                 f"Theorem {NODE}_linked : Link.linked_node_ok model the_program the_diagram."):
         assert thm in v
     manifest = json.loads((d / f"{NODE}.manifest.json").read_text())
-    assert manifest["theorems"] == [f"{NODE}_ddc", f"{NODE}_wf", f"Ctrl.{NODE}_controller_wf",
+    assert manifest["theorems"] == [f"{NODE}_ddc", f"{NODE}_ddc_target", f"{NODE}_wf", f"Ctrl.{NODE}_controller_wf",
                                     f"Ctrl.{NODE}_e2e", f"Ctrl.{NODE}_linked"]
     assert manifest["assumptions"].count("Closed under the global context") == 1
-    assert manifest["assumptions"].count(" /\\ ") == 4  # the conjunction of the 5 theorems
+    assert manifest["assumptions"].count(" /\\ ") == 5  # the conjunction of the 6 theorems
     assert "Subsystem" not in v          # Coq sees ordinary blocks only
 
 

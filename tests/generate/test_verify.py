@@ -64,7 +64,7 @@ def test_a_fresh_folder_verifies(folder, capsys):
     for name in ("hashes", "library", "v-file", "coqc", "re-print", "certificate", "model"):
         assert f"  ok      {name:<10}" in out, out
     assert "the .v that generate renders from landshark_controller.yaml, byte for byte" in out
-    assert (f"{NODE}_ddc, {NODE}_wf: Closed under the global context; statements confirmed by Coq; "
+    assert (f"{NODE}_ddc, {NODE}_ddc_target, {NODE}_wf: Closed under the global context; statements confirmed by Coq; "
             "coqchk OK, no axiom") in out
     assert "FAILED" not in out
     assert _snapshot(folder) == before  # nothing written
@@ -189,7 +189,7 @@ def test_kernel_rechecks_without_the_bytecode_machine(folder, capsys, monkeypatc
     monkeypatch.setattr(procs, "start", spy_start)
     assert cli.main(["verify", str(folder), "--kernel", "-q"]) == 0
     out = capsys.readouterr().out
-    assert f"{NODE}_ddc, {NODE}_wf: Closed under the global context; statements confirmed by Coq; coqchk OK, no axiom (kernel conversion" in out
+    assert f"{NODE}_ddc, {NODE}_ddc_target, {NODE}_wf: Closed under the global context; statements confirmed by Coq; coqchk OK, no axiom (kernel conversion" in out
     chk = [a for a in seen if Path(a[0]).name == "coqchk"]
     assert len(chk) == 1 and "-bytecode-compiler" not in chk[0]
     seen.clear()

@@ -162,7 +162,9 @@ def _other_model_forgery(d: Path) -> None:
                             ("Wellformed.wf model = true", "Wellformed.wf model2 = true", 2),
                             ("T4 model the_program", "T4 model2 the_program", 1),
                             ("DDC.node_ddc model the_program", "DDC.node_ddc model2 the_program", 2),
-                            ("T2 model the_program", "T2 model2 the_program", 1)]:
+                            ("DDC.node_ddc_on target model the_program", "DDC.node_ddc_on target model2 the_program", 2),
+                            ("node_ddc_on_target target model the_program", "node_ddc_on_target target model2 the_program", 1),
+                            ("T2 model the_program", "T2 model2 the_program", 2)]:
         assert text.count(old) == count, old
         text = text.replace(old, new)
     v.write_text(text)
@@ -281,7 +283,40 @@ def test_a_manifest_naming_other_theorems_is_refused(copy):
     _write_manifest(copy, data)
     code, out = _verify(copy)
     assert code == 1, out
-    assert "field 'theorems'" in out and f"not the node's theorems ['{NODE}_ddc', '{NODE}_wf']" in out, out
+    assert "field 'theorems'" in out and f"not the node's theorems ['{NODE}_ddc', '{NODE}_ddc_target', '{NODE}_wf']" in out, out
+
+
+TARGET_DEF = "Definition target : Environment.target := Environment.Ros1."
+
+
+def test_a_v_naming_another_target_is_refused(copy, monkeypatch):
+    """Rule 4.17: a ROS 1 folder whose .v says it was generated for ROS 2
+    (so that <node>_ddc_target would be about ROS 2's environments): the
+    template check refuses the target; without that check, Coq does not
+    confirm <node>_ddc_target against the statement for the manifest's
+    target ROS 1."""
+    _edit_v(copy, TARGET_DEF, TARGET_DEF.replace("Ros1.", "Ros2."))
+    line = _line_of(copy, TARGET_DEF.replace("Ros1.", "Ros2."))
+    code, out = _verify(copy)
+    assert code == 1, out
+    assert (f"{V}:{line}:43: error: ident 'Environment.Ros2' where the template has ident "
+            "'Environment.Ros1'") in out, out
+    monkeypatch.setattr(vfile, "check_structure", lambda *a, **kw: 0)
+    with pytest.raises(VerifyFailed) as e:
+        verify_folder(copy)
+    coqc = next(c for c in e.value.verify_report.checks if c.name == "coqc")
+    assert coqc.summary == "Coq does not confirm the theorems' statements", coqc
+    assert any("Ros1" in ln or "Ros2" in ln or "confirm_1" in ln for ln in coqc.details), coqc.details
+
+
+def test_a_manifest_target_that_is_not_a_target_is_refused(copy):
+    data = _manifest(copy)
+    assert data["target"] == "ros1"
+    data["target"] = "ros3"
+    _write_manifest(copy, data)
+    code, out = _verify(copy)
+    assert code == 1, out
+    assert "field 'target': 'ros3', not ros1 or ros2" in out, out
 
 
 @pytest.mark.parametrize("command", ["Redirect", "Extraction"])

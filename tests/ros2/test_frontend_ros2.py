@@ -88,6 +88,18 @@ def test_type_missing_from_ros2_refused(tmp_path, ros2_install):
     assert any(d.line == 7 and "std_msgs/Time" in d.message for d in diags)
 
 
+def test_queue_size_zero_refused_for_ros2(tmp_path, ros2_install):
+    """A history of depth 0 would hold nothing (Environment.rcl_deliverable,
+    the wrapper takes at most 0 messages; rcl would read 0 as the
+    middleware's default depth): queue_size 0 is refused for ROS 2 as for
+    ROS 1 (rule 4.4), at its place."""
+    path = _model(tmp_path)
+    path.write_text(path.read_text().replace("queue_size: 3}", "queue_size: 0}"), encoding="utf-8")
+    diags = _refused(path, ros2_install)
+    assert [(d.line, d.rule) for d in diags] == [(7, "4.4")], [str(d) for d in diags]
+    assert "queue_size" in diags[0].message and str(diags[0]).startswith(f"{path}:7:")
+
+
 def test_stamp_now_refused_for_ros2(tmp_path, ros2_install):
     path = _model(tmp_path, extra=", stamp: now")
     load_model(path)
@@ -122,6 +134,30 @@ def _cli(*args, env_extra=None):
     env = dict(os.environ, **(env_extra or {}))
     return subprocess.run([sys.executable, "-m", "pyrosgen", *args], capture_output=True, text=True, env=env,
                           cwd=str(rosutil.ROOT))
+
+
+def test_generate_ros2_names_the_target_and_verifies(tmp_path, ros2_install):
+    """``generate --ros2``: the .v names the target ROS 2 (``target :=
+    Environment.Ros2``, ``<node>_ddc_target``), the manifest records it, and
+    ``verify`` (with and without the model, read for ROS 2) passes; the
+    same model generated for ROS 1 names Ros1."""
+    import json
+    out2, out1 = tmp_path / "g2", tmp_path / "g1"
+    r = _cli("generate", "--ros2", "-q", str(rosutil.LANDSHARK), "-o", str(out2))
+    assert r.returncode == 0, r.stdout + r.stderr
+    v = (out2 / "landshark_controller.v").read_text()
+    assert "Definition target : Environment.target := Environment.Ros2." in v
+    assert "Theorem landshark_controller_ddc_target : DDC.node_ddc_on target model the_program." in v
+    assert json.loads((out2 / "landshark_controller.manifest.json").read_text())["target"] == "ros2"
+    assert "Target: ROS 2 (rcl)" in (out2 / "landshark_controller.certificate.md").read_text()
+    for extra in ([], ["--model", str(rosutil.LANDSHARK)]):
+        ok = _cli("verify", "-q", str(out2), *extra)
+        assert ok.returncode == 0, ok.stdout + ok.stderr
+    r = _cli("generate", "-q", str(rosutil.LANDSHARK), "-o", str(out1))
+    assert r.returncode == 0, r.stdout + r.stderr
+    v1 = (out1 / "landshark_controller.v").read_text()
+    assert "Definition target : Environment.target := Environment.Ros1." in v1
+    assert "Target: ROS 1 (roscpp)" in (out1 / "landshark_controller.certificate.md").read_text()
 
 
 def test_check_cli_ros2(tmp_path, ros2_install):
@@ -234,6 +270,28 @@ def test_verify_covers_the_ros2_files(tmp_path, ros2_install):
         r = _cli("verify", "-q", str(bad))
         assert r.returncode == 1 and "package" in r.stdout and name in r.stdout, (name, r.stdout, r.stderr)
         assert "hashes    " in r.stdout and " FAILED  hashes" not in r.stdout, r.stdout
+    # the .v names the target ROS 2 (rule 4.17); a .v naming ROS 1 instead,
+    # its digest rewritten, is refused by the template check (the manifest's
+    # target is ros2), and so is a manifest that says ros1 with it (the
+    # folder's <node>.target says ros2)
+    v = (out / "landshark_controller.v").read_text()
+    assert "Definition target : Environment.target := Environment.Ros2." in v
+    assert "Theorem landshark_controller_ddc_target : DDC.node_ddc_on target model the_program." in v
+    bad = tmp_path / "bad_v"
+    shutil.copytree(out, bad)
+    (bad / "landshark_controller.v").write_text(v.replace("Environment.Ros2.", "Environment.Ros1."))
+    _digests(bad, "landshark_controller.v")
+    r = _cli("verify", "-q", str(bad))
+    assert r.returncode == 1 and "FAILED  v-file" in r.stdout, (r.stdout, r.stderr)
+    assert "ident 'Environment.Ros1' where the template has ident 'Environment.Ros2'" in r.stdout, r.stdout
+    import json
+    m = bad / "landshark_controller.manifest.json"
+    data = json.loads(m.read_text())
+    assert data["target"] == "ros2"
+    m.write_text(json.dumps({**data, "target": "ros1"}))
+    r = _cli("verify", "-q", str(bad))
+    assert r.returncode == 1 and "FAILED  v-file" in r.stdout, (r.stdout, r.stderr)
+    assert "landshark_controller.target says ros2, but the manifest's target is ros1" in r.stdout, r.stdout
 
 
 def _digests(copy, name: str) -> None:

@@ -23,7 +23,9 @@
     - a controller: a state type [CS], an initial state [ctx_init] and a
       step function [ctx_step : CS -> mval -> CS * mval] that receives the
       whole value of the inputs global ([Controller_U]) and returns its new
-      state and the new value of the outputs global ([Controller_Y]).
+      state and the new value of the outputs global ([Controller_Y]);
+    - [ctx_target]: the target the node runs on, [Ros1] or [Ros2]
+      (rule 4.17), which fixes what [ros_spinOnce] delivers.
     The number [n] of [true] answers of [ros_ok] is a parameter of
     [Semantics.program_behaves].
 
@@ -46,11 +48,15 @@
     - [ros_advertise_T()] ([EF_ros_advertise topic msgty q]): registers the
       topic as advertised and emits [Eadvertise topic msgty q].
     - [ros_spinOnce()]: takes the messages [ctx_arrivals k] ([k] the spin
-      counter) and computes [deliverable subs msgs]: for each
+      counter) and computes, on ROS 1, [deliverable subs msgs]: for each
       subscription, the messages of its topic, of which a queue of size
       [q] keeps the newest [q] ([q = 0]: unbounded, as in roscpp);
       messages of topics nobody subscribed to are dropped; arrival order
-      is kept.  Then, for each kept message in order, unless it holds a
+      is kept.  On ROS 2, [rcl_deliverable subs msgs]: for each
+      subscription in registration order the messages of its topic that
+      a KEEP_LAST history of depth [q] holds (the newest [q]), merged on
+      their receipt times (ties to the earlier subscription, each
+      subscription's messages in arrival order).  Then, for each kept message in order, unless it holds a
       sequence of policy "reject" longer than its maximum ([accepted];
       such a message is dropped), a fresh block
       holding the message value (of type [struct msgty]), its bounded
@@ -540,20 +546,33 @@ Definition accepted (ge : genv) (s : subscription) (a : arrival) : bool :=
 Definition delivered (ge : genv) (s : subscription) (a : arrival) : mval :=
   clamp (ge_comp ge) (Tstruct (sub_msgty s)) (ar_msg a).
 
+(** The two targets (rule 4.17): the node runs on ROS 1 (roscpp, the
+    wrapper [<node>_ros.cpp]) or on ROS 2 (rcl, the wrapper
+    [<node>_rcl.c]).  They differ only in what one [ros_spinOnce]
+    delivers ([spin_messages]: [deliverable] for ROS 1, [rcl_deliverable]
+    for ROS 2). *)
+Inductive target : Type := Ros1 | Ros2.
+
+Definition target_eq_dec (a b : target) : {a = b} + {a <> b}.
+Proof. decide equality. Defined.
+
 (** What the environment of a run fixes: the message arrivals with their
-    receipt times, the ROS time of each cycle and the controller. *)
+    receipt times, the ROS time of each cycle, the controller and the
+    target the node runs on. *)
 Record ros_context (CS : Type) : Type := mkctx {
   ctx_arrivals : nat -> list arrival;
   ctx_time : nat -> Z;
   ctx_init : CS;
-  ctx_step : CS -> mval -> CS * mval
+  ctx_step : CS -> mval -> CS * mval;
+  ctx_target : target
 }.
 
-Arguments mkctx {CS} ctx_arrivals ctx_time ctx_init ctx_step.
+Arguments mkctx {CS} ctx_arrivals ctx_time ctx_init ctx_step ctx_target.
 Arguments ctx_arrivals {CS} r _.
 Arguments ctx_time {CS} r _.
 Arguments ctx_init {CS} r.
 Arguments ctx_step {CS} r _ _.
+Arguments ctx_target {CS} r.
 
 (** The state of the world outside the program's memory. *)
 Record world (CS : Type) : Type := mkworld {
@@ -626,6 +645,135 @@ Fixpoint deliverable (subs : list subscription) (msgs : list arrival)
       ++ deliverable subs rest
   end.
 
+(** *** ROS 2 *)
+
+(** What one [ros_spinOnce] of the ROS 2 wrapper ([rcl_api.c.j2]) delivers
+    when the messages [msgs] arrived since the previous one.  Each
+    subscription's reader has a history KEEP_LAST of depth [sub_queue s]:
+    of the arrivals on its topic it holds the newest [sub_queue s]
+    ([history]; depth 0 holds none, as the wrapper then takes none: the
+    generator refuses a queue size of 0 for both targets, rule 4.4 and
+    [Wellformed]).  The wrapper takes them with [rcl_take], oldest first
+    ([taken]), from each subscription in registration order, then runs
+    the callbacks by merging the subscriptions' lists on the receipt time
+    [ar_time] (what [ros_now] answers in the callback): at each step the
+    head of smallest time, ties to the earlier subscription (the
+    wrapper's strict [<]), each subscription's own messages in take
+    order whatever their times ([merge_time], [rcl_deliverable]: the
+    merge of the first subscription's list with the merge of the
+    others', which picks the same head as the wrapper's loop over the
+    subscriptions).  A message of policy "reject" that is too long is
+    taken and merged like any other, and dropped only when its turn comes
+    ([Semantics.deliver_rejected]; the wrapper keeps it in its buffer,
+    flagged, and skips its callback).  Messages of topics nobody
+    subscribed to are dropped. *)
+Fixpoint history (topic : string) (q : nat) (msgs : list arrival) : list arrival :=
+  match msgs with
+  | [] => []
+  | a :: rest =>
+      (if topic_eqb (ar_topic a) topic && Nat.ltb (count_topic topic rest) q then [a] else [])
+      ++ history topic q rest
+  end.
+
+Definition taken (s : subscription) (msgs : list arrival) : list (subscription * arrival) :=
+  map (fun a => (s, a)) (history (sub_topic s) (sub_queue s) msgs).
+
+(** The merge of [l1] (an earlier subscription's) and [l2] on the receipt
+    time: the head of [l2] goes first only if strictly earlier. *)
+Fixpoint merge_time (l1 : list (subscription * arrival)) : list (subscription * arrival) -> list (subscription * arrival) :=
+  fix go (l2 : list (subscription * arrival)) : list (subscription * arrival) :=
+    match l1, l2 with
+    | [], _ => l2
+    | _, [] => l1
+    | x1 :: r1, x2 :: r2 =>
+        if Z.ltb (ar_time (snd x2)) (ar_time (snd x1)) then x2 :: go r2 else x1 :: merge_time r1 l2
+    end.
+
+Definition rcl_deliverable (subs : list subscription) (msgs : list arrival) : list (subscription * arrival) :=
+  fold_right (fun s acc => merge_time (taken s msgs) acc) [] subs.
+
+(** The wrapper's loop itself: [pick] takes the head of smallest receipt
+    time, scanning the subscriptions' lists in order and moving to a later
+    one only when its head is strictly earlier (the first of the minimal
+    heads), and removes it; [wrapper_merge] picks until every list is
+    empty.  It computes [rcl_deliverable]'s merge ([wrapper_merge_spec]). *)
+Fixpoint pick (ls : list (list (subscription * arrival)))
+  : option ((subscription * arrival) * list (list (subscription * arrival))) :=
+  match ls with
+  | [] => None
+  | [] :: rest =>
+      match pick rest with
+      | Some (y, r) => Some (y, [] :: r)
+      | None => None
+      end
+  | (x :: l) :: rest =>
+      match pick rest with
+      | Some (y, r) => if Z.ltb (ar_time (snd y)) (ar_time (snd x)) then Some (y, (x :: l) :: r) else Some (x, l :: rest)
+      | None => Some (x, l :: rest)
+      end
+  end.
+
+Fixpoint wrapper_merge (fuel : nat) (ls : list (list (subscription * arrival))) : list (subscription * arrival) :=
+  match fuel with
+  | O => []
+  | S f => match pick ls with Some (x, ls') => x :: wrapper_merge f ls' | None => [] end
+  end.
+
+Lemma merge_time_nil_l: forall l, merge_time [] l = l.
+Proof. destruct l; reflexivity. Qed.
+
+Lemma merge_time_nil_r: forall l, merge_time l [] = l.
+Proof. destruct l; reflexivity. Qed.
+
+Lemma pick_merge:
+  forall ls,
+  match fold_right merge_time [] ls with
+  | [] => pick ls = None
+  | x :: r => exists ls', pick ls = Some (x, ls') /\ fold_right merge_time [] ls' = r
+  end.
+Proof.
+  induction ls as [|l rest IH]; [reflexivity|]. cbn [fold_right].
+  destruct l as [|x l].
+  - rewrite merge_time_nil_l. cbn [pick].
+    destruct (fold_right merge_time [] rest) as [|y r].
+    + rewrite IH. reflexivity.
+    + destruct IH as (ls' & P & F). rewrite P. exists ([] :: ls'). split; [reflexivity|].
+      cbn [fold_right]. rewrite merge_time_nil_l. exact F.
+  - cbn [pick]. destruct (fold_right merge_time [] rest) as [|y r] eqn:E.
+    + rewrite IH. rewrite merge_time_nil_r. exists (l :: rest). split; [reflexivity|].
+      cbn [fold_right]. rewrite E, merge_time_nil_r. reflexivity.
+    + destruct IH as (ls' & P & F). rewrite P. cbn [merge_time].
+      destruct (ar_time (snd y) <? ar_time (snd x))%Z.
+      * exists ((x :: l) :: ls'). split; [reflexivity|]. cbn [fold_right]. rewrite F. reflexivity.
+      * exists (l :: rest). split; [reflexivity|]. cbn [fold_right]. rewrite E. reflexivity.
+Qed.
+
+(** The wrapper's loop, given at least as many steps as messages, runs
+    the callbacks in the order of the merge. *)
+Lemma wrapper_merge_spec:
+  forall n ls, (length (fold_right merge_time [] ls) <= n)%nat ->
+  wrapper_merge n ls = fold_right merge_time [] ls.
+Proof.
+  induction n as [|n IH]; intros ls L.
+  - destruct (fold_right merge_time [] ls); [reflexivity|simpl in L; lia].
+  - cbn [wrapper_merge]. generalize (pick_merge ls).
+    destruct (fold_right merge_time [] ls) as [|x r] eqn:E.
+    + intros ->. reflexivity.
+    + intros (ls' & -> & F). rewrite IH; [congruence|]. rewrite F. simpl in L. lia.
+Qed.
+
+(** [rcl_deliverable] is the wrapper's loop on the lists taken from the
+    subscriptions in registration order. *)
+Theorem rcl_deliverable_wrapper:
+  forall subs msgs n, (length (rcl_deliverable subs msgs) <= n)%nat ->
+  rcl_deliverable subs msgs = wrapper_merge n (map (fun s => taken s msgs) subs).
+Proof.
+  intros subs msgs n L.
+  assert (E: rcl_deliverable subs msgs = fold_right merge_time [] (map (fun s => taken s msgs) subs)).
+  { clear L. unfold rcl_deliverable. induction subs as [|s subs IHs]; [reflexivity|]. simpl. rewrite IHs. reflexivity. }
+  rewrite E in *. symmetry. apply wrapper_merge_spec. exact L.
+Qed.
+
 (** ** The external functions *)
 
 (** The two fields of a ROS time given in nanoseconds (as [ros::Time]
@@ -691,9 +839,13 @@ Definition external_call (ef : external_function) (vargs : list val) (m : mem) (
   | _, _ => None
   end.
 
-(** The messages one [ros_spinOnce] delivers. *)
+(** The messages one [ros_spinOnce] delivers, as the target's wrapper
+    does. *)
 Definition spin_messages (w : world CS) : list (subscription * arrival) :=
-  deliverable (w_subs w) (ctx_arrivals ctx (w_spins w)).
+  match ctx_target ctx with
+  | Ros1 => deliverable (w_subs w) (ctx_arrivals ctx (w_spins w))
+  | Ros2 => rcl_deliverable (w_subs w) (ctx_arrivals ctx (w_spins w))
+  end.
 
 Lemma external_call_not_spin:
   forall vargs m w r, external_call EF_ros_spinOnce vargs m w = Some r -> False.

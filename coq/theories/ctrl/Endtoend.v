@@ -281,8 +281,8 @@ Definition guard_step (s u : mval) : mval * mval :=
   if mval_typecheck (composites m) (Tstruct (nm_out_struct m)) (snd r) then r
   else (fst r, zero_outputs).
 
-Definition diagram_ctx (arrivals : nat -> list arrival) (clock : nat -> Z) : ros_context mval :=
-  mkctx arrivals clock (dg_init d) guard_step.
+Definition diagram_ctx (arrivals : nat -> list arrival) (clock : nat -> Z) (tg : target) : ros_context mval :=
+  mkctx arrivals clock (dg_init d) guard_step tg.
 
 Hypothesis W : wf_facts m.
 Hypothesis WF : dg_wf d = true.
@@ -295,9 +295,9 @@ Proof.
   intros [f q] _. simpl. destruct q; reflexivity.
 Qed.
 
-Lemma diagram_controller_wt: forall arrivals clock, controller_wt m (diagram_ctx arrivals clock).
+Lemma diagram_controller_wt: forall arrivals clock tg, controller_wt m (diagram_ctx arrivals clock tg).
 Proof.
-  intros arrivals clock s u. simpl. unfold guard_step.
+  intros arrivals clock tg s u. simpl. unfold guard_step.
   destruct (mval_typecheck _ _ (snd (dg_step d s u))) eqn:T.
   - apply mval_typecheck_iff; auto.
   - apply zero_outputs_typed.
@@ -381,28 +381,28 @@ Qed.
     prescribes, and the published messages carry its outputs
     ([DDC.published_value]). *)
 Definition diagram_node_ok (m : node_model) (p : program) (d : diagram) : Prop :=
-  forall arrivals clock n, arrivals_wt m (diagram_ctx m d arrivals clock) ->
-     (exists t, program_behaves p (diagram_ctx m d arrivals clock) n t)
-  /\ (forall t, program_behaves p (diagram_ctx m d arrivals clock) n t ->
+  forall arrivals clock tg n, arrivals_wt m (diagram_ctx m d arrivals clock tg) ->
+     (exists t, program_behaves p (diagram_ctx m d arrivals clock tg) n t)
+  /\ (forall t, program_behaves p (diagram_ctx m d arrivals clock tg) n t ->
       exists (s : nat -> mval) (evs : nat -> trace),
          s O = dg_init d
       /\ t = start_events m ++ concat (map evs (seq 0 n))
       /\ forall i, (i < n)%nat ->
            exists u y mvs,
               evs i = Estep u y :: publish_events m (published m) mvs ++ [Esleep (nm_period_ms m)]
-           /\ input_values m (diagram_ctx m d arrivals clock) i u
+           /\ input_values m (diagram_ctx m d arrivals clock tg) i u
            /\ dg_step d (s i) u = (s (S i), y)
-           /\ Forall2 (published_value m y (clock (S i)) (newest_by m (diagram_ctx m d arrivals clock) i)) (published m) mvs).
+           /\ Forall2 (published_value m y (clock (S i)) (newest_by m (diagram_ctx m d arrivals clock tg) i)) (published m) mvs).
 
 Theorem diagram_node_ddc:
   forall m p d, generate m = OK p -> dg_wf d = true -> dg_matches m d = true ->
   diagram_node_ok m p d.
 Proof.
-  intros m p d GEN WF MA arrivals clock n AWT.
+  intros m p d GEN WF MA arrivals clock tg n AWT.
   assert (W: wf_facts m) by (apply wf_facts_intro, (Generatorproof.generate_sound m p GEN)).
   destruct (dg_matches_spec m d MA) as (_ & _ & _ & _ & DI & _).
-  destruct (generate_node_ddc m p GEN mval (diagram_ctx m d arrivals clock) n AWT
-              (diagram_controller_wt m d W MA arrivals clock)) as [EX RUN].
+  destruct (generate_node_ddc m p GEN mval (diagram_ctx m d arrivals clock tg) n AWT
+              (diagram_controller_wt m d W MA arrivals clock tg)) as [EX RUN].
   split; [exact EX|]. intros t B.
   destruct (RUN t B) as [s [evs [S0 [T C]]]].
   exists s, evs. split; [exact S0|]. split; [exact T|].

@@ -394,11 +394,11 @@ Qed.
 
 Section CONTROLLER.
 
-Variables (arrivals : nat -> list arrival) (clock : nat -> Z).
+Variables (arrivals : nat -> list arrival) (clock : nat -> Z) (tg : target).
 Context {CSL : Type}.
 Variable ctxL : ros_context CSL.
 
-Local Notation ctx := (diagram_ctx m d arrivals clock).
+Local Notation ctx := (diagram_ctx m d arrivals clock tg).
 
 Lemma ctrl_sim:
   forall ef targs tres vargs mm w vres t m' w' mL,
@@ -564,9 +564,9 @@ Qed.
     previous step left ([dg_init] first) on the related fields of the
     newest messages. *)
 Definition linked_node_ok (m : node_model) (p : program) (d : diagram) : Prop :=
-  forall arrivals clock n (CSL : Type) (ctxL : ros_context CSL),
-  ctx_arrivals ctxL = arrivals -> ctx_time ctxL = clock ->
-  arrivals_wt m (diagram_ctx m d arrivals clock) ->
+  forall arrivals clock tg n (CSL : Type) (ctxL : ros_context CSL),
+  ctx_arrivals ctxL = arrivals -> ctx_time ctxL = clock -> ctx_target ctxL = tg ->
+  arrivals_wt m (diagram_ctx m d arrivals clock tg) ->
      (exists t, program_behaves (link p d) ctxL n t)
   /\ (forall t, program_behaves (link p d) ctxL n t ->
       exists (s : nat -> mval) (evs : nat -> trace),
@@ -575,9 +575,9 @@ Definition linked_node_ok (m : node_model) (p : program) (d : diagram) : Prop :=
       /\ forall i, (i < n)%nat ->
            exists u y mvs,
               evs i = publish_events m (published m) mvs ++ [Esleep (nm_period_ms m)]
-           /\ input_values m (diagram_ctx m d arrivals clock) i u
+           /\ input_values m (diagram_ctx m d arrivals clock tg) i u
            /\ dg_step d (s i) u = (s (S i), y)
-           /\ Forall2 (published_value m y (clock (S i)) (newest_by m (diagram_ctx m d arrivals clock) i))
+           /\ Forall2 (published_value m y (clock (S i)) (newest_by m (diagram_ctx m d arrivals clock tg) i))
                       (published m) mvs).
 
 (** The names of the state do not clash with the glue's. *)
@@ -589,14 +589,14 @@ Theorem linked_node_ddc:
   forall m p d, generate m = OK p -> dg_wf d = true -> dg_matches m d = true -> link_fresh m d = true ->
   linked_node_ok m p d.
 Proof.
-  intros m p d GEN WF MA LF arrivals clock n CSL ctxL ARR TIME AWT.
+  intros m p d GEN WF MA LF arrivals clock tg n CSL ctxL ARR TIME TGT AWT.
   unfold link_fresh in LF. apply andb_true_iff in LF as [LF1 LF2].
   assert (FV: ~ In (dg_state_var d) (global_names m)).
   { intros I. apply in_ident_spec in I. rewrite I in LF1. discriminate. }
   assert (FS: has_states d = true -> ~ In (dg_state_struct d) (composite_names (composites m))).
   { intros H I. rewrite H in LF2. apply in_ident_spec in I. rewrite I in LF2. discriminate. }
   assert (W : wf_facts m) by (apply wf_facts_intro, (generate_sound m p GEN)).
-  set (ctx := diagram_ctx m d arrivals clock).
+  set (ctx := diagram_ctx m d arrivals clock tg).
   destruct (LG m p d GEN FV FS) as (G & R0 & CL & _ & DW).
   assert (CE := GE_comp m p GEN).
   assert (WFc := Gluefacts.gen_wf_composites m p GEN).
@@ -607,10 +607,10 @@ Proof.
     { apply Loopproof.complete_struct. left. apply (Gluefacts.gen_msg_in m p GEN tp Htp). }
     destruct (EXT _ C) as (E1 & E2 & _). split; auto. }
   (* the run of the glue *)
-  destruct (diagram_node_ddc m p d GEN WF MA arrivals clock n AWT) as [[t0 B0] RUN].
+  destruct (diagram_node_ddc m p d GEN WF MA arrivals clock tg n AWT) as [[t0 B0] RUN].
   destruct B0 as [fd mm' w' v FM EV].
   destruct (@sim (rbd d) (rbd_inj d) (rbd_succ d) (link_fundef d) mval CSL ctx ctxL
-                (globalenv p) (globalenv (link p d)) G ARR TIME) with (crel := crel d) as (_ & SF & _).
+                (globalenv p) (globalenv (link p d)) G ARR TIME TGT) with (crel := crel d) as (_ & SF & _).
   - intros topic msgty q targs tres [x F] cb. destruct (gen_fundef m p GEN x _ F) as [_ EX].
     destruct (EX _ _ _ eq_refl) as (tp & Htp & -> & ->). split.
     + apply MSG. apply in_subscribed in Htp; tauto.

@@ -656,6 +656,7 @@ Variables (ctx : ros_context CS) (ctxL : ros_context CSL) (ge geL : genv).
 Hypothesis G : grel ge geL.
 Hypothesis ARR : ctx_arrivals ctxL = ctx_arrivals ctx.
 Hypothesis TIME : ctx_time ctxL = ctx_time ctx.
+Hypothesis TGT : ctx_target ctxL = ctx_target ctx.
 
 Local Notation ce := (ge_comp ge).
 Local Notation ceL := (ge_comp geL).
@@ -806,8 +807,8 @@ Proof.
       * rewrite C'; auto.
   - (* spinOnce *)
     assert (DA: forall s a, In (s, a) (spin_messages ctx w) -> msg_ok (sub_msgty s) /\ rmv (ar_msg a) = ar_msg a).
-    { intros s a Hin. unfold spin_messages in Hin.
-      destruct (Loopfacts.In_deliverable _ _ _ _ Hin) as (Hs & Ha & Ht).
+    { intros s a Hin.
+      destruct (Loopfacts.In_spin_messages _ _ _ _ _ Hin) as (Hs & Ha & Ht).
       destruct (H4 s Hs) as [MO AP]. split; auto. eapply AP; eauto. }
     destruct (H0 DA mL H2 H3 H4) as (mL1 & D1 & R1 & C1 & S1).
     exists mL1. rewrite LFD_ext by reflexivity. refine (conj _ (conj _ (conj _ _))); auto.
@@ -815,7 +816,7 @@ Proof.
       by (unfold next_spin, wr; simpl; rewrite TIME; reflexivity).
     simpl map. apply eval_funcall_spinOnce.
     replace (spin_messages ctxL (wr w)) with (spin_messages ctx w)
-      by (unfold spin_messages, wr; simpl; rewrite ARR; reflexivity).
+      by (unfold spin_messages, wr; simpl; rewrite ARR, TGT; reflexivity).
     exact D1.
   - (* deliver nil *) exists mL; refine (conj _ (conj _ (conj _ _))); auto. constructor.
   - (* deliver cons *)

@@ -713,3 +713,16 @@ Definition node_ddc (m : node_model) (p : program) : Prop :=
   arrivals_wt m ctx -> controller_wt m ctx ->
      (exists t, program_behaves p ctx n t)
   /\ (forall t, program_behaves p ctx n t -> run_ok m ctx n t).
+
+(** [node_ddc] on the environments of one target (rule 4.17): what the
+    per-node file states of the target it was generated for
+    ([<node>_ddc_target]).  [node_ddc] quantifies over every context, so
+    it holds for both ([node_ddc_on_target]). *)
+Definition node_ddc_on (tg : target) (m : node_model) (p : program) : Prop :=
+  forall (CS : Type) (ctx : ros_context CS) (n : nat),
+  ctx_target ctx = tg -> arrivals_wt m ctx -> controller_wt m ctx ->
+     (exists t, program_behaves p ctx n t)
+  /\ (forall t, program_behaves p ctx n t -> run_ok m ctx n t).
+
+Lemma node_ddc_on_target: forall tg m p, node_ddc m p -> node_ddc_on tg m p.
+Proof. intros tg m p H CS ctx n _. apply H. Qed.

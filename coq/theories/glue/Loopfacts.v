@@ -120,6 +120,142 @@ Proof.
   - destruct (IH _ _ H) as (? & ? & ?); auto.
 Qed.
 
+(** *** ROS 2: [rcl_deliverable] *)
+
+(** The two facts the proof of T2 needs of a spin's deliveries
+    ([In_deliverable], [last_delivered_deliverable] through
+    [Loopproof.last_accepted_deliverable]) hold of ROS 2's too: the merge
+    is an interleaving that keeps each subscription's own order, and the
+    subscriptions are distinct. *)
+
+Lemma In_merge_time:
+  forall l1 l2 x, In x (merge_time l1 l2) <-> In x l1 \/ In x l2.
+Proof.
+  induction l1 as [|x1 r1 IH1]; intros l2 x; [destruct l2; simpl; tauto|].
+  induction l2 as [|x2 r2 IH2]; [simpl; tauto|].
+  cbn [merge_time]. destruct (ar_time (snd x2) <? ar_time (snd x1))%Z.
+  - fold (merge_time (x1 :: r1) r2). simpl. rewrite IH2. simpl. tauto.
+  - simpl. rewrite IH1. simpl. tauto.
+Qed.
+
+(** Keeping the elements of [P] of a merge where one side has none of
+    them is keeping those of the other side: the merge keeps each side's
+    order. *)
+Lemma filter_merge_time_l:
+  forall (P : subscription * arrival -> bool) l1 l2, (forall x, In x l2 -> P x = false) ->
+  filter P (merge_time l1 l2) = filter P l1.
+Proof.
+  intros P. induction l1 as [|x1 r1 IH1]; intros l2 H2.
+  - simpl. induction l2 as [|x2 r2 IH2]; auto. simpl. rewrite (H2 x2 (or_introl eq_refl)).
+    destruct r2; [reflexivity|]. apply IH2. intros; apply H2; simpl; auto.
+  - induction l2 as [|x2 r2 IH2]; [reflexivity|].
+    cbn [merge_time]. destruct (ar_time (snd x2) <? ar_time (snd x1))%Z.
+    + fold (merge_time (x1 :: r1) r2). cbn [filter]. rewrite (H2 x2 (or_introl eq_refl)). apply IH2. intros; apply H2; simpl; auto.
+    + cbn [filter]. rewrite IH1 by exact H2. reflexivity.
+Qed.
+
+Lemma filter_merge_time_r:
+  forall (P : subscription * arrival -> bool) l1 l2, (forall x, In x l1 -> P x = false) ->
+  filter P (merge_time l1 l2) = filter P l2.
+Proof.
+  intros P. induction l1 as [|x1 r1 IH1]; intros l2 H1; [destruct l2; reflexivity|].
+  induction l2 as [|x2 r2 IH2].
+  - simpl. rewrite (H1 x1 (or_introl eq_refl)). clear IH1. induction r1 as [|y r IH]; auto.
+    simpl. rewrite (H1 y (or_intror (or_introl eq_refl))). apply IH. intros x [<-|Hx]; apply H1; simpl; auto.
+  - cbn [merge_time]. destruct (ar_time (snd x2) <? ar_time (snd x1))%Z.
+    + cbn [filter]. destruct (P x2); [f_equal|]; exact IH2.
+    + cbn [filter]. rewrite (H1 x1 (or_introl eq_refl)). apply IH1. intros; apply H1; simpl; auto.
+Qed.
+
+Lemma In_history:
+  forall tn q msgs a, In a (history tn q msgs) -> In a msgs /\ ar_topic a = tn.
+Proof.
+  induction msgs as [|a' rest IH]; simpl; intros a H; [contradiction|].
+  apply in_app_iff in H. destruct H as [H|H].
+  - destruct (topic_eqb (ar_topic a') tn && _) eqn:C; [|contradiction].
+    destruct H as [<-|[]]. apply andb_true_iff in C as [T _]. unfold topic_eqb in T.
+    destruct (string_dec (ar_topic a') tn); [auto|discriminate].
+  - destruct (IH _ H); auto.
+Qed.
+
+Lemma In_rcl_deliverable:
+  forall subs msgs s a, In (s, a) (rcl_deliverable subs msgs) ->
+  In s subs /\ In a msgs /\ ar_topic a = sub_topic s.
+Proof.
+  induction subs as [|s0 subs IH]; simpl; intros msgs s a H; [contradiction|].
+  apply In_merge_time in H. destruct H as [H|H].
+  - unfold taken in H. apply in_map_iff in H as (a' & E & H). inversion E; subst.
+    apply In_history in H. tauto.
+  - destruct (IH _ _ _ H) as (? & ? & ?); auto.
+Qed.
+
+(** What one spin delivers, on either target, is for registered
+    subscriptions and messages of their topics. *)
+Lemma In_spin_messages:
+  forall CS (ctx : ros_context CS) w s a, In (s, a) (spin_messages ctx w) ->
+  In s (w_subs w) /\ In a (ctx_arrivals ctx (w_spins w)) /\ ar_topic a = sub_topic s.
+Proof.
+  intros CS ctx w s a. unfold spin_messages. destruct (ctx_target ctx).
+  - apply In_deliverable.
+  - apply In_rcl_deliverable.
+Qed.
+
+Definition of_sub (s : subscription) (x : subscription * arrival) : bool :=
+  if sub_eq (fst x) s then true else false.
+
+(** The deliveries of one ROS 2 spin to one of distinct subscriptions are
+    what it takes from its history, in take order. *)
+Lemma filter_rcl_deliverable:
+  forall subs msgs s, NoDup subs -> In s subs ->
+  filter (of_sub s) (rcl_deliverable subs msgs) = taken s msgs.
+Proof.
+  induction subs as [|s0 subs IH]; intros msgs s N Hs; [contradiction|].
+  apply NoDup_cons_iff in N as [Hn N']. simpl.
+  assert (Tk: forall s', filter (of_sub s') (taken s' msgs) = taken s' msgs).
+  { intros s'. unfold taken. induction (history (sub_topic s') (sub_queue s') msgs) as [|a l IHl]; auto.
+    simpl. rewrite IHl. unfold of_sub. simpl. destruct (sub_eq s' s'); congruence. }
+  destruct Hs as [<-|Hs].
+  - rewrite filter_merge_time_l; auto.
+    intros [s' a] Hx. apply In_rcl_deliverable in Hx as (Hs' & _).
+    unfold of_sub. simpl. destruct (sub_eq s' s0); auto. subst; contradiction.
+  - rewrite filter_merge_time_r by (intros [s' a] Hx; unfold taken in Hx; apply in_map_iff in Hx as (a' & E & _);
+      injection E as <- <-; unfold of_sub; simpl; destruct (sub_eq s0 s) as [E'|]; [subst; contradiction|reflexivity]).
+    apply IH; auto.
+Qed.
+
+Lemma last_delivered_of_sub:
+  forall s D, last_delivered s (filter (of_sub s) D) = last_delivered s D.
+Proof.
+  induction D as [|[s' a] D IH]; [reflexivity|].
+  cbn [filter]. unfold of_sub at 1. cbn [fst]. destruct (sub_eq s' s) as [E|E].
+  - cbn [last_delivered]. rewrite IH. reflexivity.
+  - rewrite IH. cbn [last_delivered]. destruct (last_delivered s D); auto. destruct (sub_eq s' s); congruence.
+Qed.
+
+Lemma filter_comm:
+  forall (A : Type) (P Q : A -> bool) l, filter P (filter Q l) = filter Q (filter P l).
+Proof.
+  induction l as [|x l IH]; auto. simpl.
+  destruct (Q x) eqn:Qx, (P x) eqn:Px; simpl; rewrite ?Qx, ?Px, IH; auto.
+Qed.
+
+(** A history of depth at least 1 keeps the newest message: the last
+    delivery to a subscription in one ROS 2 spin is the last arrival on
+    its topic, as on ROS 1 ([last_delivered_deliverable]). *)
+Theorem last_delivered_rcl_deliverable:
+  forall subs s msgs, NoDup subs -> In s subs -> (1 <= sub_queue s)%nat ->
+  last_delivered s (rcl_deliverable subs msgs) = last_on (sub_topic s) msgs.
+Proof.
+  intros subs s msgs N Hs Hq. rewrite <- last_delivered_of_sub, filter_rcl_deliverable by auto.
+  unfold taken. induction msgs as [|a rest IH]; [reflexivity|].
+  cbn [history last_on]. rewrite map_app, last_delivered_app, IH.
+  destruct (last_on (sub_topic s) rest) as [v|] eqn:L; [reflexivity|].
+  apply last_on_none_count in L. rewrite L. unfold topic_eqb.
+  replace (Nat.ltb 0 (sub_queue s)) with true by (symmetry; apply Nat.ltb_lt; lia).
+  destruct (string_dec (ar_topic a) (sub_topic s)); cbn; [|reflexivity].
+  destruct (sub_eq s s); congruence.
+Qed.
+
 (** ** Sequences *)
 
 Section SEQ.

@@ -660,6 +660,43 @@ Proof.
     destruct (string_dec (tp_name tp) (ar_topic a)); [|congruence]. rewrite E. exact K.
 Qed.
 
+(** The same on ROS 2: the subscriptions are distinct (their callbacks
+    are), so the merge hands each callback what its history keeps, in
+    take order, and a history of depth at least 1 (the generator's rule)
+    keeps the newest message. *)
+Lemma subs_of_nodup: NoDup subs_of.
+Proof.
+  apply (NoDup_map_inv sub_callback). unfold subs_of. rewrite map_map. cbn [sub_callback sub_of].
+  generalize global_names_nodup; unfold global_names; intros N.
+  do 6 apply NoDup_app_right in N. apply NoDup_app_left in N. exact N.
+Qed.
+
+Lemma last_accepted_rcl_deliverable:
+  forall tp msgs, In tp (subscribed m) ->
+  last_delivered (sub_of tp) (accepted_in (rcl_deliverable subs_of msgs)) = last_on (tp_name tp) (received_on m tp msgs).
+Proof.
+  intros tp msgs Htp. assert (Hs: In (sub_of tp) subs_of) by (unfold subs_of; apply in_map; auto).
+  assert (Acc: forall a, accepted ge (sub_of tp) a = negb (too_long (composites m) (Tstruct (tp_msg tp)) (ar_msg a)))
+    by (intros a; unfold accepted; rewrite globalenv_comp, types_eq; reflexivity).
+  assert (Q: (1 <= tp_queue tp)%nat).
+  { apply in_subscribed in Htp as [Ht _]. generalize (wf_topics m W tp Ht). unfold topic_ok.
+    rewrite !andb_true_iff. intros ((((_ & _) & _) & Q) & _). apply Nat.leb_le. exact Q. }
+  rewrite <- last_delivered_of_sub. unfold accepted_in. rewrite filter_comm.
+  rewrite (filter_rcl_deliverable subs_of msgs (sub_of tp) subs_of_nodup Hs).
+  unfold taken. cbn [sub_topic sub_queue sub_of].
+  induction msgs as [|a rest IH]; [reflexivity|].
+  cbn [history received_on]. rewrite map_app, filter_app, last_delivered_app, IH, last_on_app.
+  destruct (last_on (tp_name tp) (received_on m tp rest)) as [v|]; [reflexivity|].
+  replace (Nat.eqb (tp_queue tp) 0) with false by (symmetry; apply Nat.eqb_neq; lia). cbn [orb].
+  destruct (topic_eqb (ar_topic a) (tp_name tp) && Nat.ltb (count_topic (tp_name tp) rest) (tp_queue tp)) eqn:C;
+    cbn [andb map filter last_delivered app]; [|reflexivity].
+  cbn [fst snd]. rewrite Acc.
+  destruct (negb (too_long (composites m) (Tstruct (tp_msg tp)) (ar_msg a))); [|reflexivity].
+  cbn [last_delivered last_on]. apply andb_true_iff in C as [T _]. unfold topic_eqb in T.
+  destruct (string_dec (ar_topic a) (tp_name tp)); [|discriminate].
+  destruct (sub_eq (sub_of tp) (sub_of tp)); congruence.
+Qed.
+
 Lemma spin_run:
   forall k r s e mm, loop_inv k nonew e mm ->
   exists mm',
@@ -667,16 +704,17 @@ Lemma spin_run:
   /\ loop_inv (S k) (arrived_at k) e mm'.
 Proof.
   intros k r s e mm I.
-  set (D := deliverable subs_of (ctx_arrivals ctx k)).
+  set (D := spin_messages ctx (wld k r s)).
   destruct (deliver_run D (wld k r s) mm (fun tp => held m ctx tp k) (fun tp => (false, held_time tp k))
               (li_wf I) (li_globals I) (li_msgs I) (li_direct I) (li_clock I))
     as (mm' & w' & X & NS & W' & GT' & HG' & HU' & HC' & Fr').
-  { intros s0 a H0. apply In_deliverable in H0. destruct H0 as (Hs & Ha & Et).
+  { intros s0 a H0. apply In_spin_messages in H0. destruct H0 as (Hs & Ha & Et).
     unfold subs_of in Hs. apply in_map_iff in Hs. destruct Hs as (tp & <- & Htp).
     exists tp; repeat split; auto. eapply AWT; eauto. }
   assert (LD: forall tp, In tp (subscribed m) ->
             last_delivered (sub_of tp) (accepted_in D) = last_on (tp_name tp) (received_on m tp (ctx_arrivals ctx k)))
-    by (intros tp Htp; unfold D; apply last_accepted_deliverable; auto).
+    by (intros tp Htp; unfold D, spin_messages; destruct (ctx_target ctx);
+        [apply last_accepted_deliverable|apply last_accepted_rcl_deliverable]; auto).
   exists mm'. split.
   - change (wld (S k) r s) with (next_spin ctx (wld k r s)). rewrite <- NS.
     apply eval_funcall_spinOnce. exact X.
