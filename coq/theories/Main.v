@@ -32,7 +32,7 @@ From ROSGen Require Import Errors Maps FloatBits.
 From ROSGen Require Import Syntax Values Operators Memory Environment Semantics Typing Interp.
 From ROSGen Require Import NodeModel ModelText Wellformed Generator Generatorspec Generatorproof Assignproof DDC.
 From ROSGen Require FloatOps Loopproof Glueproof Interpproof.
-From ROSGen Require Diagram Diagramgen Diagramproof Endtoend Link.
+From ROSGen Require Diagram Diagramgen Diagramproof Endtoend Link System.
 Import ListNotations.
 
 (** ** T1: every generated function meets its specification *)
@@ -963,3 +963,42 @@ Proof. exact FloatOps.mul64_nan_payload. Qed.
 Theorem mmap_length:
   forall (A B : Type) (f : A -> res B) l l', mmap f l = OK l' -> length l' = length l.
 Proof. exact Errors.mmap_length. Qed.
+
+(** ** Systems of nodes (DESIGN.md section 10) *)
+
+(** A link between two nodes: when the two nodes meet their data delivery
+    specification (T2) and the link is well formed ([System.link_ok],
+    decided per system: one graph name for the two topics, the relations
+    and the leaf the models', a scalar through no bounded sequence), then in
+    every pair of runs of the two programs, under the transport assumption
+    ([System.delivered_from]: the newest message the subscriber received is
+    one the publisher sent) and with the input kept fresh, the subscriber's
+    controller receives exactly the field the publisher's controller
+    computed in the cycle whose message was delivered ([System.link_holds]). *)
+Theorem system_link:
+  forall gA gB mA pA mB pB tpA o tpB ir,
+  DDC.node_ddc mA pA -> DDC.node_ddc mB pB ->
+  System.link_ok gA mA tpA o gB mB tpB ir = true ->
+  System.link_holds mA pA tpA o mB pB tpB ir.
+Proof. exact System.system_link. Qed.
+
+(** A chain of nodes: when every node meets T2, every link between
+    consecutive nodes is well formed and the last node's output relations
+    are ([System.chain_ok]), then for any runs of all the chain's programs
+    there is one T2 decomposition per node along which every link holds
+    and the last node publishes what its controller computed
+    ([System.chain_holds]). *)
+Theorem chain_runs:
+  forall ns ls outs, System.chain_ok ns ls outs -> System.chain_holds ns ls outs.
+Proof. exact System.chain_runs. Qed.
+
+(** Composed along a chain: for any choice of one link per pair of
+    consecutive nodes, each node's input at each cycle is the upstream
+    controller's output at the delivered cycle, back to the external
+    input, and the last node publishes its controller's output
+    ([System.chain_composed]). *)
+Theorem chain_run_value:
+  forall ns ls outs co (pick : nat -> System.clink), System.chain_holds ns ls outs -> In co outs ->
+  (forall l, (S l < length ns)%nat -> In (pick l) ls /\ System.cl_from (pick l) = l) ->
+  System.chain_composed ns co pick.
+Proof. exact System.chain_run_value. Qed.
