@@ -1,0 +1,119 @@
+"""``pyrosgen verify`` of a ``build --ros2`` folder renders the node's files
+again from the proved model and the manifest's build record, by the
+functions ``build --ros2`` renders them with, and compares them byte for
+byte: the rcl wrapper and its API header, the layout check, the ament_cmake
+package (its copies, ``package.xml``, ``CMakeLists.txt``, the launch file),
+and no other file in the package.  Each tampering below rewrites the
+file's digest in the three records (``<node>.sha256``, the manifest, the
+certificate), so that only the package check can refuse it; each is
+refused with exit 1, naming the file.  ``verify --rebuild`` compiles the
+ROS 2 node again from the recorded commands, bit for bit."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import pytest
+
+from .conftest import LANDSHARK, LANDSHARK_CTL, pyrosgen
+from .test_verify_package import _digests, _refused, _tamper
+
+pytestmark = pytest.mark.ros2
+
+NODE = PKG = "landshark_controller"
+RCL = f"{NODE}_rcl.c"
+
+
+@pytest.fixture(scope="module")
+def ros2_build(tmp_path_factory):
+    out = tmp_path_factory.mktemp("ros2build") / "landshark"
+    run = pyrosgen("build", "--ros2", LANDSHARK, "--controller", LANDSHARK_CTL, "-o", out)
+    assert run.returncode == 0, run.stderr
+    return out
+
+
+def test_a_ros2_build_folder_verifies_with_its_package(ros2_build):
+    run = pyrosgen("verify", ros2_build, "-q")
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert ("  ok      package   a ROS 2 build (target file as written by build --ros2): 14 files of the node "
+            "(the rcl wrapper, the ament_cmake package) rendered again from the proved model and equal") in run.stdout
+
+
+def test_verify_rebuild_compiles_the_ros2_node_again_bit_for_bit(ros2_build, tmp_path):
+    run = pyrosgen("verify", ros2_build, "-q", "--rebuild")
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert f"  ok      rebuild   bin/{NODE} rebuilt from the folder's files with the 4 recorded commands" in run.stdout
+    # a binary that is not what the commands build is refused
+    bad = tmp_path / "bad"
+    shutil.copytree(ros2_build, bad, symlinks=True)
+    b = bad / "bin" / NODE
+    data = bytearray(b.read_bytes())
+    data[-1] ^= 1
+    b.write_bytes(bytes(data))
+    _digests(bad, [f"bin/{NODE}"])
+    run = pyrosgen("verify", bad, "-q", "--rebuild")
+    assert run.returncode == 1 and "  FAILED  rebuild" in run.stdout, run.stdout + run.stderr
+
+
+# one byte, a dependency, a remap, a flag: each in the file it belongs to
+TAMPERINGS = {
+    "a byte of the wrapper": (RCL, "rcl_publish(", "rcl_publish ("),
+    "a byte of the package's wrapper": (f"{PKG}/src/{RCL}", "PYROSGEN_PERIOD_NS 20000000LL", "PYROSGEN_PERIOD_NS 20000001LL"),
+    "another dependency": (f"{PKG}/package.xml", "  <depend>rcl</depend>\n", "  <depend>rcl</depend>\n  <depend>rclcpp</depend>\n"),
+    "another remap": (f"{PKG}/launch/{NODE}.launch.xml", 'to="$(var topic_landshark_gps_velocity)"',
+                      'to="/spoofed/gps_velocity"'),
+    "a fast-math glue": (f"{PKG}/CMakeLists.txt", "-ffp-contract=off", "-ffast-math"),
+    "the wheels' rpath dropped": (f"{PKG}/CMakeLists.txt", '"LINKER:--disable-new-dtags"', '"LINKER:--enable-new-dtags"'),
+    "the API header": (f"{NODE}_ros.h", "void ros_rate_sleep(void);", "void ros_rate_sleep(void); void x(void);"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(TAMPERINGS))
+def test_a_tampered_ros2_file_is_refused(ros2_build, tmp_path, case):
+    name, old, new = TAMPERINGS[case]
+    bad = _tamper(ros2_build, tmp_path / "bad", name, old, new)
+    _refused(bad, name)
+
+
+def test_an_extra_file_in_the_ros2_package_is_refused(ros2_build, tmp_path):
+    bad = tmp_path / "bad"
+    shutil.copytree(ros2_build, bad, symlinks=True)
+    extra = bad / PKG / "include" / "rcl" / "rcl.h"
+    extra.parent.mkdir(parents=True)
+    extra.write_text("#error shadowed\n")
+    # not listed in the manifest, and listed: refused either way
+    _refused(bad, f"{PKG}/include/rcl/rcl.h")
+    m = bad / f"{NODE}.manifest.json"
+    data = json.loads(m.read_text())
+    data["files"][f"{PKG}/include/rcl/rcl.h"] = "0" * 64
+    m.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
+    _digests(bad, [f"{PKG}/include/rcl/rcl.h"])
+    run = pyrosgen("verify", bad, "-q")
+    assert run.returncode == 1 and "  ok      hashes" in run.stdout, run.stdout + run.stderr
+    assert f"  {PKG}/include/rcl/rcl.h: not a file of the node's package" in run.stdout.split("FAILED  package")[1]
+
+
+def test_a_ros2_build_record_of_another_maintainer_is_refused(ros2_build, tmp_path):
+    """The build record is what package.xml is rendered from: a record
+    changed under an unchanged package.xml does not render it."""
+    bad = tmp_path / "bad"
+    shutil.copytree(ros2_build, bad, symlinks=True)
+    m = bad / f"{NODE}.manifest.json"
+    data = json.loads(m.read_text())
+    data["build"]["package"]["maintainer"] = "Mallory <mallory@example.com>"
+    m.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
+    run = pyrosgen("verify", bad, "-q")
+    assert run.returncode == 1 and f"  {PKG}/package.xml: not rendered" in run.stdout, run.stdout + run.stderr
+    assert "Traceback" not in run.stderr
+
+
+def test_a_ros2_folder_without_its_build_record_is_refused(ros2_build, tmp_path):
+    bad = tmp_path / "bad"
+    shutil.copytree(ros2_build, bad, symlinks=True)
+    m = bad / f"{NODE}.manifest.json"
+    data = json.loads(m.read_text())
+    data["build"].pop("target")
+    m.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
+    run = pyrosgen("verify", bad, "-q")
+    assert run.returncode == 1 and "no ROS 2 build record" in run.stdout, run.stdout + run.stderr
