@@ -837,6 +837,25 @@ def _link_failure(model: NodeModel, ctl: ControllerDir, msg: str, status: int, o
     raise BuildToolError(f"linking {node} failed (exit status {status})", msg.splitlines())
 
 
+def finish_build(gen: GenerateResult, node: str, stage: Path, out_dir: Path, work: Path, cache: "_Cache",
+                 say: Callable[[str], None], record: dict, step: int = STEPS) -> list[tuple[Path, bool]]:
+    """The last step of both targets' builds: the manifest's build
+    ``record`` (what the package files are rendered from, the compile
+    commands), the certificate again, now covering what the build added
+    (the wrapper, the layout check, the controller, the package, the
+    binary; not ``obj/``), the stamp file, then everything installed into
+    ``out_dir``."""
+    gen.record.build = record
+    cert_files = set(certificate_files(node))
+    covered = [f for f in _all_files(stage) if not f.startswith("obj/") and f not in cert_files]
+    write_certificate(gen.record, stage, covered)
+    files = _all_files(stage) + [STAMP]
+    (stage / STAMP).write_text(cache.stamp(sorted(files)), encoding="utf-8")
+    say(f"[{step}/{step}] installing into {out_dir}")
+    return _install(stage, out_dir, cache.old_files, work / "backup", on_wait=lambda: say(
+        f"[{step}/{step}] waiting for another pyrosgen run writing into {out_dir}"))
+
+
 # -- the build ----------------------------------------------------------------------
 
 def build(model_path: str | Path, controller_dir: str | Path, out_dir: str | Path, *,
@@ -1037,19 +1056,9 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         # 8. link and install
         t = time.monotonic()
         comp.link(8, model, cxx, cxx_id, [*LDFLAGS, *opts.ldflags], [*pc_libs, *opts.libs, *LDLIBS])
-        commands = comp.commands
-        # the certificate again, now covering what the build added (the
-        # wrapper, the layout check, the controller, the catkin files, the binary)
         # what the catkin files are rendered from, and the compile commands
-        gen.record.build = {"package": package, "commands": commands}
-        cert_files = set(certificate_files(node))
-        covered = [f for f in _all_files(stage) if not f.startswith("obj/") and f not in cert_files]
-        write_certificate(gen.record, stage, covered)
-        files = _all_files(stage) + [STAMP]
-        (stage / STAMP).write_text(cache.stamp(sorted(files)), encoding="utf-8")
-        say(f"[8/{STEPS}] installing into {out_dir}")
-        installed = _install(stage, out_dir, cache.old_files, work / "backup", on_wait=lambda: say(
-            f"[8/{STEPS}] waiting for another pyrosgen run writing into {out_dir}"))
+        installed = finish_build(gen, node, stage, out_dir, work, cache, say,
+                                 {"package": package, "commands": comp.commands})
         times["link and install"] = time.monotonic() - t
     finally:
         if keep_work:

@@ -58,15 +58,13 @@ from pyrosgen.proof.modeltext import parse_model_text
 from pyrosgen.ros import layout
 from pyrosgen.ros import wrapper as ros
 from pyrosgen.ros.build import (
-    STAMP, BuildError, BuildToolError, ControllerOptions, NodeCompiler, _Cache, _all_files, _compiler_identity,
-    _existing_ancestor, _install, _shown_argv, _tool, check_build_request, controller_setup, copy_package_sources,
-    find_controller,
+    BuildError, ControllerOptions, NodeCompiler, _Cache, _compiler_identity, _existing_ancestor, _shown_argv, _tool,
+    check_build_request, controller_setup, copy_package_sources, find_controller, finish_build,
 )
 from pyrosgen.ros2.env import Ros2Install, find_ros2
 from pyrosgen.ros2.frontend import load_model_ros2
 from pyrosgen.ros2.package import ROS_PACKAGES, ros2_message_packages, ros2_package_paths, render_ros2_package_record
 from pyrosgen.ros2.wrapper import check_rcl_wrapper, render_rcl_wrapper, ros2_wrapper_files
-from pyrosgen.verify.certificate import certificate_files, write_certificate
 from pyrosgen.verify.wrapper_check import check_glue_externals
 
 __all__ = ["STEPS", "TARGET_TEXT", "Ros2BuildResult", "build_ros2", "link_flags"]
@@ -127,7 +125,7 @@ def build_ros2(model_path: str | Path, controller_dir: str | Path | None, out_di
         raise BuildError(f"cannot create a work directory in {base}: {exc.strerror or exc}") from None
     try:
         (work / "out").mkdir()
-        gen, files, installed, warnings, steps = _build_in(model, ctl, opts, diagram, inst, out_dir, work, say,
+        gen, installed, warnings, steps = _build_in(model, ctl, opts, diagram, inst, out_dir, work, say,
                                                           times, keep_work=keep_work, driver=driver, wp=wp)
     finally:
         if keep_work:
@@ -225,17 +223,10 @@ def _build_in(model, ctl, opts, diagram, inst, out_dir, work, say, times, *, kee
     comp.link(8, model, linker, cxx_id if linker is cxx else cc_id, ["-pthread", *opts.ldflags],
               [*link_flags(inst, pnode), *opts.libs, "-lm"], own_libs=(*ROS_PACKAGES, PYTHON_LIB))
     (stage / f"{node}.target").write_text(TARGET_TEXT, encoding="ascii")
-    gen.record.build = {"target": "ros2", "package": package, "commands": comp.commands}
-    cert_files = set(certificate_files(node))
-    covered = [f for f in _all_files(stage) if not f.startswith("obj/") and f not in cert_files]
-    write_certificate(gen.record, stage, covered)
-    files = _all_files(stage) + [STAMP]
-    (stage / STAMP).write_text(cache.stamp(sorted(files)), encoding="utf-8")
-    say(f"[8/{STEPS}] installing into {out_dir}")
-    installed = _install(stage, out_dir, cache.old_files, work / "backup", on_wait=lambda: say(
-        f"[8/{STEPS}] waiting for another pyrosgen run writing into {out_dir}"))
+    installed = finish_build(gen, node, stage, out_dir, work, cache, say,
+                             {"target": "ros2", "package": package, "commands": comp.commands}, STEPS)
     times["link and install"] = time.monotonic() - t
-    return gen, files, installed, warnings, steps
+    return gen, installed, warnings, steps
 
 
 def write_ros2_package(node: ros.ProvedNode, stage: Path, ctl, opts: ControllerOptions, user_includes: list[str],
