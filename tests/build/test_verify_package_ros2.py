@@ -117,3 +117,19 @@ def test_a_ros2_folder_without_its_build_record_is_refused(ros2_build, tmp_path)
     m.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
     run = pyrosgen("verify", bad, "-q")
     assert run.returncode == 1 and "no ROS 2 build record" in run.stdout, run.stdout + run.stderr
+
+
+def test_a_ros1_folder_built_again_for_ros2_holds_no_ros1_file(tmp_path):
+    """Both targets' builds keep one stamp file, so a ROS 2 build into a
+    folder of a ROS 1 build removes what only the ROS 1 build wrote (the
+    roscpp wrapper, the catkin launch file) and the folder verifies."""
+    out = tmp_path / "out"
+    run = pyrosgen("build", LANDSHARK, "--controller", LANDSHARK_CTL, "-o", out)
+    assert run.returncode == 0, run.stderr
+    assert (out / f"{NODE}_ros.cpp").is_file() and (out / PKG / "launch" / f"{NODE}.launch").is_file()
+    run = pyrosgen("build", "--ros2", LANDSHARK, "--controller", LANDSHARK_CTL, "-o", out)
+    assert run.returncode == 0, run.stderr
+    assert not (out / f"{NODE}_ros.cpp").exists() and not (out / PKG / "launch" / f"{NODE}.launch").exists()
+    assert (out / PKG / "launch" / f"{NODE}.launch.xml").is_file()
+    run = pyrosgen("verify", out, "-q")
+    assert run.returncode == 0, run.stdout + run.stderr
