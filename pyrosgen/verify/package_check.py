@@ -394,7 +394,8 @@ def _check_ros2_folder(folder: Path, rec: ProofRecord, files: dict[str, str], pr
     again from the proved model and the build record (by the functions
     ``build --ros2`` renders them with) and compared byte for byte, as for
     ROS 1; the package holds no other file, and the folder none of a ROS 1
-    build's (a ``.target`` cannot excuse them from the checks above); the
+    build's (a ``.target`` cannot excuse them from the checks above) nor a
+    second package (a ``package.xml`` or ``CMakeLists.txt`` elsewhere); the
     rcl wrapper check (``check_rcl_wrapper``) runs too, as defence in depth."""
     from pyrosgen.ros2.wrapper import Ros2WrapperMismatch, check_rcl_wrapper
 
@@ -415,6 +416,10 @@ def _check_ros2_folder(folder: Path, rec: ProofRecord, files: dict[str, str], pr
         nf = _ros2_node_files(pm, node, build["package"])
     except (MalformedModelText, ValueError, KeyError, TypeError) as exc:
         return Check("package", False, f"cannot render the node's files again: {exc}", list(problems))
+    pkg = ros.catkin_package_name(node)
+    for n in sorted(files):
+        if n.endswith(("package.xml", "CMakeLists.txt")) and not n.startswith(f"{pkg}/"):
+            problems.add(n, f"a package file outside the node's package {pkg}/ (a ROS 2 build writes one package)")
     failed = _check_node_files(folder, rec, files, pm, node, build, nf, problems)
     if failed is not None:
         return failed

@@ -94,6 +94,24 @@ def test_an_extra_file_in_the_ros2_package_is_refused(ros2_build, tmp_path):
     assert f"  {PKG}/include/rcl/rcl.h: not a file of the node's package" in run.stdout.split("FAILED  package")[1]
 
 
+def test_a_second_package_in_a_ros2_folder_is_refused(ros2_build, tmp_path):
+    """A ROS 2 build writes one package: another package.xml in the folder,
+    even listed in the manifest with its digest, is refused."""
+    bad = tmp_path / "bad"
+    shutil.copytree(ros2_build, bad, symlinks=True)
+    other = bad / "other_pkg" / "package.xml"
+    other.parent.mkdir()
+    shutil.copyfile(bad / PKG / "package.xml", other)
+    m = bad / f"{NODE}.manifest.json"
+    data = json.loads(m.read_text())
+    data["files"]["other_pkg/package.xml"] = "0" * 64
+    m.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
+    _digests(bad, ["other_pkg/package.xml"])
+    run = pyrosgen("verify", bad, "-q")
+    assert run.returncode == 1 and "  ok      hashes" in run.stdout, run.stdout + run.stderr
+    assert "  other_pkg/package.xml: a package file outside the node's package" in run.stdout, run.stdout
+
+
 def test_a_ros2_build_record_of_another_maintainer_is_refused(ros2_build, tmp_path):
     """The build record is what package.xml is rendered from: a record
     changed under an unchanged package.xml does not render it."""
