@@ -29,6 +29,13 @@ of what ``pyrosgen build`` and ``catkin`` compile to the same source:
   -fexcess-precision=standard`` and without any flag that changes
   floating-point semantics (:func:`pyrosgen.ros.build.check_flags`).
 
+A folder of ``build --ros2`` (its ``<node>.target``) is checked the same
+way (:func:`_check_node_files`, shared by both targets): the rcl wrapper
+``<node>_rcl.c`` and its header, rendered again by
+:func:`pyrosgen.ros2.wrapper.render_rcl_wrapper`, and the ament_cmake
+package (:mod:`pyrosgen.ros2.package`) in place of the roscpp wrapper and
+the catkin package; no custom message package.
+
 Every file is read through :func:`pyrosgen.verify.folder.read_file` (a
 relative name, a regular file, no link, bounded size).  The node binary is
 held by its recorded digest only.
