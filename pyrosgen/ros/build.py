@@ -555,12 +555,12 @@ class _Cache:
 
 # -- reusing the proof of the previous build ------------------------------------------
 
-def _proof_key(model: NodeModel, drv: CoqDriver) -> str | None:
+def _proof_key(model: NodeModel, drv: CoqDriver, target: str | None = None) -> str | None:
     """The digest of everything the proof folder is made from: the model
     file's name and bytes, the front end's reading of it (the model text,
     which holds every message type it uses, field by field), the library's
-    digest and pyrosgen's version.  A controller-only change leaves it
-    unchanged."""
+    digest, pyrosgen's version and the ``target`` (``None``: ROS 1).  A
+    controller-only change leaves it unchanged."""
     from pyrosgen import __version__
     from pyrosgen.proof.modeltext import model_text
 
@@ -568,12 +568,36 @@ def _proof_key(model: NodeModel, drv: CoqDriver) -> str | None:
     src = Path(model.source)
     try:
         parts = (b"pyrosgen-proof-1", __version__.encode(), drv.library_digest().encode(), src.name.encode(),
-                 src.read_bytes() if src.is_file() else b"", model_text(model).encode())
+                 src.read_bytes() if src.is_file() else b"", model_text(model).encode(),
+                 *((f"target {target}".encode(),) if target else ()))
     except OSError:
         return None  # no library, an unreadable model file: generate proves (and says what is wrong)
     for part in parts:
         h.update(_sha(part).encode())
     return h.hexdigest()
+
+
+def prove(model: NodeModel, out_dir: Path, stage: Path, cache: "_Cache", say: Callable[[str], None], *,
+          keep_work: bool, driver, wp: bool, msg_root: Path | None = None, target: str | None = None,
+          steps: int = STEPS) -> GenerateResult:
+    """Step 2 of both targets' builds: the proof of the previous build in
+    ``OUT`` when the model, its messages, the library, pyrosgen and the
+    ``target`` are unchanged (a controller-only change), else the pipeline
+    of :mod:`pyrosgen.generate` into ``stage`` (``msg_root``: the target's
+    standard ``.msg`` files for the second reading)."""
+
+    def sub(line: str) -> None:
+        say(f"[2/{steps}] generate: " + re.sub(r"^\[\d+/\d+\] ", "", line).replace(str(stage), str(out_dir)))
+
+    drv = driver or CoqDriver()
+    cache.proof = _proof_key(model, drv, target)
+    gen = None if wp or cache.proof is None else _reuse_proof(model, out_dir, stage, cache, cache.proof)
+    if gen is not None:
+        say(f"[2/{steps}] generate: proof reused from {out_dir} (the model, its messages, the library "
+            "and pyrosgen are unchanged)")
+        return gen
+    return generate_model(model, stage, progress=sub, keep_work=keep_work, driver=drv, wp=wp,
+                          **({"msg_root": msg_root} if msg_root is not None else {}))
 
 
 def _reuse_proof(model: NodeModel, out_dir: Path, stage: Path, cache: "_Cache", key: str) -> GenerateResult | None:
@@ -949,19 +973,7 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         # 2. generate (its own steps, as sub-steps)
         t = time.monotonic()
 
-        def sub(line: str) -> None:
-            say(f"[2/{STEPS}] generate: " + re.sub(r"^\[\d+/\d+\] ", "", line).replace(str(stage), str(out_dir)))
-
-        # the proof of the previous build, when the model, its messages, the
-        # library and pyrosgen are unchanged (a controller-only change)
-        drv = driver or CoqDriver()
-        cache.proof = _proof_key(model, drv)
-        gen = None if wp or cache.proof is None else _reuse_proof(model, out_dir, stage, cache, cache.proof)
-        if gen is not None:
-            say(f"[2/{STEPS}] generate: proof reused from {out_dir} (the model, its messages, the library "
-                "and pyrosgen are unchanged)")
-        else:
-            gen = generate_model(model, stage, progress=sub, keep_work=keep_work, driver=drv, wp=wp)
+        gen = prove(model, out_dir, stage, cache, say, keep_work=keep_work, driver=driver, wp=wp)
         times["generate"] = time.monotonic() - t
         types_h = (stage / names.types_header).read_text(encoding="ascii")
         if diagram:

@@ -9,7 +9,9 @@ The steps (each one progress line):
    2's message definitions (:func:`pyrosgen.ros2.frontend.load_model_ros2`,
    rule 4.17), the controller folder;
 2. generate: the pipeline of :mod:`pyrosgen.generate` (coqc proves the
-   node's DDC theorem on the ROS 2 message structs, Coq prints the C);
+   node's DDC theorem on the ROS 2 message structs, Coq prints the C), or
+   the previous build's proof in ``OUT`` when nothing it is made from
+   changed (:func:`pyrosgen.ros.build.prove`, the target in its key);
 3. wrapper: the C API over rcl rendered from the model Coq printed
    (:func:`pyrosgen.ros2.wrapper.render_rcl_wrapper`), held to it by
    :func:`pyrosgen.ros2.wrapper.check_rcl_wrapper` and the glue's externals
@@ -42,7 +44,6 @@ every step succeeded (the ROS 1 build's installer).
 
 from __future__ import annotations
 
-import re
 import shutil
 import sys
 import tempfile
@@ -52,14 +53,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from pyrosgen.frontend.model import NodeModel
-from pyrosgen.generate import GenerateResult, generate_model
+from pyrosgen.generate import GenerateResult
 from pyrosgen.proof.coqmodel import node_file_names
 from pyrosgen.proof.modeltext import parse_model_text
 from pyrosgen.ros import layout
 from pyrosgen.ros import wrapper as ros
 from pyrosgen.ros.build import (
     BuildError, ControllerOptions, NodeCompiler, _Cache, _compiler_identity, _existing_ancestor, _shown_argv, _tool,
-    check_build_request, controller_setup, copy_package_sources, find_controller, finish_build,
+    check_build_request, controller_setup, copy_package_sources, find_controller, finish_build, prove,
 )
 from pyrosgen.ros2.env import Ros2Install, find_ros2
 from pyrosgen.ros2.frontend import load_model_ros2
@@ -145,12 +146,9 @@ def _build_in(model, ctl, opts, diagram, inst, out_dir, work, say, times, *, kee
     glue_c, check_c = f"{node}_glue.c", f"{node}_layout_check.c"
     cc, cxx = _tool("CC", "gcc"), _tool("CXX", "g++")
     t = time.monotonic()
-
-    def sub(line: str) -> None:
-        say(f"[2/{STEPS}] generate: " + re.sub(r"^\[\d+/\d+\] ", "", line).replace(str(stage), str(out_dir)))
-
-    gen = generate_model(model, stage, progress=sub, keep_work=keep_work, driver=driver, wp=wp,
-                         msg_root=inst.share_dir)
+    cache = _Cache(out_dir)
+    gen = prove(model, out_dir, stage, cache, say, keep_work=keep_work, driver=driver, wp=wp,
+                msg_root=inst.share_dir, target="ros2", steps=STEPS)
     times["generate"] = time.monotonic() - t
     types_h = (stage / names.types_header).read_text(encoding="ascii")
     # the wrapper, the layout check and the package files are rendered from
@@ -195,7 +193,6 @@ def _build_in(model, ctl, opts, diagram, inst, out_dir, work, say, times, *, kee
         "types_header": stage / names.types_header, "api_header": stage / names.api_header}, generated=diagram)
     times["layout check"] = time.monotonic() - t
 
-    cache = _Cache(out_dir)
     steps: list[tuple[str, bool]] = []
     cc_id, cxx_id = _compiler_identity(cc), _compiler_identity(cxx)
     ref = str(work / "layout-reference")

@@ -147,7 +147,23 @@ def test_a_ros1_folder_built_again_for_ros2_holds_no_ros1_file(tmp_path):
     assert (out / f"{NODE}_ros.cpp").is_file() and (out / PKG / "launch" / f"{NODE}.launch").is_file()
     run = pyrosgen("build", "--ros2", LANDSHARK, "--controller", LANDSHARK_CTL, "-o", out)
     assert run.returncode == 0, run.stderr
+    assert "proof reused" not in run.stderr  # the ROS 1 proof is not the ROS 2 one
     assert not (out / f"{NODE}_ros.cpp").exists() and not (out / PKG / "launch" / f"{NODE}.launch").exists()
     assert (out / PKG / "launch" / f"{NODE}.launch.xml").is_file()
     run = pyrosgen("verify", out, "-q")
+    assert run.returncode == 0, run.stdout + run.stderr
+
+
+def test_a_second_ros2_build_reuses_the_proof_and_the_objects(ros2_build, tmp_path):
+    """As for ROS 1: building again into the folder reuses the proof and
+    every object and the binary (the same inputs), and the folder still
+    verifies, the binary too (--rebuild)."""
+    out = tmp_path / "again"
+    shutil.copytree(ros2_build, out, symlinks=True)
+    run = pyrosgen("build", "--ros2", LANDSHARK, "--controller", LANDSHARK_CTL, "-o", out)
+    assert run.returncode == 0, run.stderr
+    assert "generate: proof reused from" in run.stderr, run.stderr
+    assert run.stderr.count("unchanged, reusing obj/") == 3 and f"objects unchanged, reusing bin/{NODE}" in run.stderr
+    assert "  files     0 written" in run.stdout, run.stdout
+    run = pyrosgen("verify", out, "-q", "--rebuild")
     assert run.returncode == 0, run.stdout + run.stderr
