@@ -729,6 +729,34 @@ def _install_files(stage: Path, out_dir: Path, files: list[str], old_files: list
     return result
 
 
+def proved_node_of(gen: GenerateResult, model: NodeModel):
+    """The proved model and node (:func:`pyrosgen.ros.wrapper.proved_node`)
+    of a proof, which both targets render their files from; checked equal
+    to the front end's ``model`` (messages and controller structs)."""
+    proved = parse_model_text(gen.proved_model)
+    pnode = ros.proved_node(proved, gen.record.source_name)
+    if (pnode.messages != tuple(model.messages) or pnode.controller.inputs != model.controller.inputs
+            or pnode.controller.outputs != model.controller.outputs):
+        raise BuildToolError("the proved model's messages or controller structs are not the front end's "
+                             "(a pyrosgen bug: the model texts were compared equal)")
+    return proved, pnode
+
+
+def write_wrapper(stage: Path, glue_c: str, api_header: str, api_source: str, texts: dict[str, str],
+                  check_source: Callable[[str, str], None]) -> None:
+    """Write the wrapper files ``texts`` (by name) into ``stage``: the
+    source held to the proved model by ``check_source(text, name)``, the
+    header's functions to the glue's externals (the ROS functions the glue
+    calls, with the glue's C types)."""
+    for fname, text in texts.items():
+        if fname == api_source:
+            check_source(text, fname)
+        if fname == api_header:
+            check_glue_externals((stage / glue_c).read_text(encoding="utf-8"), text,
+                                 glue_name=glue_c, header_name=fname)
+        (stage / fname).write_text(text, encoding="ascii")
+
+
 # -- compiling and linking a node (both targets) -----------------------------------------
 
 class NodeCompiler:
@@ -993,23 +1021,12 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         # 3. wrapper, custom messages, controller copy, catkin files
         say(f"[3/{STEPS}] wrapper: C API over roscpp, gencpp, catkin package")
         t = time.monotonic()
-        proved = parse_model_text(gen.proved_model)
         # the wrapper, the layout check and the catkin files are rendered
         # from the proved model alone (verify renders them again from it)
-        pnode = ros.proved_node(proved, gen.record.source_name)
-        if (pnode.messages != tuple(model.messages) or pnode.controller.inputs != model.controller.inputs
-                or pnode.controller.outputs != model.controller.outputs):
-            raise BuildToolError("the proved model's messages or controller structs are not the front end's "
-                                 "(a pyrosgen bug: the model texts were compared equal)")
-        for fname, text in ros.render_wrapper(pnode).items():
-            if fname == names.api_source:
-                # The node registers and sleeps as the proved model says.
-                check_wrapper(text, gen.proved_model, wrapper_name=fname)
-            if fname == names.api_header:
-                # The ROS functions the glue calls, with the glue's C types.
-                check_glue_externals((stage / glue_c).read_text(encoding="utf-8"), text,
-                                     glue_name=glue_c, header_name=fname)
-            (stage / fname).write_text(text, encoding="ascii")
+        _, pnode = proved_node_of(gen, model)
+        # The node registers and sleeps as the proved model says.
+        write_wrapper(stage, glue_c, names.api_header, names.api_source, ros.render_wrapper(pnode),
+                      lambda text, fname: check_wrapper(text, gen.proved_model, wrapper_name=fname))
         include = stage / "include"
         try:
             custom_headers = ros.generate_custom_cpp(model, include)

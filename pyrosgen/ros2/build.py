@@ -55,18 +55,17 @@ from pathlib import Path
 from pyrosgen.frontend.model import NodeModel
 from pyrosgen.generate import GenerateResult
 from pyrosgen.proof.coqmodel import node_file_names
-from pyrosgen.proof.modeltext import parse_model_text
 from pyrosgen.ros import layout
 from pyrosgen.ros import wrapper as ros
 from pyrosgen.ros.build import (
     BuildError, ControllerOptions, NodeCompiler, _Cache, _compiler_identity, _existing_ancestor, _shown_argv, _tool,
-    check_build_request, controller_setup, copy_package_sources, find_controller, finish_build, prove,
+    check_build_request, controller_setup, copy_package_sources, find_controller, finish_build, prove, proved_node_of,
+    write_wrapper,
 )
 from pyrosgen.ros2.env import Ros2Install, find_ros2
 from pyrosgen.ros2.frontend import load_model_ros2
 from pyrosgen.ros2.package import ROS_PACKAGES, ros2_message_packages, ros2_package_paths, render_ros2_package_record
 from pyrosgen.ros2.wrapper import check_rcl_wrapper, render_rcl_wrapper, ros2_wrapper_files
-from pyrosgen.verify.wrapper_check import check_glue_externals
 
 __all__ = ["STEPS", "TARGET_TEXT", "Ros2BuildResult", "build_ros2", "link_flags"]
 
@@ -153,8 +152,7 @@ def _build_in(model, ctl, opts, diagram, inst, out_dir, work, say, times, *, kee
     types_h = (stage / names.types_header).read_text(encoding="ascii")
     # the wrapper, the layout check and the package files are rendered from
     # the proved model alone (verify renders them again from it)
-    proved = parse_model_text(gen.proved_model)
-    pnode = ros.proved_node(proved, gen.record.source_name)
+    proved, pnode = proved_node_of(gen, model)
     if diagram:
         cdir = work / "controller"
         cdir.mkdir()
@@ -168,13 +166,8 @@ def _build_in(model, ctl, opts, diagram, inst, out_dir, work, say, times, *, kee
     # 3. the rcl wrapper, from the model Coq printed; the controller's copy
     say(f"[3/{STEPS}] wrapper: C API over rcl ({names.api_source})")
     t = time.monotonic()
-    for fname, text in render_rcl_wrapper(pnode, proved).items():
-        if fname == names.api_source:
-            check_rcl_wrapper(text, gen.proved_model, wrapper_name=fname)
-        if fname == names.api_header:
-            check_glue_externals((stage / glue_c).read_text(encoding="utf-8"), text,
-                                 glue_name=glue_c, header_name=fname)
-        (stage / fname).write_text(text, encoding="ascii")
+    write_wrapper(stage, glue_c, names.api_header, names.api_source, render_rcl_wrapper(pnode, proved),
+                  lambda text, fname: check_rcl_wrapper(text, gen.proved_model, wrapper_name=fname))
     (stage / "controller").mkdir()
     for p in ctl.files:
         dest = stage / "controller" / ctl.rel(p)
