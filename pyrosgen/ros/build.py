@@ -388,6 +388,23 @@ def find_controller(model: NodeModel, directory: str | Path,
     return ControllerDir(d, header, tuple(sources), tuple(files), tuple(includes), tuple(left_out))
 
 
+def controller_setup(model: NodeModel, ctl: ControllerDir,
+                     opts: ControllerOptions) -> tuple[list[str], list[str], list[str]]:
+    """The notes on the controller folder (sources left out, a base rate
+    that is not the model's period), the ``--include`` folders (absolute)
+    and the ``-I`` options of the controller's compile commands."""
+    warnings = [f"pyrosgen: note: {p}: left out of the build: {why}" for p, why in ctl.left_out]
+    # the base rate the controller was generated for, as init reads it (ert_main.c too)
+    rate, where, _ = find_period(ctl.path, [ctl.header, *(p for p in ctl.files if p != ctl.header)])
+    if rate is not None and rate != model.period_ms:
+        warnings.append(f"pyrosgen: note: the node steps the controller every {model.period_ms} ms "
+                        f"(period_ms), but it was generated for {rate} ms ({where})")
+    user_includes = [str(Path(i) if Path(i).is_absolute() else (ctl.path / i).absolute()) for i in opts.includes]
+    ctl_includes = [a for inc in ctl.include_dirs for a in ("-I", str(inc.absolute()))] + \
+        [a for inc in user_includes for a in ("-I", inc)]
+    return warnings, user_includes, ctl_includes
+
+
 def write_catkin_packages(model: NodeModel, node: ros.ProvedNode, stage: Path, ctl: ControllerDir,
                           opts: ControllerOptions, user_includes: list[str], sources: dict[str, Path],
                           generated: bool = False) -> dict:
@@ -401,24 +418,10 @@ def write_catkin_packages(model: NodeModel, node: ros.ProvedNode, stage: Path, c
     message package (``message_generation``) for each package of custom
     messages of the front end's ``model``."""
     pkg_dir = stage / ros.catkin_package_name(node)
-    paths = ros.catkin_paths(node)
-    for key, src in sources.items():
-        dest = pkg_dir / paths[key]
-        dest.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(src, dest)
-    for p in ctl.files:
-        dest = pkg_dir / "controller" / ctl.rel(p)
-        dest.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(p, dest)
-    ctl_c = [f"controller/{ctl.rel(p)}" for p in ctl.sources if p.suffix in C_SUFFIXES]
-    ctl_cxx = [f"controller/{ctl.rel(p)}" for p in ctl.sources if p.suffix in CXX_SUFFIXES]
-    include_dirs = ["include"] + ["controller" if inc == ctl.path else
-                                  f"controller/{inc.relative_to(ctl.path).as_posix()}" for inc in ctl.include_dirs]
+    include_dirs, controller = copy_package_sources(pkg_dir, ros.catkin_paths(node), sources, ctl, opts,
+                                                    user_includes, generated)
     custom = ros.custom_message_packages(model)
-    record = ros.package_record(include_dirs, ros.CatkinController(
-        c_sources=ctl_c, cxx_sources=ctl_cxx, std=opts.std, cflags=list(opts.cflags),
-        cxxflags=list(opts.cxxflags), includes=user_includes, ldflags=list(opts.ldflags), libs=list(opts.libs),
-        generated=generated), sorted(custom), opts.maintainer)
+    record = ros.package_record(include_dirs, controller, sorted(custom), opts.maintainer)
     texts = ros.render_package_record(node, record)
     for pkg, msg_dir in sorted(custom.items()):
         msgs = {f.name: f.read_text(encoding="utf-8", errors="replace") for f in sorted(msg_dir.glob("*.msg"))}
@@ -433,6 +436,31 @@ def write_catkin_packages(model: NodeModel, node: ros.ProvedNode, stage: Path, c
         for f in sorted(msg_dir.glob("*.msg")):
             shutil.copyfile(f, stage / pkg / "msg" / f.name)
     return record
+
+
+def copy_package_sources(pkg_dir: Path, paths: dict[str, str], sources: dict[str, Path], ctl: ControllerDir,
+                         opts: ControllerOptions, user_includes: list[str],
+                         generated: bool) -> tuple[list[str], ros.CatkinController]:
+    """Copy a node package's sources into ``pkg_dir`` (catkin's or ROS 2's):
+    each of ``sources`` (by key) to its package-relative path in ``paths``,
+    the controller's files under ``controller/``; return the package's
+    include folders and how it compiles the controller (as this build does)."""
+    for key, src in sources.items():
+        dest = pkg_dir / paths[key]
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(src, dest)
+    for p in ctl.files:
+        dest = pkg_dir / "controller" / ctl.rel(p)
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(p, dest)
+    ctl_c = [f"controller/{ctl.rel(p)}" for p in ctl.sources if p.suffix in C_SUFFIXES]
+    ctl_cxx = [f"controller/{ctl.rel(p)}" for p in ctl.sources if p.suffix in CXX_SUFFIXES]
+    include_dirs = ["include"] + ["controller" if inc == ctl.path else
+                                  f"controller/{inc.relative_to(ctl.path).as_posix()}" for inc in ctl.include_dirs]
+    return include_dirs, ros.CatkinController(
+        c_sources=ctl_c, cxx_sources=ctl_cxx, std=opts.std, cflags=list(opts.cflags),
+        cxxflags=list(opts.cxxflags), includes=user_includes, ldflags=list(opts.ldflags), libs=list(opts.libs),
+        generated=generated)
 
 
 #: The option that maps a folder's name in what the compiler writes into the
@@ -527,12 +555,12 @@ class _Cache:
 
 # -- reusing the proof of the previous build ------------------------------------------
 
-def _proof_key(model: NodeModel, drv: CoqDriver) -> str | None:
+def _proof_key(model: NodeModel, drv: CoqDriver, target: str | None = None) -> str | None:
     """The digest of everything the proof folder is made from: the model
     file's name and bytes, the front end's reading of it (the model text,
     which holds every message type it uses, field by field), the library's
-    digest and pyrosgen's version.  A controller-only change leaves it
-    unchanged."""
+    digest, pyrosgen's version and the ``target`` (``None``: ROS 1).  A
+    controller-only change leaves it unchanged."""
     from pyrosgen import __version__
     from pyrosgen.proof.modeltext import model_text
 
@@ -540,12 +568,36 @@ def _proof_key(model: NodeModel, drv: CoqDriver) -> str | None:
     src = Path(model.source)
     try:
         parts = (b"pyrosgen-proof-1", __version__.encode(), drv.library_digest().encode(), src.name.encode(),
-                 src.read_bytes() if src.is_file() else b"", model_text(model).encode())
+                 src.read_bytes() if src.is_file() else b"", model_text(model).encode(),
+                 *((f"target {target}".encode(),) if target else ()))
     except OSError:
         return None  # no library, an unreadable model file: generate proves (and says what is wrong)
     for part in parts:
         h.update(_sha(part).encode())
     return h.hexdigest()
+
+
+def prove(model: NodeModel, out_dir: Path, stage: Path, cache: "_Cache", say: Callable[[str], None], *,
+          keep_work: bool, driver, wp: bool, msg_root: Path | None = None, target: str | None = None,
+          steps: int = STEPS) -> GenerateResult:
+    """Step 2 of both targets' builds: the proof of the previous build in
+    ``OUT`` when the model, its messages, the library, pyrosgen and the
+    ``target`` are unchanged (a controller-only change), else the pipeline
+    of :mod:`pyrosgen.generate` into ``stage`` (``msg_root``: the target's
+    standard ``.msg`` files for the second reading)."""
+
+    def sub(line: str) -> None:
+        say(f"[2/{steps}] generate: " + re.sub(r"^\[\d+/\d+\] ", "", line).replace(str(stage), str(out_dir)))
+
+    drv = driver or CoqDriver()
+    cache.proof = _proof_key(model, drv, target)
+    gen = None if wp or cache.proof is None else _reuse_proof(model, out_dir, stage, cache, cache.proof)
+    if gen is not None:
+        say(f"[2/{steps}] generate: proof reused from {out_dir} (the model, its messages, the library "
+            "and pyrosgen are unchanged)")
+        return gen
+    return generate_model(model, stage, progress=sub, keep_work=keep_work, driver=drv, wp=wp,
+                          **({"msg_root": msg_root} if msg_root is not None else {}))
 
 
 def _reuse_proof(model: NodeModel, out_dir: Path, stage: Path, cache: "_Cache", key: str) -> GenerateResult | None:
@@ -677,6 +729,185 @@ def _install_files(stage: Path, out_dir: Path, files: list[str], old_files: list
     return result
 
 
+def proved_node_of(gen: GenerateResult, model: NodeModel):
+    """The proved model and node (:func:`pyrosgen.ros.wrapper.proved_node`)
+    of a proof, which both targets render their files from; checked equal
+    to the front end's ``model`` (messages and controller structs)."""
+    proved = parse_model_text(gen.proved_model)
+    pnode = ros.proved_node(proved, gen.record.source_name)
+    if (pnode.messages != tuple(model.messages) or pnode.controller.inputs != model.controller.inputs
+            or pnode.controller.outputs != model.controller.outputs):
+        raise BuildToolError("the proved model's messages or controller structs are not the front end's "
+                             "(a pyrosgen bug: the model texts were compared equal)")
+    return proved, pnode
+
+
+def write_wrapper(stage: Path, glue_c: str, api_header: str, api_source: str, texts: dict[str, str],
+                  check_source: Callable[[str, str], None]) -> None:
+    """Write the wrapper files ``texts`` (by name) into ``stage``: the
+    source held to the proved model by ``check_source(text, name)``, the
+    header's functions to the glue's externals (the ROS functions the glue
+    calls, with the glue's C types)."""
+    for fname, text in texts.items():
+        if fname == api_source:
+            check_source(text, fname)
+        if fname == api_header:
+            check_glue_externals((stage / glue_c).read_text(encoding="utf-8"), text,
+                                 glue_name=glue_c, header_name=fname)
+        (stage / fname).write_text(text, encoding="ascii")
+
+
+# -- compiling and linking a node (both targets) -----------------------------------------
+
+class NodeCompiler:
+    """The compile and link steps of a node, shared by the ROS 1 build and
+    the ROS 2 build (:mod:`pyrosgen.ros2.build`): each command made
+    reproducible (:func:`_reproducible`) and recorded as the certificate
+    shows it (``commands``, the manifest's ``build.commands``, which
+    ``verify --rebuild`` runs again), an object and the binary reused from
+    the previous build in ``OUT`` when the hash of everything they are made
+    from is unchanged (:class:`_Cache`), a failure classified: the user's
+    controller (:class:`ControllerError`, exit 1) or generated code
+    (:class:`BuildToolError`, exit 2).  Objects go to ``stage/obj``."""
+
+    def __init__(self, stage: Path, out_dir: Path, ctl: ControllerDir, cache: "_Cache",
+                 say: Callable[[str], None], warnings: list[str], steps: list[tuple[str, bool]],
+                 commands: list[list[str]] | None = None, total: int = STEPS):
+        self.stage, self.out_dir, self.ctl, self.cache, self.say = stage, out_dir, ctl, cache, say
+        self.warnings, self.steps, self.total = warnings, steps, total
+        self.commands: list[list[str]] = list(commands or [])
+        self.objects: list[Path] = []
+        self.keys: list[str] = []
+        self.obj = stage / "obj"
+        self.obj.mkdir(exist_ok=True)
+
+    def _shown(self, text: str) -> str:
+        return text.replace(str(self.stage), str(self.out_dir))
+
+    def compile(self, step: int, what: str, tool: list[str], ident: str, flags: Sequence[str],
+                src: Path, out_name: str, inputs: Sequence[Path], user: bool) -> None:
+        """Compile ``src`` into ``obj/out_name`` (or reuse it); ``user``: a
+        source of the controller (its errors are the user's, its warnings
+        shown)."""
+        out = self.obj / out_name
+        ctl_path = self.ctl.path
+        argv = _reproducible([*tool, *flags, "-c", str(src), "-o", str(out)], self.stage,
+                             ctl_path if user else None, compile=True)
+        self.commands.append(_shown_argv(argv, self.stage, ctl_path))
+        key = _key(argv, self.stage, ident, [src, *inputs])
+        self.keys.append(key)
+        self.objects.append(out)
+        if self.cache.reuse(f"obj/{out_name}", key, out):
+            self.say(f"[{step}/{self.total}] {what}: {src.name} unchanged, reusing obj/{out_name}")
+            self.steps.append((f"obj/{out_name}", False))
+            return
+        self.say(f"[{step}/{self.total}] {what}: {' '.join(tool)} {src.name}")
+        r = _run(argv, f"compiling {src.name}", cwd=self.stage)
+        if r.returncode != 0:
+            msg = _clip(self._shown(r.stderr + r.stdout))
+            if user:
+                raise ControllerError(f"{ctl_path / src.name}: error: the controller source does not compile "
+                                      f"({' '.join(tool)} exit status {r.returncode})", msg.splitlines())
+            raise BuildToolError(f"{' '.join(tool)} failed on generated code {self.out_dir / src.name} "
+                                 f"(exit status {r.returncode})", msg.splitlines())
+        if user and (r.stderr.strip() or r.stdout.strip()):
+            self.warnings.extend(_clip(r.stderr + r.stdout).splitlines())
+        self.steps.append((f"obj/{out_name}", True))
+
+    def compile_controller(self, step: int, cc: tuple[list[str], str], cxx: tuple[list[str], str],
+                           opts: ControllerOptions, ctl_includes: list[str], *, generated: bool) -> None:
+        """Every source of the controller: C with ``-std=<--std>``,
+        :data:`CONTROLLER_CFLAGS`, ``--cflags`` (and, when ``generated``
+        from a block diagram, the IEEE flags after them), C++ with
+        :data:`CONTROLLER_CXXFLAGS` and ``--cxxflags``; ``-I`` each folder
+        holding headers and each ``--include``."""
+        ctl = self.ctl
+        for src in ctl.sources:
+            cxx_src = src.suffix in CXX_SUFFIXES
+            flags = ([*CONTROLLER_CXXFLAGS, *opts.cxxflags] if cxx_src else
+                     [f"-std={opts.std}", *CONTROLLER_CFLAGS, *opts.cflags,
+                      *(ros.IEEE_CFLAGS if generated else ())]) + ctl_includes
+            tool, ident = cxx if cxx_src else cc
+            self.compile(step, "compile controller", tool, ident, flags, src.absolute(), _controller_object(ctl, src),
+                         [p.absolute() for p in ctl.files if p != src], user=True)
+
+    def link(self, step: int, model: NodeModel, tool: list[str], ident: str, before: Sequence[str],
+             after: Sequence[str], own_libs: Sequence[str] = ()) -> Path:
+        """Link ``bin/<node>``: ``tool before OBJECTS -o bin/<node> after``
+        (or reuse it); a failure the controller causes (a symbol it does not
+        define, ``main`` twice, a library of ``--libs`` not found: any
+        ``-l`` but ``own_libs``) is the user's."""
+        node = model.name
+        (self.stage / "bin").mkdir(exist_ok=True)
+        binary = self.stage / "bin" / node
+        argv = _reproducible([*tool, *before, *(str(o) for o in self.objects), "-o", str(binary), *after],
+                             self.stage, None, compile=False)
+        self.commands.append(_shown_argv(argv, self.stage, self.ctl.path))
+        key = _key(argv, self.stage, ident, [], extra=self.keys)
+        if self.cache.reuse(f"bin/{node}", key, binary):
+            self.say(f"[{step}/{self.total}] link: objects unchanged, reusing bin/{node}")
+            self.steps.append((f"bin/{node}", False))
+            return binary
+        self.say(f"[{step}/{self.total}] link: bin/{node}")
+        r = _run(argv, f"linking {node}", cwd=self.stage)
+        if r.returncode != 0:
+            _link_failure(model, self.ctl, _clip(self._shown(r.stderr + r.stdout)), r.returncode, own_libs)
+        self.steps.append((f"bin/{node}", True))
+        return binary
+
+
+def _controller_object(ctl: ControllerDir, src: Path) -> str:
+    return "controller_" + ctl.rel(src).replace("/", "__").rsplit(".", 1)[0] + ".o"
+
+
+def _link_failure(model: NodeModel, ctl: ControllerDir, msg: str, status: int, own_libs: Sequence[str]):
+    """Raise the error of a failed link: the controller's (exit 1) when it
+    is at fault, else :class:`BuildToolError`."""
+    node = model.name
+    # An undefined controller symbol is the user's; anything else is ours.
+    ctl_names = (model.controller.step_fn, model.controller.initialize_fn,
+                 model.controller.inputs.var_name, model.controller.outputs.var_name)
+    if any(f"undefined reference to `{n}'" in msg for n in ctl_names):
+        raise ControllerError(f"{ctl.path}: error: the controller does not define what "
+                              "the glue uses", msg.splitlines())
+    # a link error in the controller's objects (a symbol defined twice, a
+    # library missing) is the user's too: name the source at fault
+    at_fault = [src for src in ctl.sources if _controller_object(ctl, src) in msg]
+    if "multiple definition of `main'" in msg:
+        where = ", ".join(str(p) for p in at_fault) or str(ctl.path)
+        raise ControllerError(
+            f"{where}: error: the controller defines main, and so does the node (exit status "
+            f"{status}); pyrosgen leaves out a source that defines main, but did not "
+            "recognise this definition: move that main out of the controller folder (a file "
+            "of its own outside it, or under #ifndef PYROSGEN_NODE with --cflags=-DPYROSGEN_NODE)",
+            msg.splitlines())
+    missing_own = any(f"cannot find -l{lib}" in msg for lib in own_libs)
+    if at_fault or "cannot find -l" in msg and not missing_own:
+        where = ", ".join(str(p) for p in at_fault) or str(ctl.path)
+        raise ControllerError(f"{where}: error: the controller does not link (exit status "
+                              f"{status})", msg.splitlines())
+    raise BuildToolError(f"linking {node} failed (exit status {status})", msg.splitlines())
+
+
+def finish_build(gen: GenerateResult, node: str, stage: Path, out_dir: Path, work: Path, cache: "_Cache",
+                 say: Callable[[str], None], record: dict, step: int = STEPS) -> list[tuple[Path, bool]]:
+    """The last step of both targets' builds: the manifest's build
+    ``record`` (what the package files are rendered from, the compile
+    commands), the certificate again, now covering what the build added
+    (the wrapper, the layout check, the controller, the package, the
+    binary; not ``obj/``), the stamp file, then everything installed into
+    ``out_dir``."""
+    gen.record.build = record
+    cert_files = set(certificate_files(node))
+    covered = [f for f in _all_files(stage) if not f.startswith("obj/") and f not in cert_files]
+    write_certificate(gen.record, stage, covered)
+    files = _all_files(stage) + [STAMP]
+    (stage / STAMP).write_text(cache.stamp(sorted(files)), encoding="utf-8")
+    say(f"[{step}/{step}] installing into {out_dir}")
+    return _install(stage, out_dir, cache.old_files, work / "backup", on_wait=lambda: say(
+        f"[{step}/{step}] waiting for another pyrosgen run writing into {out_dir}"))
+
+
 # -- the build ----------------------------------------------------------------------
 
 def build(model_path: str | Path, controller_dir: str | Path, out_dir: str | Path, *,
@@ -759,20 +990,8 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
     stage = work / "out"
     cache = _Cache(out_dir)
     steps: list[tuple[str, bool]] = []
-    def controller_setup(ctl: ControllerDir) -> tuple[list[str], list[str], list[str]]:
-        warnings = [f"pyrosgen: note: {p}: left out of the build: {why}" for p, why in ctl.left_out]
-        # the base rate the controller was generated for, as init reads it (ert_main.c too)
-        rate, where, _ = find_period(ctl.path, [ctl.header, *(p for p in ctl.files if p != ctl.header)])
-        if rate is not None and rate != model.period_ms:
-            warnings.append(f"pyrosgen: note: the node steps the controller every {model.period_ms} ms "
-                            f"(period_ms), but it was generated for {rate} ms ({where})")
-        user_includes = [str(Path(i) if Path(i).is_absolute() else (ctl.path / i).absolute()) for i in opts.includes]
-        ctl_includes = [a for inc in ctl.include_dirs for a in ("-I", str(inc.absolute()))] + \
-            [a for inc in user_includes for a in ("-I", inc)]
-        return warnings, user_includes, ctl_includes
-
     if ctl is not None:
-        warnings, user_includes, ctl_includes = controller_setup(ctl)
+        warnings, user_includes, ctl_includes = controller_setup(model, ctl, opts)
 
     def shown(text: str) -> str:
         return text.replace(str(stage), str(out_dir))
@@ -782,19 +1001,7 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
         # 2. generate (its own steps, as sub-steps)
         t = time.monotonic()
 
-        def sub(line: str) -> None:
-            say(f"[2/{STEPS}] generate: " + re.sub(r"^\[\d+/\d+\] ", "", line).replace(str(stage), str(out_dir)))
-
-        # the proof of the previous build, when the model, its messages, the
-        # library and pyrosgen are unchanged (a controller-only change)
-        drv = driver or CoqDriver()
-        cache.proof = _proof_key(model, drv)
-        gen = None if wp or cache.proof is None else _reuse_proof(model, out_dir, stage, cache, cache.proof)
-        if gen is not None:
-            say(f"[2/{STEPS}] generate: proof reused from {out_dir} (the model, its messages, the library "
-                "and pyrosgen are unchanged)")
-        else:
-            gen = generate_model(model, stage, progress=sub, keep_work=keep_work, driver=drv, wp=wp)
+        gen = prove(model, out_dir, stage, cache, say, keep_work=keep_work, driver=driver, wp=wp)
         times["generate"] = time.monotonic() - t
         types_h = (stage / names.types_header).read_text(encoding="ascii")
         if diagram:
@@ -809,28 +1016,17 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
                 layout.render_reference_header(ros.proved_node(parse_model_text(gen.proved_model),
                                                                gen.record.source_name), types_h), encoding="ascii")
             ctl = find_controller(model, cdir)
-            warnings, user_includes, ctl_includes = controller_setup(ctl)
+            warnings, user_includes, ctl_includes = controller_setup(model, ctl, opts)
 
         # 3. wrapper, custom messages, controller copy, catkin files
         say(f"[3/{STEPS}] wrapper: C API over roscpp, gencpp, catkin package")
         t = time.monotonic()
-        proved = parse_model_text(gen.proved_model)
         # the wrapper, the layout check and the catkin files are rendered
         # from the proved model alone (verify renders them again from it)
-        pnode = ros.proved_node(proved, gen.record.source_name)
-        if (pnode.messages != tuple(model.messages) or pnode.controller.inputs != model.controller.inputs
-                or pnode.controller.outputs != model.controller.outputs):
-            raise BuildToolError("the proved model's messages or controller structs are not the front end's "
-                                 "(a pyrosgen bug: the model texts were compared equal)")
-        for fname, text in ros.render_wrapper(pnode).items():
-            if fname == names.api_source:
-                # The node registers and sleeps as the proved model says.
-                check_wrapper(text, gen.proved_model, wrapper_name=fname)
-            if fname == names.api_header:
-                # The ROS functions the glue calls, with the glue's C types.
-                check_glue_externals((stage / glue_c).read_text(encoding="utf-8"), text,
-                                     glue_name=glue_c, header_name=fname)
-            (stage / fname).write_text(text, encoding="ascii")
+        _, pnode = proved_node_of(gen, model)
+        # The node registers and sleeps as the proved model says.
+        write_wrapper(stage, glue_c, names.api_header, names.api_source, ros.render_wrapper(pnode),
+                      lambda text, fname: check_wrapper(text, gen.proved_model, wrapper_name=fname))
         include = stage / "include"
         try:
             custom_headers = ros.generate_custom_cpp(model, include)
@@ -861,120 +1057,37 @@ def build_model(model: NodeModel, controller_dir: str | Path, out_dir: str | Pat
                                "layout_check": stage / check_c, "types_header": stage / names.types_header,
                                "api_header": stage / names.api_header}, generated=diagram)
 
-        obj = stage / "obj"
-        obj.mkdir()
         cc_id, cxx_id = _compiler_identity(cc), _compiler_identity(cxx)
-        objects: list[Path] = []
-        keys: list[str] = []
         # every compiler call, as the certificate shows it (the layout check's
         # reference header is in the work folder: shown as layout-reference)
-        commands: list[list[str]] = [[str(Path("layout-reference") / a[len(str(work / "layout-reference")) + 1:])
-                                      if a.startswith(str(work / "layout-reference") + "/") else
-                                      "layout-reference" if a == str(work / "layout-reference") else a
-                                      for a in _shown_argv(c, stage, ctl.path)] for c in layout_cmds]
-
-        def compile_one(step: int, what: str, tool: list[str], ident: str, flags: Sequence[str],
-                        src: Path, out_name: str, inputs: Sequence[Path], user: bool) -> None:
-            out = obj / out_name
-            argv = _reproducible([*tool, *flags, "-c", str(src), "-o", str(out)], stage,
-                                 ctl.path if user else None, compile=True)
-            commands.append(_shown_argv(argv, stage, ctl.path))
-            key = _key(argv, stage, ident, [src, *inputs])
-            keys.append(key)
-            objects.append(out)
-            if cache.reuse(f"obj/{out_name}", key, out):
-                say(f"[{step}/{STEPS}] {what}: {src.name} unchanged, reusing obj/{out_name}")
-                steps.append((f"obj/{out_name}", False))
-                return
-            say(f"[{step}/{STEPS}] {what}: {' '.join(tool)} {src.name}")
-            r = _run(argv, f"compiling {src.name}", cwd=stage)
-            if r.returncode != 0:
-                msg = _clip(shown(r.stderr + r.stdout))
-                if user:
-                    raise ControllerError(f"{ctl.path / src.name}: error: the controller source does not compile "
-                                          f"({' '.join(tool)} exit status {r.returncode})", msg.splitlines())
-                raise BuildToolError(f"{' '.join(tool)} failed on generated code {out_dir / src.name} "
-                                     f"(exit status {r.returncode})", msg.splitlines())
-            if user and (r.stderr.strip() or r.stdout.strip()):
-                warnings.extend(_clip(r.stderr + r.stdout).splitlines())
-            steps.append((f"obj/{out_name}", True))
-
+        comp = NodeCompiler(stage, out_dir, ctl, cache, say, warnings, steps, commands=[
+            [str(Path("layout-reference") / a[len(str(work / "layout-reference")) + 1:])
+             if a.startswith(str(work / "layout-reference") + "/") else
+             "layout-reference" if a == str(work / "layout-reference") else a
+             for a in _shown_argv(c, stage, ctl.path)] for c in layout_cmds])
         # 5. glue
         t = time.monotonic()
-        compile_one(5, "compile glue", cc, cc_id, [*GLUE_CFLAGS, "-I", str(stage)],
-                    stage / glue_c, f"{node}_glue.o", [stage / names.types_header], user=False)
+        comp.compile(5, "compile glue", cc, cc_id, [*GLUE_CFLAGS, "-I", str(stage)],
+                     stage / glue_c, f"{node}_glue.o", [stage / names.types_header], user=False)
         times["glue"] = time.monotonic() - t
         # 6. controller (before the slow wrapper: user errors first)
         t = time.monotonic()
-        for src in ctl.sources:
-            cxx_src = src.suffix in CXX_SUFFIXES
-            flags = ([*CONTROLLER_CXXFLAGS, *opts.cxxflags] if cxx_src else
-                     [f"-std={opts.std}", *CONTROLLER_CFLAGS, *opts.cflags,
-                      *(ros.IEEE_CFLAGS if diagram else ())]) + ctl_includes
-            obj_name = "controller_" + ctl.rel(src).replace("/", "__").rsplit(".", 1)[0] + ".o"
-            compile_one(6, "compile controller", cxx if cxx_src else cc, cxx_id if cxx_src else cc_id, flags,
-                        src.absolute(), obj_name, [p.absolute() for p in ctl.files if p != src], user=True)
+        comp.compile_controller(6, (cc, cc_id), (cxx, cxx_id), opts, ctl_includes, generated=diagram)
         times["controller"] = time.monotonic() - t
 
         # 7. wrapper
         t = time.monotonic()
         wrapper_inputs = [stage / names.types_header, stage / names.api_header, *custom_headers]
         wflags = [*WRAPPER_CXXFLAGS, "-I", str(stage)] + (["-I", str(include)] if custom_headers else []) + pc_cflags
-        compile_one(7, "compile wrapper", cxx, cxx_id, wflags, stage / names.api_source,
-                    f"{node}_ros.o", wrapper_inputs, user=False)
+        comp.compile(7, "compile wrapper", cxx, cxx_id, wflags, stage / names.api_source,
+                     f"{node}_ros.o", wrapper_inputs, user=False)
         times["wrapper compile"] = time.monotonic() - t
         # 8. link and install
         t = time.monotonic()
-        (stage / "bin").mkdir()
-        binary = stage / "bin" / node
-        argv = _reproducible([*cxx, *LDFLAGS, *opts.ldflags, *(str(o) for o in objects), "-o", str(binary), *pc_libs,
-                              *opts.libs, *LDLIBS], stage, None, compile=False)
-        commands.append(_shown_argv(argv, stage, ctl.path))
-        key = _key(argv, stage, cxx_id, [], extra=keys)
-        if cache.reuse(f"bin/{node}", key, binary):
-            say(f"[8/{STEPS}] link: objects unchanged, reusing bin/{node}")
-            steps.append((f"bin/{node}", False))
-        else:
-            say(f"[8/{STEPS}] link: bin/{node}")
-            r = _run(argv, f"linking {node}", cwd=stage)
-            if r.returncode != 0:
-                msg = _clip(shown(r.stderr + r.stdout))
-                # An undefined controller symbol is the user's; anything else is ours.
-                ctl_names = (model.controller.step_fn, model.controller.initialize_fn,
-                             model.controller.inputs.var_name, model.controller.outputs.var_name)
-                if any(f"undefined reference to `{n}'" in msg for n in ctl_names):
-                    raise ControllerError(f"{ctl.path}: error: the controller does not define what "
-                                          "the glue uses", msg.splitlines())
-                # a link error in the controller's objects (a symbol defined twice, a
-                # library missing) is the user's too: name the source at fault
-                at_fault = [src for src in ctl.sources
-                            if "controller_" + ctl.rel(src).replace("/", "__").rsplit(".", 1)[0] + ".o" in msg]
-                if "multiple definition of `main'" in msg:
-                    where = ", ".join(str(p) for p in at_fault) or str(ctl.path)
-                    raise ControllerError(
-                        f"{where}: error: the controller defines main, and so does the node (exit status "
-                        f"{r.returncode}); pyrosgen leaves out a source that defines main, but did not "
-                        "recognise this definition: move that main out of the controller folder (a file "
-                        "of its own outside it, or under #ifndef PYROSGEN_NODE with --cflags=-DPYROSGEN_NODE)",
-                        msg.splitlines())
-                if at_fault or "cannot find -l" in msg:
-                    where = ", ".join(str(p) for p in at_fault) or str(ctl.path)
-                    raise ControllerError(f"{where}: error: the controller does not link (exit status "
-                                          f"{r.returncode})", msg.splitlines())
-                raise BuildToolError(f"linking {node} failed (exit status {r.returncode})", msg.splitlines())
-            steps.append((f"bin/{node}", True))
-        # the certificate again, now covering what the build added (the
-        # wrapper, the layout check, the controller, the catkin files, the binary)
+        comp.link(8, model, cxx, cxx_id, [*LDFLAGS, *opts.ldflags], [*pc_libs, *opts.libs, *LDLIBS])
         # what the catkin files are rendered from, and the compile commands
-        gen.record.build = {"package": package, "commands": commands}
-        cert_files = set(certificate_files(node))
-        covered = [f for f in _all_files(stage) if not f.startswith("obj/") and f not in cert_files]
-        write_certificate(gen.record, stage, covered)
-        files = _all_files(stage) + [STAMP]
-        (stage / STAMP).write_text(cache.stamp(sorted(files)), encoding="utf-8")
-        say(f"[8/{STEPS}] installing into {out_dir}")
-        installed = _install(stage, out_dir, cache.old_files, work / "backup", on_wait=lambda: say(
-            f"[8/{STEPS}] waiting for another pyrosgen run writing into {out_dir}"))
+        installed = finish_build(gen, node, stage, out_dir, work, cache, say,
+                                 {"package": package, "commands": comp.commands})
         times["link and install"] = time.monotonic() - t
     finally:
         if keep_work:

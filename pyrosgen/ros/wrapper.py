@@ -390,15 +390,11 @@ def parse_maintainer(text: str) -> tuple[str, str] | None:
     return (m.group(1), m.group(2)) if m else None
 
 
-def render_package(model: NodeModel | ProvedNode, include_dirs: list[str], controller: CatkinController,
-                   custom_pkgs: list[str], maintainer: str = DEFAULT_MAINTAINER) -> dict[str, str]:
-    """The text files of the node's catkin package, by package-relative path:
-    ``package.xml`` (maintained by ``maintainer``, ``"Name <email>"``),
-    ``CMakeLists.txt`` (the sources at the paths of :func:`catkin_paths`,
-    the controller's under ``controller/``, compiled as ``build`` compiles
-    them) and ``launch/<node>.launch``; ``custom_pkgs`` are the message
-    packages written next to it (the node's custom messages)."""
-    ctl = controller
+def check_package_words(include_dirs: list[str], ctl: CatkinController, maintainer: str) -> tuple[str, str]:
+    """Check what a node's package (catkin's or ROS 2's) prints besides the
+    proved model: package-relative paths, words of CMakeLists.txt, the
+    maintainer (``ValueError`` naming the first that is not one); returns
+    the maintainer's ``(name, email)``."""
     for p in [*include_dirs, *ctl.c_sources, *ctl.cxx_sources]:
         if not re.match(r"^[A-Za-z0-9_./-]+$", p) or ".." in p.split("/"):
             raise ValueError(f"refusing to print {p!r} as a package-relative path")
@@ -408,6 +404,19 @@ def render_package(model: NodeModel | ProvedNode, include_dirs: list[str], contr
     who = parse_maintainer(maintainer)
     if who is None:
         raise ValueError(f"refusing to print {maintainer!r} as a maintainer")
+    return who
+
+
+def render_package(model: NodeModel | ProvedNode, include_dirs: list[str], controller: CatkinController,
+                   custom_pkgs: list[str], maintainer: str = DEFAULT_MAINTAINER) -> dict[str, str]:
+    """The text files of the node's catkin package, by package-relative path:
+    ``package.xml`` (maintained by ``maintainer``, ``"Name <email>"``),
+    ``CMakeLists.txt`` (the sources at the paths of :func:`catkin_paths`,
+    the controller's under ``controller/``, compiled as ``build`` compiles
+    them) and ``launch/<node>.launch``; ``custom_pkgs`` are the message
+    packages written next to it (the node's custom messages)."""
+    ctl = controller
+    who = check_package_words(include_dirs, ctl, maintainer)
     # roscpp (whose own messages, roscpp/Logger, a node may use) is a dependency already
     msg_pkgs = sorted({m.package for m in model.messages
                        if not m.is_pseudo and m.package not in custom_pkgs} - {"roscpp"})
@@ -491,6 +500,14 @@ def render_package_record(node: ProvedNode, record: object) -> dict[str, str]:
     """:func:`render_package` of ``node`` with the recorded ``record``
     (:func:`package_record`); ``ValueError`` naming the field if the record
     is not one."""
+    ctl = controller_of_record(record)
+    return render_package(node, record["include_dirs"], ctl, record["custom_pkgs"], record["maintainer"])
+
+
+def controller_of_record(record: object) -> CatkinController:
+    """The :class:`CatkinController` of a recorded ``build.package``
+    (:func:`package_record`), checked key by key (``ValueError`` naming the
+    field)."""
     if not isinstance(record, dict) or sorted(record) != sorted(PACKAGE_RECORD_KEYS):
         raise ValueError(f"build.package: not a record of the keys {', '.join(PACKAGE_RECORD_KEYS)}")
     for k in PACKAGE_RECORD_KEYS:
@@ -502,4 +519,4 @@ def render_package_record(node: ProvedNode, record: object) -> dict[str, str]:
     ctl = CatkinController(c_sources=record["c_sources"], cxx_sources=record["cxx_sources"], std=record["std"],
                            cflags=record["cflags"], cxxflags=record["cxxflags"], includes=record["includes"],
                            ldflags=record["ldflags"], libs=record["libs"], generated=record["generated"])
-    return render_package(node, record["include_dirs"], ctl, record["custom_pkgs"], record["maintainer"])
+    return ctl

@@ -12,7 +12,7 @@ from pyrosgen.ros2.env import ros2_env
 __all__ = ["ROS2_HELP", "load_for_target", "generate_ros2", "build_ros2_command"]
 
 ROS2_HELP = ("the target ROS 2 (Kilted, rcl): the model read with ROS 2's message definitions from the "
-             "installed wheels (make ros2-deps), the node built over rcl")
+             "installed wheels (make ros2-deps), the node built over rcl, with an ament_cmake package")
 
 
 def load_for_target(args: argparse.Namespace):

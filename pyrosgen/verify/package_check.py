@@ -29,6 +29,13 @@ of what ``pyrosgen build`` and ``catkin`` compile to the same source:
   -fexcess-precision=standard`` and without any flag that changes
   floating-point semantics (:func:`pyrosgen.ros.build.check_flags`).
 
+A folder of ``build --ros2`` (its ``<node>.target``) is checked the same
+way (:func:`_check_node_files`, shared by both targets): the rcl wrapper
+``<node>_rcl.c`` and its header, rendered again by
+:func:`pyrosgen.ros2.wrapper.render_rcl_wrapper`, and the ament_cmake
+package (:mod:`pyrosgen.ros2.package`) in place of the roscpp wrapper and
+the catkin package; no custom message package.
+
 Every file is read through :func:`pyrosgen.verify.folder.read_file` (a
 relative name, a regular file, no link, bounded size).  The node binary is
 held by its recorded digest only.
@@ -255,20 +262,74 @@ def check_package(folder: str | Path, rec: ProofRecord, files: dict[str, str], p
                      "(build.package): its package cannot be rendered again")
     problems = _Problems()
     try:
-        pm = parse_model_text(proved_text, origin=rec.model_file)
-        node = ros.proved_node(pm, rec.source_name)
-        if node.name != rec.node:
-            raise ValueError(f"the proved model's node is {node.name!r}, the manifest's {rec.node!r}")
+        pm, node = _proved(proved_text, rec)
         names = ros.wrapper_files(node)
-        wrapper = ros.render_wrapper(node)
         package = build["package"]
-        pkg_texts = ros.render_package_record(node, package)
-        generated = rec.controller is not None
-        if package["generated"] != generated:
-            raise ValueError("build.package.generated does not say whether the controller is generated")
+        files_of = _NodeFiles(api=(names.api_header, names.api_source), wrapper=ros.render_wrapper(node),
+                              paths=ros.catkin_paths(node), texts=ros.render_package_record(node, package))
     except (MalformedModelText, ValueError, KeyError, TypeError) as exc:
         return Check("package", False, f"cannot render the node's files again: {exc}")
+    failed = _check_node_files(folder, rec, files, pm, node, build, files_of, problems)
+    if failed is not None:
+        return failed
+    # the message packages of custom messages, from their .msg files
+    for cpkg in package["custom_pkgs"]:
+        msgs = {}
+        for n in sorted(files):
+            if n.startswith(f"{cpkg}/msg/") and n.count("/") == 2 and n.endswith(".msg"):
+                data = _read(folder, n, problems)
+                if data is not None:
+                    msgs[n.rsplit("/", 1)[1]] = data.decode("utf-8", "replace")
+        try:
+            for rel, text in ros.render_msg_package(rec.source_name, cpkg, msgs).items():
+                _compare(folder, files, f"{cpkg}/{rel}", text, "rendered from its .msg files", problems)
+        except ValueError as exc:
+            problems.add(cpkg, f"cannot render the message package again: {exc}")
+    _check_custom_msgs(folder, files, pm, package["custom_pkgs"], problems)
+    generated = rec.controller is not None
+    if problems:
+        return Check("package", False, f"{len(problems)} problems with the files of the node (rendered again "
+                     "from the proved model and compared)",
+                     list(problems))
+    return Check("package", True, f"{problems.compared} files of the node rendered again from the proved model and equal; "
+                 "the glue" + (" and the generated controller" if generated else "") + " compiled with "
+                 + " ".join(ros.IEEE_CFLAGS))
 
+
+def _proved(proved_text: str, rec: ProofRecord):
+    """The proved model and node of the folder (``ValueError`` if its node
+    is not the manifest's)."""
+    pm = parse_model_text(proved_text, origin=rec.model_file)
+    node = ros.proved_node(pm, rec.source_name)
+    if node.name != rec.node:
+        raise ValueError(f"the proved model's node is {node.name!r}, the manifest's {rec.node!r}")
+    return pm, node
+
+
+class _NodeFiles:
+    """What a target renders from the proved node: the API header's and the
+    wrapper's names (``api``), the wrapper files (``wrapper``, by name),
+    the package's paths of the copies (``paths``) and the package's text
+    files (``texts``, by package-relative path)."""
+
+    def __init__(self, api: tuple[str, str], wrapper: dict[str, str], paths: dict[str, str],
+                 texts: dict[str, str]):
+        self.api, self.wrapper, self.paths, self.texts = api, wrapper, paths, texts
+
+
+def _check_node_files(folder: Path, rec: ProofRecord, files: dict[str, str], pm, node, build: dict,
+                      nf: _NodeFiles, problems: _Problems) -> Check | None:
+    """What both targets' package checks compare: the wrapper and the
+    layout check at the top, the node package's copies and text files, the
+    controller (its copy, a generated one's source and header), no other
+    file in the package, the recorded commands; a failed :class:`Check`
+    if the layout check cannot be rendered again."""
+    package = build["package"]
+    generated = rec.controller is not None
+    if package["generated"] != generated:
+        return Check("package", False, "cannot render the node's files again: build.package.generated does not "
+                     "say whether the controller is generated")
+    names = ros.wrapper_files(node)
     glue = _read(folder, rec.glue_c, problems)
     types_raw = _read(folder, rec.types_h, problems)
     types_h = types_raw.decode("utf-8", "replace") if types_raw is not None else None
@@ -280,18 +341,18 @@ def check_package(folder: str | Path, rec: ProofRecord, files: dict[str, str], p
 
     # the top-level files
     rendered = "rendered from the proved model"
-    for name in (names.api_header, names.api_source):
-        _compare(folder, files, name, wrapper[name], rendered, problems)
+    api_header, api_source = nf.api
+    for name in nf.api:
+        _compare(folder, files, name, nf.wrapper[name], rendered, problems)
     _compare(folder, files, f"{rec.node}_layout_check.c", check_c, rendered, problems)
-    # the catkin package
+    # the node's package
     pkg = ros.catkin_package_name(node)
-    paths = ros.catkin_paths(node)
     copies = {"glue": (glue, f"the top-level {rec.glue_c}"), "types_header": (types_raw, f"the top-level {rec.types_h}"),
-              "wrapper": (wrapper[names.api_source], rendered), "api_header": (wrapper[names.api_header], rendered),
+              "wrapper": (nf.wrapper[api_source], rendered), "api_header": (nf.wrapper[api_header], rendered),
               "layout_check": (check_c, rendered)}
     for key, (want, what) in copies.items():
-        _compare(folder, files, f"{pkg}/{paths[key]}", want, what, problems)
-    for rel, text in pkg_texts.items():
+        _compare(folder, files, f"{pkg}/{nf.paths[key]}", want, what, problems)
+    for rel, text in nf.texts.items():
         _compare(folder, files, f"{pkg}/{rel}", text, "rendered from the proved model and the build record", problems)
     # the controller: its package copy is the top-level one; a generated one is the proof's
     for name in sorted(files):
@@ -311,32 +372,11 @@ def check_package(folder: str | Path, rec: ProofRecord, files: dict[str, str], p
                  and n not in (f"controller/{pm.controller}.c", f"controller/{layout.controller_header_name(node)}")]
         for n in extra:
             problems.add(n, "not a file of the generated controller")
-    # the message packages of custom messages, from their .msg files
-    for cpkg in package["custom_pkgs"]:
-        msgs = {}
-        for n in sorted(files):
-            if n.startswith(f"{cpkg}/msg/") and n.count("/") == 2 and n.endswith(".msg"):
-                data = _read(folder, n, problems)
-                if data is not None:
-                    msgs[n.rsplit("/", 1)[1]] = data.decode("utf-8", "replace")
-        try:
-            for rel, text in ros.render_msg_package(rec.source_name, cpkg, msgs).items():
-                _compare(folder, files, f"{cpkg}/{rel}", text, "rendered from its .msg files", problems)
-        except ValueError as exc:
-            problems.add(cpkg, f"cannot render the message package again: {exc}")
-    expected = {f"{pkg}/{paths[key]}" for key in copies} | {f"{pkg}/{rel}" for rel in pkg_texts} \
+    expected = {f"{pkg}/{nf.paths[key]}" for key in copies} | {f"{pkg}/{rel}" for rel in nf.texts} \
         | {f"{pkg}/{n}" for n in files if n.startswith("controller/")}
     _unexpected_files(folder, pkg, expected, problems)
-    _check_custom_msgs(folder, files, pm, package["custom_pkgs"], problems)
     _check_commands(build, package, rec.glue_c, generated, problems)
-
-    if problems:
-        return Check("package", False, f"{len(problems)} problems with the files of the node (rendered again "
-                     "from the proved model and compared)",
-                     list(problems))
-    return Check("package", True, f"{problems.compared} files of the node rendered again from the proved model and equal; "
-                 "the glue" + (" and the generated controller" if generated else "") + " compiled with "
-                 + " ".join(ros.IEEE_CFLAGS))
+    return None
 
 
 #: What ``<node>.target`` of a ROS 2 build says (pyrosgen.ros2.build.TARGET_TEXT).
@@ -377,14 +417,30 @@ def check_qos_of_model(folder: Path, rec: ProofRecord, model, model_path) -> Non
     check_qos_record(model_path, record, what=f"the folder's {name}")
 
 
+def _ros2_node_files(pm, node, package, qos) -> _NodeFiles:
+    from pyrosgen.ros2.package import render_ros2_package_record, ros2_package_paths
+    from pyrosgen.ros2.wrapper import render_rcl_wrapper, ros2_wrapper_files
+
+    names = ros2_wrapper_files(node)
+    return _NodeFiles(api=(names.api_header, names.api_source), wrapper=render_rcl_wrapper(node, pm, qos=qos),
+                      paths=ros2_package_paths(node), texts=render_ros2_package_record(node, package))
+
+
 def _check_ros2_folder(folder: Path, rec: ProofRecord, files: dict[str, str], proved_text: str) -> Check:
     """A folder of ``pyrosgen build --ros2`` (rule 4.17): its ``<node>.target``
-    says so, it holds none of a ROS 1 build's wrapper and catkin files (a
-    ``.target`` cannot excuse them from the checks above), and its rcl
-    wrapper takes and publishes exactly the proved model's topics, types,
-    history depths and period, with the QoS of the folder's record
-    ``<node>.qos`` (rule 4.18; ``check_rcl_wrapper``, the check every
-    ``build --ros2`` runs)."""
+    says so; its build record says ``target: ros2``; the rcl wrapper
+    ``<node>_rcl.c`` and the API header, the layout check, the ament_cmake
+    package (its copies, ``package.xml``, ``CMakeLists.txt`` and
+    ``launch/<node>.launch.xml``) and a generated controller are rendered
+    again from the proved model and the build record (by the functions
+    ``build --ros2`` renders them with) and compared byte for byte, as for
+    ROS 1; the package holds no other file, and the folder none of a ROS 1
+    build's (a ``.target`` cannot excuse them from the checks above) nor a
+    second package (a ``package.xml`` or ``CMakeLists.txt`` elsewhere); the
+    rcl wrapper is rendered with the QoS of the folder's record ``<node>.qos``
+    (rule 4.18), and the rcl wrapper check (``check_rcl_wrapper``, with that
+    record) runs too, as defence in depth; custom messages are generated
+    again by rosidl from the folder's ``.msg`` files (``check_rosidl_folder``)."""
     from pyrosgen.ros2.wrapper import Ros2WrapperMismatch, check_rcl_wrapper
 
     target = f"{rec.node}.target"
@@ -392,30 +448,55 @@ def _check_ros2_folder(folder: Path, rec: ProofRecord, files: dict[str, str], pr
     text = _read(folder, target, problems)
     if text is not None and text != _ROS2_TARGET.encode("ascii"):
         problems.add(target, f"says {text[:200]!r}, not {_ROS2_TARGET!r}")
-    ros1 = sorted(n for n in files if n.endswith(("_ros.cpp", "/package.xml", "/CMakeLists.txt", ".launch")))
-    for n in ros1:
+    for n in sorted(n for n in files if n.endswith(("_ros.cpp", ".launch"))):
         problems.add(n, "a ROS 1 build's file in a folder built for ROS 2")
-    if rec.build is not None:
-        problems.add(rec.node + ".manifest.json", "a ROS 1 build record (build) in a folder built for ROS 2")
-    rcl = f"{rec.node}_rcl.c"
-    if rcl not in files:
-        problems.add(rcl, "missing: a ROS 2 build's wrapper")
-    else:
-        data = _read(folder, rcl, problems)
-        wrapper = data.decode("utf-8", errors="replace") if data is not None else None
-        record = _qos_record(folder, rec, files, problems)
-        if wrapper is not None and record is not None:
-            try:
-                check_rcl_wrapper(wrapper, proved_text, wrapper_name=rcl, qos_record=record)
-                problems.compared += 1
-            except Ros2WrapperMismatch as exc:
-                problems.add(rcl, exc.summary + ("; " + "; ".join(x.strip() for x in exc.lines) if exc.lines else ""))
-    # custom messages: generated again by rosidl from the folder's .msg files (K7, pyrosgen/ros2/rosidl.py)
+    build = rec.build
+    if not isinstance(build, dict) or build.get("target") != "ros2" or not isinstance(build.get("package"), dict):
+        problems.add(rec.node + ".manifest.json", "no ROS 2 build record (build.target ros2, build.package): "
+                     "the node's package cannot be rendered again")
+        return Check("package", False, f"{len(problems)} problems with the files of the ROS 2 node", list(problems))
+    record = _qos_record(folder, rec, files, problems)
+    if record is None:
+        return Check("package", False, f"{len(problems)} problems with the files of the ROS 2 node", list(problems))
+    from pyrosgen.ros2.wrapper import parse_qos_text
+
+    try:
+        pm, node = _proved(proved_text, rec)
+        qos = parse_qos_text(record, pm)
+    except ValueError as exc:
+        problems.add(f"{rec.node}.qos", f"does not fit the proved model: {exc}")
+        return Check("package", False, f"{len(problems)} problems with the files of the ROS 2 node", list(problems))
+    except (MalformedModelText, KeyError, TypeError) as exc:
+        return Check("package", False, f"cannot render the node's files again: {exc}", list(problems))
+    try:
+        nf = _ros2_node_files(pm, node, build["package"], qos)
+    except (MalformedModelText, ValueError, KeyError, TypeError) as exc:
+        return Check("package", False, f"cannot render the node's files again: {exc}", list(problems))
+    pkg = ros.catkin_package_name(node)
+    for n in sorted(files):
+        if n.endswith(("package.xml", "CMakeLists.txt")) and not n.startswith(f"{pkg}/"):
+            problems.add(n, f"a package file outside the node's package {pkg}/ (a ROS 2 build writes one package)")
+    failed = _check_node_files(folder, rec, files, pm, node, build, nf, problems)
+    if failed is not None:
+        return failed
+    rcl = nf.api[1]
+    data = _read(folder, rcl, problems) if rcl in files else None
+    if data is not None:
+        try:
+            check_rcl_wrapper(data.decode("utf-8", errors="replace"), proved_text, wrapper_name=rcl,
+                              qos_record=record)
+        except Ros2WrapperMismatch as exc:
+            problems.add(rcl, exc.summary + ("; " + "; ".join(x.strip() for x in exc.lines) if exc.lines else ""))
+    # custom messages: generated again by rosidl from the folder's .msg files (pyrosgen/ros2/rosidl.py)
     from pyrosgen.ros2.rosidl import check_rosidl_folder
 
     for name, why in check_rosidl_folder(folder, files, proved_text):
         problems.add(name, why)
     if problems:
-        return Check("package", False, f"{len(problems)} problems with the files of the ROS 2 node", list(problems))
-    return Check("package", True, "a ROS 2 build (target file as written by build --ros2): its rcl wrapper takes, "
-                 f"publishes and sleeps as the proved model says, with the QoS of {rec.node}.qos; no ROS 1 file")
+        return Check("package", False, f"{len(problems)} problems with the files of the ROS 2 node (rendered again "
+                     "from the proved model and compared)", list(problems))
+    return Check("package", True, f"a ROS 2 build (target file as written by build --ros2): {problems.compared} "
+                 "files of the node (the rcl wrapper, the ament_cmake package) rendered again from the proved "
+                 f"model and equal, the wrapper with the QoS of {rec.node}.qos; no ROS 1 file; the glue"
+                 + (" and the generated controller" if rec.controller else "")
+                 + " compiled with " + " ".join(ros.IEEE_CFLAGS))

@@ -387,7 +387,7 @@ _REBUILD_OPTION = re.compile(
     r"|-f(?!plugin|dump|opt-info|module|use-ld|profile|auto-profile|save|callgraph|stack-usage|lto|ltrans"
     r"|[a-z-]*prefix-map)[a-z0-9=+,.-]+"
     r"|-m[a-z0-9=+,.-]+|-[DU][A-Za-z_][A-Za-z0-9_]*(=[A-Za-z0-9_.+-]*)?|-l[A-Za-z0-9_.+-]+|-l:[A-Za-z0-9_.+-]+"
-    r"|-Wl,-rpath,/[A-Za-z0-9_./+-]+|-Wl,--(no-)?as-needed|-Wl,-O[0-3])$")
+    r"|-Wl,-rpath,/[A-Za-z0-9_./+-]+|-Wl,--(no-)?as-needed|-Wl,--disable-new-dtags|-Wl,-O[0-3])$")
 #: An absolute path a recorded command may name (an include or library
 #: folder, a library of ``pkg-config --libs``: read by the compiler only).
 _REBUILD_ABS = re.compile(r"^/(?!.*/\.\.?(/|$))[A-Za-z0-9_./+-]+$")
