@@ -597,7 +597,7 @@ def prove(model: NodeModel, out_dir: Path, stage: Path, cache: "_Cache", say: Ca
             "and pyrosgen are unchanged)")
         return gen
     return generate_model(model, stage, progress=sub, keep_work=keep_work, driver=drv, wp=wp,
-                          **({"msg_root": msg_root} if msg_root is not None else {}))
+                          target=target or "ros1", **({"msg_root": msg_root} if msg_root is not None else {}))
 
 
 def _reuse_proof(model: NodeModel, out_dir: Path, stage: Path, cache: "_Cache", key: str) -> GenerateResult | None:
