@@ -455,7 +455,7 @@ def test_misspelt_keys_get_suggestions(tmp_path):
     ds = diags(tmp_path, text)
     assert (*at(text, "timout_ms"), "topics[0]: unknown key 'timout_ms' (did you mean 'timeout_ms'?); "
             "expected name, direction, type, queue_size, timeout_ms, on_timeout, stamp, frame_id, strings, "
-            "max_length, policy", "4.4") in ds
+            "max_length, policy, qos", "4.4") in ds
     assert (*at(text, "on_timout"), "relations.inputs[0]: unknown key 'on_timout' (did you mean "
             "'on_timeout'?); expected topic, field, input, on_timeout, derived", "4.7") in ds
     assert (*at(text, "derivd"), "relations.inputs[1]: unknown key 'derivd' (did you mean 'derived'?); "
