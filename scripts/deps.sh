@@ -7,7 +7,7 @@ PKGS=(
   # proofs
   coq libcoq-flocq ocaml-nox
   # C toolchain
-  g++ gcc make pkg-config
+  g++ gcc make pkg-config cmake
   # ROS 1 runtime, master and message packages
   libroscpp-dev python3-rosmaster python3-rospy python3-roslib python3-rosgraph catkin
   # the tools a user watches a node with: rostopic, rosnode, roslaunch, rosrun
