@@ -83,9 +83,13 @@ def run_node_with_driver(binary: Path, node_note: str, driver: list[str], driver
     return code
 
 
-def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m pyrosgen.ros.demo", description="Run the LandShark demo node.")
-    ap.add_argument("out", type=Path, help="pyrosgen build output folder of examples/landshark")
+def demo_main(argv: list[str] | None, *, prog: str, description: str, out_help: str, run_demo) -> int:
+    """The command line of a LandShark demo (ROS 1's, and ROS 2's in
+    :mod:`pyrosgen.ros2.demo`): the build folder, ``--duration`` and
+    ``--spoof``; ``run_demo(out, duration, spoof)`` runs it; SIGTERM and
+    Ctrl-C stop everything it started (exit 130)."""
+    ap = argparse.ArgumentParser(prog=prog, description=description)
+    ap.add_argument("out", type=Path, help=out_help)
     ap.add_argument("--duration", type=float, default=12.0, help="simulated seconds (default 12)")
     ap.add_argument("--spoof", default="5:10", help="GPS spoofing window FROM:TO in seconds")
     args = ap.parse_args(argv)
@@ -95,10 +99,15 @@ def main(argv: list[str] | None = None) -> int:
 
     signal.signal(signal.SIGTERM, _terminated)
     try:
-        return run(args.out, args.duration, args.spoof)
+        return run_demo(args.out, args.duration, args.spoof)
     except KeyboardInterrupt:
         _say("interrupted; everything started was stopped")
         return 130
+
+
+def main(argv: list[str] | None = None) -> int:
+    return demo_main(argv, prog="python -m pyrosgen.ros.demo", description="Run the LandShark demo node.",
+                     out_help="pyrosgen build output folder of examples/landshark", run_demo=run)
 
 
 if __name__ == "__main__":

@@ -15,7 +15,6 @@ rejected the spoofed GPS).
 
 from __future__ import annotations
 
-import argparse
 import os
 import signal
 import subprocess
@@ -24,6 +23,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from pyrosgen.ros.demo import demo_main
 from pyrosgen.ros2.env import find_ros2, ros2_env
 
 SIM = Path(__file__).resolve().parent / "demo_sim.py"
@@ -92,21 +92,8 @@ def run(out_dir: Path, duration: float = 12.0, spoof: str = "5:10") -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m pyrosgen.ros2.demo", description="Run the LandShark demo node on ROS 2.")
-    ap.add_argument("out", type=Path, help="pyrosgen build --ros2 output folder of examples/landshark")
-    ap.add_argument("--duration", type=float, default=12.0, help="simulated seconds (default 12)")
-    ap.add_argument("--spoof", default="5:10", help="GPS spoofing window FROM:TO in seconds")
-    args = ap.parse_args(argv)
-
-    def _terminated(signum, frame):
-        raise KeyboardInterrupt
-
-    signal.signal(signal.SIGTERM, _terminated)
-    try:
-        return run(args.out, args.duration, args.spoof)
-    except KeyboardInterrupt:
-        _say("interrupted; everything started was stopped")
-        return 130
+    return demo_main(argv, prog="python -m pyrosgen.ros2.demo", description="Run the LandShark demo node on ROS 2.",
+                     out_help="pyrosgen build --ros2 output folder of examples/landshark", run_demo=run)
 
 
 if __name__ == "__main__":
