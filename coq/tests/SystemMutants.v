@@ -154,26 +154,35 @@ Example follower_receives:
   received (first_cycle landshark tB) in1 = Some four /\ received (first_cycle landshark tB) in2 = Some one.
 Proof. vm_compute. split; reflexivity. Qed.
 
+(** The refutation of a crossed link on the run above: the leader's
+    message of cycle 0 was delivered to the follower's left wheel (the
+    transport assumption holds), no fallback applies, and the value the
+    follower's controller receives ([GB]) is not the one the leader's
+    computed ([GA]).  [tB], [tB_run], [wtB], [cwtB]: the follower's trace,
+    its run, and its environment's well-typedness facts. *)
+Ltac refute_on_run tB tB_run wtB cwtB :=
+  let H := fresh "H" in let F := fresh "F" in let TA := fresh "TA" in let TB := fresh "TB" in
+  let EA := fresh "EA" in let EB := fresh "EB" in let GA := fresh "GA" in let GB := fresh "GB" in
+  intro H;
+  destruct (H unit ctx 1%nat tA unit ctxB 1%nat tB ctx_arrivals_wt ctx_controller_wt wtB cwtB
+              (run_trace_sound _ _ _ _ _ _ tA_run) (run_trace_sound _ _ _ _ _ _ tB_run))
+    as (sA & evsA & sB & evsB & _ & TA & _ & TB & F);
+  apply one_cycle in TA; apply one_cycle in TB;
+  destruct (F O O (le_n 1) (le_n 1)) as (uA & yA & restA & uB & yB & restB & v & EA & _ & EB & GA & GB);
+  [ exists (mkarrival (tp_name left_wheel) msgA 0); split; [vm_compute; reflexivity|];
+    rewrite TA; vm_compute; right; left; reflexivity
+  | left; reflexivity
+  | rewrite TA in EA; rewrite TB in EB; vm_compute in EA, EB;
+    inversion EA; subst; inversion EB; subst;
+    vm_compute in GA; vm_compute in GB; rewrite <- GA in GB; discriminate ].
+
 (** 1'. The crossed link is false of the nodes' programs: in the runs
     above, the transport delivered the leader's message of cycle 0 to
     the follower's left wheel, no fallback applies, and the follower's
     [In2] holds [1.0], not the [4.0] the leader computed. *)
 Theorem crossed_inputs_run_refuted :
   ~ link_holds landshark landshark_prog base out1 landshark landshark_prog left_wheel in2.
-Proof.
-  intro H.
-  destruct (H unit ctx 1%nat tA unit ctxB 1%nat tB ctx_arrivals_wt ctx_controller_wt ctxB_arrivals_wt
-              ctxB_controller_wt (run_trace_sound _ _ _ _ _ _ tA_run) (run_trace_sound _ _ _ _ _ _ tB_run))
-    as (sA & evsA & sB & evsB & _ & TA & _ & TB & F).
-  apply one_cycle in TA. apply one_cycle in TB.
-  destruct (F O O (le_n 1) (le_n 1)) as (uA & yA & restA & uB & yB & restB & v & EA & _ & EB & GA & GB).
-  - exists (mkarrival (tp_name left_wheel) msgA 0). split; [vm_compute; reflexivity|].
-    rewrite TA. vm_compute. right. left. reflexivity.
-  - left. reflexivity.
-  - rewrite TA in EA. rewrite TB in EB. vm_compute in EA, EB.
-    inversion EA; subst. inversion EB; subst.
-    vm_compute in GA. vm_compute in GB. rewrite <- GA in GB. discriminate.
-Qed.
+Proof. refute_on_run tB tB_run ctxB_arrivals_wt ctxB_controller_wt. Qed.
 
 (** 2'. The crossed fields are false of the programs: [follower_z]
     (its program generated from its model), in the same run, receives
@@ -201,20 +210,7 @@ Proof. vm_compute. reflexivity. Qed.
 
 Theorem crossed_fields_run_refuted :
   ~ link_holds landshark landshark_prog base out1 follower_z follower_z_prog left_wheel in1_z.
-Proof.
-  intro H.
-  destruct (H unit ctx 1%nat tA unit ctxB 1%nat tBz ctx_arrivals_wt ctx_controller_wt ctxB_arrivals_wt_z
-              ctxB_controller_wt_z (run_trace_sound _ _ _ _ _ _ tA_run) (run_trace_sound _ _ _ _ _ _ tBz_run))
-    as (sA & evsA & sB & evsB & _ & TA & _ & TB & F).
-  apply one_cycle in TA. apply one_cycle in TB.
-  destruct (F O O (le_n 1) (le_n 1)) as (uA & yA & restA & uB & yB & restB & v & EA & _ & EB & GA & GB).
-  - exists (mkarrival (tp_name left_wheel) msgA 0). split; [vm_compute; reflexivity|].
-    rewrite TA. vm_compute. right. left. reflexivity.
-  - left. reflexivity.
-  - rewrite TA in EA. rewrite TB in EB. vm_compute in EA, EB.
-    inversion EA; subst. inversion EB; subst.
-    vm_compute in GA. vm_compute in GB. rewrite <- GA in GB. discriminate.
-Qed.
+Proof. refute_on_run tBz tBz_run ctxB_arrivals_wt_z ctxB_controller_wt_z. Qed.
 
 (** *** A remapping to the wrong topic *)
 

@@ -183,13 +183,29 @@ def entry_valid(entry: Path, key: str) -> bool:
         return False
 
 
+def _pid_runs(name: str) -> bool:
+    """Whether the process whose pid a temporary folder's name holds
+    (``.tmp-<pid>-...``) still runs; ``True`` when the name holds none."""
+    parts = name.split("-")
+    if len(parts) < 3 or not parts[1].isdigit():
+        return True
+    try:
+        os.kill(int(parts[1]), 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True             # it runs, as another user
+    return True
+
+
 def _clean_dead_temps(cache: Path) -> None:
     """Remove the temporary folders of runs that are gone: each worker
     holds an exclusive ``flock`` on its folder's ``.lock`` while it works
     (the kernel releases it when the process dies, however it dies), so a
     folder whose lock can be taken belongs to nobody.  A folder without a
-    lock (killed between its creation and the lock's) is removed once it
-    is ten minutes old."""
+    lock (its worker killed between its creation and the lock's) is removed
+    when the worker named in it (``.tmp-<pid>-...``) no longer runs, else
+    once it is ten minutes old."""
     import fcntl
 
     try:
@@ -204,7 +220,7 @@ def _clean_dead_temps(cache: Path) -> None:
             fd = os.open(folder / ".lock", os.O_RDONLY)
         except FileNotFoundError:
             try:
-                if time.time() - folder.stat().st_mtime > 600:
+                if not _pid_runs(n) or time.time() - folder.stat().st_mtime > 600:
                     shutil.rmtree(folder, ignore_errors=True)
             except OSError:
                 pass

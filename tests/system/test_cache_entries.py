@@ -127,3 +127,19 @@ def test_two_modules_of_one_name_are_both_checked(tmp_path):
         _check_pending(tmp_path / "pending", [("k1", "A"), ("k2", "A")], tmp_path / "w2")
     assert "RosgenNode.A" in e.value.summary
     assert sorted(p.name for p in (tmp_path / "w2").iterdir()) == ["0", "1"]
+
+
+def test_a_lockless_folder_of_a_dead_writer_is_removed_and_a_live_ones_kept(tmp_path):
+    """A writer killed between creating its folder and locking it leaves a
+    folder without ``.lock``: removed at once when the pid in its name no
+    longer runs, kept (until it is ten minutes old) while it does."""
+    gone = subprocess.Popen([sys.executable, "-c", "pass"])
+    gone.wait(timeout=60)
+    dead = tmp_path / f".tmp-{gone.pid}-abc"
+    live = tmp_path / f".tmp-{os.getpid()}-def"
+    for d in (dead, live):
+        (d / "files").mkdir(parents=True)
+        (d / "files" / "half.v").write_text("(* half written *)")
+    _clean_dead_temps(tmp_path)
+    assert not dead.exists()
+    assert (live / "files" / "half.v").is_file()
