@@ -6,7 +6,10 @@ the tool started (``g++`` runs ``cc1plus``, ``make`` runs ``coqc``):
 :func:`run` sends SIGTERM to the group, then SIGKILL to what is left, and
 waits for the leader before it re-raises.  (A signal from the terminal
 reaches only pyrosgen, which is in the foreground group; pyrosgen then
-stops the tools itself.)"""
+stops the tools itself.)  A pyrosgen killed outright (SIGKILL, which
+it cannot catch) stops its tools all the same: each is started with the
+parent-death signal SIGKILL (Linux's ``PR_SET_PDEATHSIG``), so that no
+``coqc`` goes on writing into a folder that a later run reads."""
 
 from __future__ import annotations
 
@@ -49,16 +52,39 @@ def stop_group(proc: subprocess.Popen, grace: float = 2.0) -> None:
         return
 
 
-def _limits(big_stack: bool, max_memory: int | None):
-    """What the child runs before the tool (``preexec_fn``), or ``None``:
-    the stack's soft limit raised to its hard limit (``big_stack``), the
-    address space limited to ``max_memory`` bytes (``RLIMIT_AS``: an
-    allocation beyond it fails in the tool, which stops, instead of the
-    machine swapping)."""
-    if not big_stack and max_memory is None:
+def _libc_prctl():
+    """``prctl`` from the C library, looked up in pyrosgen (not in the
+    child between ``fork`` and ``exec``); ``None`` where there is none."""
+    import ctypes
+    import ctypes.util
+
+    try:
+        return ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True).prctl
+    except (OSError, AttributeError):
         return None
 
+
+#: ``PR_SET_PDEATHSIG`` of ``<linux/prctl.h>``
+_PR_SET_PDEATHSIG = 1
+_PRCTL = _libc_prctl() if os.name == "posix" else None
+
+
+def _limits(big_stack: bool, max_memory: int | None):
+    """What the child runs before the tool (``preexec_fn``): SIGKILL
+    asked for when its parent dies (and the tool not started at all if the
+    parent is already gone), the stack's soft limit raised to its hard
+    limit (``big_stack``), the address space limited to ``max_memory``
+    bytes (``RLIMIT_AS``: an allocation beyond it fails in the tool, which
+    stops, instead of the machine swapping)."""
+    parent = os.getpid()
+
     def preexec() -> None:
+        if _PRCTL is not None:
+            _PRCTL(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+            if os.getppid() != parent:   # died before the request took effect
+                os._exit(1)
+        if not big_stack and max_memory is None:
+            return
         import resource
 
         if big_stack:

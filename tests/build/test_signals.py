@@ -113,3 +113,41 @@ def test_tools_may_get_the_hard_stack_limit():
         return "unlimited" if n == resource.RLIM_INFINITY else str(n // 1024)
     assert procs.run(show, big_stack=True).stdout.strip() == kib(hard)
     assert procs.run(show).stdout.strip() == kib(soft)
+
+
+@pytest.mark.parametrize("how", ["run", "start"])
+def test_tools_die_with_a_killed_pyrosgen(tmp_path, how):
+    """A pyrosgen killed by SIGKILL (which it cannot catch) leaves no tool
+    running: procs.run and procs.start ask for the parent-death signal
+    SIGKILL, although each tool has a session of its own."""
+    mark = tmp_path / "tool-ran"
+    tool = [sys.executable, "-c",
+            f"import pathlib, os, time; pathlib.Path({str(mark)!r}).write_text(str(os.getpid())); time.sleep(120)"]
+    body = ("import sys, time; from pyrosgen import procs; "
+            + ("procs.run(sys.argv[1:], timeout=300)" if how == "run"
+               else "s = procs.start(sys.argv[1:]); time.sleep(300)"))
+    parent = subprocess.Popen([sys.executable, "-c", body, *tool], cwd=ROOT, start_new_session=True)
+    tool_pid = None
+    try:
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline and not (mark.exists() and mark.read_text()):
+            time.sleep(0.05)
+        tool_pid = int(mark.read_text())
+        os.kill(parent.pid, signal.SIGKILL)   # the parent only: the tool is in a session of its own
+        parent.wait(timeout=30)
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and Path(f"/proc/{tool_pid}").exists() \
+                and "zombie" not in Path(f"/proc/{tool_pid}/status").read_text(errors="replace"):
+            time.sleep(0.05)
+        alive = Path(f"/proc/{tool_pid}").exists() and \
+            "zombie" not in Path(f"/proc/{tool_pid}/status").read_text(errors="replace")
+        assert not alive, f"tool {tool_pid} outlived its killed parent"
+    finally:
+        if parent.poll() is None:
+            parent.kill()
+            parent.wait()
+        if tool_pid is not None:
+            try:
+                os.kill(tool_pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
