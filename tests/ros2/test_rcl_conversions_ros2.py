@@ -15,7 +15,16 @@ the previous one stays), and each published sequence and string the first
 and 2N of every field in turn, then random ones (up to 1,000 elements;
 NaNs with payloads, infinities, subnormals, -0.0; bytes 0 to 255 and
 lengths of the published sequence up to 2^32 - 1), with cycles without a
-message.  No middleware: exact and fast."""
+message.  No middleware: exact and fast.
+
+And against the Coq interpreter (``Interp.run_program`` extracted, as
+tests/validation/test_difftest.py runs it for ROS 1): the harness of the
+ROS 1 differential tests with the generated wrapper's ``to_c``/``from_c``
+and reject test compiled in for its C clamp (tests/ros2/rcl_bridge.py),
+the glue compiled by gcc -O2 and under the sanitizers, prints the same
+trace, byte for byte, as the interpreter running the proved program with
+the environment model's ``clamp`` and ``accepted``, on random schedules
+(bursts longer than the queues, every length class, NaN payloads)."""
 
 from __future__ import annotations
 
@@ -28,7 +37,12 @@ import pytest
 from pyrosgen.ros.wrapper import GLUE_CFLAGS
 from pyrosgen.ros2.build import build_ros2, compile_flags, link_flags
 from pyrosgen.ros2.env import ros2_env
-from pyrosgen.verify.difftest import SANITIZE
+from pyrosgen.proof.modeltext import parse_model_text
+from pyrosgen.ros2.wrapper import _T, _context, parse_qos_text
+from pyrosgen.verify.difftest import (SANITIZE, Message, NodeDump, Schedule, build_coq_runner, leaf_token,
+                                      run_side, run_tool)
+
+from . import rcl_bridge
 
 from support import ros as rosutil
 
@@ -210,3 +224,127 @@ def test_rcl_conversions_random_gcc_against_sanitizers_and_model(fake_nodes, tmp
         assert got == want, f"seed {seed}: " + _first_difference(got, want)
         san = run_fake(fake_nodes["sanitizers"], sched, 150, tmp_path, SANITIZED_ENV)
         assert san == got, f"seed {seed}: the sanitized build differs: " + _first_difference(san, got)
+
+
+# ---------------------------------------------------------------------------
+# Against the Coq interpreter
+
+
+@pytest.fixture(scope="module")
+def coq_sides(ros2_install, ros2_nodes, tmp_path_factory):
+    """The interpreter's runner, and the ROS 1 harness over the wrapper's
+    conversions (gcc -O2, sanitized); the node's AST dump."""
+    res = build_ros2(MODEL, CONTROLLER, ros2_nodes / "seq_policies", install=ros2_install)
+    out, node = res.out_dir, res.model.name
+    proved = parse_model_text((out / f"{node}.model").read_text())
+    ctx = _context(res.model, proved, parse_qos_text((out / f"{node}.qos").read_text(), proved))
+    ctx["messages"] = [_T(m, fields=[_T(f) for f in m["fields"]]) for m in ctx["messages"]]
+    work = tmp_path_factory.mktemp("rcl_difftest")
+    cf, lf = compile_flags(ros2_install), link_flags(ros2_install, res.model)
+    dump = NodeDump.from_text((out / f"{node}.sexp").read_text())
+    bools = {st: _bool_leaves(proved, st) for _f, _t, st, _q in dump.subs}
+    bools[dump.y[1]] = {f.name for f in res.model.controller.outputs.fields if f.prim == "bool"}
+    return {"dump": dump, "bools": bools, "coq": build_coq_runner(out, node, work),
+            "gcc": rcl_bridge.build_rcl_harness(out, node, ctx, work, cf, lf, sanitize=False, run_tool=run_tool),
+            "sanitizers": rcl_bridge.build_rcl_harness(out, node, ctx, work, cf, lf, sanitize=True,
+                                                       run_tool=run_tool)}
+
+
+def _bool_leaves(pm, struct: str, prefix: str = "") -> set[str]:
+    """The leaf paths of ``struct`` whose type is bool (a bounded struct's
+    ``truncated`` flag is not on the wire: left out)."""
+    out: set[str] = set()
+    for name, typ in pm.messages.get(struct, []):
+        parts, path = typ.split(), f"{prefix}{name}"
+        count = int(parts[1]) if parts[0] == "array" else None
+        base = parts[2:] if count is not None else parts
+        for p in [path] if count is None else [f"{path}[{i}]" for i in range(count)]:
+            if base[0] == "msg":
+                out |= _bool_leaves(pm, base[1], p + ".")
+            elif base == ["bool"] and not (name == "truncated" and struct.startswith(("ros_seq", "ros_rseq",
+                                                                                        "ros_string", "ros_rstring"))):
+                out.add(p)
+    return out
+
+
+def _leaf_value(rnd: random.Random, leaf, is_bool: bool = False) -> int:
+    """A random value of ``leaf``; a bool 0 or 1 (rosidl's bool is C's
+    ``bool``: see test_a_published_bool_is_0_or_1_on_ros2)."""
+    if is_bool:
+        return rnd.randint(0, 1)
+    if leaf.kind == "f64":
+        return _f64(rnd)
+    if leaf.kind == "f32":
+        return _f32(rnd)
+    lo, hi = (-(1 << (leaf.bits - 1)), (1 << (leaf.bits - 1)) - 1) if leaf.kind == "signed" else (0, (1 << leaf.bits) - 1)
+    return rnd.choice([lo, hi, 0, 1]) if rnd.random() < 0.4 else rnd.randint(lo, hi)
+
+
+def _message_leaves(rnd: random.Random, dump: NodeDump, struct: str, bools: set[str]) -> tuple[str, ...]:
+    """A message as sent: every leaf random, each bounded length from the
+    classes 0, 1, N-1, N, N+1, 2N, up to 3N, 2^32 - 1."""
+    leaves = dump.leaves(struct)
+    values = [_leaf_value(rnd, leaf, leaf.path in bools) for leaf in leaves]
+    for b in dump.bounded(struct):
+        n = b.capacity
+        values[b.first_leaf] = rnd.choice([0, 1, n - 1, n, n + 1, 2 * n, rnd.randint(0, 3 * n), 2 ** 32 - 1])
+    return tuple(leaf_token(leaf, v) for leaf, v in zip(leaves, values))
+
+
+def coq_schedule(seed: int, dump: NodeDump, bools: dict[str, set[str]]) -> Schedule:
+    rnd = random.Random(seed)
+    cycles, times, t = [], [], rnd.getrandbits(40)
+    for _ in range(rnd.randint(1, 12)):
+        msgs = []
+        for _ in range(rnd.randint(0, 4)):
+            _fn, topic, struct, _q = rnd.choice(dump.subs)
+            for _ in range(rnd.randint(1, 3)):           # bursts longer than the queues of 1
+                t += rnd.randint(1, 10 ** 6)
+                msgs.append(Message(topic, _message_leaves(rnd, dump, struct, bools[struct]), t))
+        t += rnd.randint(1, 10 ** 7)
+        times.append(t)
+        y = dump.leaves(dump.y[1])
+        cycles.append((tuple(msgs), tuple(leaf_token(leaf, _leaf_value(rnd, leaf, leaf.path in bools[dump.y[1]]))
+                                          for leaf in y)))
+    return Schedule(tuple(cycles), tuple(times), 0)
+
+
+def test_rcl_conversions_against_the_coq_interpreter(coq_sides):
+    dump = coq_sides["dump"]
+    lengths, published = set(), 0
+    for seed in range(40):
+        sched = coq_schedule(seed, dump, coq_sides["bools"])
+        text = sched.text()
+        coq = run_side(coq_sides["coq"], text)
+        c = run_side(coq_sides["gcc"], text)
+        assert c == coq, f"seed {seed}: the rcl wrapper's conversions and Coq differ on:\n{text}\n" + \
+            _first_difference(c, coq)
+        assert run_side(coq_sides["sanitizers"], text) == c, f"seed {seed}: the sanitized build differs"
+        published += c.count("\npublish ")
+        for msgs, _y in sched.cycles:
+            for m in msgs:
+                struct = next(st for _f, tp, st, _q in dump.subs if tp == m.topic)
+                lengths |= {(struct, int(m.leaves[b.first_leaf]) - b.capacity) for b in dump.bounded(struct)}
+    # every length class of every received sequence and string was met, and messages were published
+    for struct, n in {(st, b.capacity) for _f, _t, st, _q in dump.subs for b in dump.bounded(st)}:
+        assert {d for s, d in lengths if s == struct} >= {-n, 1 - n, -1, 0, 1, n}, struct
+    assert published >= 100
+
+
+def test_a_published_bool_is_0_or_1_on_ros2(coq_sides):
+    """rosidl's bool is C's ``bool``: the wrapper's ``from_c`` stores a
+    controller's bool output of 150 as true, so the message on the wire
+    holds 1 where the environment model (and the ROS 1 wrapper, whose bool
+    is a uint8 on the wire) says 150; 0 and 1 go through unchanged.  T2 on
+    ROS 2 speaks of bool outputs 0 and 1 (DESIGN.md section 7, the rcl
+    wrapper's row); every other line of the trace is the interpreter's."""
+    dump = coq_sides["dump"]
+    y = dump.leaves(dump.y[1])
+    at = [leaf.path for leaf in y].index("CT")
+    for v, wire in ((0, 0), (1, 1), (150, 1), (255, 1)):
+        tokens = tuple(leaf_token(leaf, v if i == at else 0) for i, leaf in enumerate(y))
+        text = Schedule((((), tokens),), (7,), 0).text()
+        coq, c = run_side(coq_sides["coq"], text), run_side(coq_sides["gcc"], text)
+        model_says = f"publish /echo/frame_truncated\n  m data {v}\n"
+        assert coq.count(model_says) == 1, coq
+        assert c == coq.replace(model_says, f"publish /echo/frame_truncated\n  m data {wire}\n"), (v, c)
