@@ -49,9 +49,14 @@ _PSEUDO = {
 _TYPE = re.compile(r"([A-Za-z0-9_/]+)(?:\[([0-9]*)\])?")
 
 
-def parse_msg(text: str, pkg: str, origin: str) -> tuple[Raw, ...]:
+def parse_msg(text: str, pkg: str, origin: str, *, defaults: bool = False) -> tuple[Raw, ...]:
     """The fields of a ROS 1 ``.msg`` text of package ``pkg`` (constants
-    and comments skipped)."""
+    and comments skipped).  ``defaults``: a field may have a default value
+    after its name, as ROS 2's ``.msg`` files of the installation write
+    (``float64 w 1`` in ``geometry_msgs/Quaternion``); it says nothing of
+    the field's type, so it is skipped.  Only the installation's standard
+    definitions are read so; ROS 1 has no such syntax, and the front end
+    refuses it in a model's own ``.msg`` files."""
     out = []
     for n, line in enumerate(text.splitlines(), start=1):
         body = line.strip()
@@ -63,7 +68,7 @@ def parse_msg(text: str, pkg: str, origin: str) -> tuple[Raw, ...]:
         if m.group(3):  # a constant: TYPE NAME=VALUE
             continue
         rest = body[m.end():].strip()
-        if rest and not rest.startswith("#"):
+        if rest and not rest.startswith("#") and not (defaults and body[m.end() - 1:m.end()].isspace()):
             raise ReadingError(f"{origin}:{n}: cannot read the line {body!r}")
         tm = _TYPE.fullmatch(m.group(1))
         if tm is None:
@@ -140,7 +145,8 @@ class Messages:
         if ros_type not in self._std:
             pkg, _, typ = ros_type.partition("/")
             f = self.standard_root / pkg / "msg" / f"{typ}.msg"
-            self._std[ros_type] = parse_msg(f.read_text(encoding="utf-8"), pkg, str(f)) if f.is_file() else None
+            self._std[ros_type] = (parse_msg(f.read_text(encoding="utf-8"), pkg, str(f), defaults=True)
+                                   if f.is_file() else None)
         got = self._std[ros_type]
         if got is None:
             pkg = ros_type.partition("/")[0]

@@ -95,6 +95,26 @@ def test_msg_parser_reads_the_ros1_forms():
         parse_msg("float64 x y\n", "pkg", "t.msg")
 
 
+def test_msg_parser_skips_the_defaults_of_the_installed_ros2_definitions(tmp_path):
+    """ROS 2's standard ``.msg`` files give defaults (``float64 w 1`` in
+    geometry_msgs/Quaternion, ``int8 status -2 # ...`` in
+    sensor_msgs/NavSatStatus): the standard definitions are read with
+    them skipped; a model's own ``.msg`` text still refuses them."""
+    text = "float64 x 0\nfloat64 w 1\nint8 status -2 # STATUS_UNKNOWN\nint8 A=1\n"
+    got = [(f.name, f.base) for f in parse_msg(text, "pkg", "q.msg", defaults=True)]
+    assert got == [("x", "float64"), ("w", "float64"), ("status", "int8")]
+    with pytest.raises(ReadingError, match="q.msg:1"):
+        parse_msg(text, "pkg", "q.msg")
+    (tmp_path / "geometry_msgs" / "msg").mkdir(parents=True)
+    (tmp_path / "geometry_msgs" / "msg" / "Quaternion.msg").write_text(text)
+    assert [f.name for f in Messages(standard_root=tmp_path).raw("geometry_msgs/Quaternion")] == ["x", "w", "status"]
+    custom = tmp_path / "custom" / "my_msgs" / "msg"
+    custom.mkdir(parents=True)
+    (custom / "Q.msg").write_text(text)
+    with pytest.raises(ReadingError, match="Q.msg:1"):
+        Messages([tmp_path / "custom"], standard_root=tmp_path)
+
+
 def test_an_unknown_standard_type_is_named(tmp_path):
     msgs = Messages(standard_root=tmp_path)
     with pytest.raises(ReadingError, match="std_msgs/Float64") as exc:

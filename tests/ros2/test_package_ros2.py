@@ -5,14 +5,18 @@ here); the launch file is ROS 2's XML launch format with the arguments of
 the ROS 1 launch file; and ``CMakeLists.txt``, configured and built with
 plain ``cmake`` and ``make`` through its fallback branch against the wheels
 (no ament_cmake here), makes a node that an rclpy peer talks to on a real
-DDS, with the launch file's remapping, and that stops cleanly on SIGINT."""
+DDS, with the launch file's remapping, and that stops cleanly on SIGINT;
+and ``colcon build --packages-select`` builds it in a workspace (colcon of
+requirements-ros2.txt, in the ROS 2 prefix: ``make ros2-deps``)."""
 
 from __future__ import annotations
 
 import os
+import shutil
 import signal
 import subprocess
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import pytest
 
@@ -126,3 +130,49 @@ def test_cmake_builds_the_package_and_the_node_talks_to_rclpy(built, ros2_instal
     t_pub = result["steps"][1]["t1"]
     after = [lv["twist.linear.x"] for t, topic, lv in result["received"] if topic == remapped and t > t_pub + 0.3]
     assert after and all(x == want for x in after), (len(after), after[:5], want)
+
+
+def _colcon(install) -> Path:
+    """colcon of requirements-ros2.txt, installed by ``make ros2-deps`` in
+    the ROS 2 prefix (``PYROSGEN_TEST_COLCON`` names another one)."""
+    colcon = Path(os.environ.get("PYROSGEN_TEST_COLCON") or install.prefix / "bin" / "colcon")
+    assert colcon.is_file(), f"{colcon}: no colcon; `make ros2-deps` installs it (requirements-ros2.txt)"
+    return colcon
+
+
+def test_colcon_builds_the_package_in_a_workspace(built, ros2_install, tmp_path, shm_guard):
+    """A workspace with the package under ``src/``: ``colcon build
+    --packages-select`` (no ament_cmake here: colcon runs the package's
+    CMake, whose fallback branch finds the wheels from
+    PYROSGEN_ROS2_PREFIX) builds it, runs the layout check and installs
+    the node, the launch file and package.xml; the installed node answers
+    an rclpy peer bit for bit and ends with status 0 on SIGTERM."""
+    colcon = _colcon(ros2_install)
+    ws = tmp_path / "ws"
+    shutil.copytree(built.out_dir / PKG, ws / "src" / PKG)
+    env = {"PATH": f"{colcon.parent}:/usr/bin:/bin", "HOME": str(tmp_path),
+           "PYROSGEN_ROS2_PREFIX": str(ros2_install.prefix)}
+    r = subprocess.run([str(colcon), "build", "--packages-select", PKG], cwd=ws, env=env, capture_output=True,
+                       text=True, timeout=600)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    assert f"Finished <<< {PKG}" in r.stdout and "Failed" not in r.stdout, r.stdout[-3000:]
+    assert f"Built target {NODE}_layout_check" in r.stdout, r.stdout[-3000:]
+    assert "ament_cmake_DIR:PATH=ament_cmake_DIR-NOTFOUND" in (ws / "build" / PKG / "CMakeCache.txt").read_text()
+    prefix = ws / "install" / PKG
+    binary = prefix / "lib" / PKG / NODE
+    assert binary.is_file() and (prefix / "share" / PKG / "launch" / f"{NODE}.launch.xml").is_file()
+    assert (prefix / "share" / PKG / "package.xml").read_text() == (ws / "src" / PKG / "package.xml").read_text()
+    node = spawn([binary], tmp_path / "node.log")
+    v = {LEFT: 0x3FF0000000000001, RIGHT: 0x7FF8000000000123, GPS: 0x8000000000000000}
+    want = expect.landshark_echo({"In1": v[LEFT], "In2": v[RIGHT], "In3": v[GPS]})["Out1"]
+    try:
+        result = run_peer({"publishers": {t: TS for t in (LEFT, RIGHT, GPS)}, "subscribers": {BASE: TS},
+                           "match_timeout": 20.0,
+                           "steps": [{"sleep": 0.3}, {"publish": {t: {"twist.linear.x": v[t]} for t in v}},
+                                     {"sleep": 0.8}]}, tmp_path, ros2_install)
+    finally:
+        status = stop(node, signal.SIGTERM)
+    assert status == 0, (tmp_path / "node.log").read_text(errors="replace")[-2000:]
+    t_pub = result["steps"][1]["t1"]
+    after = [lv["twist.linear.x"] for t, topic, lv in result["received"] if topic == BASE and t > t_pub + 0.3]
+    assert len(after) >= 10 and all(x == want for x in after), (len(after), after[:5], want)
