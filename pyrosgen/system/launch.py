@@ -96,6 +96,19 @@ class LaunchNode:
     remaps: tuple[tuple[str, str], ...]
     ros_args: tuple[str, ...]
 
+    @property
+    def full_name(self) -> str:
+        """The node's resolved name (``/safety/laser_guard``)."""
+        from pyrosgen.system.names import resolve
+
+        return resolve(self.namespace, self.name)
+
+    @property
+    def folder(self) -> str:
+        """Its folder in the system's output (as
+        :attr:`pyrosgen.system.model.SystemNode.folder`)."""
+        return self.full_name.lstrip("/").replace("/", ".")
+
     def argv(self, binary: str | Path) -> list[str]:
         """The command line ``ros2 launch`` runs for this node, with the
         executable ``binary``: its ROS arguments name the node, its
