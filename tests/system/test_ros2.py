@@ -216,3 +216,32 @@ def test_system_verify_ros2(two_targets, capsys):
     code, o, err = run(capsys, "system", "verify", str(out), "--system", str(p), "-j", "2", "-q")
     assert code == 1
     assert f"FAIL    target: {out} was generated for the target ros2, not ros1: verify it with --ros2" in err
+
+
+def test_missing_ros2_installation_is_exit_2(tmp_path):
+    """``--ros2`` without a ROS 2 installation: exit 2 naming the command
+    that installs it, before any node is read; nothing written."""
+    import os
+    import subprocess
+    import sys
+
+    p = chain(tmp_path)
+    env = {**os.environ, "PYROSGEN_ROS2_PREFIX": str(tmp_path / "no-ros2")}
+    for argv in (["check", str(p)], ["generate", str(p), "-o", str(tmp_path / "out"), "--no-cache", "-q"]):
+        r = subprocess.run([sys.executable, "-m", "pyrosgen", "system", *argv, "--ros2"], env=env,
+                           capture_output=True, text=True, timeout=120)
+        assert r.returncode == 2, r.stderr
+        assert "make ros2-deps" in r.stderr and "Traceback" not in r.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_diagram_ros2(tmp_path, capsys):
+    p = qos_chain(tmp_path, "sensor_data", "sensor_data")
+    code, out, err = run(capsys, "system", "diagram", str(p), "-o", str(tmp_path / "g.dot"), "--ros2")
+    assert code == 0, err
+    dot = (tmp_path / "g.dot").read_text()
+    assert "/mid" in dot and "digraph" in dot
+    # refused for ROS 2 as check refuses it
+    p = qos_chain(tmp_path, "sensor_data", "default")
+    code, out, err = run(capsys, "system", "diagram", str(p), "-o", str(tmp_path / "h.dot"), "--ros2")
+    assert code == 1 and "[rule 10.11]" in err and not (tmp_path / "h.dot").exists()
