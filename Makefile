@@ -51,7 +51,7 @@ proofs: apt
 demo: deps proofs
 	@if [ "$(ROS)" = 2 ]; then scripts/demo-ros2.sh; else scripts/demo.sh; fi
 
-## demo-ros2 (or demo ROS=2): the LandShark node built for ROS 2 (--ros2: rcl, Fast DDS on the loopback) against a simulated robot
+## demo-ros2 (or demo ROS=2): the LandShark node built for ROS 2 (--ros2: rcl, Fast DDS on the loopback) against a simulated robot, then the three-node system
 .PHONY: demo-ros2
 demo-ros2: deps proofs
 	@scripts/demo-ros2.sh

@@ -1,4 +1,4 @@
-"""The checks across the nodes of a system (DESIGN.md rules 10.3 to 10.10)
+"""The checks across the nodes of a system (DESIGN.md rules 10.3 to 10.11)
 and what they establish: the connections (links) and the chains.
 
 A *link* is an output relation of a publisher and an input relation of a
@@ -20,7 +20,7 @@ from pyrosgen.frontend.model import InputRelation, OutputRelation, Topic
 from pyrosgen.system.model import SystemModel, SystemNode
 
 __all__ = ["Link", "Hop", "Chain", "SystemGraph", "check_system", "MAX_CHAINS", "custom_message_packages",
-           "msg_definition"]
+           "msg_definition", "qos_problems"]
 
 #: Most chains a certificate lists (the number of simple paths can grow
 #: exponentially with the nodes; past it, the certificate says so).
@@ -84,7 +84,7 @@ def _where(sn: SystemNode, t: Topic) -> str:
 
 
 def check_system(sysm: SystemModel) -> SystemGraph:
-    """Run rules 10.3 to 10.10 on a loaded system; raise
+    """Run rules 10.3 to 10.11 (10.11: the target ROS 2) on a loaded system; raise
     :class:`InvalidNodeModel` with every problem, else return the graph."""
     file = str(sysm.source)
     diags: list[Diagnostic] = []
@@ -173,6 +173,8 @@ def check_system(sysm: SystemModel) -> SystemGraph:
                                        f"publishes it as {pt.msg_type} ({_where(pn, pt)})", "10.7")
                     continue
                 _check_leaves(gr, g, pn, pt, sn, st, err)
+                if sysm.target == "ros2":
+                    _check_qos(g, pn, pt, sn, st, err)
                 if st.timeout_ms is not None and st.timeout_ms < pn.model.period_ms:
                     err(sn.model_node, f"nodes[{sn.index}]: the timeout of {show(g)} in node {show(sn.full_name)} "
                                        f"({st.timeout_ms} ms, {_where(sn, st)}) is shorter than the period of its "
@@ -217,6 +219,36 @@ def _check_leaves(gr: SystemGraph, g: str, pn: SystemNode, pt: Topic, sn: System
                            f"{show(r.field_text)} of {show(g)} ({sn.model.source}:{r.pos.line}), which its publisher "
                            f"{show(pn.full_name)} never writes ({_where(pn, pt)}: it is always 0); relate an output "
                            "to it or read another field", "10.8")
+
+
+def qos_problems(pub_qos, sub_qos) -> list[str]:
+    """Why a subscription of QoS ``sub_qos`` receives nothing from a
+    publisher of QoS ``pub_qos`` (rule 10.11), as DDS matches a writer's
+    offered QoS with a reader's requested QoS (rmw_fastrtps: Fast DDS's
+    request/offered check; ``rmw_qos_profile_check_compatible``): a
+    ``reliable`` reader needs a ``reliable`` writer, a ``transient_local``
+    reader a ``transient_local`` writer; every other combination
+    matches (a ``best_effort`` reader of a ``reliable`` writer, a
+    ``volatile`` reader of a ``transient_local`` one).  Empty when they
+    match."""
+    out = []
+    if sub_qos.reliability == "reliable" and pub_qos.reliability == "best_effort":
+        out.append("a reliable subscription does not match a best_effort publisher (DDS delivers nothing): make "
+                   "the publisher reliable or the subscription best_effort")
+    if sub_qos.durability == "transient_local" and pub_qos.durability == "volatile":
+        out.append("a transient_local subscription does not match a volatile publisher (DDS delivers nothing): "
+                   "make the publisher transient_local or the subscription volatile")
+    return out
+
+
+def _check_qos(g: str, pn: SystemNode, pt: Topic, sn: SystemNode, st: Topic, err) -> None:
+    """Rule 10.11 (target ROS 2): the subscription's QoS and its
+    publisher's are compatible (:func:`qos_problems`)."""
+    for why in qos_problems(pt.qos, st.qos):
+        err(sn.model_node, f"nodes[{sn.index}]: node {show(sn.full_name)} subscribes to {show(g)} with QoS "
+                           f"{st.qos.reliability}, {st.qos.durability} ({_where(sn, st)}) but node "
+                           f"{show(pn.full_name)} publishes it with {pt.qos.reliability}, {pt.qos.durability} "
+                           f"({_where(pn, pt)}): {why}", "10.11")
 
 
 def _chains(gr: SystemGraph) -> tuple[list[Chain], bool]:
@@ -295,7 +327,14 @@ def _check_custom_messages(sysm: SystemModel, err) -> None:
     first: dict[str, tuple[SystemNode, Path, tuple[str, ...]]] = {}
     node_pkgs = {sn.model.name for sn in sysm.nodes}
     for sn in sysm.nodes:
-        for pkg, folder in sorted(node_packages(sn.model).items()):
+        pkgs = node_packages(sn.model)
+        if sysm.target == "ros2" and pkgs:
+            err(sn.model_node, f"nodes[{sn.index}]: node {show(sn.full_name)} uses custom messages "
+                               f"({', '.join(sorted(pkgs))}, its msg_paths); a ROS 2 system does not build them "
+                               "yet (its workspace would need one rosidl package per message package): build "
+                               "the node alone with 'pyrosgen build --ros2', or the system for ROS 1", "10.10")
+            continue
+        for pkg, folder in sorted(pkgs.items()):
             if pkg in node_pkgs:
                 err(sn.model_node, f"nodes[{sn.index}]: the custom message package {show(pkg)} of node "
                                    f"{show(sn.full_name)} ({folder}) has the name of a node's package; a catkin "

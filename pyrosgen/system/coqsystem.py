@@ -84,7 +84,7 @@ def render_system_file(sysm, graph) -> str:
                            f"(path_pick chain_{c}_links chain_{c}_path)"))
     return render("system.v.j2", template=SYSTEM_TEMPLATE, source=source_label(sysm.source.name),
                   system=system, modules=modules, graphs=graphs, links=links, cnodes=cnodes, chains=chains,
-                  claims=claims)
+                  claims=claims, target="Ros2" if sysm.target == "ros2" else "Ros1")
 
 
 def chain_path(n: int, stages: list[tuple[int, int]], outs: list) -> list[int] | None:
@@ -165,7 +165,7 @@ def prove_system(sysm, graph, vo_files: dict[str, Path], work: Path) -> tuple[st
     lib = (coq_dir, "RosgenNode")
     res = drv.coqc(coq_dir / vname, lib)
     thm = system_theorem(sysm.name)
-    drv.check_assumptions(res.stdout, [thm])
+    drv.check_assumptions(res.stdout, [f"{sysm.name}_target", thm])
     drv.coqchk(f"RosgenNode.{vname[:-2]}", lib)
-    return vtext, ([thm] + [f"{sysm.name}_link_{k}" for k in range(1, len(graph.links) + 1)]
+    return vtext, ([thm, f"{sysm.name}_target"] + [f"{sysm.name}_link_{k}" for k in range(1, len(graph.links) + 1)]
                    + chain_theorems(sysm.name, graph))

@@ -143,11 +143,15 @@ def _environment_digest() -> str:
     return _ENV_DIGEST
 
 
-def node_key(sn) -> str:
-    """The cache key of system node ``sn`` (its model loaded)."""
+def node_key(sn, target: str = "ros1") -> str:
+    """The cache key of system node ``sn`` (its model loaded) for
+    ``target`` (rule 4.17): the target is part of the key, so that a ROS 1
+    and a ROS 2 run never share an entry (the same model file gives two
+    different nodes: other message structs, another wrapper)."""
     m = sn.model
     h = hashlib.sha256()
     h.update(b"pyrosgen-system-node-1\0")
+    h.update(b"target\0" + target.encode() + b"\0")
     h.update(b"env\0" + _environment_digest().encode() + b"\0")
     h.update(b"model\0" + Path(m.source).name.encode() + b"\0" + _sha_file(Path(m.source)).encode() + b"\0")
     h.update(b"messages\0" + repr(m.messages).encode() + b"\0")
@@ -238,7 +242,25 @@ def _clean_dead_temps(cache: Path) -> None:
             os.close(fd)
 
 
-def _gen_node(model_path: str, tmp: Path, defer_coqchk: bool = False) -> tuple[str, float, int, list[str]]:
+def _generate(model_path: str, out: str, *, target: str, progress, defer_coqchk: bool):
+    """``pyrosgen generate`` (``target`` ``"ros2"``: ``generate --ros2``,
+    the model read with ROS 2's message definitions) with its work
+    directory kept."""
+    from pyrosgen.generate import generate
+
+    if target != "ros2":
+        return generate(model_path, out, keep_work=True, progress=progress, defer_coqchk=defer_coqchk)
+    from pyrosgen.generate import generate_model
+    from pyrosgen.ros2.env import find_ros2
+    from pyrosgen.ros2.frontend import load_model_ros2
+
+    inst = find_ros2()
+    return generate_model(load_model_ros2(model_path, inst), out, progress=progress, keep_work=True,
+                          defer_coqchk=defer_coqchk, msg_root=inst.share_dir, target="ros2")
+
+
+def _gen_node(model_path: str, tmp: Path, defer_coqchk: bool = False,
+              target: str = "ros1") -> tuple[str, float, int, list[str]]:
     """Worker: the node pipeline into ``tmp/files`` (its output folder)
     and the compiled per-node module into ``tmp/coq/<node>.vo`` (for the
     system's proof).  Returns (status, seconds, exit code, report
@@ -246,13 +268,12 @@ def _gen_node(model_path: str, tmp: Path, defer_coqchk: bool = False) -> tuple[s
     here (:func:`_check_pending` does it for every node of the run at
     once, before anything is trusted)."""
     from pyrosgen.errors import Context
-    from pyrosgen.generate import generate
 
     t0 = time.monotonic()
     lines: list[str] = []
     try:
-        res = generate(model_path, str(tmp / "files"), keep_work=True, progress=lines.append,
-                       defer_coqchk=defer_coqchk)
+        res = _generate(model_path, str(tmp / "files"), target=target, progress=lines.append,
+                        defer_coqchk=defer_coqchk)
         kept = [ln.split(": ", 1)[1] for ln in lines if ln.startswith("work directory kept: ")]
         if len(kept) != 1:
             return ("error", time.monotonic() - t0, 2, ["pyrosgen: error: the node's work directory was not kept"])
@@ -269,17 +290,22 @@ def _gen_node(model_path: str, tmp: Path, defer_coqchk: bool = False) -> tuple[s
         return ("error", time.monotonic() - t0, 2, [f"pyrosgen: internal error: {type(exc).__name__}: {exc}"])
 
 
-def _build_node(model_path: str, controller: str | None, tmp: Path) -> tuple[str, float, int, list[str]]:
+def _build_node(model_path: str, controller: str | None, tmp: Path,
+                target: str = "ros1") -> tuple[str, float, int, list[str]]:
     """Worker: ``pyrosgen build`` of the node into ``tmp/files`` (the
-    node's build folder: binary, catkin package, certificate) and its
-    compiled per-node module into ``tmp/coq/<node>.vo``."""
+    node's build folder: binary, catkin package, certificate; ``target``
+    ``"ros2"``: ``build --ros2``, a node over rcl and its ament_cmake
+    package) and its compiled per-node module into ``tmp/coq/<node>.vo``."""
     from pyrosgen.errors import Context
-    from pyrosgen.ros.build import build
 
     t0 = time.monotonic()
     lines: list[str] = []
     kept: list[Path] = []
     try:
+        if target == "ros2":
+            from pyrosgen.ros2.build import build_ros2 as build
+        else:
+            from pyrosgen.ros.build import build
         res = build(model_path, controller, str(tmp / "files"), keep_work=True, progress=lines.append)
         kept = [Path(ln.split("work directory kept: ", 1)[1].strip()) for ln in lines if "work directory kept: " in ln]
         name = res.model.name if hasattr(res, "model") else Path(model_path).stem
@@ -298,9 +324,10 @@ def _build_node(model_path: str, controller: str | None, tmp: Path) -> tuple[str
             shutil.rmtree(k, ignore_errors=True)
 
 
-def _build_entry(model_path: str, controller: str | None, parent: str, key: str) -> tuple[str, float, int, list[str]]:
+def _build_entry(model_path: str, controller: str | None, parent: str, key: str,
+                 target: str = "ros1") -> tuple[str, float, int, list[str]]:
     """Worker: the node's build entry ``key`` of ``parent``."""
-    return _put_entry(Path(parent), key, lambda tmp: _build_node(model_path, controller, tmp))
+    return _put_entry(Path(parent), key, lambda tmp: _build_node(model_path, controller, tmp, target))
 
 
 def _listing(root: Path) -> dict[str, str]:
@@ -346,11 +373,11 @@ def _put_entry(parent: Path, key: str, fill) -> tuple[str, float, int, list[str]
         os.close(lock)
 
 
-def _gen_pending(model_path: str, folder: str) -> tuple[str, float, int, list[str]]:
+def _gen_pending(model_path: str, folder: str, target: str = "ros1") -> tuple[str, float, int, list[str]]:
     """Worker: the node into ``folder`` (``files/``, ``coq/``), a folder of
     the run's staging area, its module not yet re-checked by ``coqchk``."""
     Path(folder).mkdir()
-    return _gen_node(model_path, Path(folder), defer_coqchk=True)
+    return _gen_node(model_path, Path(folder), defer_coqchk=True, target=target)
 
 
 def _check_pending(pending: Path, proved: list[tuple[str, str]], work: Path) -> None:
@@ -399,13 +426,17 @@ def _system_key(vo_files: dict[str, Path], vtext: str) -> str:
 
 def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int | None = None,
                     cache: Path | None = None, use_cache: bool = True, progress=None,
-                    build: bool = False) -> SystemGenerateResult:
+                    build: bool = False, target: str = "ros1") -> SystemGenerateResult:
     """Check the system, generate every node (``jobs`` processes, default
     the number of cores), write the system's files, install into
     ``out_dir``.  With ``build``, each node is built as ``pyrosgen
     build`` does (its folder holds its binary and its catkin package), and
     ``OUT/src/`` is a catkin workspace's source folder linking every
-    node's package."""
+    node's package.  ``target``: ``"ros1"`` or ``"ros2"`` (``--ros2``,
+    rule 4.17): every node read, generated and built for it; for ROS 2
+    each node's folder is ``build --ros2``'s (a node over rcl, an
+    ament_cmake package) and the launch file is in ROS 2's XML launch
+    format."""
     from pyrosgen.system.checks import check_system
     from pyrosgen.system.model import load_system
     from pyrosgen.system.certificate import system_files
@@ -417,7 +448,7 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise UserError(f"{out}: exists and is not a directory")
-    sysm = load_system(system_path)
+    sysm = load_system(system_path, target)
     graph = check_system(sysm)
     jobs = jobs or os.cpu_count() or 1
     base = out.absolute().parent
@@ -439,8 +470,8 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
             entries.mkdir()
         keys: dict[str, str] = {}
         for sn in sysm.nodes:
-            key = node_key(sn) if not build else hashlib.sha256(
-                ("pyrosgen-system-build-1\0" + node_key(sn)).encode()).hexdigest()
+            key = node_key(sn, target) if not build else hashlib.sha256(
+                ("pyrosgen-system-build-1\0" + node_key(sn, target)).encode()).hexdigest()
             oc = NodeOutcome(sn.folder, sn.model.name, key, False)
             outcomes.append(oc)
             if use_cache and entry_valid(cache / key, key):
@@ -453,7 +484,7 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
         verb = "build" if build else "prove"
         say(f"system {sysm.name}: {len(outcomes)} nodes, {len(outcomes) - len(todo)} from the cache, "
             f"{len(todo)} to {verb} ({min(jobs, max(len(todo), 1))} in parallel)")
-        _run_nodes(todo, entries, stage, jobs, build, say)
+        _run_nodes(todo, entries, stage, jobs, build, say, target)
         vo_files: dict[str, Path] = {}
         for oc in outcomes:
             entry = entries / oc.key
@@ -496,7 +527,7 @@ def generate_system(system_path: str | Path, out_dir: str | Path, *, jobs: int |
     return SystemGenerateResult(out, outcomes, files, time.monotonic() - t0, proof_cached)
 
 
-def _run_nodes(todo: list, entries: Path, stage: Path, jobs: int, build: bool, say) -> None:
+def _run_nodes(todo: list, entries: Path, stage: Path, jobs: int, build: bool, say, target: str = "ros1") -> None:
     """Prove (or build) the nodes of ``todo`` in ``jobs`` processes; a
     proved node's module is re-checked by one ``coqchk`` for all of them
     (:func:`_check_pending`) before its entry is written into ``entries``;
@@ -509,9 +540,9 @@ def _run_nodes(todo: list, entries: Path, stage: Path, jobs: int, build: bool, s
     if not todo:
         return
     with ProcessPoolExecutor(max_workers=min(jobs, len(todo))) as pool:
-        futs = [pool.submit(_gen_pending, str(sn.model_path), str(pending / oc.key)) if not build else
+        futs = [pool.submit(_gen_pending, str(sn.model_path), str(pending / oc.key), target) if not build else
                 pool.submit(_build_entry, str(sn.model_path), str(sn.controller) if sn.controller else None,
-                            str(entries), oc.key)
+                            str(entries), oc.key, target)
                 for oc, sn in todo]
         for (oc, sn), fut in zip(todo, futs):
             status, secs, ec, lines = fut.result()

@@ -32,7 +32,7 @@ from pyrosgen.frontend.names import identifier_problem, topic_name_problem
 from pyrosgen.frontend.yamlsrc import YMap, YNode, YScalar, YSeq, parse_yaml, read_text
 from pyrosgen.system.names import namespace_problem, node_name_problem, resolve
 
-__all__ = ["MAX_NODES", "SystemNode", "SystemModel", "load_system", "read_system"]
+__all__ = ["MAX_NODES", "TARGETS", "SystemNode", "SystemModel", "load_system", "read_system"]
 
 #: Most nodes a system file may name (rule 10.1).  A robot has 20 to 100;
 #: the bound keeps a run's memory and the chains' enumeration bounded.
@@ -85,6 +85,9 @@ class SystemModel:
     inputs: dict[str, YNode]     #: external input topic -> its position
     outputs: dict[str, YNode]    #: external output topic -> its position
     shared: dict[str, YNode]
+    #: the target every node is read, generated and built for (rule 4.17):
+    #: ``"ros1"`` or ``"ros2"`` (``--ros2``)
+    target: str = "ros1"
 
 
 _TOP = {"system", "nodes", "external", "shared"}
@@ -319,13 +322,35 @@ def _cycles(sources, start: str) -> bool:
     return cur == start
 
 
-def load_system(path: str | Path) -> SystemModel:
-    """Read the system file and every node model it names (each with the
-    node front end's checks); the cross-node checks are
-    :func:`pyrosgen.system.checks.check_system`."""
+#: The targets a system is built for (rule 4.17; ``--ros2``).
+TARGETS = ("ros1", "ros2")
+
+
+def _node_loader(target: str):
+    """The front end of ``target``: a function from a node model file to its
+    model (ROS 2: read with ROS 2's message definitions, rule 4.17; a
+    missing ROS 2 installation is exit 2 before any node is read)."""
+    if target not in TARGETS:
+        raise ValueError(f"unknown target {target!r}")
+    if target == "ros2":
+        from pyrosgen.ros2.env import find_ros2
+        from pyrosgen.ros2.frontend import load_model_ros2
+
+        inst = find_ros2()
+        return lambda p: load_model_ros2(p, inst)
     from pyrosgen.frontend.validate import load_model
 
+    return load_model
+
+
+def load_system(path: str | Path, target: str = "ros1") -> SystemModel:
+    """Read the system file and every node model it names (each with the
+    node front end's checks, for ``target``: ``"ros1"`` or ``"ros2"``,
+    rule 4.17); the cross-node checks are
+    :func:`pyrosgen.system.checks.check_system`."""
+    load_model = _node_loader(target)
     sysm = read_system(path)
+    sysm.target = target
     diags: list[Diagnostic] = []
     rd = _Reader(str(sysm.source), sysm.source.parent)
     for sn in sysm.nodes:
@@ -333,7 +358,8 @@ def load_system(path: str | Path) -> SystemModel:
             sn.model = load_model(sn.model_path)
         except InvalidNodeModel as exc:
             rd.err(sn.model_node, f"nodes[{sn.index}].model: node model {show(str(sn.model_node.value))} "
-                                  "is invalid (its problems follow)", "10.2")
+                                  f"is invalid{' for the target ros2' if target == 'ros2' else ''} "
+                                  "(its problems follow)", "10.2")
             diags.extend(exc.diagnostics)
             continue
         if not sn.name:

@@ -99,11 +99,27 @@ def _compile_node(vfile: str, work: str) -> tuple[bool, str]:
         return (False, " ".join(str(exc).split())[:500])
 
 
+def _check_target(out: Path, sysm, rep: SystemVerifyReport) -> None:
+    """The target ``OUT``'s graph records (``<system>.system.json``) is the
+    one verified for (``--ros2``); a folder of the other target is named
+    as such rather than only failing the comparisons below."""
+    import json
+
+    data = _read(out / f"{sysm.name}.system.json")
+    try:
+        got = json.loads(data)["target"] if data is not None else None
+    except (ValueError, KeyError, TypeError):
+        got = None
+    if got in ("ros1", "ros2") and got != sysm.target:
+        hint = "verify it with --ros2" if got == "ros2" else "verify it without --ros2"
+        rep.checks.append(("target", False, f"{out} was generated for the target {got}, not {sysm.target}: {hint}"))
+
+
 def verify_system(out: str | Path, system_path: str | Path, *, jobs: int | None = None,
-                  progress=None) -> SystemVerifyReport:
+                  progress=None, target: str = "ros1") -> SystemVerifyReport:
     import os
 
-    from pyrosgen.system.certificate import _graph_json, _launch, certificate_text
+    from pyrosgen.system.certificate import rendered_files
     from pyrosgen.system.checks import check_system
     from pyrosgen.system.coqsystem import prove_system, render_system_file, system_v_name
     from pyrosgen.system.model import load_system
@@ -113,19 +129,15 @@ def verify_system(out: str | Path, system_path: str | Path, *, jobs: int | None 
     out = Path(out)
     if not out.is_dir() or out.is_symlink():
         raise UserError(f"{out}: not a folder")
-    sysm = load_system(system_path)
+    sysm = load_system(system_path, target)
     graph = check_system(sysm)
     rep = SystemVerifyReport(out, sysm.name)
     jobs = jobs or os.cpu_count() or 1
 
     # 1. the system's own files, rendered again
     vname = system_v_name(sysm.name)
-    expected = {
-        vname: render_system_file(sysm, graph).encode("ascii"),
-        f"{sysm.name}.system.json": _graph_json(sysm, graph).encode("utf-8"),
-        f"{sysm.name}.launch": _launch(sysm).encode("utf-8"),
-        f"{sysm.name}.certificate.md": certificate_text(sysm, graph, out).encode("utf-8"),
-    }
+    expected = {vname: render_system_file(sysm, graph).encode("ascii"), **rendered_files(sysm, graph, out)}
+    _check_target(out, sysm, rep)
     for name, data in expected.items():
         got = _read(out / name)
         rep.checks.append((name, got == data, "as rendered from the system file" if got == data else

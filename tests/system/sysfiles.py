@@ -7,11 +7,13 @@ from pathlib import Path
 import yaml
 
 
-def node_model(folder: Path, name: str, *, subs=(), pubs=(), period_ms: int = 20, comment: str = "") -> Path:
+def node_model(folder: Path, name: str, *, subs=(), pubs=(), period_ms: int = 20, comment: str = "",
+               qos: dict | None = None) -> Path:
     """A node model ``folder/<name>.yaml`` with an Embedded Coder style
     controller: ``subs`` are ``(topic, type, [fields], timeout_ms or None)``,
     each field feeding an input ``I<k>``; ``pubs`` are ``(topic, type,
-    [fields])``, each field written from an output ``O<k>``."""
+    [fields])``, each field written from an output ``O<k>``; ``qos``: topic
+    -> its ``qos`` value (rule 4.18)."""
     inputs, outputs, topics, rin, rout = {}, {}, [], [], []
     for topic, typ, fields, timeout in subs:
         t = {"name": topic, "direction": "subscribe", "type": typ, "queue_size": 1}
@@ -35,6 +37,9 @@ def node_model(folder: Path, name: str, *, subs=(), pubs=(), period_ms: int = 20
         "topics": topics,
         "relations": {"inputs": rin, "outputs": rout},
     }
+    for t in topics:
+        if qos and t["name"] in qos:
+            t["qos"] = qos[t["name"]]
     p = folder / f"{name}.yaml"
     p.write_text((f"# {comment}\n" if comment else "") + yaml.safe_dump(model, sort_keys=False))
     return p

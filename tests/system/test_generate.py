@@ -207,7 +207,7 @@ def test_system_proof_refuses_wrong_wiring(cold, tmp_path, mutant):
     vo = {n.name: cache / n.key / "coq" / f"{n.name}.vo" for n in first.nodes}
     # the right wiring is proved
     text, thms = prove_system(sysm, graph, vo, tmp_path / "ok")
-    assert thms == ["sys_system", "sys_link_1", "sys_link_2", "sys_chain_1", "sys_chain_1_composed"]
+    assert thms == ["sys_system", "sys_target", "sys_link_1", "sys_link_2", "sys_chain_1", "sys_chain_1_composed"]
     l1, l2 = graph.links
     if mutant == "crossed":
         graph.links = [replace(l1, inp=l2.inp), replace(l2, inp=l1.inp)]
@@ -315,7 +315,7 @@ def test_system_verify(cold, tmp_path, capsys):
     o, err = capsys.readouterr()
     assert code == 0, o + err
     assert "verifies (system sys)" in o
-    assert "ok      system proof: 5 theorems (sys_system, sys_link_1, sys_link_2, ...): Closed under the global context" in o
+    assert "ok      system proof: 6 theorems (sys_system, sys_target, sys_link_1, ...): Closed under the global context" in o
     bad = tmp_path / "bad"
     shutil.copytree(out, bad)
     v = bad / "sys_system.v"
