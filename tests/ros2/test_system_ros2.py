@@ -108,17 +108,47 @@ def _teleop(vx: float, wz: float) -> dict:
     return {"linear.x": bits(vx), "angular.z": bits(wz)}
 
 
-def test_chain_runs_end_to_end_on_dds(system_out, ros2_install, tmp_path, shm_guard):
+@pytest.fixture(scope="module")
+def colcon_install(system_out, ros2_install, tmp_path_factory):
+    """``colcon build`` of OUT/src copied into a workspace (colcon of
+    requirements-ros2.txt, ``make ros2-deps``; no ament_cmake here: each
+    package's CMake fallback finds the wheels from PYROSGEN_ROS2_PREFIX):
+    the workspace's ``install`` folder."""
+    import shutil
+    import subprocess
+
+    colcon = ros2_install.prefix / "bin" / "colcon"
+    assert colcon.is_file(), f"{colcon}: no colcon; `make ros2-deps` installs it (requirements-ros2.txt)"
+    ws = tmp_path_factory.mktemp("chain2_ws")
+    shutil.copytree(system_out / "src", ws / "src", symlinks=False)
+    env = {"PATH": f"{colcon.parent}:/usr/bin:/bin", "HOME": str(ws),
+           "PYROSGEN_ROS2_PREFIX": str(ros2_install.prefix)}
+    r = subprocess.run([str(colcon), "build"], cwd=ws, env=env, capture_output=True, text=True, timeout=900)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    finished = sorted(line.split()[2] for line in r.stdout.splitlines() if line.startswith("Finished <<< "))
+    assert finished == sorted(p.name for p in (system_out / "src").iterdir()), r.stdout[-3000:]
+    assert "Failed" not in r.stdout, r.stdout[-3000:]
+    return ws / "install"
+
+
+@pytest.mark.parametrize("binaries", ["system_build", "colcon"])
+def test_chain_runs_end_to_end_on_dds(binaries, system_out, ros2_install, tmp_path, shm_guard, request):
     """The three nodes started as the launch file says; the peer streams
     /scan (and then /teleop/cmd_vel) every 100 ms; in each phase, once the
     chain has settled, every message on /base/wheels carries what the three
-    controllers compute."""
+    controllers compute.  The binaries are ``system build``'s, or those
+    that ``colcon build`` of OUT/src installs where ``ros2 launch`` finds a
+    node's ``pkg`` and ``exec`` (``install/PKG/lib/PKG/EXEC``)."""
     text = (system_out / "guard_chain.launch.xml").read_text()
+    if binaries == "colcon":
+        install = request.getfixturevalue("colcon_install")
+        where = lambda n: install / n.pkg / "lib" / n.pkg / n.exec  # noqa: E731
+    else:
+        where = lambda n: system_out / n.folder / "bin" / n.exec  # noqa: E731
     procs = []
     try:
         for n in read_ros2_launch(text):
-            procs.append((n.full_name, spawn(n.argv(system_out / n.folder / "bin" / n.exec),
-                                             tmp_path / f"{n.folder}.log")))
+            procs.append((n.full_name, spawn(n.argv(where(n)), tmp_path / f"{n.folder}.log")))
         steps = [{"stream": {SCAN: _scan(5.0)}, "period": 0.1, "duration": 2.0},      # discovery inside the chain
                  {"stream": {SCAN: _scan(5.0)}, "period": 0.1, "duration": PHASE},
                  {"stream": {SCAN: _scan(0.5)}, "period": 0.1, "duration": PHASE},
