@@ -123,15 +123,23 @@ def test_leftover_segments_are_the_new_unmapped_fast_dds_ones(tmp_path, monkeypa
 
 
 WRAPPER = """\
-        rmw_message_info_t info = rmw_get_zero_initialized_message_info();
-        memset(&g_buf_scan[g_n_scan], 0, sizeof g_buf_scan[0]);
-        to_c_sensor_msgs_LaserScan(&g_take_scan, &g_buf_scan[g_n_scan]);
+void ros_spinOnce(void)
+{
+    take_scan();
+    g_now_ns = ros_time_ns();
+}
+
+void ros_rate_sleep(void)
+{
+    long long now = steady_ns();
+    g_next_ns += PYROSGEN_PERIOD_NS;
+}
 """
 
 
 def test_what_if_changes_apply_or_say_they_are_stale():
     got = ros2.patched(WRAPPER, list(ros2.WHAT_IF))
-    assert "memset" not in got and "rmw_get_zero_initialized_message_info" not in got
-    assert "info.received_timestamp = 0;" in got and "to_c_sensor_msgs_LaserScan(&g_take_scan" in got
+    assert "ros_time_ns" not in got and "steady_ns" not in got
+    assert "long long now = 0;\n    g_next_ns += PYROSGEN_PERIOD_NS;" in got and "    take_scan();\n}" in got
     with pytest.raises(ValueError, match="does not apply"):
-        ros2.patched(got, ["no memset of the take buffer before to_c"])
+        ros2.patched(got, ["no ROS time read when a spin returns (ros_now outside callbacks)"])
