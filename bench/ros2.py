@@ -330,7 +330,7 @@ def instructions(node: Node, exes: dict, cycles: int) -> dict:
 #: section 6.1) to measure what it costs, and stay out of the wrapper.
 WHAT_IF = {
     "no ROS time read when a spin returns (ros_now outside callbacks)": (
-        r"\n    g_now_ns = ros_time_ns\(\);\n\}", "\n}"),
+        r"\n    g_now_ns = ros_time_ns\(\);\n\}", "\n    (void)ros_time_ns;   /* not read: what-if */\n}"),
     "no steady clock read in ros_rate_sleep (ros::Rate's rule for a late cycle)": (
         r"long long now = steady_ns\(\);(\n    g_next_ns \+= PYROSGEN_PERIOD_NS;)", r"long long now = 0;\1"),
 }
