@@ -5,6 +5,7 @@ one run.
 
 usage: .venv/bin/python bench/ros2.py [--quick] [--rounds N] [--turns N] [--builds N] [--no-report]
        .venv/bin/python bench/ros2.py --what-if
+       .venv/bin/python bench/ros2.py --by-function
 
 - **instructions per cycle, glue + rcl wrapper together** (callgrind,
   exact): each node linked with bench/runtime/fake_rcl.c (a fake rcl
@@ -53,9 +54,18 @@ rounds and builds, into build/bench/results-quick/); the ``ros2`` block of
 BENCHMARKS.md is rewritten from them (``report_block``).
 
 ``--what-if``: only the instruction counts of the generated nodes with the
-changes to the rcl wrapper that section 13 proposes (``WHAT_IF``, applied
-to the generated ``<node>_rcl.c``), each and all together, into
-bench/results/ros2_what_if.json."""
+changes to the rcl wrapper of ``WHAT_IF`` (applied to the generated
+``<node>_rcl.c``: section 13's proposals, or, as now, what one of the
+environment model's promises costs, measured by dropping it), each and all
+together, into bench/results/ros2_what_if.json.
+
+``--by-function``: only the generated nodes' instructions per cycle by
+function of their ``<node>_rcl.c`` as written (the wrapper compiled with
+``-g`` added, otherwise as ``build --ros2`` does; ``callgrind_annotate``'s
+count of each source line summed over the lines of each function, so that
+code the compiler inlined counts where it is written: section 13's
+account), with the glue's and the libraries' functions as callgrind names
+them, into bench/results/ros2_by_function.json."""
 
 from __future__ import annotations
 
@@ -287,6 +297,109 @@ def _callgrind(exe: Path, cycles: int, toggles: list[str], extra_env: dict) -> t
     return r.stdout.strip(), ann
 
 
+_SRC_LINE = re.compile(r"^\s*([\d,]+|\.)\s")
+_FUNC_START = re.compile(r"^(?:static )?(?:inline )?[A-Za-z_][\w ]*?[ *](\w+)\((?!.*;\s*$)")
+
+
+def source_line_counts(ann: str, source_name: str) -> list[int]:
+    """The instruction count of each line (index 0: line 1) of the source
+    file named ``source_name`` in ``callgrind_annotate --auto=yes
+    --context=N`` output with N at least the file's length (every line
+    printed once, in order; the calls' ``=>`` lines left out)."""
+    parts = re.split(r"^-- Auto-annotated source: (.*)$", ann, flags=re.M)
+    texts = [parts[i + 1] for i in range(1, len(parts), 2) if Path(parts[i].strip()).name == source_name]
+    if len(texts) != 1:
+        raise ValueError(f"{source_name}: {len(texts)} annotated sources in callgrind_annotate's output")
+    counts: list[int] = []
+    for ln in texts[0].splitlines():
+        if ln.startswith("--"):
+            if counts:
+                break   # the end of the file's lines (a summary follows)
+            continue
+        if "=>" in ln[:40]:
+            continue
+        m = _SRC_LINE.match(ln)
+        if m:
+            counts.append(0 if m.group(1) == "." else int(m.group(1).replace(",", "")))
+    return counts
+
+
+def function_spans(source: str) -> dict[str, tuple[int, int]]:
+    """The top-level functions of the C ``source``: name -> (index of its
+    definition's first line, index of its closing ``}`` at the start of a
+    line)."""
+    out: dict[str, tuple[int, int]] = {}
+    name, first = None, 0
+    for i, text in enumerate(source.splitlines()):
+        m = _FUNC_START.match(text)
+        if name is None and m:
+            name, first = m.group(1), i
+        elif name is not None and text == "}":
+            out[name] = (first, i)
+            name = None
+    return out
+
+
+def function_counts(source: str, counts: list[int]) -> dict[str, int]:
+    """``counts`` (per source line) summed over each top-level function of
+    the C ``source`` (``function_spans``); the functions with no count
+    left out."""
+    out = {name: sum(counts[a:b + 1]) for name, (a, b) in function_spans(source).items()}
+    return {name: c for name, c in out.items() if c}
+
+
+def by_function(node: Node, pair: dict, cycles: int) -> dict:
+    """``--by-function`` for one node (see the module documentation): per
+    cycle, (count at 2N cycles - count at N) / N, by function of the
+    wrapper's source, and the other functions' self counts."""
+    from pyrosgen.ros.wrapper import GLUE_CFLAGS
+
+    parts = pair["parts"]
+    src = Path(parts["rcl_source"])
+    o, exe = (pair["generated"].parent / f"{node.tag}_generated_g{ext}" for ext in (".o", ""))
+    _run(["gcc", *GLUE_CFLAGS, "-g", "-I", parts["include"], *parts["cflags"], "-c", src, "-o", o])
+    _run(["gcc", o, *parts["objects"], "-o", exe, *parts["lflags"], "-lm"])
+    extra = {"BENCH_SCAN_LENGTH": "1081"} if node is SCAN_GUARD else {}
+    toggles = ["main", "rcl_take", "rcl_publish", "clock_nanosleep", node.step]
+    lines, selfs = [], []
+    for n in (cycles, 2 * cycles):
+        outf = exe.parent / f"callgrind.{exe.name}.{n}.out"
+        _run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={outf}",
+              *[f"--toggle-collect={t}" for t in toggles], exe],
+             env=dict(os.environ, BENCH_CYCLES=str(n), **extra), timeout=900)
+        ann = _run(["callgrind_annotate", "--auto=yes", f"--context={len(src.read_text().splitlines()) + 10}",
+                    "--threshold=100", outf]).stdout
+        lines.append(function_counts(src.read_text(), source_line_counts(ann, src.name)))
+        selfs.append(parse_annotate(ann))
+    wrapper = per_cycle(lines[0], lines[1], cycles, 2 * cycles)
+    others = without_fake(per_cycle(selfs[0], selfs[1], cycles, 2 * cycles))
+    # the wrapper's functions by source line; every other function (glue, libraries) by its self count
+    # (gcc's clones of a wrapper function, such as qos_event.constprop.0, are the wrapper's)
+    names = set(function_spans(src.read_text()))
+    rest = {f: v for f, v in others["functions"].items() if f.split(".")[0] not in names}
+    total = wrapper["total"] + sum(rest.values())
+    return {"total": total, "wrapper": wrapper["functions"], "wrapper_total": wrapper["total"], "others": rest}
+
+
+def run_by_function(cycles: int = 1000) -> dict:
+    """``--by-function``: both generated nodes built, then only
+    ``by_function``; saved as ros2_by_function.json."""
+    from pyrosgen.ros2.env import find_ros2
+
+    inst = find_ros2()
+    work = Path(tempfile.mkdtemp(prefix="pyrosgen-bench-ros2-"))
+    try:
+        out = {"when": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "load": loadavg(), "nodes": {}}
+        for node in NODES:
+            model, dropped = derive_model(node, work, inst)
+            out["nodes"][node.tag] = by_function(node, build_pair(node, model, dropped, work, inst, dict(os.environ)),
+                                                 cycles)
+        save_json("ros2_by_function.json", out)
+        return out
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
 def count(exe: Path, node: Node, cycles: int, extra_env: dict) -> dict:
     """Instructions per cycle of ``exe`` (see the module documentation)."""
     toggles = ["main", "rcl_take", "rcl_publish", "clock_nanosleep", node.step]
@@ -319,16 +432,19 @@ def instructions(node: Node, exes: dict, cycles: int) -> dict:
 
 
 # ---------------------------------------------------------------------------
-# What if: changes to the rcl wrapper proposed, measured on the generated file
+# What if: changes to the rcl wrapper, measured on the generated file
 
-#: Changes to ``<node>_rcl.c`` proposed for pyrosgen/templates/rcl_api.c.j2
-#: (not made there): name -> (regular expression, replacement).
+#: Changes to ``<node>_rcl.c`` measured, not made in
+#: pyrosgen/templates/rcl_api.c.j2: name -> (regular expression,
+#: replacement).  Section 13's two proposals (no memset of the take buffer,
+#: only the message info's received_timestamp zeroed) are made since
+#: 9f0193d; these two drop a promise of the environment model (DESIGN.md
+#: section 6.1) to measure what it costs, and stay out of the wrapper.
 WHAT_IF = {
-    "no memset of the take buffer before to_c": (
-        r"\n[ \t]*memset\(&g_buf_\w+\[g_n_\w+\], 0, sizeof g_buf_\w+\[0\]\);", ""),
-    "message info: only received_timestamp zeroed before the take": (
-        r"rmw_message_info_t info = rmw_get_zero_initialized_message_info\(\);",
-        "rmw_message_info_t info;\n        info.received_timestamp = 0;"),
+    "no ROS time read when a spin returns (ros_now outside callbacks)": (
+        r"\n    g_now_ns = ros_time_ns\(\);\n\}", "\n    (void)ros_time_ns;   /* not read: what-if */\n}"),
+    "no steady clock read in ros_rate_sleep (ros::Rate's rule for a late cycle)": (
+        r"long long now = steady_ns\(\);(\n    g_next_ns \+= PYROSGEN_PERIOD_NS;)", r"long long now = 0;\1"),
 }
 
 
@@ -587,9 +703,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--no-report", action="store_true", help="do not rewrite the ros2 block of BENCHMARKS.md")
     ap.add_argument("--what-if", action="store_true",
                     help="only the instruction counts of the proposed wrapper changes (ros2_what_if.json)")
+    ap.add_argument("--by-function", action="store_true",
+                    help="only the generated nodes' instructions by function of the rcl wrapper (ros2_by_function.json)")
     a = ap.parse_args(argv)
     import common
 
+    if a.by_function:
+        print(json.dumps(run_by_function(), indent=1))
+        return 0
     if a.what_if:
         print(json.dumps(run_what_if(), indent=1))
         return 0

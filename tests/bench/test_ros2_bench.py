@@ -123,15 +123,71 @@ def test_leftover_segments_are_the_new_unmapped_fast_dds_ones(tmp_path, monkeypa
 
 
 WRAPPER = """\
-        rmw_message_info_t info = rmw_get_zero_initialized_message_info();
-        memset(&g_buf_scan[g_n_scan], 0, sizeof g_buf_scan[0]);
-        to_c_sensor_msgs_LaserScan(&g_take_scan, &g_buf_scan[g_n_scan]);
+void ros_spinOnce(void)
+{
+    take_scan();
+    g_now_ns = ros_time_ns();
+}
+
+void ros_rate_sleep(void)
+{
+    long long now = steady_ns();
+    g_next_ns += PYROSGEN_PERIOD_NS;
+}
 """
 
 
 def test_what_if_changes_apply_or_say_they_are_stale():
     got = ros2.patched(WRAPPER, list(ros2.WHAT_IF))
-    assert "memset" not in got and "rmw_get_zero_initialized_message_info" not in got
-    assert "info.received_timestamp = 0;" in got and "to_c_sensor_msgs_LaserScan(&g_take_scan" in got
+    assert "g_now_ns = ros_time_ns();" not in got and "steady_ns" not in got
+    assert "long long now = 0;\n    g_next_ns += PYROSGEN_PERIOD_NS;" in got
+    assert "    take_scan();\n    (void)ros_time_ns;" in got
     with pytest.raises(ValueError, match="does not apply"):
-        ros2.patched(got, ["no memset of the take buffer before to_c"])
+        ros2.patched(got, ["no ROS time read when a spin returns (ros_now outside callbacks)"])
+
+
+ANNOTATED = """\
+--------------------------------------------------------------------------------
+-- Auto-annotated source: /tmp/x/other.c
+--------------------------------------------------------------------------------
+  9 ( 1.00%)  int other(void) { return 1; }
+--------------------------------------------------------------------------------
+-- Auto-annotated source: /tmp/x/n_rcl.c
+--------------------------------------------------------------------------------
+    .           /* n_rcl.c */
+    .           static inline void to_c_T(const int *r, int *c)
+    .           {
+1,000 ( 2.00%)      *c = *r;
+    .           }
+    .           \n\
+    2 ( 0.00%)  void ros_spinOnce(void)
+    .           {
+3,000 ( 6.00%)      take();
+2,000 ( 4.00%)  => /tmp/x/n_rcl.c:take (1,000x)
+    .           }
+--------------------------------------------------------------------------------
+Ir
+--------------------------------------------------------------------------------
+6,002 (12.00%)  events annotated
+"""
+SOURCE = """\
+/* n_rcl.c */
+static inline void to_c_T(const int *r, int *c)
+{
+    *c = *r;
+}
+
+void ros_spinOnce(void)
+{
+    take();
+}
+"""
+
+
+def test_source_line_counts_and_function_counts():
+    counts = ros2.source_line_counts(ANNOTATED, "n_rcl.c")
+    assert counts == [0, 0, 0, 1000, 0, 0, 2, 0, 3000, 0]
+    assert ros2.function_spans(SOURCE) == {"to_c_T": (1, 4), "ros_spinOnce": (6, 9)}
+    assert ros2.function_counts(SOURCE, counts) == {"to_c_T": 1000, "ros_spinOnce": 3002}
+    with pytest.raises(ValueError, match="0 annotated sources"):
+        ros2.source_line_counts(ANNOTATED, "missing_rcl.c")

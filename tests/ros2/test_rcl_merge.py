@@ -1,0 +1,160 @@
+"""The rcl wrapper's ``ros_spinOnce`` against the environment model's
+``rcl_deliverable`` (DESIGN.md section 6.1, "The ROS 2 wrapper";
+``Environment.wrapper_merge``): per subscription in model order at most its
+queue size of the messages available, taken in order, then the callbacks
+run by merging the subscriptions' lists on the receipt time (the first
+head of smallest time, ties to the earlier subscription, each list in take
+order whatever its times), ``ros_now()`` in a callback the message's
+receipt time.  A C harness includes the node's own ``<node>_rcl.c`` and
+replaces ``rcl_take`` by a script (per subscription, the messages available
+and their ``received_timestamp``); its callbacks record what they receive
+and ``ros_now()``; the order is compared with the model's, computed here,
+over random scripts with ties and decreasing times, for three
+subscriptions (queue sizes 1, 3 and 2: the merge) and for one (queue size
+3: its messages in take order)."""
+
+from __future__ import annotations
+
+import random
+import subprocess
+
+import pytest
+
+from pyrosgen.proof.modeltext import parse_model_text
+from pyrosgen.ros.wrapper import GLUE_CFLAGS
+from pyrosgen.ros2.build import build_ros2, compile_flags, link_flags
+
+QUEUES = {"three": (1, 3, 2), "one": (3,)}
+CASES = 300
+
+
+def model(queues: tuple[int, ...]) -> str:
+    names = "ABC"[:len(queues)]
+    topics = "".join(f"  - {{name: /in_{n.lower()}, direction: subscribe, type: std_msgs/Float64, queue_size: {q}}}\n"
+                     for n, q in zip(names, queues))
+    rels = "".join(f"    - {{topic: /in_{n.lower()}, field: data, input: {n}}}\n" for n in names)
+    fields = ", ".join(f"{n}: float64" for n in names)
+    return f"""\
+node: {{name: merge{len(queues)}, period_ms: 20}}
+controller:
+  name: Echo
+  inputs:
+    name: Echo_U
+    fields: {{{fields}}}
+  outputs:
+    name: Echo_Y
+    fields: {{X: float64}}
+  blocks: [{{name: unused, block: Constant, type: bool, value: false}}]   # a diagram has at least one block
+  outports: {{X: A}}
+topics:
+{topics}  - {{name: /out, direction: publish, type: std_msgs/Float64, queue_size: 1}}
+relations:
+  inputs:
+{rels}  outputs:
+    - {{output: X, topic: /out, field: data}}
+"""
+
+
+def harness(node: str, subs: list[str]) -> str:
+    """Reads cases from standard input (per subscription: a count, then that
+    many receipt times), runs one ros_spinOnce() per case and prints, per
+    callback run, ``subscription message ros_now``, then ``end``."""
+    k = len(subs)
+    which = " : ".join(f"s == &g_sub_{c} ? {i}" for i, c in enumerate(subs)) + " : -1"
+    cbs = "".join(f"static void cb_{c}(struct std_msgs_Float64 *m) {{ seen({i}, m); }}\n" for i, c in enumerate(subs))
+    setup = "".join(f"    g_sub_{c}_up = 1;\n    g_cb_{c} = cb_{c};\n    std_msgs__msg__Float64__init(&g_take_{c});\n"
+                    for c in subs)
+    return f"""#include "{node}_rcl.c"
+
+static int avail[{k}], taken[{k}];
+static long long at[{k}][16];
+
+rcl_ret_t rcl_take(const rcl_subscription_t *s, void *msg, rmw_message_info_t *info,
+                   rmw_subscription_allocation_t *allocation)
+{{
+    int i = {which};
+    (void)allocation;
+    if (i < 0) abort();
+    if (taken[i] >= avail[i]) return RCL_RET_SUBSCRIPTION_TAKE_FAILED;
+    ((std_msgs__msg__Float64 *)msg)->data = (double)(100 * i + taken[i]);
+    info->received_timestamp = at[i][taken[i]];
+    taken[i]++;
+    return RCL_RET_OK;
+}}
+
+static void seen(int i, struct std_msgs_Float64 *m)
+{{
+    printf("%d %d %llu\\n", i, (int)m->data - 100 * i, ros_now());
+}}
+
+{cbs}
+int main(void)
+{{
+{setup}    for (;;) {{
+        for (int i = 0; i < {k}; ++i) {{
+            if (scanf("%d", &avail[i]) != 1) return 0;
+            taken[i] = 0;
+            for (int j = 0; j < avail[i]; ++j)
+                if (scanf("%lld", &at[i][j]) != 1) return 2;
+        }}
+        ros_spinOnce();
+        printf("end\\n");
+        fflush(stdout);
+    }}
+}}
+"""
+
+
+def expected(queues, case) -> list[tuple[int, int, int]]:
+    """The model: each subscription's first min(available, queue) messages
+    (the fake's reader holds exactly what it offers), merged on the
+    receipt time (first head of smallest time, ties to the earlier)."""
+    lists = [list(enumerate(times[:q])) for q, times in zip(queues, case)]
+    out = []
+    while any(lists):
+        best = min((i for i, lst in enumerate(lists) if lst), key=lambda i: (lists[i][0][1], i))
+        j, t = lists[best].pop(0)
+        out.append((best, j, t))
+    return out
+
+
+def cases(queues, rng: random.Random) -> list[list[list[int]]]:
+    out = []
+    for _ in range(CASES):
+        base = rng.randrange(1, 1 << 62)
+        spread = rng.choice([0, 2, 5, 1000])   # 0: every time equal (all ties)
+        out.append([[base + rng.randrange(spread + 1) for _ in range(rng.randrange(q + 3))] for q in queues])
+    return out
+
+
+@pytest.mark.parametrize("shape", sorted(QUEUES))
+def test_spin_once_delivers_as_rcl_deliverable(shape, ros2_install, ros2_nodes, tmp_path):
+    queues = QUEUES[shape]
+    (tmp_path / "m.yaml").write_text(model(queues))
+    res = build_ros2(tmp_path / "m.yaml", None, ros2_nodes / f"merge_{shape}", install=ros2_install)
+    subs = [t.c_name for t in parse_model_text(res.generated.proved_model).topics if t.direction == "subscribe"]
+    assert len(subs) == len(queues)
+    src, exe = tmp_path / "harness.c", tmp_path / "harness"
+    src.write_text(harness(res.model.name, subs))
+    cflags = [f for f in GLUE_CFLAGS if f not in ("-Werror", "-pedantic")]
+    cc = subprocess.run(["gcc", *cflags, "-I", str(res.out_dir), *compile_flags(ros2_install), str(src), "-o",
+                         str(exe), *link_flags(ros2_install, res.model), "-lm"], capture_output=True, text=True)
+    assert cc.returncode == 0, cc.stderr[-3000:]
+    script = cases(queues, random.Random(31 + len(queues)))
+    stdin = "".join(" ".join(str(x) for times in case for x in (len(times), *times)) + "\n" for case in script)
+    run = subprocess.run([str(exe)], input=stdin, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr[-2000:]
+    got, cur = [], []
+    for line in run.stdout.splitlines():
+        if line == "end":
+            got.append(cur)
+            cur = []
+        else:
+            cur.append(tuple(int(x) for x in line.split()))
+    assert len(got) == CASES
+    ties = 0
+    for case, delivered in zip(script, got):
+        want = expected(queues, case)
+        assert delivered == want, f"script {case}: delivered {delivered}, the model {want}"
+        ties += len(want) != len({t for _, _, t in want})
+    assert ties > CASES // 10   # the scripts did exercise ties
