@@ -262,7 +262,7 @@ Lemma output_temps:
   = Some (ctype_of_prim (outrel_prim (make_tables m) o)).
 Proof.
   intros m tp o Ho. unfold output_glue_function.
-  destruct (topic_stamp m (tp_cname tp)); apply temps_of_find; [right; right|]; apply in_map_iff; eauto.
+  destruct (topic_stamp m (tp_cname tp)); apply temps_of_find; [apply in_or_app; right|]; apply in_map_iff; eauto.
 Qed.
 
 Lemma output_temp_uint:
@@ -274,11 +274,12 @@ Proof.
 Qed.
 
 Lemma output_temp_sec:
-  forall m tp sp, topic_stamp m (tp_cname tp) = Some sp ->
+  forall m tp sp sf, topic_stamp m (tp_cname tp) = Some sp -> topic_stamp_from m (tp_cname tp) = Some sf ->
   find_assoc (temp_name (time_sec_prim (nm_msgs m))) (fn_temps (output_glue_function m (make_tables m) tp))
   = Some (ctype_of_prim (time_sec_prim (nm_msgs m))).
 Proof.
-  intros m tp sp E. unfold output_glue_function. rewrite E. apply temps_of_find; right; left; auto.
+  intros m tp sp sf E F. unfold output_glue_function. rewrite E. apply temps_of_find.
+  unfold stamp_prims. rewrite F. right; left; auto.
 Qed.
 
 (** The stamp's seconds, converted to ROS 2's [int32]: of the type of
@@ -291,7 +292,8 @@ Proof. intros m. unfold stamp_sec_expr, time_sec_prim. destruct (time_is_ros2 (n
 Lemma valid_stamp:
   forall m tp sp temps, wf_facts m -> In tp (published m) -> topic_stamp m (tp_cname tp) = Some sp ->
   find_assoc (temp_name Puint32) temps = Some (ctype_of_prim Puint32) ->
-  find_assoc (temp_name (time_sec_prim (nm_msgs m))) temps = Some (ctype_of_prim (time_sec_prim (nm_msgs m))) ->
+  (forall sf, topic_stamp_from m (tp_cname tp) = Some sf ->
+     find_assoc (temp_name (time_sec_prim (nm_msgs m))) temps = Some (ctype_of_prim (time_sec_prim (nm_msgs m)))) ->
   valid_assignments (composites m) temps (stamp_stmts m (make_tables m) (tp_cname tp) (tp_msg tp) sp).
 Proof.
   intros m tp sp temps W Htp ST TU TS.
@@ -302,6 +304,7 @@ Proof.
     as [T2 W2]; auto; [constructor|].
   unfold stamp_stmts. destruct (topic_stamp_from m (tp_cname tp)) as [[s0 sp']|] eqn:SF.
   - assert (Hin: In (tp_cname tp, (s0, sp')) (nm_stamp_from m)) by (apply find_assoc_In; auto).
+    specialize (TS _ eq_refl).
     destruct (wf_stamp_from m _ _ _ W Hin) as (tp' & Ft & _ & Rs' & Rn' & _).
     rewrite (topic_msg_tables m _ _ Ft).
     destruct (leaf_path_expr_typed m _ _ _ (Evar (msg_var s0) (Tstruct (tp_msg tp'))) Rs')
@@ -386,7 +389,8 @@ Proof.
                     (output_base m tp)).
     2:{ rewrite output_glue_body. split; [|apply valid_strings; auto].
         unfold output_pre. destruct (topic_stamp m (tp_cname tp)) as [sp|] eqn:ST; auto.
-        split; auto. apply valid_stamp; auto; [eapply output_temp_uint|eapply output_temp_sec]; eauto. }
+        split; auto. apply valid_stamp; auto; [eapply output_temp_uint; eauto|].
+        intros sf F. eapply output_temp_sec; eauto. }
     unfold output_base. split.
     + apply valid_assignments_seq. intros st Hst.
       apply in_map_iff in Hst; destruct Hst as ([pa q] & <- & Hl).

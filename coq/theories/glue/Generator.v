@@ -422,6 +422,11 @@ Definition stamp_stmts (c M : ident) (sp : path) : statement :=
       seq_of [copy (time_sec_prim (nm_msgs m)) (dst "sec") (src "sec"); copy Puint32 (dst nf) (src nf)]
   end.
 
+(** The temporaries of the stamp of the topic with C name [c]: [_t_uint],
+    and the seconds' ([_t_int] on ROS 2) if the stamp is copied. *)
+Definition stamp_prims (c : ident) : list prim :=
+  Puint32 :: match topic_stamp_from c with Some _ => [time_sec_prim (nm_msgs m)] | None => [] end.
+
 (** The constant strings of the topic with C name [c] (rule 4.14): each
     string's path and bytes, in model order. *)
 Definition topic_strings (c : ident) : list (path * list Z) :=
@@ -458,8 +463,7 @@ Definition output_glue_function (tp : topic) : function :=
   let strs := strings_stmts (tp_cname tp) M in
   match topic_stamp (tp_cname tp) with
   | None => mkfunction Tvoid [(command_param, tptr (Tstruct M))] [] (temps_of qs) (Ssequence body strs)
-  | Some sp => mkfunction Tvoid [(command_param, tptr (Tstruct M))] []
-                 (temps_of (Puint32 :: time_sec_prim (nm_msgs m) :: qs))
+  | Some sp => mkfunction Tvoid [(command_param, tptr (Tstruct M))] [] (temps_of (stamp_prims (tp_cname tp) ++ qs))
                  (Ssequence (Ssequence body (stamp_stmts (tp_cname tp) M sp)) strs)
   end.
 
