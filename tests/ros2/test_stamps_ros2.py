@@ -1,0 +1,199 @@
+"""Stamps on ROS 2 (rules 4.13, 4.17), end to end on a real DDS (Fast DDS
+from the wheels, loopback only): ``header.stamp`` is a
+``builtin_interfaces/Time`` (``int32 sec``, ``uint32 nanosec``), which the
+proved glue fills with the cycle's ROS time (``(int)ros_time_sec()``,
+``ros_time_nsec()``; ``DDC.stamp_sec``).
+
+- LandShark stamped (examples/landshark/landshark_stamped.yaml, the
+  bit-exact echo controller) under wall time: every command an rclpy peer
+  receives carries a stamp within the ROS time (the system clock) between
+  the node's start and the peer's end, ``nanosec`` below 10^9, strictly
+  increasing from one command to the next, in frame ``base_link``, with the
+  controller's value;
+- the same node under ``use_sim_time`` with a ``/clock`` publisher: the
+  stamp is the clock's value (100.25 s, then 2,147,483,000.123456789 s, the
+  largest seconds ``/clock``'s own ``int32 sec`` carries are near);
+- the laser guard and the scan guard (their ``stamp: now``) built for
+  ROS 2: a scan in, the command out, with its stamp.
+
+Every process goes through ``ros2_env()`` (conftest) and is stopped by its
+PID; the shared memory its processes leave is removed (``shm_guard``)."""
+
+from __future__ import annotations
+
+import signal
+import struct
+import time
+
+import pytest
+
+from pyrosgen.ros2.build import build_ros2
+
+from support import expect
+from support import ros as rosutil
+
+from .conftest import leftover_segments, run_peer, spawn, stop
+
+LEFT, RIGHT, GPS = "/landshark/left_wheel_velocity", "/landshark/right_wheel_velocity", "/landshark/gps_velocity"
+BASE = "/landshark_control/base_velocity"
+TS = "geometry_msgs/TwistStamped"
+STAMPED = rosutil.ROOT / "examples" / "landshark" / "landshark_stamped.yaml"
+LASER = rosutil.ROOT / "examples" / "laser_guard" / "laser_guard.yaml"
+SCAN_GUARD = rosutil.ROOT / "examples" / "scan_guard"
+SCAN, CMD, CLOSEST = "/scan", "/cmd_vel", "/closest"
+N = 1081
+FAR, NEAR = 2.0, 0.5
+
+
+def bits(x: float) -> int:
+    return struct.unpack("<Q", struct.pack("<d", x))[0]
+
+
+def stamp_ns(lv: dict) -> int:
+    return lv["header.stamp.sec"] * 1_000_000_000 + lv["header.stamp.nanosec"]
+
+
+def check_wall_stamps(cmds: list[dict], before_ns: int, after_ns: int) -> list[str]:
+    """Every stamp within [before, after] of the system clock, its
+    nanoseconds below 10^9, strictly increasing; in frame base_link."""
+    problems = []
+    last = None
+    for lv in cmds:
+        s, ns = lv["header.stamp.sec"], lv["header.stamp.nanosec"]
+        if not 0 <= ns < 1_000_000_000:
+            problems.append(f"nanosec {ns} out of range")
+        if not before_ns <= stamp_ns(lv) <= after_ns:
+            problems.append(f"stamp {s}.{ns:09d} outside the run [{before_ns / 1e9:.3f}, {after_ns / 1e9:.3f}]")
+        if last is not None and stamp_ns(lv) <= last:
+            problems.append(f"stamp {s}.{ns:09d} not after the previous one")
+        last = stamp_ns(lv)
+        if lv["header.frame_id"] != "base_link":
+            problems.append(f"frame_id {lv['header.frame_id']!r}")
+    return problems
+
+
+@pytest.fixture(scope="module")
+def stamped2(ros2_install, ros2_nodes):
+    """LandShark stamped, built for ROS 2 with the bit-exact echo controller."""
+    res = build_ros2(STAMPED, rosutil.CONTROLLERS / "landshark_echo", ros2_nodes / "landshark_stamped",
+                     install=ros2_install)
+    glue = (res.out_dir / "landshark_stamped_glue.c").read_text()
+    assert "(*command).header.stamp.sec = (int)_t_uint;" in glue
+    assert "(*command).header.stamp.nanosec = _t_uint;" in glue
+    return res
+
+
+def test_landshark_stamped_ros2_wall_time(stamped2, ros2_install, tmp_path, shm_guard):
+    v = {LEFT: 1.5, RIGHT: -2.25, GPS: 0.125}
+    before = time.time_ns()
+    node = spawn([stamped2.binary], tmp_path / "node.log")
+    try:
+        result = run_peer({"publishers": {t: TS for t in (LEFT, RIGHT, GPS)}, "subscribers": {BASE: TS},
+                           "match_timeout": 20.0,
+                           "steps": [{"sleep": 0.3},
+                                     {"publish": {t: {"twist.linear.x": bits(x)} for t, x in v.items()}},
+                                     {"sleep": 1.0}]}, tmp_path, ros2_install)
+    finally:
+        status = stop(node, signal.SIGTERM)
+    after = time.time_ns()
+    assert status == 0, (tmp_path / "node.log").read_text(errors="replace")[-2000:]
+    cmds = [lv for _t, topic, lv in result["received"] if topic == BASE]
+    assert len(cmds) >= 20, f"only {len(cmds)} commands"
+    problems = check_wall_stamps(cmds, before, after)
+    want = expect.landshark_echo({"In1": bits(v[LEFT]), "In2": bits(v[RIGHT]), "In3": bits(v[GPS])})["Out1"]
+    late = [lv for t, topic, lv in result["received"] if topic == BASE and t >= result["steps"][2]["t0"] + 0.3]
+    assert len(late) >= 10, f"only {len(late)} commands after the inputs"
+    problems += [f"twist.linear.x {lv['twist.linear.x']:#x}, expected {want:#x}" for lv in late
+                 if lv["twist.linear.x"] != want]
+    assert not problems, "\n".join(problems[:20])
+    assert not leftover_segments(), leftover_segments()
+
+
+def _clock(sec: int, nanosec: int) -> dict:
+    return {"clock.sec": sec, "clock.nanosec": nanosec}
+
+
+def test_landshark_stamped_ros2_stamp_is_clock_under_use_sim_time(stamped2, ros2_install, tmp_path, shm_guard):
+    clocks = [(100, 250_000_000), (2_147_483_000, 123_456_789)]
+    steps = [{"stream": {"/clock": _clock(*c)}, "period": 0.05, "duration": 1.2} for c in clocks]
+    node = spawn([stamped2.binary, "--ros-args", "-p", "use_sim_time:=true"], tmp_path / "node.log")
+    try:
+        result = run_peer({"publishers": {"/clock": "rosgraph_msgs/Clock"}, "subscribers": {BASE: TS},
+                           "match_timeout": 20.0, "steps": steps}, tmp_path, ros2_install)
+    finally:
+        status = stop(node, signal.SIGTERM)
+    assert status == 0, (tmp_path / "node.log").read_text(errors="replace")[-2000:]
+    problems = []
+    for (sec, ns), s in zip(clocks, result["steps"]):
+        window = [lv for t, topic, lv in result["received"] if topic == BASE and s["t0"] + 0.4 <= t <= s["t1"]]
+        if len(window) < 10:
+            problems.append(f"clock {sec}.{ns:09d}: only {len(window)} commands")
+        problems += [f"clock {sec}.{ns:09d}: stamp {lv['header.stamp.sec']}.{lv['header.stamp.nanosec']:09d}"
+                     for lv in window if (lv["header.stamp.sec"], lv["header.stamp.nanosec"]) != (sec, ns)]
+    assert not problems, "\n".join(problems[:20])
+    assert not leftover_segments(), leftover_segments()
+
+
+def _scan_steps(cases: list[tuple[int, tuple[int, float] | None]], hold: float) -> list[dict]:
+    steps: list[dict] = [{"sleep": 0.3}]
+    for length, near in cases:
+        ranges = [FAR] * length
+        if near is not None:
+            ranges[near[0]] = near[1]
+        steps += [{"publish": {SCAN: {"ranges": [bits(r) for r in ranges], "header.frame_id": "laser"}}},
+                  {"sleep": hold}]
+    return steps
+
+
+def _run_guard(binary, ros2_install, tmp_path, cases, subscribers: dict, hold: float = 0.8):
+    before = time.time_ns()
+    node = spawn([binary], tmp_path / "node.log")
+    try:
+        result = run_peer({"publishers": {SCAN: "sensor_msgs/LaserScan"}, "subscribers": subscribers,
+                           "match_timeout": 20.0, "steps": _scan_steps(cases, hold)}, tmp_path, ros2_install)
+    finally:
+        status = stop(node, signal.SIGTERM)
+    after = time.time_ns()
+    assert status == 0, (tmp_path / "node.log").read_text(errors="replace")[-2000:]
+    return result, before, after
+
+
+def _windows(result, topic: str, ncases: int, settle: float = 0.3) -> list[list[dict]]:
+    """The messages on ``topic`` while case ``k``'s scan is the newest."""
+    s = result["steps"]
+    return [[lv for t, tp, lv in result["received"] if tp == topic and s[1 + 2 * k]["t1"] + settle <= t <= s[2 + 2 * k]["t1"]]
+            for k in range(ncases)]
+
+
+def test_laser_guard_ros2_scan_in_stamped_command_out(ros2_install, ros2_nodes, tmp_path, shm_guard):
+    res = build_ros2(LASER, None, ros2_nodes / "laser_guard", install=ros2_install)
+    cases = [(N, None), (N, (540, NEAR)), (N, None), (500, None)]
+    speeds = [0.5, 0.0, 0.5, 0.0]  # clear; an obstacle ahead; clear; too short to reach ranges[542]
+    result, before, after = _run_guard(res.binary, ros2_install, tmp_path, cases, {CMD: TS})
+    problems = check_wall_stamps([lv for _t, tp, lv in result["received"] if tp == CMD], before, after)
+    for k, (window, vx) in enumerate(zip(_windows(result, CMD, len(cases)), speeds)):
+        if len(window) < 10:
+            problems.append(f"case {k}: only {len(window)} commands")
+        problems += [f"case {k}: twist.linear.x {lv['twist.linear.x']:#x}, expected {bits(vx):#x}"
+                     for lv in window if lv["twist.linear.x"] != bits(vx)]
+    assert not problems, "\n".join(problems[:20])
+    assert not leftover_segments(), leftover_segments()
+
+
+def test_scan_guard_ros2_scan_in_stamped_command_out(ros2_install, ros2_nodes, tmp_path, shm_guard):
+    res = build_ros2(SCAN_GUARD / "scan_guard.yaml", SCAN_GUARD / "controller", ros2_nodes / "scan_guard",
+                     install=ros2_install)
+    cases = [(N, None), (N, (540, NEAR)), (2 * N, None), (600, None)]
+    want = [(0.5, FAR), (0.0, NEAR), (0.5, FAR), (0.0, FAR)]  # (Vx, Closest); 600 ranges: the sector cut short
+    result, before, after = _run_guard(res.binary, ros2_install, tmp_path, cases,
+                                       {CMD: TS, CLOSEST: "std_msgs/Float32"})
+    problems = check_wall_stamps([lv for _t, tp, lv in result["received"] if tp == CMD], before, after)
+    for k, (cmds, closest, (vx, c)) in enumerate(zip(_windows(result, CMD, len(cases)),
+                                                     _windows(result, CLOSEST, len(cases)), want)):
+        if len(cmds) < 5 or len(closest) < 5:
+            problems.append(f"case {k}: only {len(cmds)} commands, {len(closest)} closest")
+        problems += [f"case {k}: twist.linear.x {lv['twist.linear.x']:#x}, expected {bits(vx):#x}"
+                     for lv in cmds if lv["twist.linear.x"] != bits(vx)]
+        problems += [f"case {k}: closest {lv['data']:#x}, expected {bits(c):#x}" for lv in closest if lv["data"] != bits(c)]
+    assert not problems, "\n".join(problems[:20])
+    assert not leftover_segments(), leftover_segments()
