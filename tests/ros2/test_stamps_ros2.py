@@ -28,6 +28,7 @@ import time
 import pytest
 
 from pyrosgen.ros2.build import build_ros2
+from pyrosgen.ros2.wrapper import Ros2WrapperMismatch, check_rcl_wrapper
 
 from support import expect
 from support import ros as rosutil
@@ -81,6 +82,30 @@ def stamped2(ros2_install, ros2_nodes):
     assert "(*command).header.stamp.sec = (int)_t_uint;" in glue
     assert "(*command).header.stamp.nanosec = _t_uint;" in glue
     return res
+
+
+@pytest.mark.parametrize(("old", "new", "says"), [
+    ("c->sec = r->sec;\n    c->nanosec = r->nanosec;", "c->sec = r->nanosec;\n    c->nanosec = r->sec;",
+     "to_c_builtin_interfaces_Time"),
+    ("r->sec = c->sec;", "r->sec = (c->sec < 0 ? 0x7fffffff : c->sec);", "from_c_builtin_interfaces_Time"),
+    ("return (unsigned int)(g_now_ns / 1000000000ULL);", "return (unsigned int)(g_now_ns / 1000000ULL);",
+     "ros_time_sec()"),
+    ("return (unsigned int)(g_now_ns % 1000000000ULL);", "return (unsigned int)(g_now_ns / 1000000000ULL);",
+     "ros_time_nsec()"),
+], ids=["sec-nanosec-swapped-in", "sec-saturated-out", "sec-in-ms", "nsec-is-sec"])
+def test_rcl_wrapper_check_holds_the_stamp(stamped2, old, new, says):
+    """check_rcl_wrapper (every build --ros2, verify) refuses a wrapper whose
+    time functions or time conversions depart from the ROS time a stamp
+    holds; the wrapper as rendered passes."""
+    out = stamped2.out_dir
+    text = (out / "landshark_stamped_rcl.c").read_text()
+    proved = (out / "landshark_stamped.model").read_text()
+    qos = (out / "landshark_stamped.qos").read_text()
+    check_rcl_wrapper(text, proved, wrapper_name="w.c", qos_record=qos)
+    assert text.count(old) == 1
+    with pytest.raises(Ros2WrapperMismatch) as info:
+        check_rcl_wrapper(text.replace(old, new), proved, wrapper_name="w.c", qos_record=qos)
+    assert any(says in line for line in info.value.lines), info.value.lines
 
 
 def test_landshark_stamped_ros2_wall_time(stamped2, ros2_install, tmp_path, shm_guard):
