@@ -14,7 +14,11 @@ proved glue fills with the cycle's ROS time (``(int)ros_time_sec()``,
   stamp is the clock's value (100.25 s, then 2,147,483,000.123456789 s, the
   largest seconds ``/clock``'s own ``int32 sec`` carries are near);
 - the laser guard and the scan guard (their ``stamp: now``) built for
-  ROS 2: a scan in, the command out, with its stamp.
+  ROS 2: a scan in, the command out, with its stamp;
+- the differential test of the stamp code: the Coq interpreter, the glue
+  compiled by gcc -O2 and by gcc with ASan/UBSan run the same schedule
+  (cycle times up to 2^64 - 1 ns, past 2038; copied stamps with negative
+  seconds) and print the same stamps, the ones computed here.
 
 Every process goes through ``ros2_env()`` (conftest) and is stopped by its
 PID; the shared memory its processes leave is removed (``shm_guard``)."""
@@ -23,11 +27,15 @@ from __future__ import annotations
 
 import signal
 import struct
+import subprocess
+import sys
 import time
 
 import pytest
 
 from pyrosgen.ros2.build import build_ros2
+from pyrosgen.verify.difftest import (
+    Message, NodeDump, Schedule, build_c_harness, build_coq_runner, leaf_token, run_side)
 from pyrosgen.ros2.wrapper import Ros2WrapperMismatch, check_rcl_wrapper
 
 from support import expect
@@ -222,3 +230,69 @@ def test_scan_guard_ros2_scan_in_stamped_command_out(ros2_install, ros2_nodes, t
         problems += [f"case {k}: closest {lv['data']:#x}, expected {bits(c):#x}" for lv in closest if lv["data"] != bits(c)]
     assert not problems, "\n".join(problems[:20])
     assert not leftover_segments(), leftover_segments()
+
+
+GPS_STAMPED = rosutil.ROOT / "examples" / "landshark" / "landshark_gps_stamped.yaml"
+#: cycle times (ns): before 2038, the last second of 2^31 - 1, the first past it, 3e9 s, 2^32 s, 2^64 - 1 ns
+TIMES = [500_000_000, (1 << 31) * 10**9 - 1, (1 << 31) * 10**9, 3_000_000_000 * 10**9 + 7, (1 << 32) * 10**9 + 5,
+         (1 << 64) - 1]
+#: the GPS stamps (sec, nanosec) received before each cycle (stamp_from)
+GPS = [(-5, 7), (-(1 << 31), 999_999_999), ((1 << 31) - 1, 0), (0, 1), (7, (1 << 32) - 1), (-1, 5)]
+
+
+def _signed32(x: int) -> int:
+    x %= 1 << 32
+    return x - (1 << 32) if x >= 1 << 31 else x
+
+
+def _stamps(trace: str) -> list[tuple[int, int]]:
+    out, cur = [], {}
+    for line in trace.splitlines():
+        parts = line.split()
+        if parts[:2] == ["m", "header.stamp.sec"]:
+            cur["sec"] = int(parts[2])
+        elif parts[:2] == ["m", "header.stamp.nanosec"]:
+            out.append((cur.pop("sec"), int(parts[2])))
+    return out
+
+
+@pytest.mark.parametrize(("model", "expected"), [
+    (STAMPED, [(_signed32(t // 10**9), t % 10**9) for t in TIMES]),
+    (GPS_STAMPED, GPS),
+], ids=["stamp-now", "stamp-from"])
+def test_difftest_ros2_stamps(model, expected, tmp_path):
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, "-m", "pyrosgen", "generate", "--ros2", "-q", str(model), "-o", str(out)],
+                          cwd=rosutil.ROOT, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    node = model.stem
+    dump = NodeDump.from_text((out / f"{node}.sexp").read_text())
+    (gps_struct,) = [s for _, t, s, _ in dump.subs if t == "/landshark/gps_velocity"]
+    y = tuple(leaf_token(leaf, 0x3FF0000000000000) for leaf in dump.leaves(dump.y[1]))
+    cycles = []
+    for t, (sec, ns) in zip(TIMES, GPS):
+        leaves = tuple(leaf_token(leaf, {"header.stamp.sec": sec, "header.stamp.nanosec": ns}.get(leaf.path, 0))
+                       for leaf in dump.leaves(gps_struct))
+        cycles.append(((Message("/landshark/gps_velocity", leaves, t),), y))
+    sched = Schedule(tuple(cycles), tuple(TIMES), 0).text()
+    work = tmp_path / "work"
+    work.mkdir()
+    traces = [run_side(exe, sched) for exe in (build_c_harness(out, node, work, opt="-O2"),
+                                               build_c_harness(out, node, work, sanitize=True),
+                                               build_coq_runner(out, node, work))]
+    assert traces[0] == traces[1] == traces[2]
+    assert _stamps(traces[0]) == expected
+
+
+@pytest.mark.parametrize("extra", [[], ["--rebuild"], ["--model", str(STAMPED)]], ids=["verify", "rebuild", "model"])
+def test_verify_stamped_ros2_folder(stamped2, extra):
+    """``pyrosgen verify`` of the ROS 2 build of LandShark stamped: the .v,
+    the C re-printed from the proof (the stamp's ``(int)`` cast), the
+    certificate, the rcl wrapper and the package; with ``--rebuild`` the
+    node compiled again bit for bit; with ``--model`` the two readings."""
+    proc = subprocess.run([sys.executable, "-m", "pyrosgen", "verify", *extra, str(stamped2.out_dir)],
+                          cwd=rosutil.ROOT, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "verifies (node landshark_stamped)" in proc.stdout + proc.stderr
+    if extra[:1] == ["--rebuild"]:
+        assert "the same, bit for bit" in proc.stdout
