@@ -237,7 +237,7 @@ GPS_STAMPED = rosutil.ROOT / "examples" / "landshark" / "landshark_gps_stamped.y
 TIMES = [500_000_000, (1 << 31) * 10**9 - 1, (1 << 31) * 10**9, 3_000_000_000 * 10**9 + 7, (1 << 32) * 10**9 + 5,
          (1 << 64) - 1]
 #: the GPS stamps (sec, nanosec) received before each cycle (stamp_from)
-GPS = [(-5, 7), (-(1 << 31), 999_999_999), ((1 << 31) - 1, 0), (0, 1), (7, (1 << 32) - 1), (-1, 5)]
+GPS_STAMPS = [(-5, 7), (-(1 << 31), 999_999_999), ((1 << 31) - 1, 0), (0, 1), (7, (1 << 32) - 1), (-1, 5)]
 
 
 def _signed32(x: int) -> int:
@@ -258,7 +258,7 @@ def _stamps(trace: str) -> list[tuple[int, int]]:
 
 @pytest.mark.parametrize(("model", "expected"), [
     (STAMPED, [(_signed32(t // 10**9), t % 10**9) for t in TIMES]),
-    (GPS_STAMPED, GPS),
+    (GPS_STAMPED, GPS_STAMPS),
 ], ids=["stamp-now", "stamp-from"])
 def test_difftest_ros2_stamps(model, expected, tmp_path):
     out = tmp_path / "out"
@@ -267,13 +267,13 @@ def test_difftest_ros2_stamps(model, expected, tmp_path):
     assert proc.returncode == 0, proc.stdout + proc.stderr
     node = model.stem
     dump = NodeDump.from_text((out / f"{node}.sexp").read_text())
-    (gps_struct,) = [s for _, t, s, _ in dump.subs if t == "/landshark/gps_velocity"]
+    (gps_struct,) = [s for _, t, s, _ in dump.subs if t == GPS]
     y = tuple(leaf_token(leaf, 0x3FF0000000000000) for leaf in dump.leaves(dump.y[1]))
     cycles = []
-    for t, (sec, ns) in zip(TIMES, GPS):
+    for t, (sec, ns) in zip(TIMES, GPS_STAMPS):
         leaves = tuple(leaf_token(leaf, {"header.stamp.sec": sec, "header.stamp.nanosec": ns}.get(leaf.path, 0))
                        for leaf in dump.leaves(gps_struct))
-        cycles.append(((Message("/landshark/gps_velocity", leaves, t),), y))
+        cycles.append(((Message(GPS, leaves, t),), y))
     sched = Schedule(tuple(cycles), tuple(TIMES), 0).text()
     work = tmp_path / "work"
     work.mkdir()
