@@ -25,6 +25,7 @@ PID; the shared memory its processes leave is removed (``shm_guard``)."""
 
 from __future__ import annotations
 
+import shutil
 import signal
 import struct
 import subprocess
@@ -34,6 +35,8 @@ import time
 import pytest
 
 from pyrosgen.ros2.build import build_ros2
+from pyrosgen.ros2.frontend import load_model_ros2
+from pyrosgen.verify.acsl import WPError, contracts, run_wp
 from pyrosgen.verify.difftest import (
     Message, NodeDump, Schedule, build_c_harness, build_coq_runner, leaf_token, run_side)
 from pyrosgen.ros2.wrapper import Ros2WrapperMismatch, check_rcl_wrapper
@@ -296,3 +299,43 @@ def test_verify_stamped_ros2_folder(stamped2, extra):
     assert "verifies (node landshark_stamped)" in proc.stdout + proc.stderr
     if extra[:1] == ["--rebuild"]:
         assert "the same, bit for bit" in proc.stdout
+
+
+SEC_STORE = "(*command).header.stamp.sec = (int)_t_uint;"
+
+
+@pytest.mark.parametrize(("old", "new"), [
+    (None, None),
+    (SEC_STORE, "(*command).header.stamp.sec = _t_uint > 2147483647U ? 2147483647 : (int)_t_uint;"),
+], ids=["proved", "sec-saturated"])
+def test_wp_ros2_stamp(stamped2, ros2_install, tmp_path, old, new):
+    """Frama-C WP on the ROS 2 output glue (``generate --wp``'s contracts):
+    ``sec == (int)\\old(rosgen_wp_sec)`` (ACSL's cast to int wraps modulo
+    2^32, as gcc's) and ``nanosec == \\old(rosgen_wp_nsec)`` are proved of
+    the glue, and refused of a glue that saturates the seconds instead of
+    wrapping them (the fields swapped: refuted by Coq,
+    coq/tests/MutantsStampRos2.v, and by WP on ROS 1,
+    tests/validation/test_wp.py)."""
+    model = load_model_ros2(STAMPED, ros2_install)
+    (t,) = model.published
+    (c,) = [c for c in contracts(model) if c.name == t.output_glue]
+    assert "command->header.stamp.sec == (int)\\old(rosgen_wp_sec)" in c.ensures
+    assert "command->header.stamp.nanosec == \\old(rosgen_wp_nsec)" in c.ensures
+    glue, header = stamped2.out_dir / "landshark_stamped_glue.c", stamped2.out_dir / "landshark_stamped_types.h"
+    work = tmp_path / "wp"
+    work.mkdir()
+    text = glue.read_text()
+    assert text.count(SEC_STORE) == 1
+    if old is not None:
+        assert text.count(old) == 1
+        text = text.replace(old, new)
+    (work / glue.name).write_text(text)
+    shutil.copyfile(header, work / header.name)
+    if old is None:
+        res = run_wp(model, work / glue.name, work / header.name, work, functions=(t.output_glue,))
+        assert res.ok and res.proved == res.total
+        assert f"typed_{t.output_glue}_ensures : Valid" in res.output
+    else:
+        with pytest.raises(WPError) as info:
+            run_wp(model, work / glue.name, work / header.name, work, timeout=3, functions=(t.output_glue,))
+        assert "goals proved, not all" in str(info.value) and f"{t.output_glue}_ensures" in str(info.value)
