@@ -339,3 +339,22 @@ def test_wp_ros2_stamp(stamped2, ros2_install, tmp_path, old, new):
         with pytest.raises(WPError) as info:
             run_wp(model, work / glue.name, work / header.name, work, timeout=3, functions=(t.output_glue,))
         assert "goals proved, not all" in str(info.value) and f"{t.output_glue}_ensures" in str(info.value)
+
+
+@pytest.mark.parametrize("model", [STAMPED, GPS_STAMPED, LASER, SCAN_GUARD / "scan_guard.yaml"],
+                         ids=lambda p: p.stem)
+def test_two_readings_agree_on_ros2_stamps(model, ros2_install):
+    """The N-version reading (pyrosgen/nversion, ROS 2's .msg files) and the
+    front end's ROS 2 reading give the same model text for the stamped
+    examples: the stamp lines, ROS 2's time message (int32 sec, uint32
+    nanosec) and no ROS 1 time."""
+    from pyrosgen.nversion.reader import model_text as second_reading
+    from pyrosgen.proof.modeltext import model_text as first_reading
+
+    first = first_reading(load_model_ros2(model, ros2_install))
+    assert first == second_reading(model, standard_root=ros2_install.share_dir)
+    lines = first.splitlines()
+    assert any(line.startswith("stamp ") for line in lines)
+    k = lines.index("message builtin_interfaces_Time")
+    assert lines[k + 1:k + 3] == ["field sec int32", "field nanosec uint32"]
+    assert "message ros_time" not in lines
