@@ -13,6 +13,9 @@ proved glue fills with the cycle's ROS time (``(int)ros_time_sec()``,
 - the same node under ``use_sim_time`` with a ``/clock`` publisher: the
   stamp is the clock's value (100.25 s, then 2,147,483,000.123456789 s, the
   largest seconds ``/clock``'s own ``int32 sec`` carries are near);
+- LandShark with its command stamped from the GPS (``stamp: {from:
+  ...}``, examples/landshark/landshark_gps_stamped.yaml): the newest GPS
+  stamp, a negative ``sec`` included, never a wheel's;
 - the laser guard and the scan guard (their ``stamp: now``) built for
   ROS 2: a scan in, the command out, with its stamp;
 - the differential test of the stamp code: the Coq interpreter, the glue
@@ -50,6 +53,7 @@ LEFT, RIGHT, GPS = "/landshark/left_wheel_velocity", "/landshark/right_wheel_vel
 BASE = "/landshark_control/base_velocity"
 TS = "geometry_msgs/TwistStamped"
 STAMPED = rosutil.ROOT / "examples" / "landshark" / "landshark_stamped.yaml"
+GPS_STAMPED = rosutil.ROOT / "examples" / "landshark" / "landshark_gps_stamped.yaml"
 LASER = rosutil.ROOT / "examples" / "laser_guard" / "laser_guard.yaml"
 SCAN_GUARD = rosutil.ROOT / "examples" / "scan_guard"
 SCAN, CMD, CLOSEST = "/scan", "/cmd_vel", "/closest"
@@ -145,6 +149,38 @@ def test_landshark_stamped_ros2_wall_time(stamped2, ros2_install, tmp_path, shm_
     assert not leftover_segments(), leftover_segments()
 
 
+def test_landshark_gps_stamped_ros2_copies_the_gps_stamp(ros2_install, ros2_nodes, tmp_path, shm_guard):
+    """``stamp: {from: /landshark/gps_velocity}`` on ROS 2: every command
+    carries the stamp of the newest GPS message (zero before the first),
+    a negative ``sec`` and the largest ``nanosec`` included; never a
+    wheel's."""
+    res = build_ros2(GPS_STAMPED, rosutil.CONTROLLERS / "landshark_echo", ros2_nodes / "landshark_gps_stamped",
+                     install=ros2_install)
+    gps = [(-5, 7), (2_147_483_647, 999_999_999), (1_700_000_000, 123)]
+    steps = [{"sleep": 0.5}]
+    for k, (sec, ns) in enumerate(gps):
+        steps += [{"publish": {LEFT: {"header.stamp.sec": 11 + k, "header.stamp.nanosec": 13},
+                               GPS: {"header.stamp.sec": sec, "header.stamp.nanosec": ns}}},
+                  {"sleep": 0.6}]
+    node = spawn([res.binary], tmp_path / "node.log")
+    try:
+        result = run_peer({"publishers": {t: TS for t in (LEFT, RIGHT, GPS)}, "subscribers": {BASE: TS},
+                           "match_timeout": 20.0, "steps": steps}, tmp_path, ros2_install)
+    finally:
+        status = stop(node, signal.SIGTERM)
+    assert status == 0, (tmp_path / "node.log").read_text(errors="replace")[-2000:]
+    s = result["steps"]
+    cmds = [(t, (lv["header.stamp.sec"], lv["header.stamp.nanosec"])) for t, tp, lv in result["received"] if tp == BASE]
+    problems = [f"before any GPS message: {st}" for t, st in cmds if t < s[1]["t0"] and st != (0, 0)]
+    for k, want in enumerate(gps):
+        window = [st for t, st in cmds if s[1 + 2 * k]["t1"] + 0.3 <= t <= s[2 + 2 * k]["t1"]]
+        if len(window) < 10:
+            problems.append(f"GPS stamp {k}: only {len(window)} commands")
+        problems += [f"GPS stamp {k}: got {st}, expected {want}" for st in window if st != want]
+    assert not problems, "\n".join(problems[:20])
+    assert not leftover_segments(), leftover_segments()
+
+
 def _clock(sec: int, nanosec: int) -> dict:
     return {"clock.sec": sec, "clock.nanosec": nanosec}
 
@@ -234,8 +270,6 @@ def test_scan_guard_ros2_scan_in_stamped_command_out(ros2_install, ros2_nodes, t
     assert not problems, "\n".join(problems[:20])
     assert not leftover_segments(), leftover_segments()
 
-
-GPS_STAMPED = rosutil.ROOT / "examples" / "landshark" / "landshark_gps_stamped.yaml"
 #: cycle times (ns): before 2038, the last second of 2^31 - 1, the first past it, 3e9 s, 2^32 s, 2^64 - 1 ns
 TIMES = [500_000_000, (1 << 31) * 10**9 - 1, (1 << 31) * 10**9, 3_000_000_000 * 10**9 + 7, (1 << 32) * 10**9 + 5,
          (1 << 64) - 1]
