@@ -70,19 +70,20 @@ bench: deps proofs
 
 ## mutants: the mutation catalogue, run on its own: the generator mutations that
 ## T2 refutes (coq/tests/Mutants.v, MutantsOrder.v, Stamps.v, Freshness.v, Strings.v, Sequences.v, ControllerArrays.v, ElemSequences.v), those of the
-## controller that T6 and T8 refute (MutantsDiagram.v, Linked.v), the system wirings link_ok refuses and whose semantic property a run refutes (SystemMutants.v), the ROS 2 deliveries refuted (MutantsRos2.v), the tamperings of the per-node .v refused by
+## controller that T6 and T8 refute (MutantsDiagram.v, Linked.v), the system wirings link_ok refuses and whose semantic property a run refutes (SystemMutants.v), the ROS 2 deliveries refuted (MutantsRos2.v), the ROS 2 stamps' mutants T2 refutes (MutantsStampRos2.v), the tamperings of the per-node .v refused by
 ## the model comparison, the wrapper mutations refused by the wrapper check, the
 ## output-folder tamperings refused by `pyrosgen verify`, a consistent error of the C printer
 ## refused by the printer validation (tests/validation/test_printer_mutation.py)
 .PHONY: mutants
 mutants: deps proofs
-	@for f in coq/tests/LandShark.v coq/tests/Mutants.v coq/tests/MutantsOrder.v coq/tests/Stamps.v coq/tests/Freshness.v coq/tests/Strings.v coq/tests/Sequences.v coq/tests/ControllerArrays.v coq/tests/ElemSequences.v coq/tests/MutantsDiagram.v coq/tests/Linked.v coq/tests/SystemMutants.v coq/tests/MutantsRos2.v; do (cd coq && coqc -R theories ROSGen -R tests ROSGenTests $${f#coq/}) || exit 1; done
+	@for f in coq/tests/LandShark.v coq/tests/Mutants.v coq/tests/MutantsOrder.v coq/tests/Stamps.v coq/tests/Freshness.v coq/tests/Strings.v coq/tests/Sequences.v coq/tests/ControllerArrays.v coq/tests/ElemSequences.v coq/tests/MutantsDiagram.v coq/tests/Linked.v coq/tests/SystemMutants.v coq/tests/MutantsRos2.v coq/tests/MutantsStampRos2.v; do (cd coq && coqc -R theories ROSGen -R tests ROSGenTests $${f#coq/}) || exit 1; done
 	@echo "mutants: $$(cat coq/tests/Mutants.v coq/tests/MutantsOrder.v coq/tests/Stamps.v coq/tests/Freshness.v coq/tests/Strings.v coq/tests/Sequences.v coq/tests/ControllerArrays.v coq/tests/ElemSequences.v | grep -c '^Theorem [a-z_]*_refuted') generator mutations refuted by T2 (coq/tests/Mutants.v, coq/tests/MutantsOrder.v, coq/tests/Stamps.v, coq/tests/Freshness.v, coq/tests/Strings.v, coq/tests/Sequences.v, coq/tests/ControllerArrays.v, coq/tests/ElemSequences.v)"
 	@echo "mutants: $$(grep -c '^Theorem [a-z_]*_refuted' coq/tests/MutantsDiagram.v) controller generator mutations refuted by T6 (coq/tests/MutantsDiagram.v)"
 	@echo "mutants: $$(grep -c '^Theorem [a-z0-9_]*_refuted' coq/tests/Linked.v) controller mutations of the linked program refuted by T8 (coq/tests/Linked.v)"
 	@echo "mutants: $$(grep '^Theorem [a-z0-9_]*_refuted' coq/tests/SystemMutants.v | grep -vc '_run_refuted') system wiring mutations refused by System.link_ok (coq/tests/SystemMutants.v)"
 	@echo "mutants: $$(grep -c '^Theorem [a-z0-9_]*_run_refuted' coq/tests/SystemMutants.v) system wiring mutations refuted on a run of the nodes' programs (coq/tests/SystemMutants.v)"
 	@echo "mutants: $$(grep -c '^Theorem [a-z_]*_refuted' coq/tests/MutantsRos2.v) ROS 2 delivery mutations refuted (coq/tests/MutantsRos2.v: against the delivery property T2's proof needs, the depth bound, and T2 itself)"
+	@echo "mutants: $$(grep -c '^Theorem [a-z0-9_]*_refuted' coq/tests/MutantsStampRos2.v) ROS 2 stamp mutations refuted by T2 (coq/tests/MutantsStampRos2.v: seconds and nanoseconds swapped, the int32 seconds saturated instead of wrapped)"
 	@$(PY) -m pytest -q -p no:cacheprovider tests/generate/test_seam.py tests/build/test_wrapper_check.py tests/build/test_elem_seq_wrapper_check.py tests/generate/test_verify.py tests/generate/test_verify_hostile.py tests/validation/test_printer_mutation.py tests/nversion/test_misreading.py tests/build/test_verify_package.py tests/build/test_verify_custom_msgs.py tests/build/test_build_flags.py tests/build/test_rebuild.py
 
 ## test: everything, in PYTEST_JOBS processes (pytest-xdist; a test file

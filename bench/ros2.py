@@ -39,11 +39,14 @@ usage: .venv/bin/python bench/ros2.py [--quick] [--rounds N] [--turns N] [--buil
   examples/landshark (C controller) into fresh folders, alternating,
   ``--builds`` times each (the command line, as a user runs it).
 
-While the ROS 2 target refuses ``stamp: now`` (DESIGN.md rule 4.17), the
-scan guard is built from its example without the ``stamp: now`` of
-/cmd_vel (the hand-written node then does not stamp either:
-``-DSCAN_GUARD_NO_STAMP``); the variant is derived from the example at run
-time and checked to differ in the period and that key only.
+The scan guard is built from its example with the ``stamp: now`` of
+/cmd_vel, which the ROS 2 target builds since ROS 2 stamps are proved
+(DESIGN.md rules 4.13, 4.17), and the hand-written node stamps too.  A
+model the ROS 2 target refuses and that builds without its one ``stamp:
+now`` would still be built without it (the hand-written node then does not
+stamp either: ``-DSCAN_GUARD_NO_STAMP``), the variant derived from the
+example at run time and checked to differ in the period and that key
+only; no example needs it any more.
 
 Every ROS 2 process runs in the environment of
 ``pyrosgen.ros2.env.ros2_env`` (loopback discovery, a domain of its own)
@@ -207,7 +210,8 @@ def latency_summary(xs: list[float], rounds: int) -> dict:
 
 def derive_model(node: Node, work: Path, inst) -> tuple[Path, bool]:
     """The model file of ``node`` at a 1 ms period, and whether ``stamp:
-    now`` was dropped from it (ROS 2 refuses it for now)."""
+    now`` was dropped from it (only if the ROS 2 target refuses the model
+    with it: no example since ROS 2 stamps are proved)."""
     from pyrosgen.errors import PyrosgenError
     from pyrosgen.ros2.frontend import load_model_ros2
 

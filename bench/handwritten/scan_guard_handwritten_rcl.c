@@ -18,8 +18,8 @@
  *   - sleeps to the end of the period on the steady clock.
  *
  * With -DSCAN_GUARD_NO_STAMP the command is not stamped (header.stamp 0):
- * the model as bench/ros2.py builds it while the ROS 2 target refuses
- * `stamp: now` (DESIGN.md rule 4.17).  Before the first scan the controller
+ * the model as bench/ros2.py built it while the ROS 2 target refused
+ * `stamp: now` (DESIGN.md rule 4.17; it builds it with the stamp now).  Before the first scan the controller
  * sees zeros (ScanGuard_U is a zero-initialised global), as in the
  * generated node.
  *

@@ -197,6 +197,8 @@ Proof.
     inversion PV as [|tp mv tps mvs' P F]; subst. inversion F; subst.
     destruct P as (T & _ & ST & _).
     destruct (ST header_stamp eq_refl) as [Gs Gn].
+    assert (R1: time_is_ros2 (nm_msgs stamped) = false) by (vm_compute; reflexivity).
+    unfold stamp_sec, stamp_nsec, time_nsec_field in Gs, Gn. rewrite R1 in Gs, Gn.
     rewrite (int_at_sent_stamp stamped u y base mv eq_refl T ltac:(vm_compute; reflexivity) ltac:(vm_compute; reflexivity)
                ltac:(vm_compute; reflexivity) ltac:(vm_compute; reflexivity)).
     simpl in Gs, Gn. simpl. unfold int_at. simpl. rewrite Gs, Gn. f_equal.
@@ -375,6 +377,8 @@ Proof.
     inversion PV as [|tp mv tps mvs' P F]; subst. inversion F; subst.
     destruct P as (T & _ & ST & _).
     destruct (ST header_stamp eq_refl) as [Gs Gn].
+    assert (R1: time_is_ros2 (nm_msgs copied) = false) by (vm_compute; reflexivity).
+    unfold stamp_nsec, time_nsec_field in Gn. rewrite R1 in Gn.
     rewrite (int_at_sent_stamp copied u y base mv eq_refl T ltac:(vm_compute; reflexivity) ltac:(vm_compute; reflexivity)
                ltac:(vm_compute; reflexivity) ltac:(vm_compute; reflexivity)).
     simpl. unfold int_at. simpl in Gs, Gn |- *. rewrite Gs, Gn. f_equal.

@@ -85,7 +85,9 @@ Proof. exact Glueproof.generate_input_glue_ddc. Qed.
     the outputs [y] held by [Controller_Y] and the ROS time [now] of the
     world it runs in: every field named by an output relation of the
     topic holds the related field of [y], the stamp of a stamped topic
-    holds [now]'s [sec] and [nsec], each constant string of the topic
+    holds [now]'s [sec] and [nsec] (on ROS 2, [builtin_interfaces_Time]:
+    the seconds read as a signed 32-bit number, wrapped modulo 2^32 past
+    2038, [DDC.stamp_sec], and [nanosec]), each constant string of the topic
     (rule 4.14) its bytes, every other scalar field is zero. *)
 Theorem generate_output_glue_ddc:
   forall m p, generate m = OK p ->
@@ -703,7 +705,7 @@ Proof. exact Generatorproof.generate_clock_globals. Qed.
     [*command], then performs the copies of the topic's output relations,
     in model order ([output_base]), then, if the topic is stamped (rule
     4.13), writes the time's [sec] and [nsec] into the stamp
-    ([stamp_stmts]), and last stores the topic's constant strings (rule
+    ([stamp_stmts]; on ROS 2 [(int)] of the seconds, and [nanosec]), and last stores the topic's constant strings (rule
     4.14: [strings_stmts], the length then each byte). *)
 Theorem generate_output_glue:
   forall m p tp, generate m = OK p -> In tp (published m) ->

@@ -669,14 +669,16 @@ class NodeModel:
         :meth:`leaf_paths`: those its non-direct input relations name
         (:meth:`glue_relations`; a direct one, rule 4.16, is written by the
         callback straight into the controller's inputs) and the
-        ``sec``/``nsec`` of a stamp copied from it (rule 4.13).  Its
+        ``sec``/``nsec`` (ROS 2: ``nanosec``) of a stamp copied from it
+        (rule 4.13).  Its
         callback copies these and only these into ``<c>_msg``
         (``Generator.read_leaves``, ``NodeModel.read_paths``, which
         exclude the direct relations)."""
         read = {tuple(r.path.steps) for r in self.glue_relations if r.topic.name == topic.name}
         for _, (src, stamp) in self.stamp_from:
             if src == topic.c_name:
-                read |= {(*stamp, "sec"), (*stamp, "nsec")}
+                # ROS 1's nsec, ROS 2's nanosec: the time type has one of them
+                read |= {(*stamp, "sec"), (*stamp, "nsec"), (*stamp, "nanosec")}
         return tuple(p for p in self.leaf_paths(topic.msg_type) if tuple(p.steps) in read)
 
     def is_direct(self, r: InputRelation) -> bool:

@@ -1,5 +1,8 @@
 """Rule 4.13 (stamps): ``stamp: now`` or ``stamp: {from: <subscribed
-topic>}`` on a published topic whose message has a ``header.stamp``.
+topic>}`` on a published topic whose message has a ``header.stamp`` of
+the target's time type: ROS 1's ``time`` (``uint32 sec``, ``uint32
+nsec``) or, for the target ros2 (rule 4.17), ``builtin_interfaces/Time``
+(``int32 sec``, ``uint32 nanosec``).
 """
 
 from __future__ import annotations
@@ -15,13 +18,26 @@ from pyrosgen.frontend.yamlsrc import YBad, YMap, YScalar
 STAMP_FIELD = ("header", "stamp")
 
 
+#: The time type of a stamp on the target ROS 2 (rule 4.17): ``int32 sec``,
+#: ``uint32 nanosec`` (``NodeModel.time_msg``).
+ROS2_TIME = "builtin_interfaces/Time"
+
+
+def time_type(registry: MsgRegistry) -> str:
+    """The type of a stamp: ROS 1's built-in ``time``, or ROS 2's
+    ``builtin_interfaces/Time`` when the registry holds ROS 2's standard
+    messages (the target ros2, rule 4.17)."""
+    return ROS2_TIME if registry.standard is not None else "time"
+
+
 def _has_stamp(registry: MsgRegistry, msg_type: str) -> bool:
-    """Whether messages of ``msg_type`` have a ``header.stamp`` of type ``time``."""
+    """Whether messages of ``msg_type`` have a ``header.stamp`` of the
+    target's time type (:func:`time_type`)."""
     raw = registry.raw(msg_type)
     header = raw.field("header") if raw is not None else None
     hraw = registry.raw(header.base) if header is not None and header.card == "scalar" else None
     stamp = hraw.field("stamp") if hraw is not None else None
-    return stamp is not None and stamp.card == "scalar" and stamp.base == "time"
+    return stamp is not None and stamp.card == "scalar" and stamp.base == time_type(registry)
 
 
 def _stamp_source(ck: Checker, d: TopicDecl, snode: YMap, what: str,
@@ -47,7 +63,7 @@ def _stamp_source(ck: Checker, d: TopicDecl, snode: YMap, what: str,
         return False, None
     if src.usable and src.type_ok and src.msg_type is not None and not _has_stamp(registry, src.msg_type):
         ck.err_rule(rule, fnode, f"{what}.from: message type {src.msg_type} of topic {show(name)} has no "
-                                 "header.stamp of type time to copy")
+                                 f"header.stamp of type {time_type(registry)} to copy")
         return False, None
     return src.usable and src.type_ok, name
 
@@ -81,7 +97,7 @@ def check_stamps(ck: Checker, decls: list[TopicDecl], out_rels: list[Rel], regis
             continue
         if not _has_stamp(registry, d.msg_type):
             ck.err_rule(rule, snode, f"{what}: message type {d.msg_type} of topic {show(d.name)} has no "
-                                     "header.stamp of type time to stamp")
+                                     f"header.stamp of type {time_type(registry)} to stamp")
             continue
         ok = True
         for r in out_rels:

@@ -4,8 +4,15 @@ The same model file is read with ROS 2's message definitions
 (:mod:`pyrosgen.ros2.msgdefs`) instead of ROS 1 Noetic's; every rule of
 section 4 applies unchanged.  A problem that the ROS 2 reading finds and the
 ROS 1 reading does not (``header.seq``, ``stamp.nsec``, a type ROS 2 does not
-have, ``stamp: now`` on a ``builtin_interfaces/Time`` stamp) is reported
-under rule 4.17, with the rule it breaks for ROS 2.
+have) is reported under rule 4.17, with the rule it breaks for ROS 2.
+
+Stamps (rule 4.13) are ROS 2's: ``header.stamp`` is a
+``builtin_interfaces/Time`` (``int32 sec``, ``uint32 nanosec``), and the
+proved glue stores ``(int)ros_time_sec()`` into ``sec`` (the seconds
+modulo 2^32 read as a signed number: negative past 2038, as gcc converts)
+and ``ros_time_nsec()`` into ``nanosec``, or copies both from a
+subscribed topic's stamp (``DDC.stamp_sec``,
+:func:`pyrosgen.frontend.rule_stamps.time_type`).
 
 Custom messages (``msg_paths``) are read as for ROS 1 and built with
 rosidl's generators (:mod:`pyrosgen.ros2.rosidl`); what a ``.msg`` file may
@@ -16,15 +23,7 @@ say for ROS 1 but not for ROS 2 is refused first, at its place, under rule
 and ``char`` (deprecated in ROS 2), a bare ``Header`` (ROS 2 reads it as a type of the message's own
 package: write ``std_msgs/Header``), and the names rosidl refuses (field
 names in lower case without ``__`` or a trailing ``_``, constant names in
-upper case, message names starting with an upper-case letter).  Then the
-features this version does not yet build for ROS 2 are refused, each at
-its place:
-
-- stamps (rule 4.13): the proved glue stores ``ros_time_sec()`` (an
-  ``unsigned int``) into ``stamp.sec``, which is ROS 2's ``int32``, and the
-  nanoseconds into ``nsec``, which ROS 2 calls ``nanosec``: the library
-  proves no such store yet (refused by the ROS 2 reading itself, since no
-  ROS 2 header has a stamp of ROS 1's type ``time``).
+upper case, message names starting with an upper-case letter).
 """
 
 from __future__ import annotations
@@ -59,9 +58,6 @@ def _relabel(exc: InvalidNodeModel, path: Path) -> InvalidNodeModel:
     for d in exc.diagnostics:
         if d.line is not None and (d.line, d.col) not in ros1:
             was = f", rule {d.rule}" if d.rule else ""
-            if d.rule == "4.13":
-                was += (": ROS 2's header.stamp is a builtin_interfaces/Time (int32 sec, uint32 nanosec), "
-                        "which the proved library does not stamp yet")
             d = Diagnostic(d.file, d.line, d.col,
                            f"{d.message} (target ros2: ROS 2 Kilted's message definitions{was}; "
                            "the ROS 1 target accepts it)", d.severity, TARGET_RULE)

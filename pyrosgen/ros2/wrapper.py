@@ -291,13 +291,51 @@ def _qos_problems(fn: str, t, got: list[tuple[str, str]], q: Qos) -> list[str]:
             "rule 4.18)"]
 
 
+# The ROS time a stamp holds (rule 4.13): the seconds and nanoseconds of
+# g_now_ns, as the roscpp wrapper's (pyrosgen.verify.wrapper_check), and
+# ROS 2's time message converted field by field, sec to sec, nanosec to
+# nanosec (the glue stores (int)ros_time_sec() into the int32 sec).
+_SEC_DEF = re.compile(r"^unsigned int ros_time_sec\(void\)\n\{\n"
+                      r"    return \(unsigned int\)\(g_now_ns / 1000000000ULL\);\n\}$", re.M)
+_NSEC_DEF = re.compile(r"^unsigned int ros_time_nsec\(void\)\n\{\n"
+                       r"    return \(unsigned int\)\(g_now_ns % 1000000000ULL\);\n\}$", re.M)
+_TIME_CONV = {
+    "to_c": re.compile(r"^static inline void to_c_builtin_interfaces_Time\(const builtin_interfaces__msg__Time \*r, "
+                       r"struct builtin_interfaces_Time \*c\)\n\{\n    c->sec = r->sec;\n"
+                       r"    c->nanosec = r->nanosec;\n\}$", re.M),
+    "from_c": re.compile(r"^static inline void from_c_builtin_interfaces_Time\(const struct builtin_interfaces_Time \*c, "
+                         r"builtin_interfaces__msg__Time \*r\)\n\{\n    r->sec = c->sec;\n"
+                         r"    r->nanosec = c->nanosec;\n\}$", re.M),
+}
+
+
+def _stamp_problems(text: str, pm: ProvedModel) -> list[str]:
+    """What in the wrapper departs from the ROS time a stamp holds (rule
+    4.13): ``ros_time_sec`` and ``ros_time_nsec`` defined once, returning
+    the seconds and nanoseconds of ``g_now_ns``; and, for a model of ROS
+    2's time message, its conversions copying ``sec`` and ``nanosec``
+    each into itself."""
+    problems = []
+    if pm.stamps:
+        if len(_SEC_DEF.findall(text)) != 1 or len(re.findall(r"\bros_time_sec\s*\(", text)) != 1:
+            problems.append("  the wrapper does not define ros_time_sec() once, returning the seconds of g_now_ns")
+        if len(_NSEC_DEF.findall(text)) != 1 or len(re.findall(r"\bros_time_nsec\s*\(", text)) != 1:
+            problems.append("  the wrapper does not define ros_time_nsec() once, returning the nanoseconds of g_now_ns")
+    if "builtin_interfaces_Time" in pm.messages:
+        for what, pat in _TIME_CONV.items():
+            if len(pat.findall(text)) != 1 or len(re.findall(rf"\b{what}_builtin_interfaces_Time\s*\(", text)) < 1:
+                problems.append(f"  the wrapper does not define {what}_builtin_interfaces_Time once, copying sec "
+                                "to sec and nanosec to nanosec")
+    return problems
+
+
 def check_rcl_wrapper(text: str, proved_model_text: str, *, wrapper_name: str, qos_record: str | None = None) -> None:
     """Raise :class:`Ros2WrapperMismatch` unless the rcl wrapper ``text``
     subscribes and advertises exactly the proved model's topics (names,
     ROS types, C structs of the callbacks, queue sizes as history depths)
     with the QoS of ``qos_record`` (:func:`qos_text`; ``None``: every topic
-    the default, reliable and volatile, rule 4.18), and sleeps with its
-    period."""
+    the default, reliable and volatile, rule 4.18), sleeps with its period,
+    and gives a stamp the ROS time (rule 4.13, :func:`_stamp_problems`)."""
     pm = parse_model_text(proved_model_text)
     problems: list[str] = []
     want = {(t.direction, t.c_name, t.ros_type, t.name) for t in pm.topics}
@@ -326,5 +364,6 @@ def check_rcl_wrapper(text: str, proved_model_text: str, *, wrapper_name: str, q
     periods = _PERIOD.findall(text)
     if periods != [str(pm.period_ms * 1000000)]:
         problems.append(f"  period {periods or 'missing'} ns, the proved period is {pm.period_ms} ms")
+    problems += _stamp_problems(text, pm)
     if problems:
         raise Ros2WrapperMismatch(f"{wrapper_name} does not implement the proved model", problems)

@@ -65,7 +65,10 @@ of one with ``stamp: {from: s}``, ``header.stamp.sec ==
 \\old(s_msg.header.stamp.sec)`` and the same for ``nsec``: the stamp of
 ``s``'s global, which ``s``'s callback keeps (:meth:`NodeModel.read_leaves`).
 This is ``DDC.published_value``: the cycle's time, or the source
-message's stamp.
+message's stamp.  On ROS 2 (``builtin_interfaces/Time``: ``int32 sec``,
+``uint32 nanosec``) the seconds are ``(int)\\old(rosgen_wp_sec)``
+(``DDC.stamp_sec``: ACSL's cast to ``int`` wraps modulo 2^32, as the C
+conversion gcc makes) and ``nsec`` is ``nanosec``.
 
 Equality of leaves.  ACSL's ``==`` on floating-point values compares their
 *real* values (WP translates ``a == b`` to ``of_f64(a) = of_f64(b)``): it
@@ -238,7 +241,9 @@ def _stamps_now(model: NodeModel) -> bool:
 def _stamp_values(model: NodeModel, t) -> dict[str, str]:
     """The value of the ``sec`` and ``nsec`` leaves of published topic
     ``t``'s stamp (rule 4.13), by leaf path, as ACSL terms over the state
-    before the output glue: ``\\old(rosgen_wp_sec)`` for ``stamp: now``, the
+    before the output glue: ``\\old(rosgen_wp_sec)`` for ``stamp: now``
+    (on ROS 2, ``(int)\\old(rosgen_wp_sec)`` into the ``int32 sec``, ACSL's
+    cast being modulo 2^32 as the C's is, and ``nanosec`` for ``nsec``), the
     source topic's global ``\\old(<src>_msg.header.stamp.sec)`` for a stamp
     copied from a subscribed topic (``DDC.published_value``); empty if
     ``t`` is not stamped."""
@@ -247,11 +252,15 @@ def _stamp_values(model: NodeModel, t) -> dict[str, str]:
         return {}
     src = dict(model.stamp_from).get(t.c_name)
     path = ".".join(stamp)
+    # ROS 2's builtin_interfaces/Time: int32 sec (the glue stores (int)ros_time_sec()), uint32 nanosec
+    ros2 = f"{path}.nanosec" in {str(p) for p in model.leaf_paths(t.msg_type)}
+    nsec = "nanosec" if ros2 else "nsec"
     if src is None:
-        return {f"{path}.sec": f"\\old({STAMP_SEC})", f"{path}.nsec": f"\\old({STAMP_NSEC})"}
+        sec = f"(int)\\old({STAMP_SEC})" if ros2 else f"\\old({STAMP_SEC})"
+        return {f"{path}.sec": sec, f"{path}.{nsec}": f"\\old({STAMP_NSEC})"}
     src_c, src_path = src
     base = f"{next(s for s in model.subscribed if s.c_name == src_c).msg_var}.{'.'.join(src_path)}"
-    return {f"{path}.{f}": f"\\old({base}.{f})" for f in ("sec", "nsec")}
+    return {f"{path}.{f}": f"\\old({base}.{f})" for f in ("sec", nsec)}
 
 
 def _globals(model: NodeModel) -> list[tuple[str, str]]:

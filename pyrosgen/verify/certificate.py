@@ -171,7 +171,8 @@ def _span(spans: dict[str, tuple[int, int]], fn: str) -> tuple[int, int]:
 
 class _Copies(list):
     """The lines of a printed C text, with the line numbers of its copies
-    ``dst = _t_...;`` indexed by ``dst`` (built once: a node with a
+    ``dst = _t_...;`` (``dst = (int)_t_uint;``: a ROS 2 stamp's seconds)
+    indexed by ``dst`` (built once: a node with a
     controller array of 8,192 elements has 16,384 relations to look up)."""
 
     def __init__(self, lines: list[str]):
@@ -180,6 +181,8 @@ class _Copies(list):
         for n, line in enumerate(lines, 1):
             text = line.strip()
             k = text.find(" = _t_")
+            if k < 0:
+                k = text.find(" = (int)_t_")  # a ROS 2 stamp's seconds (rule 4.13)
             if k > 0:
                 self.by_dst.setdefault(text[:k], []).append(n)
 
@@ -197,7 +200,7 @@ def _copy_lines(lines: list[str], span: tuple[int, int], dst: str) -> list[tuple
     else:
         for n in range(last, first, -1):
             text = lines[n - 1].strip()
-            if text.startswith(dst + " = _t_"):
+            if text.startswith((dst + " = _t_", dst + " = (int)_t_")):
                 prev = lines[n - 2].strip()
                 return [(n - 1, prev), (n, text)]
     raise CertificateError(f"certificate: no copy into {dst} in lines {first}-{last}")
@@ -210,14 +213,17 @@ def _stamps(pm: ProvedModel, c_text: str) -> list[dict]:
     spans = _function_spans(c_text)
     out = []
     sources = {c: (src, p) for c, src, p in pm.stamp_from}
+    # ROS 1's time has nsec; ROS 2's builtin_interfaces/Time (no ros_time in the model), nanosec
+    nsec = "nsec" if "ros_time" in pm.messages else "nanosec"
     for topic_c, path in pm.stamps:
         t = pm.topic(topic_c)
         span = _span(spans, t.output_glue)
         src = sources.get(topic_c)
-        out.append({"topic": t.name, "path": path, "function": t.output_glue,
+        out.append({"topic": t.name, "path": path, "function": t.output_glue, "nsec": nsec,
+                    "time": "time" if nsec == "nsec" else "builtin_interfaces/Time",
                     "source": pm.topic(src[0]).name if src else None, "source_path": src[1] if src else None,
                     "lines": (_copy_lines(lines, span, f"(*command).{path}.sec")
-                              + _copy_lines(lines, span, f"(*command).{path}.nsec"))})
+                              + _copy_lines(lines, span, f"(*command).{path}.{nsec}"))})
     return out
 
 

@@ -100,12 +100,49 @@ def test_queue_size_zero_refused_for_ros2(tmp_path, ros2_install):
     assert "queue_size" in diags[0].message and str(diags[0]).startswith(f"{path}:7:")
 
 
-def test_stamp_now_refused_for_ros2(tmp_path, ros2_install):
-    path = _model(tmp_path, extra=", stamp: now")
-    load_model(path)
-    (d,) = _refused(path, ros2_install)
-    assert (d.line, d.rule) == (8, "4.17")
-    assert "int32 sec" in d.message and "rule 4.13" in d.message
+def test_stamp_now_accepted_for_ros2(tmp_path, ros2_install):
+    """Rule 4.13 on ROS 2: header.stamp is a builtin_interfaces/Time (int32
+    sec, uint32 nanosec), which the proved glue stamps (DDC.stamp_sec)."""
+    m = load_model_ros2(_model(tmp_path, extra=", stamp: now"), ros2_install)
+    assert m.stamps == (("out", ("header", "stamp")),) and m.stamp_from == ()
+    by = {t.name: [(f.name, f.prim or f.msg) for f in t.fields] for t in m.messages}
+    assert by["builtin_interfaces/Time"] == [("sec", "int32"), ("nanosec", "uint32")]
+    assert "time" not in by  # ROS 1's time is not carried: Coq's NodeModel.time_is_ros2
+
+
+def test_stamp_from_accepted_for_ros2_reads_sec_and_nanosec(tmp_path, ros2_install):
+    m = load_model_ros2(_model(tmp_path, extra=", stamp: {from: /cmd_in}"), ros2_install)
+    assert m.stamp_from == (("out", ("cmd_in", ("header", "stamp"))),)
+    (src,) = [t for t in m.topics if t.name == "/cmd_in"]
+    read = [str(p) for p in m.read_leaves(src)]
+    assert "header.stamp.sec" in read and "header.stamp.nanosec" in read and "header.stamp.nsec" not in read
+
+
+@pytest.mark.parametrize(("extra", "out_type", "field", "expect"), [
+    # a published message without a header.stamp of ROS 2's time type
+    (", stamp: now", "geometry_msgs/Twist", None, "has no header.stamp of type builtin_interfaces/Time to stamp"),
+    # the source of a copied stamp has no header
+    (", stamp: {from: /cmd_in}", None, None, "has no header.stamp of type builtin_interfaces/Time to copy"),
+    # an output relation writing into the stamp
+    (", stamp: now", None, "header.stamp.sec", "is written by the stamp"),
+    # not a stamp value
+    (", stamp: later", None, None, "must be 'now'"),
+])
+def test_bad_stamps_still_refused_for_ros2(tmp_path, ros2_install, extra, out_type, field, expect):
+    path = _model(tmp_path, extra=extra, in_msg="geometry_msgs/Twist" if "from" in extra else "geometry_msgs/TwistStamped")
+    text = path.read_text(encoding="utf-8")
+    if out_type:
+        text = text.replace("type: geometry_msgs/TwistStamped, queue_size: 2", f"type: {out_type}, queue_size: 2")
+        text = text.replace("field: twist.linear.x}\n", "field: linear.x}\n").replace(
+            "topic: /out, field: twist.linear.x", "topic: /out, field: linear.x")
+    if field:
+        text = text.replace("outputs: {name: C_Y, fields: {Out1: float64}}",
+                            "outputs: {name: C_Y, fields: {Out1: float64, Sec: int32}}")
+        text += f"    - {{output: Sec, topic: /out, field: {field}}}\n"
+    path.write_text(text, encoding="utf-8")
+    diags = _refused(path, ros2_install)
+    assert any(d.rule == "4.13" and expect in d.message for d in diags), [str(d) for d in diags]
+    assert all(str(d).startswith(f"{path}:") and d.line is not None for d in diags), [str(d) for d in diags]
 
 
 def test_sequence_of_strings_accepted_for_ros2(ros2_install):

@@ -11,7 +11,7 @@
     T1 and T2 use ([wf_controller_vars_fresh], [clock_name_in_after]). *)
 
 From Coq Require Import String Ascii List ZArith Bool Lia.
-From ROSGen Require Import Errors Syntax Values Operators Maps NodeModel Wellformed Generator Generatorspec Generatorproof.
+From ROSGen Require Import Errors Syntax Values Operators Maps NodeModel Wellformed Generator Generatorspec Stampspec Generatorproof.
 Import ListNotations.
 
 Local Open Scope string_scope.
@@ -262,7 +262,7 @@ Lemma output_temps:
   = Some (ctype_of_prim (outrel_prim (make_tables m) o)).
 Proof.
   intros m tp o Ho. unfold output_glue_function.
-  destruct (topic_stamp m (tp_cname tp)); apply temps_of_find; [right|]; apply in_map_iff; eauto.
+  destruct (topic_stamp m (tp_cname tp)); apply temps_of_find; [apply in_or_app; right|]; apply in_map_iff; eauto.
 Qed.
 
 Lemma output_temp_uint:
@@ -273,13 +273,30 @@ Proof.
   intros m tp sp E. unfold output_glue_function. rewrite E. apply temps_of_find; left; auto.
 Qed.
 
+Lemma output_temp_sec:
+  forall m tp sp sf, topic_stamp m (tp_cname tp) = Some sp -> topic_stamp_from m (tp_cname tp) = Some sf ->
+  find_assoc (temp_name (time_sec_prim (nm_msgs m))) (fn_temps (output_glue_function m (make_tables m) tp))
+  = Some (ctype_of_prim (time_sec_prim (nm_msgs m))).
+Proof.
+  intros m tp sp sf E F. unfold output_glue_function. rewrite E. apply temps_of_find.
+  unfold stamp_prims. rewrite F. right; left; auto.
+Qed.
+
+(** The stamp's seconds, converted to ROS 2's [int32]: of the type of
+    the field [sec]. *)
+Lemma typeof_stamp_sec_expr:
+  forall m, typeof (stamp_sec_expr m) = ctype_of_prim (time_sec_prim (nm_msgs m)).
+Proof. intros m. unfold stamp_sec_expr, time_sec_prim. destruct (time_is_ros2 (nm_msgs m)); reflexivity. Qed.
+
 (** The stamp statements of a stamped topic are valid assignments. *)
 Lemma valid_stamp:
   forall m tp sp temps, wf_facts m -> In tp (published m) -> topic_stamp m (tp_cname tp) = Some sp ->
   find_assoc (temp_name Puint32) temps = Some (ctype_of_prim Puint32) ->
+  (forall sf, topic_stamp_from m (tp_cname tp) = Some sf ->
+     find_assoc (temp_name (time_sec_prim (nm_msgs m))) temps = Some (ctype_of_prim (time_sec_prim (nm_msgs m)))) ->
   valid_assignments (composites m) temps (stamp_stmts m (make_tables m) (tp_cname tp) (tp_msg tp) sp).
 Proof.
-  intros m tp sp temps W Htp ST TU.
+  intros m tp sp temps W Htp ST TU TS.
   destruct (wf_stamp m tp sp W Htp ST) as (Rs & Rn & _).
   destruct (leaf_path_expr_typed m _ _ _ (deref_param command_param (tp_msg tp)) Rs)
     as [T1 W1]; auto; [constructor|].
@@ -287,6 +304,7 @@ Proof.
     as [T2 W2]; auto; [constructor|].
   unfold stamp_stmts. destruct (topic_stamp_from m (tp_cname tp)) as [[s0 sp']|] eqn:SF.
   - assert (Hin: In (tp_cname tp, (s0, sp')) (nm_stamp_from m)) by (apply find_assoc_In; auto).
+    specialize (TS _ eq_refl).
     destruct (wf_stamp_from m _ _ _ W Hin) as (tp' & Ft & _ & Rs' & Rn' & _).
     rewrite (topic_msg_tables m _ _ Ft).
     destruct (leaf_path_expr_typed m _ _ _ (Evar (msg_var s0) (Tstruct (tp_msg tp'))) Rs')
@@ -295,7 +313,9 @@ Proof.
       as [T4 W4]; auto; [constructor|].
     unfold seq_of; cbn [fold_right valid_assignments].
     split; [|split; [|exact I]]; apply valid_copy; auto.
-  - simpl. rewrite T1, T2. repeat split; auto.
+  - simpl. rewrite T1, T2, typeof_stamp_sec_expr. repeat split; auto.
+    + apply ctype_of_prim_scalar.
+    + unfold stamp_sec_expr. destruct (time_is_ros2 (nm_msgs m)); simpl; auto.
 Qed.
 
 (** Every function of the generated program makes only valid assignments. *)
@@ -369,7 +389,8 @@ Proof.
                     (output_base m tp)).
     2:{ rewrite output_glue_body. split; [|apply valid_strings; auto].
         unfold output_pre. destruct (topic_stamp m (tp_cname tp)) as [sp|] eqn:ST; auto.
-        split; auto. apply valid_stamp; auto. eapply output_temp_uint; eauto. }
+        split; auto. apply valid_stamp; auto; [eapply output_temp_uint; eauto|].
+        intros sf F. eapply output_temp_sec; eauto. }
     unfold output_base. split.
     + apply valid_assignments_seq. intros st Hst.
       apply in_map_iff in Hst; destruct Hst as ([pa q] & <- & Hl).
@@ -797,8 +818,10 @@ Proof.
         unfold const_store in T; simpl in T; rewrite expr_takes_addr_path in T; simpl in T; discriminate. }
     unfold output_pre in T.
     destruct (topic_stamp m (tp_cname tp)) as [sp|]; [simpl in T; apply orb_true_iff in T; destruct T as [T|T]|].
-    2:{ unfold stamp_stmts in T. destruct (topic_stamp_from m (tp_cname tp)) as [[s0 sp']|]; simpl in T;
-        rewrite !expr_takes_addr_path in T; simpl in T; discriminate. }
+    2:{ unfold stamp_stmts, stamp_sec_expr in T.
+        destruct (topic_stamp_from m (tp_cname tp)) as [[s0 sp']|]; simpl in T;
+        rewrite !expr_takes_addr_path in T; simpl in T; [discriminate|].
+        destruct (time_is_ros2 (nm_msgs m)); discriminate. }
     all: unfold output_base in T; simpl in T; rewrite !stmt_takes_addr_seq in T;
     apply orb_true_iff in T; destruct T as [T|T].
     all: first

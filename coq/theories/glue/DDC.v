@@ -305,14 +305,28 @@ Definition input_glue_ddc (m : node_model) (p : program) : Prop :=
          /\ (forall ir, In ir (nm_inrels m) -> is_direct m ir = true ->
               mval_get u (input_leaf ir) = mval_get (global_inputs m p mm) (input_leaf ir))).
 
+(** The seconds a stamp holds at the ROS time [now] (rule 4.13): on
+    ROS 1 ([uint32 sec]) the seconds of [now], modulo 2^32
+    ([Environment.time_sec]); on ROS 2 ([int32 sec],
+    [NodeModel.time_is_ros2]) the signed 32-bit reading of those same
+    seconds, [norm_int I32 Signed]: the seconds themselves until 2038
+    (2^31 s after 1970), then negative, wrapped modulo 2^32 (gcc's
+    conversion of an [unsigned int] to an [int]).  Its nanoseconds are
+    [time_nsec now] in the field [stamp_nsec m]: [nsec], ROS 2's
+    [nanosec]. *)
+Definition stamp_sec (m : node_model) (now : Z) : Z :=
+  if time_is_ros2 (nm_msgs m) then norm_int I32 Signed (time_sec now) else time_sec now.
+Definition stamp_nsec (m : node_model) : ident := time_nsec_field (nm_msgs m).
+
 (** The message that a published topic [tp] carries when the controller's
     outputs are [y], the ROS time is [now] and the subscribed topic with
     C name [s] holds the message [g s]: a message of the topic's type in
     which every field that an output relation of the topic names holds
     the related output field of [y], the stamp, if the topic has one
-    (rule 4.13), holds the [sec] and [nsec] of [now], or, for a stamp
-    copied from a subscribed topic [s], the [sec] and [nsec] of the
-    source field of [g s], every constant string of the topic (rule
+    (rule 4.13), holds the seconds and nanoseconds of [now] ([stamp_sec],
+    [stamp_nsec]: on ROS 2, the seconds as a signed 32-bit number), or,
+    for a stamp copied from a subscribed topic [s], the [sec] and [nsec]
+    ([nanosec] on ROS 2) of the source field of [g s], every constant string of the topic (rule
     4.14) holds its bytes ([len] their number, [data[i]] the [i]-th),
     and every other scalar field is zero: [truncated], and the bytes of
     a string past its length, among them. *)
@@ -325,13 +339,13 @@ Definition published_value (m : node_model) (y : mval) (now : Z) (g : ident -> m
   /\ (forall sp, find_assoc (tp_cname tp) (nm_stamps m) = Some sp ->
         match find_assoc (tp_cname tp) (nm_stamp_from m) with
         | None =>
-            mval_get mv (path_steps (sp ++ [PField "sec"%string])) = Some (MVscalar (Vint (time_sec now)))
-         /\ mval_get mv (path_steps (sp ++ [PField "nsec"%string])) = Some (MVscalar (Vint (time_nsec now)))
+            mval_get mv (path_steps (sp ++ [PField "sec"%string])) = Some (MVscalar (Vint (stamp_sec m now)))
+         /\ mval_get mv (path_steps (sp ++ [PField (stamp_nsec m)])) = Some (MVscalar (Vint (time_nsec now)))
         | Some (s, sp') =>
             mval_get mv (path_steps (sp ++ [PField "sec"%string]))
             = mval_get (g s) (path_steps (sp' ++ [PField "sec"%string]))
-         /\ mval_get mv (path_steps (sp ++ [PField "nsec"%string]))
-            = mval_get (g s) (path_steps (sp' ++ [PField "nsec"%string]))
+         /\ mval_get mv (path_steps (sp ++ [PField (stamp_nsec m)]))
+            = mval_get (g s) (path_steps (sp' ++ [PField (stamp_nsec m)]))
         end)
   /\ (forall sp bs, In (tp_cname tp, (sp, bs)) (nm_strings m) ->
         mval_get mv (path_steps (sp ++ [PField "len"%string])) = Some (MVscalar (Vint (Z.of_nat (length bs))))
@@ -340,7 +354,7 @@ Definition published_value (m : node_model) (y : mval) (now : Z) (g : ident -> m
   /\ (forall lp q, resolve (nm_msgs m) (FTmsg (tp_msg tp)) lp = Some (FTprim q) ->
         (forall o, In o (nm_outrels m) -> or_topic o = tp_cname tp -> or_path o <> lp) ->
         (forall sp, find_assoc (tp_cname tp) (nm_stamps m) = Some sp ->
-           lp <> sp ++ [PField "sec"%string] /\ lp <> sp ++ [PField "nsec"%string]) ->
+           lp <> sp ++ [PField "sec"%string] /\ lp <> sp ++ [PField (stamp_nsec m)]) ->
         (forall sp bs, In (tp_cname tp, (sp, bs)) (nm_strings m) ->
            lp <> sp ++ [PField "len"%string]
         /\ forall i, (i < length bs)%nat -> lp <> sp ++ [PField "data"%string; PIndex (Z.of_nat i)]) ->

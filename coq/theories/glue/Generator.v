@@ -393,23 +393,39 @@ Definition time_call (f : ident) : statement :=
     copied from a subscribed topic. *)
 Definition topic_stamp_from (c : ident) : option (ident * path) := find_assoc c (nm_stamp_from m).
 
+(** The seconds of the ROS time, [_t_uint], stored into the stamp's
+    [sec]: as they are into ROS 1's [uint32], converted to [int] for
+    ROS 2's [int32] (modulo 2^32: past 2038 the value is negative, as
+    gcc's conversion makes it). *)
+Definition stamp_sec_expr : expr :=
+  if time_is_ros2 (nm_msgs m) then Ecast (Etempvar (temp_name Puint32) tuint) (Tint I32 Signed)
+  else Etempvar (temp_name Puint32) tuint.
+
 (** [_t_uint = ros_time_sec(); command->sp.sec = _t_uint;
      _t_uint = ros_time_nsec(); command->sp.nsec = _t_uint;], or for a
     stamp copied from the subscribed topic [s] at path [sp']:
     [_t_uint = s_msg.sp'.sec; command->sp.sec = _t_uint;] and the same
-    for [nsec]. *)
+    for [nsec].  On ROS 2 ([NodeModel.time_is_ros2]) the seconds are
+    stored as [(int)_t_uint] and copied through [_t_int], and [nsec] is
+    [nanosec]. *)
 Definition stamp_stmts (c M : ident) (sp : path) : statement :=
   let dst f := path_expr ce (deref_param command_param M) (sp ++ [PField f]) in
+  let nf := time_nsec_field (nm_msgs m) in
   match topic_stamp_from c with
   | None =>
       seq_of [time_call ros_time_sec_name;
-              Sassign (dst "sec") (Etempvar (temp_name Puint32) tuint);
+              Sassign (dst "sec") stamp_sec_expr;
               time_call ros_time_nsec_name;
-              Sassign (dst "nsec") (Etempvar (temp_name Puint32) tuint)]
+              Sassign (dst nf) (Etempvar (temp_name Puint32) tuint)]
   | Some (s, sp') =>
       let src f := path_expr ce (Evar (msg_var s) (Tstruct (topic_msg s))) (sp' ++ [PField f]) in
-      seq_of [copy Puint32 (dst "sec") (src "sec"); copy Puint32 (dst "nsec") (src "nsec")]
+      seq_of [copy (time_sec_prim (nm_msgs m)) (dst "sec") (src "sec"); copy Puint32 (dst nf) (src nf)]
   end.
+
+(** The temporaries of the stamp of the topic with C name [c]: [_t_uint],
+    and the seconds' ([_t_int] on ROS 2) if the stamp is copied. *)
+Definition stamp_prims (c : ident) : list prim :=
+  Puint32 :: match topic_stamp_from c with Some _ => [time_sec_prim (nm_msgs m)] | None => [] end.
 
 (** The constant strings of the topic with C name [c] (rule 4.14): each
     string's path and bytes, in model order. *)
@@ -447,7 +463,7 @@ Definition output_glue_function (tp : topic) : function :=
   let strs := strings_stmts (tp_cname tp) M in
   match topic_stamp (tp_cname tp) with
   | None => mkfunction Tvoid [(command_param, tptr (Tstruct M))] [] (temps_of qs) (Ssequence body strs)
-  | Some sp => mkfunction Tvoid [(command_param, tptr (Tstruct M))] [] (temps_of (Puint32 :: qs))
+  | Some sp => mkfunction Tvoid [(command_param, tptr (Tstruct M))] [] (temps_of (stamp_prims (tp_cname tp) ++ qs))
                  (Ssequence (Ssequence body (stamp_stmts (tp_cname tp) M sp)) strs)
   end.
 

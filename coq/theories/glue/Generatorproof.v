@@ -646,7 +646,7 @@ Proof.
   - apply output_glue_body.
   - unfold output_glue_function; destruct (topic_stamp m (tp_cname tp)); apply temps_of_nodup.
   - intros o Ho. unfold output_glue_function; destruct (topic_stamp m (tp_cname tp)); apply temps_of_find;
-      [right|]; apply in_map_iff; eauto.
+      [apply in_or_app; right|]; apply in_map_iff; eauto.
   - intros sp E. unfold output_glue_function. unfold c in E. rewrite E. apply temps_of_find; left; auto.
 Qed.
 

@@ -21,7 +21,7 @@
     cycles) are in [Loopfacts], which this file exports. *)
 
 From Coq Require Import String List ZArith Bool Lia.
-From ROSGen Require Import Errors Maps Syntax Values Memory Environment Semantics NodeModel Wellformed Generator Generatorspec Generatorproof Assignproof.
+From ROSGen Require Import Errors Maps Syntax Values Memory Environment Semantics NodeModel Wellformed Generator Generatorspec Stampspec Generatorproof Assignproof.
 From ROSGen Require Import DDC Copyproof Glueproof.
 From ROSGen Require Export Loopfacts.
 Import ListNotations.
@@ -927,7 +927,7 @@ Lemma published_value_ext:
   published_value m y now g1 tp mv -> published_value m y now g2 tp mv.
 Proof.
   intros g1 g2 y now tp mv E (T & R & S & Z). split; [auto|split; [auto|split; [|exact Z]]].
-  intros sp F. generalize (S sp F). destruct (find_assoc (tp_cname tp) (nm_stamp_from m)) as [[s0 sp']|] eqn:SF; auto.
+  intros sp F. generalize (S sp F). unfold stamp_nsec. destruct (find_assoc (tp_cname tp) (nm_stamp_from m)) as [[s0 sp']|] eqn:SF; auto.
   assert (Hin: In (tp_cname tp, (s0, sp')) (nm_stamp_from m)) by (apply find_assoc_In; auto).
   destruct (wf_stamp_from m _ _ _ W Hin) as (tp' & Ft & Sub & _).
   destruct (find_topic_In _ _ _ Ft) as [Htop' Ec].

@@ -250,6 +250,24 @@ Qed.
 Definition find_msg (msgs : list msgdef) (id : ident) : option msgdef :=
   find (fun md => ident_eqb (md_name md) id) msgs.
 
+(** Rule 4.13: the time message of the model's stamps.  ROS 1's [time]
+    is the message ["ros_time"] ([uint32 sec], [uint32 nsec]); ROS 2's
+    [builtin_interfaces/Time] is the message ["builtin_interfaces_Time"]
+    ([int32 sec], [uint32 nanosec]).  A model defines ["ros_time"] only
+    for the target ROS 1 (the ROS 2 reading has no built-in [time]): its
+    stamps are ROS 1's if it does, ROS 2's otherwise. *)
+Definition ros2_time_msg : ident := "builtin_interfaces_Time".
+Definition time_is_ros2 (msgs : list msgdef) : bool :=
+  match find_msg msgs "ros_time" with Some _ => false | None => true end.
+Definition time_msg (msgs : list msgdef) : ident :=
+  if time_is_ros2 msgs then ros2_time_msg else "ros_time".
+(** The time's field of nanoseconds ([nsec], ROS 2's [nanosec]) and the
+    type of its seconds ([uint32], ROS 2's [int32]). *)
+Definition time_nsec_field (msgs : list msgdef) : ident :=
+  if time_is_ros2 msgs then "nanosec" else "nsec".
+Definition time_sec_prim (msgs : list msgdef) : prim :=
+  if time_is_ros2 msgs then Pint32 else Puint32.
+
 (** The topic whose C name is [c]. *)
 Definition find_topic (tps : list topic) (c : ident) : option topic :=
   find (fun tp => ident_eqb (tp_cname tp) c) tps.
@@ -428,12 +446,13 @@ Definition direct_of (m : node_model) (c : ident) : list inrel :=
 
 (** The leaves of the messages of the topic with C name [c] that the
     glue keeps in the topic's global [c_msg]: those of its input
-    relations that are not direct, and the [sec] and [nsec] of a stamp
-    copied from it (rule 4.13). *)
+    relations that are not direct, and the [sec] and [nsec] ([nanosec]
+    on ROS 2) of a stamp copied from it (rule 4.13). *)
 Definition read_paths (m : node_model) (c : ident) : list path :=
   (map ir_path (filter (fun ir => ident_eqb (ir_topic ir) c) (glue_inrels m))
   ++ flat_map (fun sf => if ident_eqb (fst (snd sf)) c
-                         then [(snd (snd sf) ++ [PField "sec"])%list; (snd (snd sf) ++ [PField "nsec"])%list]
+                         then [(snd (snd sf) ++ [PField "sec"])%list;
+                               (snd (snd sf) ++ [PField (time_nsec_field (nm_msgs m))])%list]
                          else []) (nm_stamp_from m))%list.
 
 Definition is_read (m : node_model) (c : ident) (lp : path) : bool :=
@@ -472,7 +491,8 @@ Proof. intros m ir H. apply glue_inrels_In in H. tauto. Qed.
 
 Lemma stamp_from_read:
   forall m t s sp, In (t, (s, sp)) (nm_stamp_from m) ->
-  In (sp ++ [PField "sec"])%list (read_paths m s) /\ In (sp ++ [PField "nsec"])%list (read_paths m s).
+  In (sp ++ [PField "sec"])%list (read_paths m s)
+  /\ In (sp ++ [PField (time_nsec_field (nm_msgs m))])%list (read_paths m s).
 Proof.
   intros m t s sp H. unfold read_paths. split; apply in_or_app; right; apply in_flat_map;
     exists (t, (s, sp)); split; auto; simpl; rewrite ident_eqb_refl; simpl; auto.

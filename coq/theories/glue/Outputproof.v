@@ -7,7 +7,7 @@
     (rule 4.14).  The theorem is stated in [Glueproof]. *)
 
 From Coq Require Import String List ZArith Bool Lia.
-From ROSGen Require Import Errors Maps Syntax Values Operators Memory Environment Semantics NodeModel Wellformed Generator Generatorspec Generatorproof.
+From ROSGen Require Import Errors Maps Syntax Values Operators Memory Environment Semantics NodeModel Wellformed Generator Generatorspec Stampspec Generatorproof.
 From ROSGen Require Import DDC Copyproof.
 From ROSGen Require Import Gluefacts Inputproof.
 Import ListNotations.
@@ -269,41 +269,57 @@ Proof.
   intros CS ctx w le mm1 f ef x F EC. apply (exec_call0_external CS ctx w le mm1 f ef); auto.
 Qed.
 
-Lemma exec_assign_uint:
-  forall (CS : Type) (ctx : ros_context CS) (w : world CS) le mm1 v1 lp x,
-  le_ok le -> find_assoc (temp_name Puint32) le = Some (Vint x) ->
-  norm_int I32 Unsigned x = x ->
-  resolve msgs (FTmsg M) lp = Some (FTprim Puint32) ->
+Lemma exec_assign_leaf:
+  forall (CS : Type) (ctx : ros_context CS) (w : world CS) le mm1 v1 lp q rhs v,
+  le_ok le -> eval_expr ge [] le mm1 rhs = Some v ->
+  val_has_type v (ctype_of_prim q) ->
+  resolve msgs (FTmsg M) lp = Some (FTprim q) ->
   get_block mm1 b = Some (Tstruct M, v1) -> mval_has_type ce (Tstruct M) v1 ->
   exists mm2 v2,
-     exec_stmt ctx ge [] le mm1 w (Sassign (path_expr ce cmdE lp) (Etempvar (temp_name Puint32) tuint))
-               [] le mm2 w Out_normal
+     exec_stmt ctx ge [] le mm1 w (Sassign (path_expr ce cmdE lp) rhs) [] le mm2 w Out_normal
   /\ get_block mm2 b = Some (Tstruct M, v2) /\ mval_has_type ce (Tstruct M) v2
-  /\ mval_set v1 (path_steps lp) (MVscalar (Vint x)) = Some v2
+  /\ mval_set v1 (path_steps lp) (MVscalar v) = Some v2
   /\ mem_next mm2 = mem_next mm1 /\ (forall b', b' <> b -> get_block mm2 b' = get_block mm1 b').
 Proof.
-  intros CS ctx w le mm1 v1 lp x Hle Tx Nx R G1 H1.
-  destruct (eval_leaf m W ge [] le mm1 M lp Puint32 cmdE b [] R) as (L & T & _); auto.
+  intros CS ctx w le mm1 v1 lp q rhs v Hle Ev Nv R G1 H1.
+  destruct (eval_leaf m W ge [] le mm1 M lp q cmdE b [] R) as (L & T & _); auto.
   { apply eval_lvalue_deref_param; auto. }
-  assert (Tp: type_at ce (Tstruct M) (path_steps lp) = Some (ctype_of_prim Puint32)).
+  assert (Tp: type_at ce (Tstruct M) (path_steps lp) = Some (ctype_of_prim q)).
   { change (Tstruct M) with (ctype_of_ftype (FTmsg M)). rewrite type_at_ctype; auto.
     - rewrite R; reflexivity.
     - apply ftype_ok_msg. eapply resolve_leaf_msg; eauto. }
-  assert (Hx: mval_has_type ce (ctype_of_prim Puint32) (MVscalar (Vint x))) by (constructor; auto).
+  assert (Hx: mval_has_type ce (ctype_of_prim q) (MVscalar v))
+    by (apply mht_scalar; auto; apply ctype_of_prim_scalar_type).
   destruct (store_typed ce mm1 b (Tstruct M) v1 (path_steps lp) _ _ G1 H1 Tp Hx)
     as (mm2 & v2 & S & Sv & G2 & H2 & N2 & O2).
   exists mm2, v2. repeat split; auto.
   apply exec_Sassign.
-  rewrite (eval_assign_scalar ge [] le mm1 _ _ b ([] ++ path_steps lp) (Vint x) L).
-  - rewrite T. unfold store. rewrite sem_cast_same by exact Nx. exact S.
-  - rewrite T. reflexivity.
-  - exact Tx.
+  rewrite (eval_assign_scalar ge [] le mm1 _ _ b ([] ++ path_steps lp) v L).
+  - rewrite T. unfold store. rewrite sem_cast_same by exact Nv. exact S.
+  - rewrite T. apply ctype_of_prim_scalar_type.
+  - exact Ev.
 Qed.
 
 Lemma time_sec_norm: forall t, norm_int I32 Unsigned (time_sec t) = time_sec t.
 Proof. intros; unfold time_sec; apply norm_int_idem. Qed.
 Lemma time_nsec_norm: forall t, norm_int I32 Unsigned (time_nsec t) = time_nsec t.
 Proof. intros; unfold time_nsec; apply norm_int_idem. Qed.
+
+(** The seconds of the time, read from [_t_uint], as the stamp's [sec]
+    takes them: themselves on ROS 1, converted to [int] on ROS 2. *)
+Lemma eval_stamp_sec:
+  forall le mmx t, find_assoc (temp_name Puint32) le = Some (Vint (time_sec t)) ->
+     eval_expr ge [] le mmx (stamp_sec_expr m) = Some (Vint (stamp_sec m t))
+  /\ val_has_type (Vint (stamp_sec m t)) (ctype_of_prim (time_sec_prim msgs)).
+Proof.
+  intros le mmx t Tx. unfold stamp_sec_expr, stamp_sec, time_sec_prim.
+  destruct (time_is_ros2 msgs); cbn [eval_expr]; rewrite Tx; split; auto.
+  - apply norm_int_idem.
+  - apply time_sec_norm.
+Qed.
+
+Lemma stamp_nsec_not_sec: stamp_nsec m <> "sec"%string.
+Proof. unfold stamp_nsec, time_nsec_field. destruct (time_is_ros2 msgs); discriminate. Qed.
 
 Lemma stamp_run:
   forall (CS : Type) (ctx : ros_context CS) (w : world CS) le mm1 v1 sp,
@@ -317,24 +333,24 @@ Lemma stamp_run:
   /\ mem_next mm2 = mem_next mm1 /\ (forall b', b' <> b -> get_block mm2 b' = get_block mm1 b')
   /\ match find_assoc c (nm_stamp_from m) with
      | None =>
-         mval_get v2 (path_steps (sp ++ [PField "sec"%string])) = Some (MVscalar (Vint (time_sec (w_time w))))
-      /\ mval_get v2 (path_steps (sp ++ [PField "nsec"%string])) = Some (MVscalar (Vint (time_nsec (w_time w))))
+         mval_get v2 (path_steps (sp ++ [PField "sec"%string])) = Some (MVscalar (Vint (stamp_sec m (w_time w))))
+      /\ mval_get v2 (path_steps (sp ++ [PField (stamp_nsec m)])) = Some (MVscalar (Vint (time_nsec (w_time w))))
      | Some (s0, sp') =>
          mval_get v2 (path_steps (sp ++ [PField "sec"%string]))
          = mval_get (global_msg p mm s0) (path_steps (sp' ++ [PField "sec"%string]))
-      /\ mval_get v2 (path_steps (sp ++ [PField "nsec"%string]))
-         = mval_get (global_msg p mm s0) (path_steps (sp' ++ [PField "nsec"%string]))
+      /\ mval_get v2 (path_steps (sp ++ [PField (stamp_nsec m)]))
+         = mval_get (global_msg p mm s0) (path_steps (sp' ++ [PField (stamp_nsec m)]))
      end
   /\ (forall p', path_disjoint (path_steps (sp ++ [PField "sec"%string])) p' ->
-                  path_disjoint (path_steps (sp ++ [PField "nsec"%string])) p' ->
+                  path_disjoint (path_steps (sp ++ [PField (stamp_nsec m)])) p' ->
                   mval_get v2 p' = mval_get v1 p').
 Proof.
   intros CS ctx w le mm1 v1 sp Hle ST Fr1 G1 H1.
   destruct (wf_stamp m tp sp W Htp ST) as (Rs & Rn & _).
-  assert (Dsn: path_disjoint (path_steps (sp ++ [PField "sec"%string])) (path_steps (sp ++ [PField "nsec"%string]))).
-  { apply (leaves_disjoint m _ _ (FTmsg M) Puint32 Puint32 Rs Rn).
-    intros E. apply app_inv_head in E. discriminate. }
-  unfold stamp_stmts. fold (topic_stamp_from m c).
+  assert (Dsn: path_disjoint (path_steps (sp ++ [PField "sec"%string])) (path_steps (sp ++ [PField (stamp_nsec m)]))).
+  { apply (leaves_disjoint m _ _ (FTmsg M) _ Puint32 Rs Rn).
+    intros E. apply app_inv_head in E. inversion E as [E1]. apply stamp_nsec_not_sec; auto. }
+  unfold stamp_stmts. fold (topic_stamp_from m c). fold (stamp_nsec m).
   destruct (topic_stamp_from m c) as [[s0 sp']|] eqn:SF; unfold topic_stamp_from in SF.
   - (* copied from the subscribed topic [s0] *)
     assert (Hin: In (c, (s0, sp')) (nm_stamp_from m)) by (apply find_assoc_In; auto).
@@ -348,35 +364,36 @@ Proof.
     assert (Nbg: bg <> b) by (intros E; apply (NG _ _ _ Vg); auto).
     assert (GM: global_msg p mm s0 = g) by (unfold global_msg, global_value; rewrite Vg, Gg; auto).
     rewrite GM, (topic_msg_tables m _ _ Ft).
-    destruct (leaf_typed m W _ _ _ g Rs' Hg) as (xs' & Gxs & Txs).
-    destruct (leaf_typed m W _ _ _ g Rn' Hg) as (xn' & Gxn & Txn).
-    destruct xs' as [|xs| | | | |]; try contradiction. destruct xn' as [|xn| | | | |]; try contradiction.
-    assert (SRC: forall mmx f x, (forall b', b' <> b -> get_block mmx b' = get_block mm b') ->
-                 resolve msgs (FTmsg (tp_msg tp')) (sp' ++ [PField f]) = Some (FTprim Puint32) ->
+    destruct (leaf_typed m W _ _ _ g Rs' Hg) as (xs & Gxs & Txs).
+    destruct (leaf_typed m W _ _ _ g Rn' Hg) as (xn & Gxn & Txn).
+    assert (SRC: forall mmx f q x, (forall b', b' <> b -> get_block mmx b' = get_block mm b') ->
+                 resolve msgs (FTmsg (tp_msg tp')) (sp' ++ [PField f]) = Some (FTprim q) ->
                  mval_get g (path_steps (sp' ++ [PField f])) = Some (MVscalar x) ->
                  forall lex, eval_expr ge [] lex mmx
                           (path_expr ce (Evar (msg_var s0) (Tstruct (tp_msg tp'))) (sp' ++ [PField f])) = Some x).
-    { intros mmx f x Frx R Gx lex.
-      destruct (eval_leaf m W ge [] lex mmx (tp_msg tp') (sp' ++ [PField f]) Puint32
+    { intros mmx f q x Frx R Gx lex.
+      destruct (eval_leaf m W ge [] lex mmx (tp_msg tp') (sp' ++ [PField f]) q
                   (Evar (msg_var s0) (Tstruct (tp_msg tp'))) bg [] R) as (_ & _ & E); auto.
       { eapply eval_lvalue_global_struct; eauto. }
-      rewrite E. apply load_spec; [reflexivity|]. unfold load_path. rewrite Frx by auto. rewrite Gg. auto. }
-    set (le1 := set_assoc (temp_name Puint32) (Vint xs) le).
+      rewrite E. apply load_spec; [apply ctype_of_prim_scalar_type|].
+      unfold load_path. rewrite Frx by auto. rewrite Gg. auto. }
+    set (le1 := set_assoc (temp_name (time_sec_prim msgs)) xs le).
     assert (Hle1: le_ok le1) by (apply output_le_ok_set; auto).
-    destruct (exec_assign_uint CS ctx w le1 mm1 v1 _ _ Hle1 (find_assoc_set_same _ _ _ _)
+    destruct (exec_assign_leaf CS ctx w le1 mm1 v1 _ _ (Etempvar (temp_name (time_sec_prim msgs))
+                (ctype_of_prim (time_sec_prim msgs))) xs Hle1 (find_assoc_set_same _ _ _ _)
                 Txs Rs G1 H1) as (mm2 & v2 & X2 & G2 & H2 & S2 & N2 & O2).
-    set (le2 := set_assoc (temp_name Puint32) (Vint xn) le1).
+    set (le2 := set_assoc (temp_name Puint32) xn le1).
     assert (Hle2: le_ok le2) by (apply output_le_ok_set; auto).
-    destruct (exec_assign_uint CS ctx w le2 mm2 v2 _ _ Hle2 (find_assoc_set_same _ _ _ _)
-                Txn Rn G2 H2) as (mm3 & v3 & X3 & G3 & H3 & S3 & N3 & O3).
-    exists le2, mm3, v3. repeat split; auto.
+    destruct (exec_assign_leaf CS ctx w le2 mm2 v2 _ _ (Etempvar (temp_name Puint32) (ctype_of_prim Puint32))
+                xn Hle2 (find_assoc_set_same _ _ _ _) Txn Rn G2 H2) as (mm3 & v3 & X3 & G3 & H3 & S3 & N3 & O3).
+    exists le2, mm3, v3. unfold stamp_nsec in *. repeat split; auto.
     + unfold seq_of. simpl fold_right.
       change (@nil event) with (@nil event ++ (@nil event ++ @nil event)).
       eapply exec_Sseq_1; [|eapply exec_Sseq_1; [|apply exec_Sskip]].
       * unfold copy. change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; [|exact X2].
-        apply exec_Sset. apply SRC; auto.
+        apply exec_Sset. eapply SRC; eauto.
       * unfold copy. change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; [|exact X3].
-        apply exec_Sset. apply SRC; auto.
+        apply exec_Sset. eapply SRC; eauto.
         intros b' N. rewrite O2 by auto. auto.
     + congruence.
     + intros b' N. rewrite O3, O2; auto.
@@ -391,13 +408,14 @@ Proof.
     destruct (generate_time_externals m p GEN NE) as [Fs Fn].
     set (le1 := set_assoc (temp_name Puint32) (Vint (time_sec (w_time w))) le).
     assert (Hle1: le_ok le1) by (apply output_le_ok_set; auto).
-    destruct (exec_assign_uint CS ctx w le1 mm1 v1 _ _ Hle1 (find_assoc_set_same _ _ _ _)
-                (time_sec_norm _) Rs G1 H1) as (mm2 & v2 & X2 & G2 & H2 & S2 & N2 & O2).
+    destruct (eval_stamp_sec le1 mm1 (w_time w) (find_assoc_set_same _ _ _ _)) as [Es Ts].
+    destruct (exec_assign_leaf CS ctx w le1 mm1 v1 _ _ _ _ Hle1 Es Ts Rs G1 H1)
+      as (mm2 & v2 & X2 & G2 & H2 & S2 & N2 & O2).
     set (le2 := set_assoc (temp_name Puint32) (Vint (time_nsec (w_time w))) le1).
     assert (Hle2: le_ok le2) by (apply output_le_ok_set; auto).
-    destruct (exec_assign_uint CS ctx w le2 mm2 v2 _ _ Hle2 (find_assoc_set_same _ _ _ _)
-                (time_nsec_norm _) Rn G2 H2) as (mm3 & v3 & X3 & G3 & H3 & S3 & N3 & O3).
-    exists le2, mm3, v3. repeat split; auto.
+    destruct (exec_assign_leaf CS ctx w le2 mm2 v2 _ Puint32 (Etempvar (temp_name Puint32) tuint) _ Hle2
+                (find_assoc_set_same _ _ _ _) (time_nsec_norm _) Rn G2 H2) as (mm3 & v3 & X3 & G3 & H3 & S3 & N3 & O3).
+    exists le2, mm3, v3. unfold stamp_nsec in *. repeat split; auto.
     + unfold seq_of. simpl fold_right.
       change (@nil event) with (@nil event ++ @nil event ++ @nil event ++ @nil event ++ @nil event).
       eapply exec_Sseq_1; [eapply exec_time_call; [exact Fs | reflexivity]|].
@@ -526,10 +544,10 @@ Proof.
           as (le2 & mm2 & v2 & X2 & Hle2 & G2 & H2 & N2 & O2 & STV & Keep).
         destruct (wf_stamp m tp sp W Htp ST) as (Rs & Rn & NO).
         assert (DJ: forall lp q, resolve msgs (FTmsg (tp_msg tp)) lp = Some (FTprim q) ->
-                    lp <> sp ++ [PField "sec"%string] -> lp <> sp ++ [PField "nsec"%string] ->
+                    lp <> sp ++ [PField "sec"%string] -> lp <> sp ++ [PField (stamp_nsec m)] ->
                     mval_get v2 (path_steps lp) = mval_get mv (path_steps lp)).
         { intros lp q R N1 N2'. apply Keep.
-          - apply (leaves_disjoint m _ _ (FTmsg (tp_msg tp)) Puint32 q Rs R). auto.
+          - apply (leaves_disjoint m _ _ (FTmsg (tp_msg tp)) _ q Rs R). auto.
           - apply (leaves_disjoint m _ _ (FTmsg (tp_msg tp)) Puint32 q Rn R). auto. }
         exists le2, mm2, v2. split; [|split; [exact Hle2|split; [exact G2|split]]].
         * unfold output_pre. rewrite ST. change (@nil event) with (@nil event ++ @nil event). eapply exec_Sseq_1; eauto.
@@ -582,8 +600,9 @@ Proof.
            destruct (string_stores_path _ _ _ Ha) as [[E1 _]|(i & b' & E1 & _)]; rewrite E1 in E;
              symmetry in E; exact (NO o _ Ho Eo E).
         -- intros sp E. generalize (STV2 sp E).
-           destruct (wf_stamp m tp sp W Htp E) as (Rs & Rn & _).
-           rewrite (KL _ _ Rs), (KL _ _ Rn) by (apply NF; discriminate). auto.
+           destruct (wf_stamp m tp sp W Htp E) as (Rs & Rn & _). fold (stamp_nsec m) in Rn.
+           rewrite (KL _ _ Rs), (KL _ _ Rn)
+             by (apply NF; unfold stamp_nsec, time_nsec_field; destruct (time_is_ros2 msgs); discriminate). auto.
         -- intros sp bs Hs. split.
            ++ apply (Set3 (_, Puint32, _)). apply In_topic_stores. exists sp, bs. split; auto.
               apply string_stores_len.

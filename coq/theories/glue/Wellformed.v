@@ -445,8 +445,10 @@ Definition fed_inputs (m : node_model) : ptree unit :=
   tset_of_list enc_target (fed_list m).
 
 (** Rule 4.13: a stamp is written in a published topic's message, at a
-    field of type [time] (the message [ros_time] of two [uint32] fields
-    [sec] and [nsec]) that no output relation writes into. *)
+    field of the model's time message ([NodeModel.time_msg]: ROS 1's
+    [ros_time] of two [uint32] fields [sec] and [nsec], or ROS 2's
+    [builtin_interfaces_Time] of an [int32] [sec] and a [uint32]
+    [nanosec]) that no output relation writes into. *)
 Fixpoint path_prefixb (p q : path) : bool :=
   match p, q with
   | [], _ => true
@@ -457,10 +459,11 @@ Fixpoint path_prefixb (p q : path) : bool :=
 Definition ros_time_fields : list (ident * ftype) := [("sec", FTprim Puint32); ("nsec", FTprim Puint32)].
 
 Definition time_msg_ok (msgs : list msgdef) : bool :=
-  match find_msg msgs "ros_time" with
+  match find_msg msgs (time_msg msgs) with
   | Some md =>
       match md_fields md with
-      | [(s, FTprim Puint32); (n, FTprim Puint32)] => ident_eqb s "sec" && ident_eqb n "nsec"
+      | [(s, FTprim qs); (n, FTprim Puint32)] =>
+          ident_eqb s "sec" && prim_eqb qs (time_sec_prim msgs) && ident_eqb n (time_nsec_field msgs)
       | _ => false
       end
   | None => false
@@ -472,7 +475,7 @@ Definition stamp_ok (m : node_model) (tb : tables) (st : ident * path) : bool :=
   | Some tp =>
       is_published tp
       && match resolve (nm_msgs m) (FTmsg (tp_msg tp)) (snd st) with
-         | Some (FTmsg id) => ident_eqb id "ros_time"
+         | Some (FTmsg id) => ident_eqb id (time_msg (nm_msgs m))
          | _ => false
          end
       && forallb (fun o => negb (ident_eqb (or_topic o) (fst st) && path_prefixb (snd st) (or_path o)))
@@ -481,14 +484,14 @@ Definition stamp_ok (m : node_model) (tb : tables) (st : ident * path) : bool :=
 
 (** Rule 4.13: a stamp copied from another topic: the published topic is
     stamped, the source is a subscribed topic, and the source path is a
-    [time] field of its message. *)
+    field of its message of the model's time message. *)
 Definition stamp_from_ok (m : node_model) (tb : tables) (sf : ident * (ident * path)) : bool :=
   existsb (fun st => ident_eqb (fst st) (fst sf)) (nm_stamps m)
   && match lookup_topic tb (fst (snd sf)) with
      | Some tp =>
          is_subscribed tp
          && match resolve (nm_msgs m) (FTmsg (tp_msg tp)) (snd (snd sf)) with
-            | Some (FTmsg id) => ident_eqb id "ros_time"
+            | Some (FTmsg id) => ident_eqb id (time_msg (nm_msgs m))
             | _ => false
             end
      | None => false
@@ -778,7 +781,7 @@ Definition wf_check (m : node_model) : res unit :=
   do _ <- check_nodup_keys enc_string (gen_error "fallback given twice for controller input ") (map fst (nm_fallbacks m));
   do _ <- check_all (outrel_check m tb) (nm_outrels m);
   do _ <- assertion (null (nm_stamps m) || time_msg_ok (nm_msgs m))
-            [MSG "Generator: stamps need the message ros_time with the uint32 fields sec and nsec"];
+            [MSG "Generator: stamps need the message ros_time with the uint32 fields sec and nsec (ROS 2: builtin_interfaces_Time with the int32 sec and the uint32 nanosec)"];
   do _ <- check_all (fun st => assertion (stamp_ok m tb st)
                                  [MSG "Generator: bad stamp (rule 4.13) on topic "; CTX (fst st);
                                   MSG ": "; CTX (string_of_path (snd st));
