@@ -30,11 +30,14 @@ SIM = Path(__file__).resolve().parent / "demo_sim.py"
 NODE = "landshark_controller"
 
 
-def _say(line: str) -> None:
+def say(line: str) -> None:
+    """A line of the demo's own (``demo: ...``), at once."""
     print(f"demo: {line}", flush=True)
 
 
-def _stop(p: subprocess.Popen, timeout: float = 15.0) -> None:
+def stop_node(p: subprocess.Popen, timeout: float = 15.0) -> None:
+    """SIGTERM to a node or peer the demo started (a clean rcl shutdown),
+    SIGKILL to its process group after ``timeout`` seconds."""
     if p.poll() is not None:
         return
     p.send_signal(signal.SIGTERM)
@@ -48,11 +51,11 @@ def _stop(p: subprocess.Popen, timeout: float = 15.0) -> None:
 def run(out_dir: Path, duration: float = 12.0, spoof: str = "5:10") -> int:
     binary = out_dir / "bin" / NODE
     if not binary.is_file():
-        _say(f"error: {binary} not found: run pyrosgen build --ros2 first")
+        say(f"error: {binary} not found: run pyrosgen build --ros2 first")
         return 2
     inst = find_ros2()
     env = ros2_env()
-    _say(f"ROS 2 (rcl, Fast DDS): ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST ROS_DOMAIN_ID={env['ROS_DOMAIN_ID']}")
+    say(f"ROS 2 (rcl, Fast DDS): ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST ROS_DOMAIN_ID={env['ROS_DOMAIN_ID']}")
     started: list[subprocess.Popen] = []
     code = 2
     with tempfile.TemporaryDirectory(prefix="pyrosgen-demo-ros2-") as tmp:
@@ -62,12 +65,12 @@ def run(out_dir: Path, duration: float = 12.0, spoof: str = "5:10") -> int:
                 node = subprocess.Popen([str(binary)], stdout=log, stderr=subprocess.STDOUT, env=env,
                                         start_new_session=True)
             started.append(node)
-            _say(f"node {binary} (pid {node.pid}), 50 Hz")
+            say(f"node {binary} (pid {node.pid}), 50 Hz")
             sim = subprocess.Popen([str(inst.python), str(SIM), "--duration", str(duration), "--spoof", spoof],
                                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1,
                                    env=env, start_new_session=True)
             started.append(sim)
-            _say(f"simulated robot, rclpy (pid {sim.pid})")
+            say(f"simulated robot, rclpy (pid {sim.pid})")
             deadline = time.monotonic() + duration + 60
             assert sim.stdout is not None
             for line in sim.stdout:
@@ -77,17 +80,17 @@ def run(out_dir: Path, duration: float = 12.0, spoof: str = "5:10") -> int:
             try:
                 code = sim.wait(max(1.0, deadline - time.monotonic()))
             except subprocess.TimeoutExpired:
-                _say("error: the simulator did not finish in time")
+                say("error: the simulator did not finish in time")
                 code = 2
             if node.poll() is not None:
-                _say(f"error: the node exited with {node.returncode}; its log:")
+                say(f"error: the node exited with {node.returncode}; its log:")
                 print(node_log.read_text(errors="replace")[-2000:], flush=True)
                 code = code or 2
-            _say("stopping the simulator and the node (SIGTERM: rcl shut down, no /dev/shm left)")
+            say("stopping the simulator and the node (SIGTERM: rcl shut down, no /dev/shm left)")
         finally:
             for p in reversed(started):
-                _stop(p)
-    _say("all processes stopped")
+                stop_node(p)
+    say("all processes stopped")
     return code
 
 

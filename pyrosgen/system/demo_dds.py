@@ -21,7 +21,6 @@ not be reached); 1 for bad usage or a folder without the nodes.
 from __future__ import annotations
 
 import argparse
-import os
 import signal
 import subprocess
 import sys
@@ -29,26 +28,13 @@ import tempfile
 import time
 from pathlib import Path
 
+from pyrosgen.ros2.demo import say as _say
+from pyrosgen.ros2.demo import stop_node as _stop
 from pyrosgen.ros2.env import find_ros2, ros2_env
 from pyrosgen.system.launch import read_ros2_launch
 
 SIM = Path(__file__).resolve().parent / "demo_chain_sim_rclpy.py"
 LAUNCH = "guard_chain.launch.xml"
-
-
-def _say(line: str) -> None:
-    print(f"demo: {line}", flush=True)
-
-
-def _stop(p: subprocess.Popen, timeout: float = 15.0) -> None:
-    if p.poll() is not None:
-        return
-    p.send_signal(signal.SIGTERM)
-    try:
-        p.wait(timeout)
-    except subprocess.TimeoutExpired:
-        os.killpg(p.pid, signal.SIGKILL)
-        p.wait()
 
 
 def _commands(out: Path) -> list[tuple[str, list[str]]] | None:
