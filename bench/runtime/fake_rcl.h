@@ -14,6 +14,12 @@ void bench_published(int topic, const void *msg, long cycle);
 /* At exit: prints the checksum of what was published, and `cycles`. */
 void bench_report(long cycles);
 
+/* The checksum of what was published (FNV-1a over 64-bit words): fold a
+ * word, a double's bits; the checksum so far. */
+void fake_rcl_fold(unsigned long long v);
+void fake_rcl_fold_double(double x);
+unsigned long long fake_rcl_checksum(void);
+
 /* The current cycle (the number of clock_nanosleep calls so far). */
 long fake_rcl_cycle(void);
 

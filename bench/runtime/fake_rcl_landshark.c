@@ -22,7 +22,6 @@ static const char *const TOPICS[] = {"/landshark/left_wheel_velocity", "/landsha
 
 static geometry_msgs__msg__TwistStamped g_src;
 static int g_src_up = 0;
-static unsigned long long g_sum = 1469598103934665603ULL;
 static long g_published = 0;
 
 int bench_topic(const char *topic)
@@ -56,39 +55,27 @@ int bench_take(int topic, void *msg, long cycle, unsigned long long *rx)
     return 1;
 }
 
-static void fold(unsigned long long v)
-{
-    g_sum = (g_sum ^ v) * 1099511628211ULL;
-}
-
-static void fold_double(double x)
-{
-    unsigned long long b;
-    memcpy(&b, &x, sizeof b);
-    fold(b);
-}
-
 void bench_published(int topic, const void *msg, long cycle)
 {
     const geometry_msgs__msg__TwistStamped *m = (const geometry_msgs__msg__TwistStamped *)msg;
     (void)cycle;
-    fold((unsigned long long)topic);
-    fold((unsigned long long)(unsigned)m->header.stamp.sec);
-    fold(m->header.stamp.nanosec);
-    fold(m->header.frame_id.size);
+    fake_rcl_fold((unsigned long long)topic);
+    fake_rcl_fold((unsigned long long)(unsigned)m->header.stamp.sec);
+    fake_rcl_fold(m->header.stamp.nanosec);
+    fake_rcl_fold(m->header.frame_id.size);
     for (size_t i = 0; i < m->header.frame_id.size; ++i)
-        fold((unsigned char)m->header.frame_id.data[i]);
-    fold_double(m->twist.linear.x);
-    fold_double(m->twist.linear.y);
-    fold_double(m->twist.linear.z);
-    fold_double(m->twist.angular.x);
-    fold_double(m->twist.angular.y);
-    fold_double(m->twist.angular.z);
+        fake_rcl_fold((unsigned char)m->header.frame_id.data[i]);
+    fake_rcl_fold_double(m->twist.linear.x);
+    fake_rcl_fold_double(m->twist.linear.y);
+    fake_rcl_fold_double(m->twist.linear.z);
+    fake_rcl_fold_double(m->twist.angular.x);
+    fake_rcl_fold_double(m->twist.angular.y);
+    fake_rcl_fold_double(m->twist.angular.z);
     g_published++;
 }
 
 void bench_report(long cycles)
 {
-    printf("checksum %016llx published %ld cycles %ld\n", g_sum, g_published, cycles);
+    printf("checksum %016llx published %ld cycles %ld\n", fake_rcl_checksum(), g_published, cycles);
     fflush(stdout);
 }
