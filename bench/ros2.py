@@ -440,13 +440,12 @@ def instructions(node: Node, exes: dict, cycles: int) -> dict:
 
 #: Changes to ``<node>_rcl.c`` measured, not made in
 #: pyrosgen/templates/rcl_api.c.j2: name -> (regular expression,
-#: replacement).  Section 13's two proposals (no memset of the take buffer,
-#: only the message info's received_timestamp zeroed) are made since
-#: 9f0193d; these two drop a promise of the environment model (DESIGN.md
-#: section 6.1) to measure what it costs, and stay out of the wrapper.
+#: replacement).  Section 13's earlier proposals are made (no memset of the
+#: take buffer, only the message info's received_timestamp zeroed, since
+#: 9f0193d; the ROS time read only when the glue asks, since 2026-11-29);
+#: this one drops a promise of the environment model (DESIGN.md section
+#: 6.1) to measure what it costs, and stays out of the wrapper.
 WHAT_IF = {
-    "no ROS time read when a spin returns (ros_now outside callbacks)": (
-        r"\n    g_now_ns = ros_time_ns\(\);\n\}", "\n    (void)ros_time_ns;   /* not read: what-if */\n}"),
     "no steady clock read in ros_rate_sleep (ros::Rate's rule for a late cycle)": (
         r"long long now = steady_ns\(\);(\n    g_next_ns \+= PYROSGEN_PERIOD_NS;)", r"long long now = 0;\1"),
 }

@@ -2,8 +2,8 @@
 
 (** The environment model's ROS 2 instance ([Environment.rcl_deliverable]:
     per subscription the newest [sub_queue] arrivals of its topic, which a
-    KEEP_LAST history of that depth holds, taken oldest first, merged on
-    the receipt times, ties to the earlier subscription; [ros_now] in the
+    KEEP_LAST history of that depth holds, taken oldest first, one
+    subscription after the other; [ros_now] in the
     callback is the arrival's receipt time [ar_time]) is what the ROS 2
     wrapper does (DESIGN.md section 6.1).  Each mutant below is a wrapper
     that does something else, and each is refuted:
@@ -14,7 +14,7 @@
     - [minus_deliverable], [plus_deliverable]: a history depth off by one
       ([q - 1], [q + 1]);
     - [sorted_deliverable]: the callbacks run by a sort of all the taken
-      messages on their receipt times instead of a merge, which reorders
+      messages on their receipt times, which reorders
       a subscription's own messages when their times decrease (Fast DDS's
       reception times are on the system clock, which may step back);
     - the receipt time from the wrong clock: [ros_now] in the callback is
@@ -87,7 +87,7 @@ Definition on_topic (tn : string) (msgs : list arrival) : list arrival :=
 
 Definition with_history (h : subscription -> list arrival -> list arrival)
   (subs : list subscription) (msgs : list arrival) : list (subscription * arrival) :=
-  fold_right (fun s acc => merge_time (map (fun a => (s, a)) (h s msgs)) acc) [] subs.
+  flat_map (fun s => map (fun a => (s, a)) (h s msgs)) subs.
 
 (** The take keeps the oldest [q]. *)
 Definition oldest_deliverable : list subscription -> list arrival -> list (subscription * arrival) :=
@@ -100,7 +100,7 @@ Definition plus_deliverable : list subscription -> list arrival -> list (subscri
   with_history (fun s msgs => history (sub_topic s) (S (sub_queue s)) msgs).
 
 (** All the taken messages sorted on their receipt times (an insertion
-    sort, stable): not a merge. *)
+    sort, stable). *)
 Fixpoint insert_time (x : subscription * arrival) (l : list (subscription * arrival)) : list (subscription * arrival) :=
   match l with
   | [] => [x]
@@ -263,7 +263,7 @@ Definition clock_ctx : ros_context unit :=
         (ctx_time fctx) tt (ctx_step fctx) Ros2.
 
 (** The same messages to the same callbacks in the same order: only the
-    receipt times differ (the mutant merges on the real ones). *)
+    receipt times differ. *)
 Lemma sim_clock: forall k,
   map (fun sa => (fst sa, ar_msg (snd sa))) (rcl_deliverable (subs_of fresh) (ctx_arrivals clock_ctx k))
   = map (fun sa => (fst sa, ar_msg (snd sa))) (rcl_deliverable (subs_of fresh) (ctx_arrivals fctx2 k)).

@@ -589,23 +589,13 @@ Theorem last_delivered_deliverable:
 Proof. exact Loopfacts.last_delivered_deliverable. Qed.
 
 (** The same on ROS 2 ([Environment.rcl_deliverable]: each subscription's
-    KEEP_LAST history of depth [sub_queue s], merged on the receipt
-    times): for distinct subscriptions, the last message that one spin
+    KEEP_LAST history of depth [sub_queue s], one subscription after
+    the other): for distinct subscriptions, the last message that one spin
     delivers to [s] is the last arrival on its topic. *)
 Theorem last_delivered_rcl_deliverable:
   forall subs s msgs, NoDup subs -> In s subs -> (1 <= sub_queue s)%nat ->
   Loopfacts.last_delivered s (rcl_deliverable subs msgs) = last_on (sub_topic s) msgs.
 Proof. exact Loopfacts.last_delivered_rcl_deliverable. Qed.
-
-(** [rcl_deliverable] is the ROS 2 wrapper's loop ([rcl_api.c.j2]'s
-    [ros_spinOnce]): given at least as many steps as messages, repeatedly
-    running the callback of the first head of smallest receipt time among
-    the subscriptions' taken lists, in registration order
-    ([Environment.wrapper_merge]), runs them in [rcl_deliverable]'s order. *)
-Theorem rcl_deliverable_wrapper:
-  forall subs msgs n, (length (rcl_deliverable subs msgs) <= n)%nat ->
-  rcl_deliverable subs msgs = wrapper_merge n (map (fun s => taken s msgs) subs).
-Proof. exact Environment.rcl_deliverable_wrapper. Qed.
 
 (** ** The shape of the generated program (used by T1 and T2) *)
 

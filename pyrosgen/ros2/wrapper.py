@@ -292,13 +292,28 @@ def _qos_problems(fn: str, t, got: list[tuple[str, str]], q: Qos) -> list[str]:
 
 
 # The ROS time a stamp holds (rule 4.13): the seconds and nanoseconds of
-# g_now_ns, as the roscpp wrapper's (pyrosgen.verify.wrapper_check), and
-# ROS 2's time message converted field by field, sec to sec, nanosec to
-# nanosec (the glue stores (int)ros_time_sec() into the int32 sec).
+# ros_now(), which outside a callback reads the ROS clock once after each
+# spin (g_now_state), and ROS 2's time message converted field by field, sec
+# to sec, nanosec to nanosec (the glue stores (int)ros_time_sec() into the
+# int32 sec).
+_NOW_BODY = """unsigned long long ros_now(void)
+{
+    if (g_now_state != 1) {
+        if (g_now_state == 0) {
+            g_now_ns = ros_time_ns();
+        } else {
+            unsigned long long rcv = g_rx_ns > 0 ? (unsigned long long)g_rx_ns : system_ns();
+            g_now_ns = g_sim_time ? sim_at(rcv) : rcv;
+        }
+        g_now_state = 1;
+    }
+    return g_now_ns;
+}"""
+_NOW_DEF = re.compile("^" + re.escape(_NOW_BODY) + "$", re.M)
 _SEC_DEF = re.compile(r"^unsigned int ros_time_sec\(void\)\n\{\n"
-                      r"    return \(unsigned int\)\(g_now_ns / 1000000000ULL\);\n\}$", re.M)
+                      r"    return \(unsigned int\)\(ros_now\(\) / 1000000000ULL\);\n\}$", re.M)
 _NSEC_DEF = re.compile(r"^unsigned int ros_time_nsec\(void\)\n\{\n"
-                       r"    return \(unsigned int\)\(g_now_ns % 1000000000ULL\);\n\}$", re.M)
+                       r"    return \(unsigned int\)\(ros_now\(\) % 1000000000ULL\);\n\}$", re.M)
 _TIME_CONV = {
     "to_c": re.compile(r"^static inline void to_c_builtin_interfaces_Time\(const builtin_interfaces__msg__Time \*r, "
                        r"struct builtin_interfaces_Time \*c\)\n\{\n    c->sec = r->sec;\n"
@@ -311,16 +326,20 @@ _TIME_CONV = {
 
 def _stamp_problems(text: str, pm: ProvedModel) -> list[str]:
     """What in the wrapper departs from the ROS time a stamp holds (rule
-    4.13): ``ros_time_sec`` and ``ros_time_nsec`` defined once, returning
-    the seconds and nanoseconds of ``g_now_ns``; and, for a model of ROS
-    2's time message, its conversions copying ``sec`` and ``nanosec``
-    each into itself."""
+    4.13): ``ros_now`` defined once (the ROS clock read at the first call
+    after a spin, kept until the next), ``ros_time_sec`` and
+    ``ros_time_nsec`` defined once, returning the seconds and nanoseconds
+    of ``ros_now()``; and, for a model of ROS 2's time message, its
+    conversions copying ``sec`` and ``nanosec`` each into itself."""
     problems = []
     if pm.stamps:
+        if len(_NOW_DEF.findall(text)) != 1 or len(re.findall(r"\bros_now\s*\(void\)", text)) != 1:
+            problems.append("  the wrapper does not define ros_now() once, reading the ROS clock at the first call "
+                            "after a spin")
         if len(_SEC_DEF.findall(text)) != 1 or len(re.findall(r"\bros_time_sec\s*\(", text)) != 1:
-            problems.append("  the wrapper does not define ros_time_sec() once, returning the seconds of g_now_ns")
+            problems.append("  the wrapper does not define ros_time_sec() once, returning the seconds of ros_now()")
         if len(_NSEC_DEF.findall(text)) != 1 or len(re.findall(r"\bros_time_nsec\s*\(", text)) != 1:
-            problems.append("  the wrapper does not define ros_time_nsec() once, returning the nanoseconds of g_now_ns")
+            problems.append("  the wrapper does not define ros_time_nsec() once, returning the nanoseconds of ros_now()")
     if "builtin_interfaces_Time" in pm.messages:
         for what, pat in _TIME_CONV.items():
             if len(pat.findall(text)) != 1 or len(re.findall(rf"\b{what}_builtin_interfaces_Time\s*\(", text)) < 1:

@@ -103,11 +103,14 @@ def stamped2(ros2_install, ros2_nodes):
     ("c->sec = r->sec;\n    c->nanosec = r->nanosec;", "c->sec = r->nanosec;\n    c->nanosec = r->sec;",
      "to_c_builtin_interfaces_Time"),
     ("r->sec = c->sec;", "r->sec = (c->sec < 0 ? 0x7fffffff : c->sec);", "from_c_builtin_interfaces_Time"),
-    ("return (unsigned int)(g_now_ns / 1000000000ULL);", "return (unsigned int)(g_now_ns / 1000000ULL);",
+    ("return (unsigned int)(ros_now() / 1000000000ULL);", "return (unsigned int)(ros_now() / 1000000ULL);",
      "ros_time_sec()"),
-    ("return (unsigned int)(g_now_ns % 1000000000ULL);", "return (unsigned int)(g_now_ns / 1000000000ULL);",
+    ("return (unsigned int)(ros_now() % 1000000000ULL);", "return (unsigned int)(ros_now() / 1000000000ULL);",
      "ros_time_nsec()"),
-], ids=["sec-nanosec-swapped-in", "sec-saturated-out", "sec-in-ms", "nsec-is-sec"])
+    ("            g_now_ns = ros_time_ns();", "            g_now_ns = steady_ns();", "ros_now()"),
+    ("        g_now_state = 1;\n    }\n    return g_now_ns;", "    }\n    return g_now_ns;", "ros_now()"),
+], ids=["sec-nanosec-swapped-in", "sec-saturated-out", "sec-in-ms", "nsec-is-sec", "now-steady-clock",
+        "now-read-at-every-call"])
 def test_rcl_wrapper_check_holds_the_stamp(stamped2, old, new, says):
     """check_rcl_wrapper (every build --ros2, verify) refuses a wrapper whose
     time functions or time conversions depart from the ROS time a stamp

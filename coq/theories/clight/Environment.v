@@ -53,10 +53,9 @@
       [q] keeps the newest [q] ([q = 0]: unbounded, as in roscpp);
       messages of topics nobody subscribed to are dropped; arrival order
       is kept.  On ROS 2, [rcl_deliverable subs msgs]: for each
-      subscription in registration order the messages of its topic that
-      a KEEP_LAST history of depth [q] holds (the newest [q]), merged on
-      their receipt times (ties to the earlier subscription, each
-      subscription's messages in arrival order).  Then, for each kept message in order, unless it holds a
+      subscription in registration order, the messages of its topic that
+      a KEEP_LAST history of depth [q] holds (the newest [q]), oldest
+      first; one subscription's after the other's.  Then, for each kept message in order, unless it holds a
       sequence of policy "reject" longer than its maximum ([accepted];
       such a message is dropped), a fresh block
       holding the message value (of type [struct msgty]), its bounded
@@ -654,19 +653,19 @@ Fixpoint deliverable (subs : list subscription) (msgs : list arrival)
     ([history]; depth 0 holds none, as the wrapper then takes none: the
     generator refuses a queue size of 0 for both targets, rule 4.4 and
     [Wellformed]).  The wrapper takes them with [rcl_take], oldest first
-    ([taken]), from each subscription in registration order, then runs
-    the callbacks by merging the subscriptions' lists on the receipt time
-    [ar_time] (what [ros_now] answers in the callback): at each step the
-    head of smallest time, ties to the earlier subscription (the
-    wrapper's strict [<]), each subscription's own messages in take
-    order whatever their times ([merge_time], [rcl_deliverable]: the
-    merge of the first subscription's list with the merge of the
-    others', which picks the same head as the wrapper's loop over the
-    subscriptions).  A message of policy "reject" that is too long is
-    taken and merged like any other, and dropped only when its turn comes
-    ([Semantics.deliver_rejected]; the wrapper keeps it in its buffer,
-    flagged, and skips its callback).  Messages of topics nobody
-    subscribed to are dropped. *)
+    ([taken]), from each subscription in registration order, and runs the
+    callback of each message as it is taken: [rcl_deliverable] is the
+    concatenation of the subscriptions' lists, as rclcpp's executor runs
+    the ready subscriptions one after the other, not interleaved on a
+    time.  (Callbacks of different topics write disjoint globals, so no
+    glue can tell the order of messages of different topics; T2's proof
+    uses only that a spin delivers registered topics' arrivals and that
+    the last accepted delivery to a subscription is its newest kept
+    message, [Loopfacts.In_spin_messages] and
+    [Loopfacts.last_delivered_rcl_deliverable].)  A message of policy
+    "reject" that is too long is taken like any other and dropped when
+    its turn comes ([Semantics.deliver_rejected]; the wrapper skips its
+    callback).  Messages of topics nobody subscribed to are dropped. *)
 Fixpoint history (topic : string) (q : nat) (msgs : list arrival) : list arrival :=
   match msgs with
   | [] => []
@@ -678,101 +677,8 @@ Fixpoint history (topic : string) (q : nat) (msgs : list arrival) : list arrival
 Definition taken (s : subscription) (msgs : list arrival) : list (subscription * arrival) :=
   map (fun a => (s, a)) (history (sub_topic s) (sub_queue s) msgs).
 
-(** The merge of [l1] (an earlier subscription's) and [l2] on the receipt
-    time: the head of [l2] goes first only if strictly earlier. *)
-Fixpoint merge_time (l1 : list (subscription * arrival)) : list (subscription * arrival) -> list (subscription * arrival) :=
-  fix go (l2 : list (subscription * arrival)) : list (subscription * arrival) :=
-    match l1, l2 with
-    | [], _ => l2
-    | _, [] => l1
-    | x1 :: r1, x2 :: r2 =>
-        if Z.ltb (ar_time (snd x2)) (ar_time (snd x1)) then x2 :: go r2 else x1 :: merge_time r1 l2
-    end.
-
 Definition rcl_deliverable (subs : list subscription) (msgs : list arrival) : list (subscription * arrival) :=
-  fold_right (fun s acc => merge_time (taken s msgs) acc) [] subs.
-
-(** The wrapper's loop itself: [pick] takes the head of smallest receipt
-    time, scanning the subscriptions' lists in order and moving to a later
-    one only when its head is strictly earlier (the first of the minimal
-    heads), and removes it; [wrapper_merge] picks until every list is
-    empty.  It computes [rcl_deliverable]'s merge ([wrapper_merge_spec]). *)
-Fixpoint pick (ls : list (list (subscription * arrival)))
-  : option ((subscription * arrival) * list (list (subscription * arrival))) :=
-  match ls with
-  | [] => None
-  | [] :: rest =>
-      match pick rest with
-      | Some (y, r) => Some (y, [] :: r)
-      | None => None
-      end
-  | (x :: l) :: rest =>
-      match pick rest with
-      | Some (y, r) => if Z.ltb (ar_time (snd y)) (ar_time (snd x)) then Some (y, (x :: l) :: r) else Some (x, l :: rest)
-      | None => Some (x, l :: rest)
-      end
-  end.
-
-Fixpoint wrapper_merge (fuel : nat) (ls : list (list (subscription * arrival))) : list (subscription * arrival) :=
-  match fuel with
-  | O => []
-  | S f => match pick ls with Some (x, ls') => x :: wrapper_merge f ls' | None => [] end
-  end.
-
-Lemma merge_time_nil_l: forall l, merge_time [] l = l.
-Proof. destruct l; reflexivity. Qed.
-
-Lemma merge_time_nil_r: forall l, merge_time l [] = l.
-Proof. destruct l; reflexivity. Qed.
-
-Lemma pick_merge:
-  forall ls,
-  match fold_right merge_time [] ls with
-  | [] => pick ls = None
-  | x :: r => exists ls', pick ls = Some (x, ls') /\ fold_right merge_time [] ls' = r
-  end.
-Proof.
-  induction ls as [|l rest IH]; [reflexivity|]. cbn [fold_right].
-  destruct l as [|x l].
-  - rewrite merge_time_nil_l. cbn [pick].
-    destruct (fold_right merge_time [] rest) as [|y r].
-    + rewrite IH. reflexivity.
-    + destruct IH as (ls' & P & F). rewrite P. exists ([] :: ls'). split; [reflexivity|].
-      cbn [fold_right]. rewrite merge_time_nil_l. exact F.
-  - cbn [pick]. destruct (fold_right merge_time [] rest) as [|y r] eqn:E.
-    + rewrite IH. rewrite merge_time_nil_r. exists (l :: rest). split; [reflexivity|].
-      cbn [fold_right]. rewrite E, merge_time_nil_r. reflexivity.
-    + destruct IH as (ls' & P & F). rewrite P. cbn [merge_time].
-      destruct (ar_time (snd y) <? ar_time (snd x))%Z.
-      * exists ((x :: l) :: ls'). split; [reflexivity|]. cbn [fold_right]. rewrite F. reflexivity.
-      * exists (l :: rest). split; [reflexivity|]. cbn [fold_right]. rewrite E. reflexivity.
-Qed.
-
-(** The wrapper's loop, given at least as many steps as messages, runs
-    the callbacks in the order of the merge. *)
-Lemma wrapper_merge_spec:
-  forall n ls, (length (fold_right merge_time [] ls) <= n)%nat ->
-  wrapper_merge n ls = fold_right merge_time [] ls.
-Proof.
-  induction n as [|n IH]; intros ls L.
-  - destruct (fold_right merge_time [] ls); [reflexivity|simpl in L; lia].
-  - cbn [wrapper_merge]. generalize (pick_merge ls).
-    destruct (fold_right merge_time [] ls) as [|x r] eqn:E.
-    + intros ->. reflexivity.
-    + intros (ls' & -> & F). rewrite IH; [congruence|]. rewrite F. simpl in L. lia.
-Qed.
-
-(** [rcl_deliverable] is the wrapper's loop on the lists taken from the
-    subscriptions in registration order. *)
-Theorem rcl_deliverable_wrapper:
-  forall subs msgs n, (length (rcl_deliverable subs msgs) <= n)%nat ->
-  rcl_deliverable subs msgs = wrapper_merge n (map (fun s => taken s msgs) subs).
-Proof.
-  intros subs msgs n L.
-  assert (E: rcl_deliverable subs msgs = fold_right merge_time [] (map (fun s => taken s msgs) subs)).
-  { clear L. unfold rcl_deliverable. induction subs as [|s subs IHs]; [reflexivity|]. simpl. rewrite IHs. reflexivity. }
-  rewrite E in *. symmetry. apply wrapper_merge_spec. exact L.
-Qed.
+  flat_map (fun s => taken s msgs) subs.
 
 (** ** The external functions *)
 

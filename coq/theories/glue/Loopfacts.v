@@ -124,48 +124,9 @@ Qed.
 
 (** The two facts the proof of T2 needs of a spin's deliveries
     ([In_deliverable], [last_delivered_deliverable] through
-    [Loopproof.last_accepted_deliverable]) hold of ROS 2's too: the merge
-    is an interleaving that keeps each subscription's own order, and the
-    subscriptions are distinct. *)
-
-Lemma In_merge_time:
-  forall l1 l2 x, In x (merge_time l1 l2) <-> In x l1 \/ In x l2.
-Proof.
-  induction l1 as [|x1 r1 IH1]; intros l2 x; [destruct l2; simpl; tauto|].
-  induction l2 as [|x2 r2 IH2]; [simpl; tauto|].
-  cbn [merge_time]. destruct (ar_time (snd x2) <? ar_time (snd x1))%Z.
-  - fold (merge_time (x1 :: r1) r2). simpl. rewrite IH2. simpl. tauto.
-  - simpl. rewrite IH1. simpl. tauto.
-Qed.
-
-(** Keeping the elements of [P] of a merge where one side has none of
-    them is keeping those of the other side: the merge keeps each side's
-    order. *)
-Lemma filter_merge_time_l:
-  forall (P : subscription * arrival -> bool) l1 l2, (forall x, In x l2 -> P x = false) ->
-  filter P (merge_time l1 l2) = filter P l1.
-Proof.
-  intros P. induction l1 as [|x1 r1 IH1]; intros l2 H2.
-  - simpl. induction l2 as [|x2 r2 IH2]; auto. simpl. rewrite (H2 x2 (or_introl eq_refl)).
-    destruct r2; [reflexivity|]. apply IH2. intros; apply H2; simpl; auto.
-  - induction l2 as [|x2 r2 IH2]; [reflexivity|].
-    cbn [merge_time]. destruct (ar_time (snd x2) <? ar_time (snd x1))%Z.
-    + fold (merge_time (x1 :: r1) r2). cbn [filter]. rewrite (H2 x2 (or_introl eq_refl)). apply IH2. intros; apply H2; simpl; auto.
-    + cbn [filter]. rewrite IH1 by exact H2. reflexivity.
-Qed.
-
-Lemma filter_merge_time_r:
-  forall (P : subscription * arrival -> bool) l1 l2, (forall x, In x l1 -> P x = false) ->
-  filter P (merge_time l1 l2) = filter P l2.
-Proof.
-  intros P. induction l1 as [|x1 r1 IH1]; intros l2 H1; [destruct l2; reflexivity|].
-  induction l2 as [|x2 r2 IH2].
-  - simpl. rewrite (H1 x1 (or_introl eq_refl)). clear IH1. induction r1 as [|y r IH]; auto.
-    simpl. rewrite (H1 y (or_intror (or_introl eq_refl))). apply IH. intros x [<-|Hx]; apply H1; simpl; auto.
-  - cbn [merge_time]. destruct (ar_time (snd x2) <? ar_time (snd x1))%Z.
-    + cbn [filter]. destruct (P x2); [f_equal|]; exact IH2.
-    + cbn [filter]. rewrite (H1 x1 (or_introl eq_refl)). apply IH1. intros; apply H1; simpl; auto.
-Qed.
+    [Loopproof.last_accepted_deliverable]) hold of ROS 2's too: each
+    subscription's messages in take order, one subscription after the
+    other, and the subscriptions are distinct. *)
 
 Lemma In_history:
   forall tn q msgs a, In a (history tn q msgs) -> In a msgs /\ ar_topic a = tn.
@@ -182,11 +143,9 @@ Lemma In_rcl_deliverable:
   forall subs msgs s a, In (s, a) (rcl_deliverable subs msgs) ->
   In s subs /\ In a msgs /\ ar_topic a = sub_topic s.
 Proof.
-  induction subs as [|s0 subs IH]; simpl; intros msgs s a H; [contradiction|].
-  apply In_merge_time in H. destruct H as [H|H].
-  - unfold taken in H. apply in_map_iff in H as (a' & E & H). inversion E; subst.
-    apply In_history in H. tauto.
-  - destruct (IH _ _ _ H) as (? & ? & ?); auto.
+  intros subs msgs s a H. unfold rcl_deliverable in H. apply in_flat_map in H as (s0 & Hs0 & H).
+  unfold taken in H. apply in_map_iff in H as (a' & E & H). inversion E; subst.
+  apply In_history in H. tauto.
 Qed.
 
 (** What one spin delivers, on either target, is for registered
@@ -205,22 +164,30 @@ Definition of_sub (s : subscription) (x : subscription * arrival) : bool :=
 
 (** The deliveries of one ROS 2 spin to one of distinct subscriptions are
     what it takes from its history, in take order. *)
+Lemma filter_none:
+  forall (A : Type) (P : A -> bool) l, (forall x, In x l -> P x = false) -> filter P l = [].
+Proof.
+  induction l as [|x l IH]; intros H; [reflexivity|]. simpl. rewrite (H x (or_introl eq_refl)).
+  apply IH. intros y Hy. apply H. right. exact Hy.
+Qed.
+
 Lemma filter_rcl_deliverable:
   forall subs msgs s, NoDup subs -> In s subs ->
   filter (of_sub s) (rcl_deliverable subs msgs) = taken s msgs.
 Proof.
   induction subs as [|s0 subs IH]; intros msgs s N Hs; [contradiction|].
-  apply NoDup_cons_iff in N as [Hn N']. simpl.
+  apply NoDup_cons_iff in N as [Hn N'].
   assert (Tk: forall s', filter (of_sub s') (taken s' msgs) = taken s' msgs).
   { intros s'. unfold taken. induction (history (sub_topic s') (sub_queue s') msgs) as [|a l IHl]; auto.
     simpl. rewrite IHl. unfold of_sub. simpl. destruct (sub_eq s' s'); congruence. }
-  destruct Hs as [<-|Hs].
-  - rewrite filter_merge_time_l; auto.
+  unfold rcl_deliverable. cbn [flat_map]. fold (rcl_deliverable subs msgs).
+  rewrite filter_app. destruct Hs as [<-|Hs].
+  - rewrite Tk, filter_none, app_nil_r; [reflexivity|].
     intros [s' a] Hx. apply In_rcl_deliverable in Hx as (Hs' & _).
     unfold of_sub. simpl. destruct (sub_eq s' s0); auto. subst; contradiction.
-  - rewrite filter_merge_time_r by (intros [s' a] Hx; unfold taken in Hx; apply in_map_iff in Hx as (a' & E & _);
-      injection E as <- <-; unfold of_sub; simpl; destruct (sub_eq s0 s) as [E'|]; [subst; contradiction|reflexivity]).
-    apply IH; auto.
+  - rewrite filter_none; [apply IH; auto|].
+    intros [s' a] Hx. unfold taken in Hx. apply in_map_iff in Hx as (a' & E & _).
+    injection E as <- <-. unfold of_sub. simpl. destruct (sub_eq s0 s) as [E'|]; [subst; contradiction|reflexivity].
 Qed.
 
 Lemma last_delivered_of_sub:

@@ -661,7 +661,7 @@ Proof.
 Qed.
 
 (** The same on ROS 2: the subscriptions are distinct (their callbacks
-    are), so the merge hands each callback what its history keeps, in
+    are), so the spin hands each callback what its history keeps, in
     take order, and a history of depth at least 1 (the generator's rule)
     keeps the newest message. *)
 Lemma subs_of_nodup: NoDup subs_of.
