@@ -127,18 +127,32 @@ def cases(queues, rng: random.Random) -> list[list[list[int]]]:
     return out
 
 
-@pytest.mark.parametrize("shape", sorted(QUEUES))
-def test_spin_once_delivers_as_rcl_deliverable(shape, ros2_install, ros2_nodes, tmp_path):
-    queues = QUEUES[shape]
-    (tmp_path / "m.yaml").write_text(model(queues))
-    res = build_ros2(tmp_path / "m.yaml", None, ros2_nodes / f"spin_{shape}", install=ros2_install)
-    subs = [t.c_name for t in parse_model_text(res.generated.proved_model).topics if t.direction == "subscribe"]
-    assert len(subs) == len(queues)
+@pytest.fixture(scope="module")
+def built(ros2_install, ros2_nodes, tmp_path_factory):
+    """Both nodes, built once: shape -> (build result, subscriptions' C names)."""
+    out = {}
+    for shape, queues in QUEUES.items():
+        d = tmp_path_factory.mktemp(f"spin_{shape}")
+        (d / "m.yaml").write_text(model(queues))
+        res = build_ros2(d / "m.yaml", None, ros2_nodes / f"spin_{shape}", install=ros2_install)
+        subs = [t.c_name for t in parse_model_text(res.generated.proved_model).topics if t.direction == "subscribe"]
+        assert len(subs) == len(queues)
+        out[shape] = (res, subs)
+    return out
+
+
+def run_spins(res, subs, queues, rcl_text: str, tmp_path, ros2_install):
+    """The harness over the wrapper text ``rcl_text`` (the node's, or a
+    mutant of it): per scripted spin, the deliveries, and the cycle's time
+    line; and the script."""
+    node = res.model.name
+    (tmp_path / f"{node}_rcl.c").write_text(rcl_text)
     src, exe = tmp_path / "harness.c", tmp_path / "harness"
-    src.write_text(harness(res.model.name, subs))
+    src.write_text(harness(node, subs))
     cflags = [f for f in GLUE_CFLAGS if f not in ("-Werror", "-pedantic")]
-    cc = subprocess.run(["gcc", *cflags, "-I", str(res.out_dir), *compile_flags(ros2_install), str(src), "-o",
-                         str(exe), *link_flags(ros2_install, res.model), "-lm"], capture_output=True, text=True)
+    cc = subprocess.run(["gcc", *cflags, "-I", str(tmp_path), "-I", str(res.out_dir), *compile_flags(ros2_install),
+                         str(src), "-o", str(exe), *link_flags(ros2_install, res.model), "-lm"],
+                        capture_output=True, text=True)
     assert cc.returncode == 0, cc.stderr[-3000:]
     script = cases(queues, random.Random(31 + len(queues)))
     stdin = "".join(" ".join(str(x) for times in case for x in (len(times), *times)) + "\n" for case in script)
@@ -154,6 +168,15 @@ def test_spin_once_delivers_as_rcl_deliverable(shape, ros2_install, ros2_nodes, 
         else:
             cur.append(tuple(int(x) for x in line.split()))
     assert len(got) == CASES
+    return script, got, nows
+
+
+@pytest.mark.parametrize("shape", sorted(QUEUES))
+def test_spin_once_delivers_as_rcl_deliverable(shape, built, ros2_install, tmp_path):
+    res, subs = built[shape]
+    queues = QUEUES[shape]
+    text = (res.out_dir / f"{res.model.name}_rcl.c").read_text()
+    script, got, nows = run_spins(res, subs, queues, text, tmp_path, ros2_install)
     assert nows == ["now 1 1"] * CASES
     unsorted = 0
     for case, delivered in zip(script, got):
@@ -163,3 +186,30 @@ def test_spin_once_delivers_as_rcl_deliverable(shape, ros2_install, ros2_nodes, 
     # the scripts did exercise spins whose order is not the receipt times' (a
     # merge or a sort on the times would fail them)
     assert unsorted > CASES // 10
+
+
+#: Wrapper mutants, each a departure from rcl_deliverable or from ros_now's
+#: meaning that the harness above must see: (old, new, count of old).
+MUTANTS = {
+    # ros_now() in a callback answers the cycle's time, not the receipt time
+    "receipt-time-not-set": ("        g_now_state = 2;\n", "", None),
+    # a history depth off by one: one more message taken than the queue holds
+    "depth-plus-one": ("taken < ", "taken <= ", None),
+    # after the spin, ros_now() answers the last receipt time, not the clock
+    "cycle-time-not-read": ("    g_now_state = 0;   /* the ROS time of the cycle", "    /* the ROS time of the cycle", 1),
+    # a history depth off by one the other way (the queue of 3 taken as 2)
+    "depth-minus-one": ("taken < 3; ++taken)", "taken < 2; ++taken)", 1),
+}
+
+
+@pytest.mark.parametrize("mutant", sorted(MUTANTS))
+def test_wrapper_mutants_are_caught(mutant, built, ros2_install, tmp_path):
+    res, subs = built["three"]
+    queues = QUEUES["three"]
+    text = (res.out_dir / f"{res.model.name}_rcl.c").read_text()
+    old, new, count = MUTANTS[mutant]
+    assert text.count(old) == (count or len(subs)), mutant
+    script, got, nows = run_spins(res, subs, queues, text.replace(old, new), tmp_path, ros2_install)
+    wrong = sum(delivered != expected(queues, case) for case, delivered in zip(script, got))
+    wrong += sum(line != "now 1 1" for line in nows)
+    assert wrong > 0, f"the mutant {mutant} delivers as the model says"
