@@ -67,8 +67,9 @@ from pyrosgen.ros.build import (
 )
 from pyrosgen.ros2.env import Ros2Install, find_ros2
 from pyrosgen.ros2.frontend import load_model_ros2
-from pyrosgen.ros2.package import ROS_PACKAGES, ros2_message_packages, ros2_package_paths, render_ros2_package_record
-from pyrosgen.ros2.rosidl import build_custom_types
+from pyrosgen.ros2.package import (RESERVED_NAMES, ROS_PACKAGES, render_ros2_msg_package, render_ros2_package_record,
+                                   ros2_message_packages, ros2_package_paths)
+from pyrosgen.ros2.rosidl import build_custom_types, custom_packages
 from pyrosgen.ros2.wrapper import (Ros2WrapperMismatch, check_rcl_wrapper, parse_qos_text, qos_file_name, qos_text,
                                    render_rcl_wrapper, ros2_wrapper_files)
 from pyrosgen.nversion.qos import check_qos_record
@@ -122,6 +123,7 @@ def build_ros2(model_path: str | Path, controller_dir: str | Path | None, out_di
     inst = install or find_ros2()
     model = load_model_ros2(model_path, inst)
     out_dir, opts, diagram = check_build_request(model, out_dir, controller_dir, options)
+    check_custom_package_names(model)
     ctl = find_controller(model, controller_dir) if not diagram else None
     times["front end"] = time.monotonic() - t_start
     base = _existing_ancestor(out_dir.parent if out_dir.name else out_dir)
@@ -198,7 +200,8 @@ def _build_in(model, ctl, opts, diagram, inst, out_dir, work, say, times, *, kee
                                       shown_check=str(out_dir / check_c), includes=ctl_includes)
     package = write_ros2_package(pnode, stage, ctl, opts, user_includes, {
         "glue": stage / glue_c, "wrapper": stage / names.api_source, "layout_check": stage / check_c,
-        "types_header": stage / names.types_header, "api_header": stage / names.api_header}, generated=diagram)
+        "types_header": stage / names.types_header, "api_header": stage / names.api_header}, generated=diagram,
+        model=model)
     times["layout check"] = time.monotonic() - t
 
     steps: list[tuple[str, bool]] = []
@@ -239,17 +242,46 @@ def _build_in(model, ctl, opts, diagram, inst, out_dir, work, say, times, *, kee
     return gen, installed, warnings, steps
 
 
+def check_custom_package_names(model: NodeModel) -> None:
+    """A custom message package's interface package is written next to the
+    node's (``OUT/<pkg>/``): its name cannot be the node package's nor an
+    entry of the build folder (:data:`RESERVED_NAMES`); a user error (rule
+    4.17) naming the package's folder."""
+    from pyrosgen.errors import Diagnostic, InvalidNodeModel
+
+    taken = {ros.catkin_package_name(model): "the node's package", **{n: "a folder of the build"
+                                                                       for n in RESERVED_NAMES}}
+    problems = [Diagnostic(str(files[0].parent.parent), None, None,
+                           f"the custom message package {pkg!r} takes the name of {taken[pkg]} ({pkg}/ in the "
+                           "output folder, next to its interface package): rename the package (target ros2)",
+                           rule="4.17")
+                for pkg, files in custom_packages(model).items() if pkg in taken]
+    if problems:
+        raise InvalidNodeModel(problems)
+
+
 def write_ros2_package(node: ros.ProvedNode, stage: Path, ctl, opts: ControllerOptions, user_includes: list[str],
-                       sources: dict[str, Path], generated: bool) -> dict:
+                       sources: dict[str, Path], generated: bool, model: NodeModel | None = None) -> dict:
     """Write the node's ament_cmake package into ``stage/<package>/``
-    (:mod:`pyrosgen.ros2.package`); return the record it is rendered from
-    (the manifest's ``build.package``)."""
+    (:mod:`pyrosgen.ros2.package`) and, for each custom message package of
+    the front end's ``model``, its interface package ``stage/<pkg>/``
+    (``package.xml``, ``CMakeLists.txt``, ``msg/``); return the record they
+    are rendered from (the manifest's ``build.package``)."""
     pkg_dir = stage / ros.catkin_package_name(node)
     include_dirs, controller = copy_package_sources(pkg_dir, ros2_package_paths(node), sources, ctl, opts,
                                                     user_includes, generated)
-    record = ros.package_record(include_dirs, controller, [], opts.maintainer)
+    custom = custom_packages(model) if model is not None else {}
+    record = ros.package_record(include_dirs, controller, sorted(custom), opts.maintainer)
     for rel, text in render_ros2_package_record(node, record).items():
         dest = pkg_dir / rel
         dest.parent.mkdir(parents=True, exist_ok=True)
         dest.write_text(text, encoding="utf-8")
+    for pkg, files in sorted(custom.items()):
+        (stage / pkg / "msg").mkdir(parents=True)
+        msgs = {}
+        for f in files:
+            shutil.copyfile(f, stage / pkg / "msg" / f.name)
+            msgs[f.name] = (stage / pkg / "msg" / f.name).read_text(encoding="utf-8", errors="replace")
+        for rel, text in render_ros2_msg_package(model.source.name, node.name, pkg, msgs, opts.maintainer).items():
+            (stage / pkg / rel).write_text(text, encoding="utf-8")
     return record

@@ -53,7 +53,7 @@ from pyrosgen.frontend.model import NodeModel
 from pyrosgen.ros.build import BuildToolError, _clip, _run
 from pyrosgen.ros2.env import INSTALL_COMMAND, Ros2Install, Ros2Missing, ros2_env
 
-__all__ = ["GENERATE_SCRIPT", "CustomTypes", "KINDS", "build_custom_types", "custom_packages",
+__all__ = ["GENERATE_SCRIPT", "CustomTypes", "KINDS", "build_custom_types", "custom_packages", "msg_dependencies",
            "check_rosidl_folder", "generate_sources", "peer_env", "ROSIDL_DIR", "PYTHON_DIR", "LIB_DIR"]
 
 #: The folders of a build (relative to ``OUT``).
@@ -132,9 +132,14 @@ def custom_packages(model: NodeModel) -> dict[str, list[Path]]:
 
 def _dependencies(pkg: str, files: list[Path]) -> set[str]:
     """The packages whose types the ``.msg`` files of ``pkg`` name."""
+    return msg_dependencies(pkg, [f.read_text(encoding="utf-8") for f in files])
+
+
+def msg_dependencies(pkg: str, texts: list[str]) -> set[str]:
+    """The packages whose types the ``.msg`` texts of ``pkg`` name."""
     deps = set()
-    for f in files:
-        for line in f.read_text(encoding="utf-8").split("\n"):
+    for text in texts:
+        for line in text.split("\n"):
             m = _FIELD.match(line.split("#", 1)[0])
             if m is None or "=" in line.split("#", 1)[0]:
                 continue

@@ -328,12 +328,6 @@ def _check_custom_messages(sysm: SystemModel, err) -> None:
     node_pkgs = {sn.model.name for sn in sysm.nodes}
     for sn in sysm.nodes:
         pkgs = node_packages(sn.model)
-        if sysm.target == "ros2" and pkgs:
-            err(sn.model_node, f"nodes[{sn.index}]: node {show(sn.full_name)} uses custom messages "
-                               f"({', '.join(sorted(pkgs))}, its msg_paths); a ROS 2 system does not build them "
-                               "yet (its workspace would need one rosidl package per message package): build "
-                               "the node alone with 'pyrosgen build --ros2', or the system for ROS 1", "10.10")
-            continue
         for pkg, folder in sorted(pkgs.items()):
             if pkg in node_pkgs:
                 err(sn.model_node, f"nodes[{sn.index}]: the custom message package {show(pkg)} of node "

@@ -565,13 +565,26 @@ def _run_nodes(todo: list, entries: Path, stage: Path, jobs: int, build: bool, s
 def _workspace(sysm, outcomes: list, stage: Path) -> list[str]:
     """``stage/src``, a catkin workspace's source folder: one link per node
     package, and one per custom message package (``msgs/<pkg>``, shared by
-    the nodes, rule 10.10).  Returns the names to install."""
+    the nodes, rule 10.10); for ROS 2 a colcon workspace's, each custom
+    message package the interface package ``build --ros2`` wrote into the
+    first node's folder that has it.  Returns the names to install."""
     src = stage / "src"
     src.mkdir()
     for oc in outcomes:
         pkg = stage / oc.folder / oc.name
         if pkg.is_dir() and not (src / oc.name).exists():
             os.symlink(Path("..") / oc.folder / oc.name, src / oc.name)
+    if sysm.target == "ros2":
+        # build --ros2 wrote each node's custom message packages as interface
+        # packages in its folder (and compiled them there for the node); the
+        # definitions agree (rule 10.10): src/ links the first node's
+        from pyrosgen.ros2.rosidl import custom_packages
+
+        for sn, oc in zip(sysm.nodes, outcomes):
+            for pkg in custom_packages(sn.model):
+                if not (src / pkg).exists():
+                    os.symlink(Path("..") / oc.folder / pkg, src / pkg)
+        return ["src"]
     msg_pkgs = _write_message_packages(sysm, stage / "msgs")
     for pkg in msg_pkgs:
         os.symlink(Path("..") / "msgs" / pkg, src / pkg)

@@ -426,6 +426,49 @@ def _ros2_node_files(pm, node, package, qos) -> _NodeFiles:
                       paths=ros2_package_paths(node), texts=render_ros2_package_record(node, package))
 
 
+def _check_ros2_msg_packages(folder: Path, rec: ProofRecord, files: dict[str, str], custom: list[str],
+                             maintainer: str, problems: _Problems) -> None:
+    """The interface package ``<pkg>/`` of each recorded custom message
+    package: exactly ``package.xml`` and ``CMakeLists.txt``, rendered again
+    from its ``msg/*.msg`` files, and these, each the same bytes as the copy
+    rosidl's generators ran on (``rosidl/interfaces/<pkg>/msg/``, which
+    ``check_rosidl_folder`` generates again); every package rosidl built is
+    recorded."""
+    from pyrosgen.ros2.package import render_ros2_msg_package
+
+    built = {n.split("/")[2] for n in files if n.startswith("rosidl/interfaces/") and n.count("/") >= 4}
+    for c in sorted(built - set(custom)):
+        problems.add(f"rosidl/interfaces/{c}", "a custom message package that the build record does not name "
+                                               "(build.package.custom_pkgs): its interface package is not checked")
+    for c in custom:
+        mine = sorted(n.rsplit("/", 1)[1] for n in files
+                      if n.startswith(f"{c}/msg/") and n.count("/") == 2 and n.endswith(".msg"))
+        theirs = sorted(n.rsplit("/", 1)[1] for n in files
+                        if n.startswith(f"rosidl/interfaces/{c}/msg/") and n.count("/") == 4 and n.endswith(".msg"))
+        if mine != theirs:
+            problems.add(f"{c}/msg", f"holds {', '.join(mine) or 'no .msg file'}; rosidl built "
+                                     f"{', '.join(theirs) or 'none'} (rosidl/interfaces/{c}/msg/)")
+        msgs = {}
+        for name in mine:
+            data = _read(folder, f"{c}/msg/{name}", problems)
+            if data is None:
+                continue
+            msgs[name] = data.decode("utf-8", "replace")
+            twin = f"rosidl/interfaces/{c}/msg/{name}"
+            if twin in files:
+                _compare(folder, files, f"{c}/msg/{name}", _read(folder, twin, problems), f"the file rosidl built ({twin})",
+                         problems)
+        try:
+            texts = render_ros2_msg_package(rec.source_name, rec.node, c, msgs, maintainer)
+        except (ValueError, TypeError) as exc:
+            problems.add(c, f"cannot render the interface package again: {exc}")
+            continue
+        for rel, text in texts.items():
+            _compare(folder, files, f"{c}/{rel}", text, "rendered from its .msg files", problems)
+        _unexpected_files(folder, c, {f"{c}/package.xml", f"{c}/CMakeLists.txt", *(f"{c}/msg/{m}" for m in mine)},
+                          problems)
+
+
 def _check_ros2_folder(folder: Path, rec: ProofRecord, files: dict[str, str], proved_text: str) -> Check:
     """A folder of ``pyrosgen build --ros2`` (rule 4.17): its ``<node>.target``
     says so; its build record says ``target: ros2``; the rcl wrapper
@@ -473,9 +516,12 @@ def _check_ros2_folder(folder: Path, rec: ProofRecord, files: dict[str, str], pr
     except (MalformedModelText, ValueError, KeyError, TypeError) as exc:
         return Check("package", False, f"cannot render the node's files again: {exc}", list(problems))
     pkg = ros.catkin_package_name(node)
+    custom = list(build["package"]["custom_pkgs"])
+    interface_files = {f"{c}/{f}" for c in custom for f in ("package.xml", "CMakeLists.txt")}
     for n in sorted(files):
-        if n.endswith(("package.xml", "CMakeLists.txt")) and not n.startswith(f"{pkg}/"):
-            problems.add(n, f"a package file outside the node's package {pkg}/ (a ROS 2 build writes one package)")
+        if n.endswith(("package.xml", "CMakeLists.txt")) and not n.startswith(f"{pkg}/") and n not in interface_files:
+            problems.add(n, f"a package file outside the node's package {pkg}/ and its custom message packages "
+                            "(a ROS 2 build writes these only)")
     failed = _check_node_files(folder, rec, files, pm, node, build, nf, problems)
     if failed is not None:
         return failed
@@ -492,6 +538,7 @@ def _check_ros2_folder(folder: Path, rec: ProofRecord, files: dict[str, str], pr
 
     for name, why in check_rosidl_folder(folder, files, proved_text):
         problems.add(name, why)
+    _check_ros2_msg_packages(folder, rec, files, custom, build["package"]["maintainer"], problems)
     if problems:
         return Check("package", False, f"{len(problems)} problems with the files of the ROS 2 node (rendered again "
                      "from the proved model and compared)", list(problems))

@@ -143,6 +143,108 @@ def test_dock_ros2_tampered_rosidl_files_found(dock2, tmp_path, ros2_install):
                              "rosidl/c/dock_msgs/extra.h"}
 
 
+MSGS = ["Beacon.msg", "DockCommand.msg", "Quality.msg"]
+
+
+def test_dock_ros2_interface_package(dock2):
+    """Next to the node's package, OUT/dock_msgs is dock_msgs's ROS 2
+    interface package: its .msg files (the bytes rosidl built from), a
+    package.xml of the rosidl_interface_packages group that depends on the
+    packages its messages use, and a CMakeLists.txt whose ament branch
+    generates the interfaces; the node's package depends on it."""
+    import xml.etree.ElementTree as ET
+
+    out = dock2.out_dir
+    pkg = out / "dock_msgs"
+    assert sorted(str(p.relative_to(pkg)) for p in pkg.rglob("*") if p.is_file()) == \
+        ["CMakeLists.txt", *(f"msg/{m}" for m in MSGS), "package.xml"]
+    for m in MSGS:
+        assert (pkg / "msg" / m).read_bytes() == (out / "rosidl" / "interfaces" / "dock_msgs" / "msg" / m).read_bytes()
+    xml = ET.parse(pkg / "package.xml").getroot()
+    assert xml.get("format") == "3" and xml.findtext("name") == "dock_msgs"
+    assert xml.findtext("member_of_group") == "rosidl_interface_packages"
+    assert sorted(d.text for d in xml.findall("buildtool_depend")) == ["ament_cmake", "rosidl_default_generators"]
+    assert [d.text for d in xml.findall("depend")] == ["std_msgs"]   # Beacon has a std_msgs/Header
+    assert xml.findtext("exec_depend") == "rosidl_default_runtime"
+    cmake = (pkg / "CMakeLists.txt").read_text()
+    assert "rosidl_generate_interfaces(${PROJECT_NAME}\n" + "".join(f'    "msg/{m}"\n' for m in MSGS) + \
+        "    DEPENDENCIES std_msgs\n  )" in cmake
+    node_xml = ET.parse(out / "dock" / "package.xml").getroot()
+    assert "dock_msgs" in [d.text for d in node_xml.findall("depend")]
+    assert json.loads((out / "dock.manifest.json").read_text())["build"]["package"]["custom_pkgs"] == ["dock_msgs"]
+
+
+def test_dock_ros2_package_builds_and_runs_without_ament(dock2, ros2_install, tmp_path, shm_guard):
+    """The node's ament_cmake package builds with plain CMake against the
+    wheels (no ament_cmake here: its fallback), its custom messages' C
+    headers and libraries found in the build folder that holds it; the
+    binary resolves them there, starts (its dock_msgs subscription and
+    publisher created, which needs the type supports) and stops on SIGTERM.
+    The interface package configures too (nothing to build without
+    ament_cmake)."""
+    out = dock2.out_dir
+    env = {"PATH": "/usr/bin:/bin", "HOME": str(tmp_path)}
+    for src, build in ((out / "dock", tmp_path / "b"), (out / "dock_msgs", tmp_path / "m")):
+        r = subprocess.run(["cmake", "-S", str(src), "-B", str(build), f"-DPYROSGEN_ROS2_PREFIX={ros2_install.prefix}"],
+                           capture_output=True, text=True, env=env, timeout=300)
+        assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    assert "dock_msgs: no ament_cmake" in r.stdout
+    r = subprocess.run(["cmake", "--build", str(tmp_path / "b")], capture_output=True, text=True, env=env, timeout=600)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    exe = tmp_path / "b" / "dock"
+    ldd = subprocess.run(["ldd", str(exe)], capture_output=True, text=True).stdout
+    assert "not found" not in ldd, ldd
+    for kind in ("generator_c", "typesupport_c", "typesupport_fastrtps_c", "typesupport_introspection_c"):
+        assert f"libdock_msgs__rosidl_{kind}.so => {out / 'lib'}/" in ldd, (kind, ldd)
+    node = spawn([exe], tmp_path / "node.log")
+    try:
+        import time
+
+        time.sleep(2.0)
+        assert node.poll() is None, (tmp_path / "node.log").read_text(errors="replace")[-2000:]
+    finally:
+        status = stop(node, signal.SIGTERM)
+    assert status == 0, (tmp_path / "node.log").read_text(errors="replace")[-2000:]
+    assert not leftover_segments(), leftover_segments()
+
+
+def _package_check(folder):
+    from pyrosgen.verify.package_check import check_package
+
+    rec, files = read_manifest(folder / "dock.manifest.json")
+    return check_package(folder, rec, files, (folder / "dock.model").read_text())
+
+
+@pytest.mark.parametrize("tamper", ["msg-edited", "cmake-edited", "file-added", "record-without-it"])
+def test_dock_ros2_interface_package_tampered(dock2, tmp_path, tamper):
+    """``verify``'s package check renders the interface package again from
+    its .msg files and holds these to the ones rosidl built: each tampering
+    is refused, naming the file (the unchanged copy passes)."""
+    folder = tmp_path / "dock"
+    shutil.copytree(dock2.out_dir, folder, symlinks=True)
+    assert _package_check(folder).ok
+    pkg = folder / "dock_msgs"
+    if tamper == "msg-edited":
+        (pkg / "msg" / "Quality.msg").write_text((pkg / "msg" / "Quality.msg").read_text() + "float64 extra\n")
+        says = "dock_msgs/msg/Quality.msg: not the file rosidl built"
+    elif tamper == "cmake-edited":
+        (pkg / "CMakeLists.txt").write_text((pkg / "CMakeLists.txt").read_text().replace(
+            "  ament_package()", "  execute_process(COMMAND sh -c id)\n  ament_package()"))
+        says = "dock_msgs/CMakeLists.txt: not rendered from its .msg files"
+    elif tamper == "file-added":
+        (pkg / "msg" / "Extra.msg").write_text("int32 x\n")
+        says = "dock_msgs/msg/Extra.msg: not a file of the node's package"
+    else:
+        m = folder / "dock.manifest.json"
+        data = json.loads(m.read_text())
+        data["build"]["package"]["custom_pkgs"] = []
+        m.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
+        says = "rosidl/interfaces/dock_msgs: a custom message package that the build record does not name"
+    check = _package_check(folder)
+    assert not check.ok
+    assert any(says in d for d in check.details), check.details
+
+
 def _dock_copy(tmp_path, msg_line: str | None = None, model_edit: tuple[str, str] | None = None):
     d = tmp_path / "dock"
     shutil.copytree(DOCK / "msg", d / "msg")
@@ -207,6 +309,28 @@ def test_installed_package_name_refused_for_ros2(tmp_path, ros2_install):
         load_model_ros2(model, ros2_install)
     ds = [d for d in info.value.diagnostics if "package of the ROS 2 installation" in d.message]
     assert len(ds) == 3 and all(d.rule == "4.17" and d.file.endswith(".msg") for d in ds)
+
+
+@pytest.mark.parametrize("name", ["rosidl", "dock"])
+def test_custom_package_named_like_a_build_entry_refused(tmp_path, ros2_install, capsys, name):
+    """The interface package is written next to the node's package
+    (``OUT/<pkg>/``): a custom package named like an entry of the build
+    folder or like the node's package is refused before anything is
+    generated (exit 1, rule 4.17, naming the package's folder)."""
+    from pyrosgen import cli
+
+    model = _dock_copy(tmp_path)
+    msg = model.parent / "msg"
+    (msg / "dock_msgs").rename(msg / name)
+    for f in [model, *(msg / name / "msg").glob("*.msg")]:
+        f.write_text(f.read_text().replace("dock_msgs/", f"{name}/"))
+    load_model_ros2(model, ros2_install)   # the front end accepts it
+    out = tmp_path / "out"
+    code = cli.main(["build", str(model), "--ros2", "-o", str(out)])
+    err = capsys.readouterr().err
+    assert code == 1 and not out.exists(), err
+    assert f"{msg / name}: error: the custom message package '{name}' takes the name of " in err, err
+    assert "[rule 4.17]" in err and "Traceback" not in err
 
 
 def test_custom_packages_in_dependency_order(tmp_path):

@@ -2,7 +2,7 @@
 every node read with ROS 2's message definitions (rule 4.17, reported in
 the node's file), rule 10.11 (QoS compatibility across a link: every
 combination of reliability and of durability with its verdict), custom
-messages refused, the cache key naming the target (a ROS 1 and a ROS 2
+messages checked (rule 10.10), the cache key naming the target (a ROS 1 and a ROS 2
 run never share an entry), and ``system verify --ros2``."""
 
 from __future__ import annotations
@@ -125,17 +125,19 @@ def test_ros2_reading_reported_in_the_node_file(tmp_path, capsys):
                for ln in lines[1:]), lines
 
 
-def test_custom_messages_refused_for_ros2(repo_root, tmp_path, capsys):
-    """A ROS 2 system refuses nodes with custom messages (rule 10.10), at
-    the node's entry; ROS 1 builds them."""
-    dock = repo_root / "examples" / "dock"
-    models = sorted(dock.glob("*.yaml"))
-    assert models, "examples/dock has a node model"
-    p = system_file(tmp_path, [{"model": str(models[0])}], inputs=[], outputs=[])
+def test_custom_messages_checked_for_ros2(tmp_path, capsys):
+    """A ROS 2 system takes nodes with custom messages (rule 10.10: built
+    by each node's ``build --ros2``, one interface package in the
+    workspace), and two definitions of one type are still refused."""
+    from .test_custom_messages import system
+
+    p = system(tmp_path / "same")
+    code, out, err = run(capsys, "system", "check", str(p), "--ros2")
+    assert code == 0, err
+    p = system(tmp_path / "other", level_b="float64 value\nfloat64 extra\n")
     code, out, err = run(capsys, "system", "check", str(p), "--ros2")
     assert code == 1 and "Traceback" not in err
-    assert re.search(r"error: nodes\[0\]: node '/\w+' uses custom messages \(\w+, its msg_paths\); a ROS 2 system "
-                     r"does not build them yet.*\[rule 10\.10\]", err), err
+    assert "defines the message 'k6_msgs/Level'" in err and "[rule 10.10]" in err, err
 
 
 @pytest.fixture(scope="module")
