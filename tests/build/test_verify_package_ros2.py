@@ -126,6 +126,30 @@ def test_a_ros2_build_record_of_another_maintainer_is_refused(ros2_build, tmp_pa
     assert "Traceback" not in run.stderr
 
 
+@pytest.mark.parametrize("value, message", [
+    (["../x"], "refusing to print '../x' as a C identifier"),
+    ("geometry_msgs", "build.package.custom_pkgs: malformed"),
+    (5, "cannot render the node's files again"),
+    (["geometry_msgs"], f"{PKG}/CMakeLists.txt: not rendered"),
+    (["nope_msgs"], "custom_pkgs: 'nope_msgs' is not a message package of the node"),
+], ids=["path", "string", "number", "installed-package", "unused-package"])
+def test_a_ros2_record_with_hostile_custom_pkgs_is_refused(ros2_build, tmp_path, value, message):
+    """The record's custom message packages (rule 4.17: the interface
+    packages written next to the node's) of the wrong shape, naming a path,
+    or naming an installed package: the package check fails saying so
+    (exit 1, no traceback, nothing read outside the folder)."""
+    bad = tmp_path / "bad"
+    shutil.copytree(ros2_build, bad, symlinks=True)
+    m = bad / f"{NODE}.manifest.json"
+    data = json.loads(m.read_text())
+    data["build"]["package"]["custom_pkgs"] = value
+    m.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
+    run = pyrosgen("verify", bad, "-q")
+    assert run.returncode == 1 and "  FAILED  package" in run.stdout, run.stdout + run.stderr
+    assert message in run.stdout, run.stdout
+    assert "Traceback" not in run.stderr and "internal error" not in run.stderr
+
+
 def test_a_ros2_folder_without_its_build_record_is_refused(ros2_build, tmp_path):
     bad = tmp_path / "bad"
     shutil.copytree(ros2_build, bad, symlinks=True)
