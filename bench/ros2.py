@@ -68,7 +68,16 @@ function of their ``<node>_rcl.c`` as written (the wrapper compiled with
 count of each source line summed over the lines of each function, so that
 code the compiler inlined counts where it is written: section 13's
 account), with the glue's and the libraries' functions as callgrind names
-them, into bench/results/ros2_by_function.json."""
+them, into bench/results/ros2_by_function.json.
+
+``--floor``: LandShark's generated node changed by hand as no proved
+design makes it yet, to measure how far those designs could go: the glue's
+callbacks reading the rosidl message where it lies (their parameter
+rosidl's type, the wrapper's conversion into the C struct gone; the glue
+reads ``twist.linear.x`` only, so the same messages are published), the glue
+and wrapper compiled as one translation unit, and then also without
+``ros::Rate``'s late-cycle rule; into bench/results/ros2_floor.json.  The
+checksums must equal the unchanged node's."""
 
 from __future__ import annotations
 
@@ -512,6 +521,71 @@ def run_what_if(cycles: int = 1000) -> dict:
 
 
 # ---------------------------------------------------------------------------
+# Floor: LandShark with the designs that are not made
+
+def floor_variants(glue: str, rcl: str) -> dict[str, tuple[str, str]]:
+    """The (glue, wrapper) texts of ``--floor``'s variants of LandShark's
+    generated node; a ``ValueError`` if a change does not apply (the
+    generated files changed: the measurement is stale)."""
+    def subn(pat: str, rep: str, text: str, want: int) -> str:
+        text, n = re.subn(pat, rep, text)
+        if n != want:
+            raise ValueError(f"floor: {pat!r} applies {n} times, not {want}")
+        return text
+
+    msg = "geometry_msgs_TwistStamped"
+    g = subn(rf"_callback\(struct {msg} \*msg\)", "_callback(geometry_msgs__msg__TwistStamped *msg)", glue, 6)
+    g = subn(r"ros_subscribe_(\w+)\(&(\w+)\)", rf"ros_subscribe_\1((void (*)(struct {msg} *))&\2)", g, 3)
+    r = subn(rf"        to_c_{msg}\(&g_take_(\w+), &g_buf_\w+\);\n", "", rcl, 3)
+    r = subn(r"g_cb_(\w+)\(&g_buf_\w+\);", rf"g_cb_\1((struct {msg} *)(void *)&g_take_\1);", r, 3)
+    late = subn(r"long long now = steady_ns\(\);", "long long now = 0;", r, 1)
+    return {"one translation unit": (glue, rcl),
+            "in place, one translation unit": (g, r),
+            "in place, one translation unit, no late-cycle rule": (g, late)}
+
+
+def run_floor(cycles: int = 1000) -> dict:
+    """``--floor`` (see the module documentation); saved as ros2_floor.json."""
+    from pyrosgen.ros.wrapper import GLUE_CFLAGS
+    from pyrosgen.ros2.env import find_ros2
+
+    inst = find_ros2()
+    work = Path(tempfile.mkdtemp(prefix="pyrosgen-bench-ros2-"))
+    try:
+        node = LANDSHARK
+        model, dropped = derive_model(node, work, inst)
+        pair = build_pair(node, model, dropped, work, inst, dict(os.environ))
+        parts = pair["parts"]
+        out_dir = Path(parts["include"])
+        glue = next(out_dir.glob("*_glue.c"))
+        hw = count(pair["handwritten"], node, cycles, {})
+        base = count(pair["generated"], node, cycles, {})
+        res = {"when": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "load": loadavg(),
+               "handwritten": hw["total"], "unchanged": base["total"], "variants": {}}
+        flags = [f for f in GLUE_CFLAGS if f not in ("-Werror", "-pedantic")]   # the callbacks' pointer casts
+        objects = [o for o in parts["objects"] if Path(o).name != "glue.o"]
+        for k, (name, (g, r)) in enumerate(floor_variants(glue.read_text(), Path(parts["rcl_source"]).read_text())
+                                           .items()):
+            d = work / f"floor{k}"
+            d.mkdir()
+            (d / "rcl.c").write_text(r)
+            (d / "glue.c").write_text(g)
+            (d / "unity.c").write_text('#include "rcl.c"\n#include "glue.c"\n')
+            _run(["gcc", *flags, "-I", out_dir, *parts["cflags"], "-c", d / "unity.c", "-o", d / "unity.o"])
+            _run(["gcc", d / "unity.o", *objects, "-o", d / "node", *parts["lflags"], "-lm"])
+            c = count(d / "node", node, cycles, {})
+            if c["check"] != base["check"]:
+                raise SystemExit(f"floor: {name}: the node published other messages")
+            res["variants"][name] = c["total"]
+            log(f"landshark floor: {name}: {c['total']:.0f} (unchanged {base['total']:.0f}, "
+                f"hand-written {hw['total']:.0f})")
+        save_json("ros2_floor.json", res)
+        return res
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+# ---------------------------------------------------------------------------
 # Latency
 
 def _segments() -> set[str]:
@@ -708,9 +782,14 @@ def main(argv: list[str] | None = None) -> int:
                     help="only the instruction counts of the proposed wrapper changes (ros2_what_if.json)")
     ap.add_argument("--by-function", action="store_true",
                     help="only the generated nodes' instructions by function of the rcl wrapper (ros2_by_function.json)")
+    ap.add_argument("--floor", action="store_true",
+                    help="only LandShark with the designs not made: in place, one translation unit (ros2_floor.json)")
     a = ap.parse_args(argv)
     import common
 
+    if a.floor:
+        print(json.dumps(run_floor(), indent=1))
+        return 0
     if a.by_function:
         print(json.dumps(run_by_function(), indent=1))
         return 0

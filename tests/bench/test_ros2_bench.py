@@ -184,3 +184,24 @@ def test_source_line_counts_and_function_counts():
     assert ros2.function_counts(SOURCE, counts) == {"to_c_T": 1000, "ros_spinOnce": 3002}
     with pytest.raises(ValueError, match="0 annotated sources"):
         ros2.source_line_counts(ANNOTATED, "missing_rcl.c")
+
+
+FLOOR_GLUE = "".join(f"void {t}_callback(struct geometry_msgs_TwistStamped *msg);\n" for t in "abc") + \
+    "".join(f"void {t}_callback(struct geometry_msgs_TwistStamped *msg)\n{{\n}}\n" for t in "abc") + \
+    "".join(f"    ros_subscribe_{t}(&{t}_callback);\n" for t in "abc")
+FLOOR_RCL = "".join(f"        to_c_geometry_msgs_TwistStamped(&g_take_{t}, &g_buf_{t});\n"
+                    f"        g_cb_{t}(&g_buf_{t});\n" for t in "abc") + "    long long now = steady_ns();\n"
+
+
+def test_floor_variants_apply_or_say_they_are_stale():
+    got = ros2.floor_variants(FLOOR_GLUE, FLOOR_RCL)
+    assert list(got) == ["one translation unit", "in place, one translation unit",
+                         "in place, one translation unit, no late-cycle rule"]
+    assert got["one translation unit"] == (FLOOR_GLUE, FLOOR_RCL)
+    g, r = got["in place, one translation unit"]
+    assert "void a_callback(geometry_msgs__msg__TwistStamped *msg)\n{" in g
+    assert "ros_subscribe_b((void (*)(struct geometry_msgs_TwistStamped *))&b_callback);" in g
+    assert "to_c_" not in r and "g_cb_c((struct geometry_msgs_TwistStamped *)(void *)&g_take_c);" in r
+    assert "steady_ns" in r and "long long now = 0;" in got["in place, one translation unit, no late-cycle rule"][1]
+    with pytest.raises(ValueError, match="applies 2 times, not 3"):
+        ros2.floor_variants(FLOOR_GLUE, FLOOR_RCL.replace("g_take_c, &g_buf_c", "x"))
