@@ -67,6 +67,9 @@ def build_ros2_command(args: argparse.Namespace, options, progress: Callable[[st
     if (res.out_dir / "python").is_dir():  # custom messages (msg_paths), pyrosgen/ros2/rosidl.py
         print(f"  messages  custom types by rosidl in {res.out_dir / 'lib'}; for rclpy: "
               f"PYTHONPATH={shlex.quote(str(res.out_dir / 'python'))}")
+        pkgs = sorted(p.name for p in (res.out_dir / "rosidl" / "interfaces").iterdir() if p.is_dir())
+        print(f"  interface {', '.join(str(res.out_dir / p) for p in pkgs)} (ROS 2 interface "
+              f"package{'s' if len(pkgs) > 1 else ''}, next to the node's package)")
     t = res.times
     phases = ", ".join(f"{k} {t[k]:.2f} s" for k in (
         "generate", "wrapper", "layout check", "glue", "controller", "rosidl", "wrapper compile", "link and install")

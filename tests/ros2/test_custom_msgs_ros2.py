@@ -208,6 +208,19 @@ def test_dock_ros2_package_builds_and_runs_without_ament(dock2, ros2_install, tm
     assert not leftover_segments(), leftover_segments()
 
 
+def test_dock_ros2_cli_names_the_interface_package(tmp_path, capsys, ros2_install):
+    """``pyrosgen build --ros2`` says where the custom types and their
+    interface package are."""
+    from pyrosgen import cli
+
+    out = tmp_path / "out"
+    assert cli.main(["build", str(MODEL), "--ros2", "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert f"  messages  custom types by rosidl in {out / 'lib'}; for rclpy: PYTHONPATH={out / 'python'}" in text
+    assert f"  interface {out / 'dock_msgs'} (ROS 2 interface package, next to the node's package)" in text
+    assert (out / "dock_msgs" / "package.xml").is_file()
+
+
 def _package_check(folder):
     from pyrosgen.verify.package_check import check_package
 
