@@ -125,6 +125,21 @@ def spawn(argv, log: Path, extra_env: dict | None = None) -> subprocess.Popen:
     return p
 
 
+def start_launch(text: str, out: Path, install: Path | None, work: Path, procs: list) -> None:
+    """Start every node of the ROS 2 launch file ``text`` as ``ros2
+    launch`` would (:func:`pyrosgen.system.launch.read_ros2_launch`), from
+    ``system build``'s binaries (``out/<folder>/bin/<exec>``) or, with
+    ``install``, from those colcon installed (``install/PKG/lib/PKG/EXEC``,
+    where ``ros2 launch`` finds a node's ``pkg`` and ``exec``); each
+    process's output into ``work/<folder>.log``.  Appends (full name,
+    process) to ``procs`` as each starts: the caller stops them."""
+    from pyrosgen.system.launch import read_ros2_launch
+
+    for n in read_ros2_launch(text):
+        exe = install / n.pkg / "lib" / n.pkg / n.exec if install is not None else out / n.folder / "bin" / n.exec
+        procs.append((n.full_name, spawn(n.argv(exe), work / f"{n.folder}.log")))
+
+
 def stop(p: subprocess.Popen, sig: int = signal.SIGTERM, timeout: float = 15.0) -> int | None:
     """Send ``sig`` to the process; its exit status if it ended within
     ``timeout`` s, else it is killed (its group) and ``None`` returned."""

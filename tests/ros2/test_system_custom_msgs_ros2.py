@@ -23,11 +23,10 @@ import subprocess
 import pytest
 
 from pyrosgen.system.generate import generate_system
-from pyrosgen.system.launch import read_ros2_launch
 
 from system.test_custom_messages import system
 
-from .conftest import leftover_segments, run_peer, spawn, stop
+from .conftest import leftover_segments, run_peer, start_launch, stop
 
 pytestmark = pytest.mark.ros2
 
@@ -88,15 +87,10 @@ def test_levels_run_on_dds(binaries, levels, ros2_install, tmp_path, shm_guard, 
     every 50 ms; once the chain has settled every /out is 4 X, which only a
     /mid delivered from k6a's build of k6_msgs to k6b's gives."""
     text = (levels / "levels.launch.xml").read_text()
-    if binaries == "colcon":
-        install = request.getfixturevalue("levels_colcon")
-        where = lambda n: install / n.pkg / "lib" / n.pkg / n.exec  # noqa: E731
-    else:
-        where = lambda n: levels / n.folder / "bin" / n.exec  # noqa: E731
+    install = request.getfixturevalue("levels_colcon") if binaries == "colcon" else None
     procs = []
     try:
-        for n in read_ros2_launch(text):
-            procs.append((n.full_name, spawn(n.argv(where(n)), tmp_path / f"{n.folder}.log")))
+        start_launch(text, levels, install, tmp_path, procs)
         steps = [{"stream": {"/src": {"linear.x": bits(X)}}, "period": 0.05, "duration": 2.0},
                  {"stream": {"/src": {"linear.x": bits(X)}}, "period": 0.05, "duration": 1.5}]
         plan = {"publishers": {"/src": "geometry_msgs/Twist"}, "subscribers": {"/out": "geometry_msgs/Vector3"},

@@ -27,7 +27,7 @@ from pyrosgen.system.model import load_system
 
 from support import ros as rosutil
 
-from .conftest import fastdds_segments, in_use, leftover_segments, run_peer, spawn, stop
+from .conftest import fastdds_segments, in_use, leftover_segments, run_peer, start_launch, stop
 
 pytestmark = pytest.mark.ros2
 
@@ -140,15 +140,10 @@ def test_chain_runs_end_to_end_on_dds(binaries, system_out, ros2_install, tmp_pa
     that ``colcon build`` of OUT/src installs where ``ros2 launch`` finds a
     node's ``pkg`` and ``exec`` (``install/PKG/lib/PKG/EXEC``)."""
     text = (system_out / "guard_chain.launch.xml").read_text()
-    if binaries == "colcon":
-        install = request.getfixturevalue("colcon_install")
-        where = lambda n: install / n.pkg / "lib" / n.pkg / n.exec  # noqa: E731
-    else:
-        where = lambda n: system_out / n.folder / "bin" / n.exec  # noqa: E731
+    install = request.getfixturevalue("colcon_install") if binaries == "colcon" else None
     procs = []
     try:
-        for n in read_ros2_launch(text):
-            procs.append((n.full_name, spawn(n.argv(where(n)), tmp_path / f"{n.folder}.log")))
+        start_launch(text, system_out, install, tmp_path, procs)
         steps = [{"stream": {SCAN: _scan(5.0)}, "period": 0.1, "duration": 2.0},      # discovery inside the chain
                  {"stream": {SCAN: _scan(5.0)}, "period": 0.1, "duration": PHASE},
                  {"stream": {SCAN: _scan(0.5)}, "period": 0.1, "duration": PHASE},
