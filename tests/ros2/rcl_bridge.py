@@ -15,9 +15,9 @@ fake API stays the one the glue calls):
   when ``len > N``; the first ``N`` elements the schedule's, the others a
   non-zero filler the conversion must not let through), a message holding a
   sequence or string of policy reject longer than its maximum is not
-  delivered (the wrapper's test on the rosidl message: the same
-  ``(path, N)`` list it is rendered from), and the others are converted by
-  the wrapper's ``to_c_<struct>`` into a zeroed struct, as its take does;
+  delivered (the wrapper's own test on the rosidl message,
+  ``accept_<topic>``), and the others are converted by the wrapper's
+  ``to_c_<struct>`` into a zeroed struct, as its take does;
 - published: the glue's struct goes through the wrapper's
   ``from_c_<struct>`` (what ``rcl_publish`` gets) and back through
   ``to_c_<struct>`` (faithful below the maximum), and is printed as the
@@ -97,7 +97,8 @@ def bridge_source(ctx: dict, api_header: str, rcl_source: str) -> str:
                   f"    static {r} r;", "    static int up = 0;",
                   f"    if (!up) {{ memset(&r, 0, sizeof r); if (!{r}__init(&r)) abort(); up = 1; }}",
                   f"    raw_{st}(msg, &r);",
-                  *[f"    if (r.{path}.size > {n}) return 0;   /* policy reject */" for path, n in t["rejects"]],
+                  *([f"    if (!accept_{t['c_name']}(&r)) return 0;   /* the wrapper's own reject test */"]
+                    if t["rejects"] else []),
                   "    memset(msg, 0, sizeof *msg);", f"    to_c_{st}(&r, msg);", "    return 1;", "}", ""]
     for st in sorted({t["c_struct"] for t in ctx["pubs"]}):
         r = rosidl[st]

@@ -244,7 +244,14 @@ def coq_sides(ros2_install, ros2_nodes, tmp_path_factory):
     dump = NodeDump.from_text((out / f"{node}.sexp").read_text())
     bools = {st: _bool_leaves(proved, st) for _f, _t, st, _q in dump.subs}
     bools[dump.y[1]] = {f.name for f in res.model.controller.outputs.fields if f.prim == "bool"}
-    return {"dump": dump, "bools": bools, "coq": build_coq_runner(out, node, work),
+    def mutant(rcl_text: str, where: Path) -> Path:
+        """The gcc harness over another wrapper text (the harness includes
+        the ``<node>_rcl.c`` of its own folder first)."""
+        (where / f"{node}_rcl.c").write_text(rcl_text)
+        return rcl_bridge.build_rcl_harness(out, node, ctx, where, cf, lf, sanitize=False, run_tool=run_tool)
+
+    return {"dump": dump, "bools": bools, "coq": build_coq_runner(out, node, work), "mutant": mutant,
+            "rcl_text": (out / f"{node}_rcl.c").read_text(),
             "gcc": rcl_bridge.build_rcl_harness(out, node, ctx, work, cf, lf, sanitize=False, run_tool=run_tool),
             "sanitizers": rcl_bridge.build_rcl_harness(out, node, ctx, work, cf, lf, sanitize=True,
                                                        run_tool=run_tool)}
@@ -329,6 +336,25 @@ def test_rcl_conversions_against_the_coq_interpreter(coq_sides):
     for struct, n in {(st, b.capacity) for _f, _t, st, _q in dump.subs for b in dump.bounded(st)}:
         assert {d for s, d in lengths if s == struct} >= {-n, 1 - n, -1, 0, 1, n}, struct
     assert published >= 100
+
+
+@pytest.mark.parametrize("mutant", ["reject-at-the-maximum", "reject-never", "string-reject-never"])
+def test_the_coq_comparison_sees_a_wrong_reject_test(coq_sides, tmp_path, mutant):
+    """The harness runs the wrapper's own reject test (``accept_<topic>``),
+    so a wrapper that rejects at the maximum instead of past it, or never
+    rejects, publishes what the Coq interpreter does not."""
+    old, new = {"reject-at-the-maximum": ("r->data.size > 4) return 0;", "r->data.size >= 4) return 0;"),
+                "reject-never": ("r->data.size > 4) return 0;", "r->data.size > 4 && 0) return 0;"),
+                "string-reject-never": ("r->data.size > 8) return 0;", "r->data.size > 8 && 0) return 0;")}[mutant]
+    text = coq_sides["rcl_text"]
+    assert text.count(old) == 1
+    exe = coq_sides["mutant"](text.replace(old, new), tmp_path)
+    dump = coq_sides["dump"]
+    for seed in range(40):
+        sched = coq_schedule(seed, dump, coq_sides["bools"]).text()
+        if run_side(exe, sched) != run_side(coq_sides["coq"], sched):
+            return
+    raise AssertionError(f"the mutant {mutant} agrees with the Coq interpreter on 40 schedules")
 
 
 def test_a_published_bool_is_0_or_1_on_ros2(coq_sides):

@@ -28,7 +28,7 @@ def bits(x: float) -> int:
 def reject2(ros2_install, ros2_nodes):
     res = build_ros2(MODEL, None, ros2_nodes / "scan_reject", install=ros2_install)
     text = (res.out_dir / "scan_reject_rcl.c").read_text()
-    assert ".ranges.size > 4) continue;" in text and ".header.frame_id.size > 8) continue;" in text
+    assert "r->ranges.size > 4) return 0;" in text and "r->header.frame_id.size > 8) return 0;" in text
     return res.binary
 
 

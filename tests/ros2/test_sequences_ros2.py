@@ -128,7 +128,8 @@ def seq2(ros2_install, ros2_nodes):
     res = build_ros2(MODEL, CONTROLLER, ros2_nodes / "seq_policies", install=ros2_install)
     text = (res.out_dir / "seq_policies_rcl.c").read_text()
     # policy reject tested on the rosidl message, truncate converted by to_c
-    assert "g_take_rej.data.size > 4) continue;" in text and "g_take_rej_str.data.size > 8) continue;" in text
+    assert "if (!accept_rej(&g_take_rej)) continue;" in text and "if (!accept_rej_str(&g_take_rej_str)) continue;" in text
+    assert "r->data.size > 4) return 0;" in text and "r->data.size > 8) return 0;" in text
     assert "static inline void to_c_ros_seq_float32_4(" in text and "static inline void to_c_ros_string8(" in text
     return res
 
