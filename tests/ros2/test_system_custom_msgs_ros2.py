@@ -62,6 +62,29 @@ def test_workspace_links_one_interface_package(levels):
         assert "<depend>k6_msgs</depend>" in (folder / node / "package.xml").read_text()
 
 
+def test_levels_system_verify(levels):
+    """``system verify --ros2`` re-checks both node folders, their interface
+    packages included, and the system's proof; a tampered interface
+    package of the second node is found."""
+    from pyrosgen.system.verify import SystemVerifyFailed, verify_system
+
+    system_file = levels.parent / "src" / "system.yaml"
+    report = verify_system(levels, system_file, jobs=2, target="ros2")
+    assert report.ok, report.lines()
+    cmake = levels / "k6b" / "k6_msgs" / "CMakeLists.txt"
+    text = cmake.read_text()
+    try:
+        cmake.write_text(text.replace("  ament_package()", "  execute_process(COMMAND id)\n  ament_package()"))
+        with pytest.raises(SystemVerifyFailed) as info:
+            verify_system(levels, system_file, jobs=2, target="ros2")
+    finally:
+        cmake.write_text(text)
+    failed = {name: why for name, ok, why in info.value.verify_report.checks if not ok}
+    assert set(failed) == {"node k6b", "system proof"}, info.value.verify_report.lines()
+    assert failed["system proof"] == "not run: a check above failed"
+    assert "package" in failed["node k6b"], failed
+
+
 @pytest.fixture(scope="module")
 def levels_colcon(levels, ros2_install):
     """``colcon build --base-paths src`` in OUT (colcon of
