@@ -101,8 +101,9 @@ def cmd_system_build(args: argparse.Namespace) -> int:
           f"({res.hits} from the cache, {len(res.nodes) - res.hits} built), {', '.join(res.files)}; "
           f"{res.seconds:.1f} s")
     if _target(args) == "ros2":
-        print(f"  ament: colcon build with {res.out_dir}/src as a workspace's src, then ros2 launch "
-              f"{res.out_dir}/<system>.launch.xml; or each node's binary {res.out_dir}/<node>/bin/<name> with "
+        print(f"  ament: in {res.out_dir}, colcon build --base-paths src (its links kept: a node's package "
+              "finds its custom messages in its own folder), then ros2 launch "
+              f"{res.out_dir}/{next((f for f in res.files if f.endswith('.launch.xml')), '<system>.launch.xml')}; or each node's binary {res.out_dir}/<node>/bin/<name> with "
               "the ROS arguments the launch file gives it (--ros-args -r __ns:=... -r FROM:=TO)")
     else:
         print(f"  catkin: catkin_make -C WS with {res.out_dir}/src as WS/src, or each node's binary "

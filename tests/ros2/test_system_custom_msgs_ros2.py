@@ -19,10 +19,10 @@ import shutil
 import signal
 import struct
 import subprocess
+import sys
 
 import pytest
 
-from pyrosgen.system.generate import generate_system
 
 from system.test_custom_messages import system
 
@@ -38,13 +38,28 @@ def bits(x: float) -> int:
 
 
 @pytest.fixture(scope="module")
-def levels(ros2_install, tmp_path_factory):
-    """``pyrosgen system build --ros2`` of the two relays (a fresh cache)."""
+def levels_run(ros2_install, tmp_path_factory):
+    """``pyrosgen system build --ros2`` of the two relays, the command line
+    as a user runs it (a fresh cache): OUT and what it printed."""
     root = tmp_path_factory.mktemp("levels2")
     p = system(root / "src")
-    res = generate_system(p, root / "out", jobs=2, cache=root / "cache", build=True, target="ros2")
-    assert res.files[-2:] == ["levels.launch.xml", "src"]
-    return root / "out"
+    r = subprocess.run([sys.executable, "-m", "pyrosgen", "system", "build", str(p), "--ros2", "-o",
+                        str(root / "out"), "-j", "2", "--cache", str(root / "cache")],
+                       capture_output=True, text=True, timeout=1800)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    return root / "out", r.stdout
+
+
+@pytest.fixture(scope="module")
+def levels(levels_run):
+    return levels_run[0]
+
+
+def test_system_build_says_how_to_build_the_workspace(levels_run):
+    out, text = levels_run
+    assert "levels_system.v, levels.certificate.md, levels.system.json, levels.launch.xml, src;" in text, text
+    assert f"  ament: in {out}, colcon build --base-paths src (its links kept: a node's package finds its custom " \
+           f"messages in its own folder), then ros2 launch {out}/levels.launch.xml;" in text, text
 
 
 def test_workspace_links_one_interface_package(levels):
