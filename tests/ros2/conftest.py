@@ -99,6 +99,20 @@ def leftover_segments() -> set[str]:
     return (OWNED & fastdds_segments()) - in_use()
 
 
+def settled_leftovers(timeout: float = 15.0) -> set[str]:
+    """:func:`leftover_segments`, once given ``timeout`` s to go: under
+    pytest -n 2 a semaphore that both workers' processes mapped (a port's
+    mutex, ``sem.fastdds_port7000_mutex``) is unlinked by the last of them
+    to close it, which may be the other worker's, seconds after ours exited;
+    what is still there after ``timeout`` was left behind."""
+    left = leftover_segments()
+    deadline = time.monotonic() + timeout
+    while left and time.monotonic() < deadline:
+        time.sleep(0.5)
+        left = leftover_segments()
+    return left
+
+
 @pytest.fixture
 def shm_guard():
     """After the test, the shared-memory segments its processes left behind

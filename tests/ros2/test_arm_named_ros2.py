@@ -17,7 +17,7 @@ import pytest
 
 from pyrosgen.ros2.build import build_ros2
 
-from .conftest import leftover_segments, run_peer, spawn, stop
+from .conftest import run_peer, settled_leftovers, spawn, stop
 from ros.test_arm_named_node import CASES, EFFORT, EMAX, EXAMPLE, JS, TARGET, _state, efforts
 
 SETTLE, HOLD = 0.3, 0.8
@@ -66,4 +66,4 @@ def test_arm_named_ros2_matches_joints_by_name(arm_named2, ros2_install, tmp_pat
         assert len(got) >= 10, (what, len(got))
         assert all(g == expect for g in got), (what, got[-1], expect)
     assert any(w and max(w) == EMAX for w in wants) and any(w and min(w) == -EMAX for w in wants)
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left

@@ -22,7 +22,7 @@ from pyrosgen.ros2.build import build_ros2
 
 from support import ros as rosutil
 
-from .conftest import leftover_segments, run_peer, spawn, stop
+from .conftest import run_peer, settled_leftovers, spawn, stop
 
 MODEL = rosutil.ROOT / "examples" / "arm" / "arm.yaml"
 JS, TARGET, EFFORT = "/joint_states", "/arm/target", "/arm/effort"
@@ -121,4 +121,4 @@ def test_arm_ros2_pd_effort_per_joint(arm2, ros2_install, tmp_path, shm_guard):
         assert all(g == expect for g in got), (what, got[-1], expect)
         saturated += sum(abs(e) == UMAX for e in want)
     assert saturated >= 6
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left

@@ -32,7 +32,7 @@ from pyrosgen.verify.certificate import read_manifest
 
 from support import ros as rosutil
 
-from .conftest import PEER, leftover_segments, run_peer, spawn, stop
+from .conftest import PEER, run_peer, settled_leftovers, spawn, stop
 
 DOCK = rosutil.ROOT / "examples" / "dock"
 MODEL = DOCK / "dock.yaml"
@@ -108,7 +108,7 @@ def test_dock_ros2_custom_messages_round_trip(dock2, ros2_install, tmp_path, shm
         got = [lv for t, lv in got_all if t0 <= t <= t1]
         assert len(got) >= 10, (what, len(got))
         assert all(g == want for g in got), (what, got[-1], want)
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left
 
 
 def test_dock_ros2_folder_verifies(dock2):
@@ -205,7 +205,7 @@ def test_dock_ros2_package_builds_and_runs_without_ament(dock2, ros2_install, tm
     finally:
         status = stop(node, signal.SIGTERM)
     assert status == 0, (tmp_path / "node.log").read_text(errors="replace")[-2000:]
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left
 
 
 def test_dock_ros2_cli_names_the_interface_package(tmp_path, capsys, ros2_install):

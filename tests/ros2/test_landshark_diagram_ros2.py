@@ -27,7 +27,7 @@ from pyrosgen.ros2.frontend import load_model_ros2
 from support import ros as rosutil
 from support.ros import dbits
 
-from .conftest import leftover_segments, run_peer, spawn, stop
+from .conftest import run_peer, settled_leftovers, spawn, stop
 
 DIAGRAM = rosutil.ROOT / "examples" / "landshark" / "landshark_diagram.yaml"
 LEFT, RIGHT, GPS = "/landshark/left_wheel_velocity", "/landshark/right_wheel_velocity", "/landshark/gps_velocity"
@@ -86,4 +86,4 @@ def test_landshark_diagram_ros2_bit_exact_against_blocksim(diagram2, ros2_instal
         window = [b for t, b in got if t0 <= t <= t1]
         assert len(window) >= 10 and all(b == want for b in window), (k, ROUNDS[k], [hex(b) for b in window[:4]],
                                                                       hex(want))
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left

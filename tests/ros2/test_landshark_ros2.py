@@ -20,7 +20,7 @@ from pyrosgen.ros2.frontend import load_model_ros2
 from support import expect
 from support import ros as rosutil
 
-from .conftest import fastdds_segments, in_use, leftover_segments, run_peer, segments_of, spawn, stop, wait_for
+from .conftest import fastdds_segments, in_use, run_peer, segments_of, settled_leftovers, spawn, stop, wait_for
 
 LEFT, RIGHT, GPS = "/landshark/left_wheel_velocity", "/landshark/right_wheel_velocity", "/landshark/gps_velocity"
 BASE = "/landshark_control/base_velocity"
@@ -96,7 +96,7 @@ def test_landshark_ros2_end_to_end_bit_exact(landshark2, ros2_install, tmp_path,
                           "twist.angular.y": 0, "twist.angular.z": 0}:
                 problems.append(f"round {i}: a field the model does not write is not zero: {others}")
     assert not problems, "\n".join(problems[:20])
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left
 
 
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
@@ -145,7 +145,7 @@ def test_constant_frame_id_published_over_rcl(ros2_install, ros2_nodes, tmp_path
     want = expect.landshark_echo({"In1": v, "In2": v, "In3": v})["Out1"]
     late = [lv for t, _topic, lv in result["received"] if t >= result["steps"][2]["t0"] + 0.3]
     assert late and all(lv["twist.linear.x"] == want for lv in late)
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left
 
 
 def test_a_burst_delivers_the_newest_last(ros2_install, ros2_nodes, tmp_path, shm_guard):
@@ -182,7 +182,7 @@ def test_a_burst_delivers_the_newest_last(ros2_install, ros2_nodes, tmp_path, sh
         wait = result["steps"][6 * (i + 1)]
         window = [lv["twist.linear.x"] for t, _topic, lv in result["received"] if wait["t0"] + 0.2 <= t <= wait["t1"]]
         assert len(window) >= 5 and all(b == want for b in window), (i, [hex(b) for b in window[:3]], hex(want))
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left
 
 
 def test_best_effort_publisher_does_not_reach_the_node(landshark2, ros2_install, tmp_path, shm_guard):
@@ -206,7 +206,7 @@ def test_best_effort_publisher_does_not_reach_the_node(landshark2, ros2_install,
     during = [lv["twist.linear.x"] for t, _topic, lv in result["received"]
               if result["steps"][0]["t0"] <= t <= result["steps"][0]["t1"]]
     assert len(during) >= 20 and all(b == zero for b in during)
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left
 
 
 def test_node_restarted_under_a_running_peer(landshark2, ros2_install, tmp_path, shm_guard):
@@ -251,4 +251,4 @@ def test_node_restarted_under_a_running_peer(landshark2, ros2_install, tmp_path,
     assert set(after) <= partial, sorted(set(after) - partial)
     first_full = after.index(want)
     assert all(b == want for b in after[first_full:]), "an input went back to 0 once received"
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left

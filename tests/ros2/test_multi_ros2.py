@@ -31,7 +31,7 @@ from pyrosgen.ros2.rosidl import peer_env
 from support import expect
 from support import ros as rosutil
 
-from .conftest import PEER, leftover_segments, run_peer, spawn, stop
+from .conftest import PEER, run_peer, settled_leftovers, spawn, stop
 
 EDITS = [  # (file relative to examples/multi, old, new)
     ("multi_node.yaml", "field: header.seq,               input: OdomSeq",
@@ -147,4 +147,4 @@ def test_multi_ros2_end_to_end_bit_exact(multi2, ros2_install, tmp_path, shm_gua
             assert len(got) >= 10, (k, topic, len(got))
             problems += [f"round {k}, {topic}: {g} != {want[topic]}" for g in got if g != want[topic]][:2]
     assert not problems, "\n".join(problems[:10])
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left

@@ -42,7 +42,7 @@ from pyrosgen.ros2.wrapper import Ros2WrapperMismatch, check_rcl_wrapper, qos_te
 
 from support import ros as rosutil
 
-from .conftest import leftover_segments, spawn, stop
+from .conftest import settled_leftovers, spawn, stop
 
 QOS_PEER = Path(__file__).resolve().parent / "qos_peer.py"
 NODE = "qos_node"
@@ -290,7 +290,7 @@ def _run(qos_node, ros2_install, tmp_path: Path, plan: dict, node_first: bool = 
     log = (tmp_path / "node.log").read_text(errors="replace")
     assert rc == 0, (tmp_path / "peer.log").read_text(errors="replace")[-3000:]
     assert status == 0, f"the node did not end cleanly (status {status}):\n{log[-2000:]}"
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left
     return json.loads(result_file.read_text()), log
 
 

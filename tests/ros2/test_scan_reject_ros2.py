@@ -14,7 +14,7 @@ import pytest
 
 from pyrosgen.ros2.build import build_ros2
 
-from .conftest import leftover_segments, run_peer, spawn, stop
+from .conftest import run_peer, settled_leftovers, spawn, stop
 from ros.test_scan_reject_node import CASES, F, MODEL, N, SCAN, _element
 
 SETTLE, HOLD = 0.3, 0.8
@@ -66,4 +66,4 @@ def test_over_long_scans_are_not_delivered_over_rcl(reject2, ros2_install, tmp_p
             got = [lv for t, tp, lv in result["received"] if tp == topic and t0 <= t <= t1]
             assert len(got) >= 10, (k, topic, len(got))
             assert all(g == leaves for g in got), (k, length, frame, topic, got[-1], leaves)
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left

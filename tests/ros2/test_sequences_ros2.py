@@ -25,7 +25,7 @@ from pyrosgen.ros2.build import build_ros2
 
 from support import ros as rosutil
 
-from .conftest import leftover_segments, run_peer, spawn, stop
+from .conftest import run_peer, settled_leftovers, spawn, stop
 
 MODEL = rosutil.ROOT / "tests" / "ros2" / "models" / "seq_policies.yaml"
 CONTROLLER = rosutil.ROOT / "tests" / "ros2" / "controllers" / "seq_policies"
@@ -168,4 +168,4 @@ def test_sequences_both_policies_over_rcl(seq2, ros2_install, tmp_path, shm_guar
             assert len(got) >= 10, (k, topic, len(got))
             problems += [f"round {k} {CASES[k]}, {topic}: {g} != {want[topic]}" for g in got if g != want[topic]][:2]
     assert not problems, "\n".join(problems[:20])
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left

@@ -47,7 +47,7 @@ from pyrosgen.ros2.wrapper import Ros2WrapperMismatch, check_rcl_wrapper
 from support import expect
 from support import ros as rosutil
 
-from .conftest import leftover_segments, run_peer, spawn, stop
+from .conftest import run_peer, settled_leftovers, spawn, stop
 
 LEFT, RIGHT, GPS = "/landshark/left_wheel_velocity", "/landshark/right_wheel_velocity", "/landshark/gps_velocity"
 BASE = "/landshark_control/base_velocity"
@@ -149,7 +149,7 @@ def test_landshark_stamped_ros2_wall_time(stamped2, ros2_install, tmp_path, shm_
     problems += [f"twist.linear.x {lv['twist.linear.x']:#x}, expected {want:#x}" for lv in late
                  if lv["twist.linear.x"] != want]
     assert not problems, "\n".join(problems[:20])
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left
 
 
 def test_landshark_gps_stamped_ros2_copies_the_gps_stamp(ros2_install, ros2_nodes, tmp_path, shm_guard):
@@ -181,7 +181,7 @@ def test_landshark_gps_stamped_ros2_copies_the_gps_stamp(ros2_install, ros2_node
             problems.append(f"GPS stamp {k}: only {len(window)} commands")
         problems += [f"GPS stamp {k}: got {st}, expected {want}" for st in window if st != want]
     assert not problems, "\n".join(problems[:20])
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left
 
 
 def _clock(sec: int, nanosec: int) -> dict:
@@ -206,7 +206,7 @@ def test_landshark_stamped_ros2_stamp_is_clock_under_use_sim_time(stamped2, ros2
         problems += [f"clock {sec}.{ns:09d}: stamp {lv['header.stamp.sec']}.{lv['header.stamp.nanosec']:09d}"
                      for lv in window if (lv["header.stamp.sec"], lv["header.stamp.nanosec"]) != (sec, ns)]
     assert not problems, "\n".join(problems[:20])
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left
 
 
 def _scan_steps(cases: list[tuple[int, tuple[int, float] | None]], hold: float) -> list[dict]:
@@ -252,7 +252,7 @@ def test_laser_guard_ros2_scan_in_stamped_command_out(ros2_install, ros2_nodes, 
         problems += [f"case {k}: twist.linear.x {lv['twist.linear.x']:#x}, expected {bits(vx):#x}"
                      for lv in window if lv["twist.linear.x"] != bits(vx)]
     assert not problems, "\n".join(problems[:20])
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left
 
 
 def test_scan_guard_ros2_scan_in_stamped_command_out(ros2_install, ros2_nodes, tmp_path, shm_guard):
@@ -271,7 +271,7 @@ def test_scan_guard_ros2_scan_in_stamped_command_out(ros2_install, ros2_nodes, t
                      for lv in cmds if lv["twist.linear.x"] != bits(vx)]
         problems += [f"case {k}: closest {lv['data']:#x}, expected {bits(c):#x}" for lv in closest if lv["data"] != bits(c)]
     assert not problems, "\n".join(problems[:20])
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left
 
 #: cycle times (ns): before 2038, the last second of 2^31 - 1, the first past it, 3e9 s, 2^32 s, 2^64 - 1 ns
 TIMES = [500_000_000, (1 << 31) * 10**9 - 1, (1 << 31) * 10**9, 3_000_000_000 * 10**9 + 7, (1 << 32) * 10**9 + 5,

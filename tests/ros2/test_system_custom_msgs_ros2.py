@@ -26,7 +26,7 @@ import pytest
 
 from system.test_custom_messages import system
 
-from .conftest import leftover_segments, run_peer, start_launch, stop
+from .conftest import run_peer, settled_leftovers, start_launch, stop
 
 pytestmark = pytest.mark.ros2
 
@@ -143,4 +143,4 @@ def test_levels_run_on_dds(binaries, levels, ros2_install, tmp_path, shm_guard, 
     window = [lv["x"] for t, topic, lv in result["received"] if topic == "/out" and s["t0"] + 0.3 <= t <= s["t1"]]
     assert len(window) >= 10, window
     assert set(window) == {bits(4 * X)}, sorted(set(window))
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left

@@ -27,7 +27,7 @@ from pyrosgen.system.model import load_system
 
 from support import ros as rosutil
 
-from .conftest import fastdds_segments, in_use, leftover_segments, run_peer, start_launch, stop
+from .conftest import fastdds_segments, in_use, run_peer, settled_leftovers, start_launch, stop
 
 pytestmark = pytest.mark.ros2
 
@@ -168,7 +168,7 @@ def test_chain_runs_end_to_end_on_dds(binaries, system_out, ros2_install, tmp_pa
             problems.append(f"{what}: only {len(window)} messages")
         problems += [f"{what}: got {v}, expected {want}" for v in sorted(set(window)) if v != want]
     assert not problems, "\n".join(problems[:20])
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left
 
 
 def test_system_demo_ros2(system_out, tmp_path, shm_guard):

@@ -19,7 +19,7 @@ from pyrosgen.ros2.build import build_ros2
 
 from support import ros as rosutil
 
-from .conftest import leftover_segments, run_peer, spawn, stop
+from .conftest import run_peer, settled_leftovers, spawn, stop
 
 MODEL = rosutil.ROOT / "examples" / "velocity_guard" / "velocity_guard.yaml"
 TELEOP, NAV, OUT = "/teleop/cmd_vel", "/nav/cmd_vel", "/cmd_vel"
@@ -81,7 +81,7 @@ def test_velocity_guard_ros2_timeouts_wall_time(guard2, ros2_install, tmp_path, 
     expect(nav_only["t1"], last_nav + TIMEOUT_S, NAV_CMD, "nav within its timeout", at_least=1)
     expect(last_nav + TIMEOUT_S + MARGIN_S, silent["t1"], ZERO, "both stale")
     assert not problems, "\n".join(problems[:20])
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left
 
 
 def _clock(sec: float) -> dict:
@@ -123,4 +123,4 @@ def test_velocity_guard_ros2_timeouts_follow_clock_under_use_sim_time(guard2, ro
             problems.append(f"{what}: only {len(window)} messages")
         problems += [f"{what}: got {v}, expected {want}" for v in window if v != want]
     assert not problems, "\n".join(problems[:20])
-    assert not leftover_segments(), leftover_segments()
+    assert not (left := settled_leftovers()), left
