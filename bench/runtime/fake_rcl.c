@@ -41,6 +41,7 @@
 #include <string.h>
 #include <time.h>
 
+#include <geometry_msgs/msg/twist_stamped.h>
 #include <rcl/rcl.h>
 
 #include "fake_rcl.h"
@@ -73,6 +74,19 @@ void fake_rcl_fold_double(double x)
     unsigned long long b;
     memcpy(&b, &x, sizeof b);
     fake_rcl_fold(b);
+}
+
+void fake_rcl_fold_frame_and_twist(const struct geometry_msgs__msg__TwistStamped *m)
+{
+    fake_rcl_fold(m->header.frame_id.size);
+    for (size_t i = 0; i < m->header.frame_id.size; ++i)
+        fake_rcl_fold((unsigned char)m->header.frame_id.data[i]);
+    fake_rcl_fold_double(m->twist.linear.x);
+    fake_rcl_fold_double(m->twist.linear.y);
+    fake_rcl_fold_double(m->twist.linear.z);
+    fake_rcl_fold_double(m->twist.angular.x);
+    fake_rcl_fold_double(m->twist.angular.y);
+    fake_rcl_fold_double(m->twist.angular.z);
 }
 
 unsigned long long fake_rcl_checksum(void)

@@ -19,6 +19,10 @@ void bench_report(long cycles);
 void fake_rcl_fold(unsigned long long v);
 void fake_rcl_fold_double(double x);
 unsigned long long fake_rcl_checksum(void);
+/* Fold a published TwistStamped's frame_id (its size, its bytes) and the 6
+ * doubles of its twist (the stamp is the driver's to fold). */
+struct geometry_msgs__msg__TwistStamped;
+void fake_rcl_fold_frame_and_twist(const struct geometry_msgs__msg__TwistStamped *m);
 
 /* The current cycle (the number of clock_nanosleep calls so far). */
 long fake_rcl_cycle(void);

@@ -62,15 +62,7 @@ void bench_published(int topic, const void *msg, long cycle)
     fake_rcl_fold((unsigned long long)topic);
     fake_rcl_fold((unsigned long long)(unsigned)m->header.stamp.sec);
     fake_rcl_fold(m->header.stamp.nanosec);
-    fake_rcl_fold(m->header.frame_id.size);
-    for (size_t i = 0; i < m->header.frame_id.size; ++i)
-        fake_rcl_fold((unsigned char)m->header.frame_id.data[i]);
-    fake_rcl_fold_double(m->twist.linear.x);
-    fake_rcl_fold_double(m->twist.linear.y);
-    fake_rcl_fold_double(m->twist.linear.z);
-    fake_rcl_fold_double(m->twist.angular.x);
-    fake_rcl_fold_double(m->twist.angular.y);
-    fake_rcl_fold_double(m->twist.angular.z);
+    fake_rcl_fold_frame_and_twist(m);
     g_published++;
 }
 

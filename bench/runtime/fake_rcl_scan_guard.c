@@ -78,15 +78,7 @@ void bench_published(int topic, const void *msg, long cycle)
     if (topic == 1) {
         const geometry_msgs__msg__TwistStamped *m = (const geometry_msgs__msg__TwistStamped *)msg;
         fake_rcl_fold(m->header.stamp.sec != 0 || m->header.stamp.nanosec != 0);
-        fake_rcl_fold(m->header.frame_id.size);
-        for (size_t i = 0; i < m->header.frame_id.size; ++i)
-            fake_rcl_fold((unsigned char)m->header.frame_id.data[i]);
-        fake_rcl_fold_double(m->twist.linear.x);
-        fake_rcl_fold_double(m->twist.linear.y);
-        fake_rcl_fold_double(m->twist.linear.z);
-        fake_rcl_fold_double(m->twist.angular.x);
-        fake_rcl_fold_double(m->twist.angular.y);
-        fake_rcl_fold_double(m->twist.angular.z);
+        fake_rcl_fold_frame_and_twist(m);
     } else {
         const std_msgs__msg__Float32 *m = (const std_msgs__msg__Float32 *)msg;
         unsigned b;
